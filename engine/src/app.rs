@@ -1,0 +1,311 @@
+//! [`App`]: a World with the scene, your systems, and (once a GPU is attached) the
+//! renderer. The one type a script needs.
+
+use crate::error::{Error, Result};
+use crate::quality::Quality;
+use crate::render::device::{AdapterSummary, Gpu};
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::plan::FramePlan;
+use crate::render::readback::{f16_bytes_to_f32, read_texture};
+use crate::render::targets::RenderTargets;
+use crate::render::timing::PassTiming;
+use crate::render::{self, ExtractSchedule, RenderSchedule};
+use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleLabel};
+use bevy_ecs::system::ScheduleSystem;
+use std::time::Instant;
+
+/// Your systems: animation, input, spawning. Runs at the start of [`App::update`].
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Update;
+
+/// Engine bookkeeping after [`Update`]: transform propagation.
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct PostUpdate;
+
+/// Scene statistics of one frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SceneStats {
+    /// Drawn mesh instances.
+    pub instances: usize,
+    /// Instanced draw calls.
+    pub draws: usize,
+    /// Triangles drawn.
+    pub triangles: u64,
+    /// Lights of all kinds.
+    pub lights: u32,
+}
+
+/// What one rendered frame cost and what it did.
+#[derive(Clone, Debug)]
+pub struct FrameReport {
+    /// Per-pass CPU recording time and GPU time.
+    pub passes: Vec<PassTiming>,
+    /// CPU time of each stage of the frame, in ms: `propagate`, `extract`, `record`
+    /// (plan, prepare and record every pass), `submit`, `wait` (for the GPU).
+    pub stages: Vec<(&'static str, f64)>,
+    /// Wall time of the whole frame in ms, from propagation to the GPU finishing.
+    pub frame_ms: f64,
+    /// Which passes ran and why.
+    pub plan: FramePlan,
+    /// Exposure multiplier used (luminance × exposure = tone-mapper input).
+    pub exposure: f32,
+    /// EV100 equivalent of the exposure.
+    pub ev100: f32,
+    /// Scene statistics.
+    pub stats: SceneStats,
+}
+
+struct Offscreen {
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+/// Format of the headless display image: 8-bit RGBA; the tone mapping pass applies the
+/// exact sRGB curve itself.
+pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// The scene World, its schedules and, after [`App::attach_gpu`], the renderer.
+pub struct App {
+    world: World,
+    offscreen: Option<Offscreen>,
+}
+
+impl Default for App {
+    fn default() -> Self {
+        App::new()
+    }
+}
+
+impl App {
+    /// An empty scene with no GPU: spawn entities, add systems, then attach a GPU.
+    pub fn new() -> App {
+        let mut world = World::new();
+        world.init_resource::<Meshes>();
+        world.init_resource::<Quality>();
+        world.add_schedule(Schedule::new(Update));
+        let mut post = Schedule::new(PostUpdate);
+        post.add_systems(propagate_transforms);
+        world.add_schedule(post);
+        App {
+            world,
+            offscreen: None,
+        }
+    }
+
+    /// An empty scene with a headless GPU (see [`Gpu::new_headless`] for the choice).
+    pub fn headless() -> Result<App> {
+        let mut app = App::new();
+        app.attach_gpu(Gpu::new_headless()?)?;
+        Ok(app)
+    }
+
+    /// Attaches a GPU and installs the renderer.
+    pub fn attach_gpu(&mut self, gpu: Gpu) -> Result<()> {
+        render::install(&mut self.world, gpu)
+    }
+
+    /// The adapter in use, if a GPU is attached.
+    pub fn adapter(&self) -> Option<&AdapterSummary> {
+        self.world.get_resource::<Gpu>().map(|g| &g.summary)
+    }
+
+    /// The World.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The World, mutably: spawn and change entities and resources here.
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// Adds a mesh to the store and returns its handle.
+    pub fn add_mesh(&mut self, mesh: MeshData) -> Result<MeshHandle> {
+        self.world
+            .resource_mut::<Meshes>()
+            .add(mesh)
+            .map_err(|e| Error::Scene(format!("invalid mesh: {e}")))
+    }
+
+    /// Adds systems to the [`Update`] schedule.
+    pub fn add_systems<M>(
+        &mut self,
+        systems: impl IntoScheduleConfigs<ScheduleSystem, M>,
+    ) -> &mut Self {
+        self.world
+            .resource_mut::<Schedules>()
+            .add_systems(Update, systems);
+        self
+    }
+
+    /// Runs your [`Update`] systems once.
+    pub fn update(&mut self) {
+        self.world.run_schedule(Update);
+    }
+
+    /// Renders one frame into an offscreen image of `size` pixels, waiting for the GPU.
+    /// Read it with [`App::read_display_image`] and [`App::read_hdr_image`].
+    pub fn render_headless(&mut self, size: (u32, u32)) -> Result<FrameReport> {
+        let gpu = self.gpu()?.clone();
+        check_size(&gpu, size)?;
+        if self
+            .offscreen
+            .as_ref()
+            .is_none_or(|o| (o.texture.width(), o.texture.height()) != size)
+        {
+            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("display image"),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: HEADLESS_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            self.offscreen = Some(Offscreen { texture, view });
+        }
+        let view = self.offscreen.as_ref().map(|o| o.view.clone());
+        self.render_to_view(view, HEADLESS_FORMAT, size)
+    }
+
+    /// Renders one frame into `view` (e.g. a window's surface texture) of `format` and
+    /// `size`, waiting for the GPU to finish.
+    pub fn render_to_view(
+        &mut self,
+        view: Option<wgpu::TextureView>,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+    ) -> Result<FrameReport> {
+        let gpu = self.gpu()?.clone();
+        check_size(&gpu, size)?;
+        let start = Instant::now();
+        let mut stages = Vec::new();
+        let mut stage = |name, t: Instant| stages.push((name, t.elapsed().as_secs_f64() * 1e3));
+
+        let t = Instant::now();
+        self.world.run_schedule(PostUpdate);
+        stage("propagate", t);
+
+        self.world
+            .insert_resource(FrameOutput { size, view, format });
+        self.world.resource_mut::<FrameErrors>().0.clear();
+        let t = Instant::now();
+        self.world.run_schedule(ExtractSchedule);
+        stage("extract", t);
+        self.take_errors()?;
+
+        let t = Instant::now();
+        self.world.run_schedule(RenderSchedule);
+        stage("record", t);
+        let taken = self.world.resource_mut::<FrameEncoder>().encoder.take();
+        self.take_errors()?;
+        let mut encoder =
+            taken.ok_or_else(|| Error::Gpu("the frame recorded no commands".into()))?;
+
+        let t = Instant::now();
+        self.world
+            .resource::<FrameEncoder>()
+            .timer
+            .resolve(&mut encoder);
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let index = gpu.queue.submit([encoder.finish()]);
+        let validation = pollster::block_on(scope.pop());
+        stage("submit", t);
+        if let Some(e) = validation {
+            return Err(Error::Gpu(format!("frame: {e}")));
+        }
+
+        let t = Instant::now();
+        gpu.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map_err(|e| Error::Gpu(format!("waiting for the frame: {e}")))?;
+        stage("wait", t);
+        let passes = self
+            .world
+            .resource_mut::<FrameEncoder>()
+            .timer
+            .collect(&gpu);
+        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
+
+        let extracted = self.world.resource::<ExtractedFrame>();
+        let camera = extracted
+            .camera
+            .ok_or_else(|| Error::Scene("no active camera".into()))?;
+        Ok(FrameReport {
+            passes,
+            stages,
+            frame_ms,
+            plan: self.world.resource::<FramePlan>().clone(),
+            exposure: camera.exposure,
+            ev100: camera.ev100,
+            stats: SceneStats {
+                instances: extracted.instances.len(),
+                draws: extracted.batches.len(),
+                triangles: extracted.triangles,
+                lights: extracted.light_counts.total(),
+            },
+        })
+    }
+
+    /// The last headless frame's display image (tone mapped, sRGB-encoded, 8-bit RGBA).
+    pub fn read_display_image(&self) -> Result<image::RgbaImage> {
+        let gpu = self.gpu()?;
+        let offscreen = self
+            .offscreen
+            .as_ref()
+            .ok_or_else(|| Error::InvalidArgument("no headless frame was rendered".into()))?;
+        let bytes = read_texture(gpu, &offscreen.texture, 4)?;
+        image::RgbaImage::from_raw(offscreen.texture.width(), offscreen.texture.height(), bytes)
+            .ok_or_else(|| Error::Gpu("display image readback has the wrong size".into()))
+    }
+
+    /// The last frame's HDR target: exposed luminance (rgb, before tone mapping) and
+    /// coverage (a = 1 where geometry was drawn).
+    pub fn read_hdr_image(&self) -> Result<image::Rgba32FImage> {
+        let gpu = self.gpu()?;
+        let targets = self.world.resource::<RenderTargets>();
+        let t = targets
+            .current
+            .as_ref()
+            .ok_or_else(|| Error::InvalidArgument("no frame was rendered".into()))?;
+        let bytes = read_texture(gpu, &t.hdr.texture, 8)?;
+        image::Rgba32FImage::from_raw(t.size.0, t.size.1, f16_bytes_to_f32(&bytes))
+            .ok_or_else(|| Error::Gpu("HDR readback has the wrong size".into()))
+    }
+
+    fn gpu(&self) -> Result<&Gpu> {
+        self.world
+            .get_resource::<Gpu>()
+            .ok_or_else(|| Error::InvalidArgument("no GPU attached: call App::attach_gpu".into()))
+    }
+
+    fn take_errors(&mut self) -> Result<()> {
+        let mut errors = std::mem::take(&mut self.world.resource_mut::<FrameErrors>().0);
+        match errors.len() {
+            0 => Ok(()),
+            _ => Err(errors.remove(0)),
+        }
+    }
+}
+
+fn check_size(gpu: &Gpu, (w, h): (u32, u32)) -> Result<()> {
+    let max = gpu.max_texture_size();
+    if w == 0 || h == 0 || w > max || h > max {
+        return Err(Error::InvalidArgument(format!(
+            "image size {w}x{h} is out of range: each side must be 1..={max} on this adapter"
+        )));
+    }
+    Ok(())
+}

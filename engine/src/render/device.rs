@@ -1,0 +1,256 @@
+//! Adapter and device choice.
+//!
+//! Order: Vulkan first, then OpenGL (GL via EGL works on a bare Debian machine with
+//! llvmpipe; Vulkan needs `mesa-vulkan-drivers` for lavapipe). `WGPU_BACKEND`
+//! (comma-separated: `vulkan`, `gl`, …) restricts the backends tried, and
+//! `WGPU_ADAPTER_NAME` picks the first adapter whose name contains it (case-insensitive).
+//! Among the remaining adapters a discrete GPU beats an integrated one, which beats a
+//! virtual one, which beats a CPU rasterizer.
+
+use crate::error::{Error, Result};
+use bevy_ecs::prelude::Resource;
+use std::sync::Arc;
+
+/// What the user sees of the chosen adapter.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AdapterSummary {
+    /// Adapter name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    pub name: String,
+    /// `vulkan`, `gl`, …
+    pub backend: String,
+    /// `discrete`, `integrated`, `virtual`, `cpu` or `other`.
+    pub device_type: String,
+    /// Driver name and version as the driver reports them.
+    pub driver: String,
+}
+
+/// The GPU device the renderer draws with.
+#[derive(Resource, Clone)]
+pub struct Gpu {
+    /// The adapter the device was created on.
+    pub adapter: wgpu::Adapter,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Description of the adapter.
+    pub summary: AdapterSummary,
+    /// Whether GPU timestamp queries are available (per-pass GPU times).
+    pub timestamps: bool,
+}
+
+/// Creates a presentation surface on an instance (used to pick an adapter that can
+/// present to a window).
+pub type SurfaceFactory<'a> =
+    dyn Fn(&wgpu::Instance) -> std::result::Result<wgpu::Surface<'static>, String> + 'a;
+
+/// Creates the display handle an instance needs to present with OpenGL (winit's
+/// `OwnedDisplayHandle`).
+pub type DisplayFactory<'a> = dyn Fn() -> Box<dyn wgpu::wgt::WgpuHasDisplayHandle> + 'a;
+
+fn backend_name(backend: wgpu::Backend) -> &'static str {
+    match backend {
+        wgpu::Backend::Vulkan => "vulkan",
+        wgpu::Backend::Gl => "gl",
+        wgpu::Backend::Metal => "metal",
+        wgpu::Backend::Dx12 => "dx12",
+        wgpu::Backend::BrowserWebGpu => "webgpu",
+        _ => "other",
+    }
+}
+
+fn device_type_rank(t: wgpu::DeviceType) -> (u8, &'static str) {
+    match t {
+        wgpu::DeviceType::DiscreteGpu => (0, "discrete"),
+        wgpu::DeviceType::IntegratedGpu => (1, "integrated"),
+        wgpu::DeviceType::VirtualGpu => (2, "virtual"),
+        wgpu::DeviceType::Cpu => (3, "cpu"),
+        wgpu::DeviceType::Other => (4, "other"),
+    }
+}
+
+/// Parses `WGPU_BACKEND` into the list of backend sets to try, in order.
+pub fn backends_to_try(env: Option<&str>) -> Result<Vec<wgpu::Backends>> {
+    let Some(value) = env.map(str::trim).filter(|v| !v.is_empty()) else {
+        return Ok(vec![wgpu::Backends::VULKAN, wgpu::Backends::GL]);
+    };
+    let mut list = Vec::new();
+    for item in value.split(',').map(|s| s.trim().to_ascii_lowercase()) {
+        let b = match item.as_str() {
+            "vulkan" | "vk" => wgpu::Backends::VULKAN,
+            "gl" | "gles" | "opengl" | "egl" => wgpu::Backends::GL,
+            "metal" | "mtl" => wgpu::Backends::METAL,
+            "dx12" | "d3d12" => wgpu::Backends::DX12,
+            _ => {
+                return Err(Error::InvalidArgument(format!(
+                    "WGPU_BACKEND={value}: unknown backend '{item}' (use vulkan or gl)"
+                )));
+            }
+        };
+        list.push(b);
+    }
+    Ok(list)
+}
+
+impl Gpu {
+    /// Picks an adapter for headless rendering and creates the device.
+    pub fn new_headless() -> Result<Gpu> {
+        Ok(Gpu::new(None, None)?.0)
+    }
+
+    /// Picks an adapter and creates the device; with a `surface` factory, only adapters
+    /// that can present to that surface qualify, and the surface is returned too.
+    pub fn new(
+        surface: Option<&SurfaceFactory<'_>>,
+        display: Option<&DisplayFactory<'_>>,
+    ) -> Result<(Gpu, Option<wgpu::Surface<'static>>)> {
+        let backend_env = std::env::var("WGPU_BACKEND").ok();
+        let name_filter = std::env::var("WGPU_ADAPTER_NAME")
+            .ok()
+            .map(|s| s.trim().to_lowercase())
+            .filter(|s| !s.is_empty());
+        let mut tried = Vec::new();
+        for backends in backends_to_try(backend_env.as_deref())? {
+            let mut desc = match display {
+                Some(make) => wgpu::InstanceDescriptor::new_with_display_handle(make()),
+                None => wgpu::InstanceDescriptor::new_without_display_handle(),
+            };
+            desc.backends = backends;
+            desc.flags = wgpu::InstanceFlags::from_build_config().with_env();
+            let instance = wgpu::Instance::new(desc);
+            let surface = match surface {
+                Some(make) => match make(&instance) {
+                    Ok(s) => Some(s),
+                    Err(e) => {
+                        tried.push(format!(
+                            "{backends:?}: cannot create a window surface ({e})"
+                        ));
+                        continue;
+                    }
+                },
+                None => None,
+            };
+            let adapters = pollster::block_on(instance.enumerate_adapters(backends));
+            let mut candidates: Vec<wgpu::Adapter> = adapters
+                .into_iter()
+                .filter(|a| {
+                    let info = a.get_info();
+                    name_filter
+                        .as_ref()
+                        .is_none_or(|f| info.name.to_lowercase().contains(f))
+                })
+                .filter(|a| surface.as_ref().is_none_or(|s| a.is_surface_supported(s)))
+                .collect();
+            candidates.sort_by_key(|a| device_type_rank(a.get_info().device_type).0);
+            let Some(adapter) = candidates.into_iter().next() else {
+                tried.push(format!(
+                    "{}: no adapter{}{}",
+                    backends
+                        .iter()
+                        .map(|b| format!("{b:?}").to_lowercase())
+                        .collect::<Vec<_>>()
+                        .join("+"),
+                    name_filter
+                        .as_ref()
+                        .map(|f| format!(" whose name contains '{f}'"))
+                        .unwrap_or_default(),
+                    if surface.is_some() {
+                        " that can present to the window"
+                    } else {
+                        ""
+                    }
+                ));
+                continue;
+            };
+            let gpu = Gpu::from_adapter(adapter)?;
+            return Ok((gpu, surface));
+        }
+        let hint = if backend_env.is_none() {
+            " (install mesa-vulkan-drivers for lavapipe, or Mesa's EGL for llvmpipe)"
+        } else {
+            ""
+        };
+        Err(Error::NoAdapter(format!("{}{hint}", tried.join("; "))))
+    }
+
+    /// Creates the device on a chosen adapter.
+    pub fn from_adapter(adapter: wgpu::Adapter) -> Result<Gpu> {
+        let info = adapter.get_info();
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let mut required_features = wgpu::Features::empty();
+        if timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("lumen"),
+            required_features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+            .map_err(|e| Error::Gpu(format!("cannot create a device on {}: {e}", info.name)))?;
+        device.on_uncaptured_error(Arc::new(|e| {
+            log::error!("uncaught GPU error: {e}");
+        }));
+        device.set_device_lost_callback(|reason, message| {
+            log::error!("GPU device lost ({reason:?}): {message}");
+        });
+        let driver = [info.driver.as_str(), info.driver_info.as_str()]
+            .iter()
+            .filter(|s| !s.is_empty())
+            .copied()
+            .collect::<Vec<_>>()
+            .join(" ");
+        Ok(Gpu {
+            summary: AdapterSummary {
+                name: info.name.clone(),
+                backend: backend_name(info.backend).to_string(),
+                device_type: device_type_rank(info.device_type).1.to_string(),
+                driver,
+            },
+            adapter,
+            device,
+            queue,
+            timestamps,
+        })
+    }
+
+    /// Largest 2D texture side the device accepts.
+    pub fn max_texture_size(&self) -> u32 {
+        self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Runs `f` inside a validation error scope and turns a captured error into
+    /// [`Error::Gpu`] naming `what`.
+    pub fn checked<T>(&self, what: &str, f: impl FnOnce(&wgpu::Device) -> T) -> Result<T> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f(&self.device);
+        match pollster::block_on(scope.pop()) {
+            None => Ok(value),
+            Some(e) => Err(Error::Gpu(format!("{what}: {e}"))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn backend_env_parsing() {
+        assert_eq!(
+            backends_to_try(None).ok(),
+            Some(vec![wgpu::Backends::VULKAN, wgpu::Backends::GL])
+        );
+        assert_eq!(
+            backends_to_try(Some("GL")).ok(),
+            Some(vec![wgpu::Backends::GL])
+        );
+        assert_eq!(
+            backends_to_try(Some("vulkan, gl")).ok(),
+            Some(vec![wgpu::Backends::VULKAN, wgpu::Backends::GL])
+        );
+        let err = backends_to_try(Some("glide")).err().map(|e| e.to_string());
+        assert!(err.is_some_and(|e| e.contains("glide")));
+    }
+}

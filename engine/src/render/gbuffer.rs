@@ -1,0 +1,242 @@
+//! G-buffer pass: every mesh instance into base colour + AO, normal + roughness +
+//! metallic, emissive + specular level, and depth (layout in `shaders/gbuffer.wgsl`).
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::FrameEncoder;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, compose};
+use crate::render::targets::{self, RenderTargets};
+use crate::scene::Vertex;
+use bevy_ecs::prelude::*;
+
+/// The G-buffer pass's pipeline and bindings.
+#[derive(Resource)]
+pub struct GBufferPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    bind_group: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl GBufferPass {
+    /// Compiles the pass.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let source = compose(
+            &[],
+            &[
+                shaders::COMMON,
+                shaders::BRDF,
+                shaders::ENCODING,
+                shaders::BINDINGS,
+                shaders::GBUFFER,
+            ],
+        );
+        let module = shaders::create_module(gpu, "gbuffer", source)?;
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("gbuffer"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                ],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("gbuffer"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let attributes = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4
+        ];
+        let target = |format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        };
+        let pipeline = gpu.checked("gbuffer pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("gbuffer"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attributes,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: targets::DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[
+                        target(targets::GBUFFER0_FORMAT),
+                        target(targets::GBUFFER1_FORMAT),
+                        target(targets::GBUFFER2_FORMAT),
+                    ],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        Ok(GBufferPass {
+            pipeline,
+            layout,
+            bind_group: None,
+        })
+    }
+}
+
+/// Rebuilds the pass's bind group when the scene buffers were recreated.
+pub fn prepare_gbuffer(gpu: Res<Gpu>, buffers: Res<SceneBuffers>, mut pass: ResMut<GBufferPass>) {
+    if pass
+        .bind_group
+        .as_ref()
+        .is_some_and(|(g, _)| *g == buffers.generation)
+    {
+        return;
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("gbuffer"),
+        layout: &pass.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.view.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: buffers.instances.buffer.as_entire_binding(),
+            },
+        ],
+    });
+    pass.bind_group = Some((buffers.generation, group));
+}
+
+/// Records the G-buffer pass.
+pub fn gbuffer_pass(
+    pass: Res<GBufferPass>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    frame: Res<ExtractedFrame>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some((_, bind_group))) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.bind_group.as_ref(),
+    ) else {
+        return;
+    };
+    let scope = timer.begin_pass("gbuffer");
+    {
+        let clear = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gbuffer"),
+            color_attachments: &[
+                clear(&t.gbuffer0.view),
+                clear(&t.gbuffer1.view),
+                clear(&t.gbuffer2.view),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(&pass.pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        for batch in &frame.batches {
+            let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
+                continue;
+            };
+            rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+            rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            rp.draw_indexed(
+                0..mesh.index_count,
+                0,
+                batch.first_instance..batch.first_instance + batch.count,
+            );
+        }
+    }
+    timer.end_pass(scope);
+}
+
+/// When the G-buffer pass is skipped (no mesh), clears depth so lighting sees background.
+pub fn clear_gbuffer(targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncoder>) {
+    let (Some(encoder), Some(t)) = (encoder.encoder.as_mut(), targets.current.as_ref()) else {
+        return;
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("clear depth"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &t.depth.view,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(0.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+}

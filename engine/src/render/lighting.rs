@@ -1,0 +1,240 @@
+//! Deferred lighting pass: reads the G-buffer and depth, evaluates Cook-Torrance for each
+//! light, writes pre-exposed HDR luminance (`shaders/lighting.wgsl`).
+//!
+//! The shader is compiled per [`LightingVariant`]: a light kind the scene doesn't have is
+//! not compiled in.
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::plan::{FramePlan, LightingVariant};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::targets::{self, RenderTargets};
+use bevy_ecs::prelude::*;
+use std::collections::HashMap;
+
+/// The lighting pass's pipelines (one per variant) and bindings.
+#[derive(Resource)]
+pub struct LightingPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<LightingVariant, wgpu::RenderPipeline>,
+    bind_group: Option<((u64, u64), wgpu::BindGroup)>,
+}
+
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+impl LightingPass {
+    /// Creates the bind group layout; pipelines are compiled per variant on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("lighting"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: true },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    texture_entry(2, unfilterable),
+                    texture_entry(3, unfilterable),
+                    texture_entry(4, unfilterable),
+                    texture_entry(5, wgpu::TextureSampleType::Depth),
+                ],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("lighting"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        LightingPass {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            bind_group: None,
+        }
+    }
+
+    /// The WGSL of one variant.
+    pub fn source(variant: LightingVariant) -> String {
+        compose(
+            &[
+                ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
+                ShaderDef::Bool("HAS_POINT", variant.point),
+                ShaderDef::Bool("HAS_SPOT", variant.spot),
+                ShaderDef::U32("VISIBILITY_MODEL", variant.visibility as u32),
+            ],
+            &[
+                shaders::COMMON,
+                shaders::BRDF,
+                shaders::PUNCTUAL,
+                shaders::ENCODING,
+                shaders::BINDINGS,
+                shaders::FULLSCREEN,
+                shaders::LIGHTING,
+            ],
+        )
+    }
+
+    fn pipeline(&mut self, gpu: &Gpu, variant: LightingVariant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let module = shaders::create_module(gpu, "lighting", LightingPass::source(variant))?;
+        let pipeline = gpu.checked("lighting pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("lighting"),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: targets::HDR_FORMAT,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        self.pipelines.insert(variant, pipeline);
+        Ok(())
+    }
+}
+
+/// Compiles this frame's variant if needed and rebuilds the bind group when targets or
+/// buffers changed.
+pub fn prepare_lighting(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<LightingPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    if let Err(e) = pass.pipeline(&gpu, plan.lighting) {
+        errors.0.push(e);
+        return;
+    }
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    let key = (t.generation, buffers.generation);
+    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("lighting"),
+        layout: &pass.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.view.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: buffers.lights.buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&t.gbuffer0.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(&t.gbuffer1.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(&t.gbuffer2.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&t.depth.view),
+            },
+        ],
+    });
+    pass.bind_group = Some((key, group));
+}
+
+/// Records the lighting pass.
+pub fn lighting_pass(
+    plan: Res<FramePlan>,
+    pass: Res<LightingPass>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some((_, bind_group)), Some(pipeline)) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.bind_group.as_ref(),
+        pass.pipelines.get(&plan.lighting),
+    ) else {
+        return;
+    };
+    let scope = timer.begin_pass("lighting");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("lighting"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &t.hdr.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+}

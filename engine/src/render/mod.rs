@@ -1,0 +1,98 @@
+//! The renderer: device choice, the frame's schedule of ECS systems, and one module per
+//! pass.
+//!
+//! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
+//! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
+//! pipelines), then the passes in order — G-buffer, lighting, tone mapping — each
+//! recording into the frame's command encoder with its own timing.
+
+pub mod device;
+pub mod extract;
+pub mod frame;
+pub mod gbuffer;
+pub mod gpu_types;
+pub mod lighting;
+pub mod plan;
+pub mod readback;
+pub mod scene_buffers;
+pub mod shaders;
+pub mod targets;
+pub mod timing;
+pub mod tonemap;
+
+use crate::error::Result;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleLabel;
+use device::Gpu;
+use frame::{FrameEncoder, FrameErrors, FrameOutput};
+use plan::{FramePlan, PassId, pass_runs};
+
+/// Reads the scene's components into [`extract::ExtractedFrame`].
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ExtractSchedule;
+
+/// Plans, prepares and records the frame's passes.
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct RenderSchedule;
+
+/// Makes the targets match the output size.
+fn prepare_targets(
+    gpu: Res<Gpu>,
+    output: Res<FrameOutput>,
+    mut targets: ResMut<targets::RenderTargets>,
+) {
+    targets.ensure(&gpu, output.size);
+}
+
+/// Opens the frame's command encoder.
+fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
+    encoder.timer.begin_frame();
+    encoder.encoder = Some(
+        gpu.device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            }),
+    );
+}
+
+/// Inserts the renderer's resources into `world` and adds the extract and render
+/// schedules. Compiles the passes that do not depend on the scene.
+pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
+    world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
+    world.insert_resource(lighting::LightingPass::new(&gpu));
+    world.insert_resource(tonemap::TonemapPass::new(&gpu));
+    world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
+    world.insert_resource(FrameEncoder {
+        encoder: None,
+        timer: timing::GpuTimer::new(&gpu),
+    });
+    world.insert_resource(gpu);
+    world.init_resource::<targets::RenderTargets>();
+    world.init_resource::<extract::ExtractedFrame>();
+    world.init_resource::<FramePlan>();
+    world.init_resource::<FrameErrors>();
+
+    let mut extract = Schedule::new(ExtractSchedule);
+    extract.add_systems(extract::extract_frame);
+    world.add_schedule(extract);
+
+    let mut render = Schedule::new(RenderSchedule);
+    render.add_systems(
+        (
+            plan::plan_frame,
+            prepare_targets,
+            scene_buffers::prepare_scene_buffers,
+            gbuffer::prepare_gbuffer,
+            lighting::prepare_lighting,
+            tonemap::prepare_tonemap,
+            begin_frame,
+            gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
+            gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
+            lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
+            tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
+        )
+            .chain(),
+    );
+    world.add_schedule(render);
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! The frame graph's decisions: which passes run this frame and which shader features
+//! they compile, each with the reason ("model only what a scene requires").
+
+use crate::brdf::VisibilityModel;
+use crate::quality::Quality;
+use crate::render::extract::ExtractedFrame;
+use bevy_ecs::prelude::*;
+
+/// A pass of the frame, in execution order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PassId {
+    /// Rasterises meshes into the G-buffer.
+    GBuffer,
+    /// Full-screen deferred lighting into the HDR target.
+    Lighting,
+    /// Tone mapping and output encoding.
+    Tonemap,
+}
+
+impl PassId {
+    /// Every pass, in execution order.
+    pub const ALL: [PassId; 3] = [PassId::GBuffer, PassId::Lighting, PassId::Tonemap];
+
+    /// Short name used in reports and JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            PassId::GBuffer => "gbuffer",
+            PassId::Lighting => "lighting",
+            PassId::Tonemap => "tonemap",
+        }
+    }
+}
+
+/// Whether a pass or feature is used this frame, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Decision {
+    /// Pass or feature name.
+    pub name: &'static str,
+    /// Whether it runs / is compiled in.
+    pub enabled: bool,
+    /// Why, in a few words.
+    pub reason: String,
+}
+
+/// The shader variant of the lighting pass: which light kinds it loops over.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightingVariant {
+    /// Directional-light loop compiled in.
+    pub directional: bool,
+    /// Point-light loop compiled in.
+    pub point: bool,
+    /// Spot-light loop compiled in.
+    pub spot: bool,
+    /// Visibility term.
+    pub visibility: VisibilityModel,
+}
+
+/// This frame's plan.
+#[derive(Resource, Clone, Debug, PartialEq)]
+pub struct FramePlan {
+    /// One decision per pass, in [`PassId::ALL`] order.
+    pub passes: Vec<(PassId, Decision)>,
+    /// Shader features of the passes that run.
+    pub features: Vec<Decision>,
+    /// The lighting shader variant.
+    pub lighting: LightingVariant,
+}
+
+impl Default for FramePlan {
+    fn default() -> Self {
+        FramePlan {
+            passes: Vec::new(),
+            features: Vec::new(),
+            lighting: LightingVariant {
+                directional: false,
+                point: false,
+                spot: false,
+                visibility: VisibilityModel::default(),
+            },
+        }
+    }
+}
+
+impl FramePlan {
+    /// Whether `pass` runs this frame.
+    pub fn runs(&self, pass: PassId) -> bool {
+        self.passes.iter().any(|(p, d)| *p == pass && d.enabled)
+    }
+
+    /// A human-readable account of the plan (`lumen render --explain`).
+    pub fn explain(&self) -> String {
+        let mut out = String::from("passes:\n");
+        for (_, d) in &self.passes {
+            out.push_str(&format!(
+                "  {:<10} {:<4} {}\n",
+                d.name,
+                if d.enabled { "run" } else { "skip" },
+                d.reason
+            ));
+        }
+        out.push_str("shader features:\n");
+        for d in &self.features {
+            out.push_str(&format!(
+                "  {:<22} {:<3} {}\n",
+                d.name,
+                if d.enabled { "on" } else { "off" },
+                d.reason
+            ));
+        }
+        out
+    }
+}
+
+fn decision(name: &'static str, enabled: bool, reason: String) -> Decision {
+    Decision {
+        name,
+        enabled,
+        reason,
+    }
+}
+
+/// Decides this frame's passes and shader features from the extracted scene.
+pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: ResMut<FramePlan>) {
+    let instances = frame.instances.len();
+    let counts = frame.light_counts;
+    let gbuffer = decision(
+        PassId::GBuffer.name(),
+        instances > 0,
+        if instances > 0 {
+            format!(
+                "{instances} instance(s) of {} mesh(es), {} triangles",
+                frame.batches.len(),
+                frame.triangles
+            )
+        } else {
+            "no mesh in view: the G-buffer stays cleared".into()
+        },
+    );
+    let lighting = decision(
+        PassId::Lighting.name(),
+        true,
+        if instances > 0 {
+            format!(
+                "shades the G-buffer with {} light(s) and writes the background",
+                counts.total()
+            )
+        } else {
+            "writes the background".into()
+        },
+    );
+    let tonemap = decision(
+        PassId::Tonemap.name(),
+        true,
+        "turns exposed HDR luminance into the display image".into(),
+    );
+    let kind = |name: &'static str, n: u32| {
+        decision(
+            name,
+            n > 0 && instances > 0,
+            match (n, instances) {
+                (0, _) => "no light of this kind".into(),
+                (_, 0) => "nothing to light".into(),
+                (n, _) => format!("{n} light(s)"),
+            },
+        )
+    };
+    let features = vec![
+        kind("directional lights", counts.directional),
+        kind("point lights", counts.point),
+        kind("spot lights", counts.spot),
+        decision(
+            "visibility term",
+            true,
+            quality.visibility.name().to_string(),
+        ),
+    ];
+    plan.lighting = LightingVariant {
+        directional: features[0].enabled,
+        point: features[1].enabled,
+        spot: features[2].enabled,
+        visibility: quality.visibility,
+    };
+    plan.passes = vec![
+        (PassId::GBuffer, gbuffer),
+        (PassId::Lighting, lighting),
+        (PassId::Tonemap, tonemap),
+    ];
+    plan.features = features;
+}
+
+/// Run condition: `pass` runs this frame.
+pub fn pass_runs(pass: PassId) -> impl Fn(Res<FramePlan>) -> bool + Clone {
+    move |plan: Res<FramePlan>| plan.runs(pass)
+}

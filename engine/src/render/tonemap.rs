@@ -1,0 +1,183 @@
+//! Tone mapping pass: HDR luminance → display image, with the exact sRGB curve
+//! (`shaders/tonemap.wgsl`). Compiled per (output format, tone mapper).
+
+use crate::color::Tonemapper;
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::targets::RenderTargets;
+use bevy_ecs::prelude::*;
+use std::collections::HashMap;
+
+type Variant = (wgpu::TextureFormat, Tonemapper);
+
+/// The tone mapping pass's pipelines and bindings.
+#[derive(Resource)]
+pub struct TonemapPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<Variant, wgpu::RenderPipeline>,
+    bind_group: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl TonemapPass {
+    /// Creates the bind group layout; pipelines are compiled per variant on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("tonemap"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                }],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("tonemap"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        TonemapPass {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            bind_group: None,
+        }
+    }
+
+    fn pipeline(&mut self, gpu: &Gpu, variant: Variant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let (format, tonemapper) = variant;
+        let source = compose(
+            &[
+                ShaderDef::U32("TONEMAPPER", tonemapper as u32),
+                ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
+            ],
+            &[shaders::COLOR, shaders::FULLSCREEN, shaders::TONEMAP],
+        );
+        let module = shaders::create_module(gpu, "tonemap", source)?;
+        let pipeline = gpu.checked("tonemap pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("tonemap"),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        self.pipelines.insert(variant, pipeline);
+        Ok(())
+    }
+}
+
+fn variant(output: &FrameOutput, frame: &ExtractedFrame) -> Variant {
+    (
+        output.format,
+        frame.camera.map(|c| c.tonemapper).unwrap_or_default(),
+    )
+}
+
+/// Compiles this frame's variant if needed and rebuilds the bind group on new targets.
+pub fn prepare_tonemap(
+    gpu: Res<Gpu>,
+    output: Res<FrameOutput>,
+    frame: Res<ExtractedFrame>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<TonemapPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    if let Err(e) = pass.pipeline(&gpu, variant(&output, &frame)) {
+        errors.0.push(e);
+        return;
+    }
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    if pass
+        .bind_group
+        .as_ref()
+        .is_some_and(|(g, _)| *g == t.generation)
+    {
+        return;
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("tonemap"),
+        layout: &pass.layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::TextureView(&t.hdr.view),
+        }],
+    });
+    pass.bind_group = Some((t.generation, group));
+}
+
+/// Records the tone mapping pass into the frame's output view.
+pub fn tonemap_pass(
+    pass: Res<TonemapPass>,
+    output: Res<FrameOutput>,
+    frame: Res<ExtractedFrame>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(view), Some((_, bind_group)), Some(pipeline)) = (
+        encoder.as_mut(),
+        output.view.as_ref(),
+        pass.bind_group.as_ref(),
+        pass.pipelines.get(&variant(&output, &frame)),
+    ) else {
+        return;
+    };
+    let scope = timer.begin_pass("tonemap");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tonemap"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+}

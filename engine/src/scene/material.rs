@@ -1,0 +1,51 @@
+//! The metal/roughness material (PBR-REFERENCE §4).
+
+use bevy_ecs::prelude::*;
+use glam::{Vec3, Vec4};
+
+/// A metal/roughness surface. All colours are linear (not sRGB).
+///
+/// Every field reaches the G-buffer (see the README's G-buffer layout); texture slots come
+/// with glTF import.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Linear RGBA base colour: albedo of a dielectric, F0 of a metal. Alpha is coverage.
+    pub base_color: Vec4,
+    /// 0 = dielectric, 1 = metal; values between are partly covered metal.
+    pub metallic: f32,
+    /// Perceptual roughness r (0 = mirror, 1 = rough); the GGX width is α = r².
+    pub perceptual_roughness: f32,
+    /// Dielectric specular level (Substance's specularLevel): F0 = 0.08 × level,
+    /// so the default 0.5 gives F0 = 0.04.
+    pub specular_level: f32,
+    /// Emitted luminance in cd/m² (nits), linear RGB.
+    pub emissive: Vec3,
+    /// Ambient occlusion factor, 0 (fully occluded) .. 1 (open). It scales ambient and
+    /// image-based light only, never direct light (PBR-REFERENCE §4).
+    pub occlusion: f32,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            base_color: Vec4::ONE,
+            metallic: 0.0,
+            perceptual_roughness: 0.5,
+            specular_level: 0.5,
+            emissive: Vec3::ZERO,
+            occlusion: 1.0,
+        }
+    }
+}
+
+impl Material {
+    /// An opaque dielectric or metal of a linear RGB colour.
+    pub fn new(base_color: Vec3, metallic: f32, perceptual_roughness: f32) -> Self {
+        Material {
+            base_color: base_color.extend(1.0),
+            metallic,
+            perceptual_roughness,
+            ..Material::default()
+        }
+    }
+}

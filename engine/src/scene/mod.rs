@@ -1,0 +1,17 @@
+//! The scene as ECS components: what a user spawns into the `bevy_ecs` World.
+//!
+//! Everything here is plain data with physical units in its field names and docs. The
+//! renderer reads these components each frame (see [`crate::render::extract`]) and never
+//! keeps its own copy of the scene.
+
+pub mod camera;
+pub mod light;
+pub mod material;
+pub mod mesh;
+pub mod transform;
+
+pub use camera::{Camera, Exposure, Projection};
+pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
+pub use material::Material;
+pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
+pub use transform::{GlobalTransform, Transform, propagate_transforms};

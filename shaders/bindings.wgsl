@@ -1,0 +1,46 @@
+// Layouts shared by the passes. Rust twins: engine/src/render/gpu_types.rs.
+
+// Per-frame view data (uniform).
+struct View {
+    // Clip from world, reversed Z (near → 1, far → 0).
+    clip_from_world: mat4x4<f32>,
+    // World from clip, for position reconstruction from depth.
+    world_from_clip: mat4x4<f32>,
+    // Camera position in metres (xyz), exposure multiplier (w).
+    position_exposure: vec4<f32>,
+    // Target size in pixels (xy) and its reciprocal (zw).
+    viewport: vec4<f32>,
+    // Pre-exposed background luminance (rgb), unused (w).
+    background: vec4<f32>,
+    // Number of directional, point and spot lights; total.
+    light_counts: vec4<u32>,
+}
+
+// One drawn object (storage buffer, indexed by instance_index).
+struct Instance {
+    world_from_local: mat4x4<f32>,
+    // Inverse-transpose of the upper 3×3, as three columns.
+    normal_matrix_0: vec4<f32>,
+    normal_matrix_1: vec4<f32>,
+    normal_matrix_2: vec4<f32>,
+    // Linear base colour (rgb) and alpha.
+    base_color: vec4<f32>,
+    // Pre-exposed emissive luminance (rgb), ambient occlusion (w).
+    emissive_occlusion: vec4<f32>,
+    // Metallic, perceptual roughness, specular level, unused.
+    params: vec4<f32>,
+}
+
+// One light (storage buffer): directional lights first, then point, then spot.
+struct Light {
+    // Position in metres (point and spot).
+    position: vec4<f32>,
+    // Unit vector towards the light (directional), or the spot's axis pointing away
+    // from the light (spot).
+    direction: vec4<f32>,
+    // Colour × intensity × exposure: lux for directional, candela for point and spot
+    // (rgb); 1/range² (w, 0 = unlimited).
+    color_inv_range2: vec4<f32>,
+    // Spot cone scale and offset (xy).
+    spot: vec4<f32>,
+}

@@ -1,0 +1,62 @@
+// G-buffer pass: rasterises every mesh instance into the G-buffer.
+// Layout (see README "G-buffer"):
+//   gbuffer0 Rgba8UnormSrgb : base colour (rgb, sRGB-encoded by the hardware), AO (a)
+//   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
+//   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
+//   depth    Depth32Float   : reversed Z
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<storage, read> instances: array<Instance>;
+
+struct VertexInput {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+}
+
+struct VertexOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_normal: vec3<f32>,
+    @location(1) @interpolate(flat) instance: u32,
+}
+
+@vertex
+fn vs_main(in: VertexInput, @builtin(instance_index) instance_index: u32) -> VertexOutput {
+    let inst = instances[instance_index];
+    let world = inst.world_from_local * vec4<f32>(in.position, 1.0);
+    let normal_matrix = mat3x3<f32>(
+        inst.normal_matrix_0.xyz,
+        inst.normal_matrix_1.xyz,
+        inst.normal_matrix_2.xyz,
+    );
+    var out: VertexOutput;
+    out.clip = view.clip_from_world * world;
+    out.world_normal = normal_matrix * in.normal;
+    out.instance = instance_index;
+    return out;
+}
+
+struct GBufferOutput {
+    @location(0) base_color_ao: vec4<f32>,
+    @location(1) normal_roughness_metallic: vec4<f32>,
+    @location(2) emissive_specular: vec4<f32>,
+}
+
+// Largest finite f16, the limit of the Rgba16Float targets.
+const F16_MAX: f32 = 65504.0;
+
+@fragment
+fn fs_main(in: VertexOutput) -> GBufferOutput {
+    let inst = instances[in.instance];
+    let n = safe_normalize(in.world_normal, vec3<f32>(0.0, 0.0, 1.0));
+    var out: GBufferOutput;
+    out.base_color_ao = vec4<f32>(clamp(inst.base_color.rgb, vec3<f32>(0.0), vec3<f32>(1.0)),
+                                  clamp(inst.emissive_occlusion.w, 0.0, 1.0));
+    out.normal_roughness_metallic = vec4<f32>(oct_encode(n),
+                                              clamp_perceptual_roughness(inst.params.y),
+                                              clamp(inst.params.x, 0.0, 1.0));
+    out.emissive_specular = vec4<f32>(min(inst.emissive_occlusion.rgb, vec3<f32>(F16_MAX)),
+                                      clamp(inst.params.z, 0.0, 1.0));
+    return out;
+}

@@ -1,0 +1,92 @@
+// Deferred lighting pass: one full-screen triangle; per pixel, the Cook-Torrance BRDF of
+// every light that reaches it, plus emissive. Output: pre-exposed HDR luminance (rgb)
+// and coverage (a = 1 where geometry was drawn, 0 for the background).
+//
+// Header constants: HAS_DIRECTIONAL, HAS_POINT, HAS_SPOT (light kinds present in the
+// scene; absent kinds compile to nothing) and VISIBILITY_MODEL.
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<storage, read> lights: array<Light>;
+@group(0) @binding(2) var gbuffer0: texture_2d<f32>;
+@group(0) @binding(3) var gbuffer1: texture_2d<f32>;
+@group(0) @binding(4) var gbuffer2: texture_2d<f32>;
+@group(0) @binding(5) var depth_buffer: texture_depth_2d;
+
+const F16_MAX: f32 = 65504.0;
+
+// Radiance leaving the surface towards v for light arriving from l with illuminance
+// `illuminance` (already × exposure): f_r · E · (n·l).
+fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance: vec3<f32>) -> vec3<f32> {
+    let n_dot_l = dot(n, l);
+    if !(n_dot_l > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    return surface_brdf(n, v, l, surface, VISIBILITY_MODEL) * illuminance * n_dot_l;
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
+    let depth = textureLoad(depth_buffer, pixel, 0);
+    if depth <= 0.0 {
+        return vec4<f32>(view.background.rgb, 0.0);
+    }
+    let g0 = textureLoad(gbuffer0, pixel, 0);
+    let g1 = textureLoad(gbuffer1, pixel, 0);
+    let g2 = textureLoad(gbuffer2, pixel, 0);
+
+    var surface: Surface;
+    surface.base_color = g0.rgb;
+    surface.perceptual_roughness = g1.b;
+    surface.metallic = g1.a;
+    surface.specular_level = g2.a;
+    let n = oct_decode(g1.rg);
+
+    // World position from depth.
+    let ndc = vec2<f32>(frag.x * view.viewport.z * 2.0 - 1.0, 1.0 - frag.y * view.viewport.w * 2.0);
+    let world_h = view.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    let world = world_h.xyz / world_h.w;
+    let v = safe_normalize(view.position_exposure.xyz - world, n);
+
+    var color = g2.rgb;
+    let counts = view.light_counts;
+
+    if HAS_DIRECTIONAL {
+        for (var i = 0u; i < counts.x; i++) {
+            let light = lights[i];
+            color += shade(n, v, light.direction.xyz, surface, light.color_inv_range2.rgb);
+        }
+    }
+    if HAS_POINT {
+        for (var i = counts.x; i < counts.x + counts.y; i++) {
+            let light = lights[i];
+            let to_light = light.position.xyz - world;
+            let d2 = dot(to_light, to_light);
+            let inv_r2 = light.color_inv_range2.w;
+            if inv_r2 > 0.0 && d2 * inv_r2 >= 1.0 {
+                continue;
+            }
+            let l = safe_normalize(to_light, n);
+            let e = light.color_inv_range2.rgb * distance_attenuation(d2, inv_r2);
+            color += shade(n, v, l, surface, e);
+        }
+    }
+    if HAS_SPOT {
+        for (var i = counts.x + counts.y; i < counts.w; i++) {
+            let light = lights[i];
+            let to_light = light.position.xyz - world;
+            let d2 = dot(to_light, to_light);
+            let inv_r2 = light.color_inv_range2.w;
+            if inv_r2 > 0.0 && d2 * inv_r2 >= 1.0 {
+                continue;
+            }
+            let l = safe_normalize(to_light, n);
+            let cone = spot_attenuation(dot(-l, light.direction.xyz), light.spot.x, light.spot.y);
+            let e = light.color_inv_range2.rgb * (distance_attenuation(d2, inv_r2) * cone);
+            color += shade(n, v, l, surface, e);
+        }
+    }
+    // Keep the value finite in the f16 target (PBR-REFERENCE §5); NaN becomes 0.
+    color = select(color, vec3<f32>(0.0), color != color);
+    return vec4<f32>(min(color, vec3<f32>(F16_MAX)), 1.0);
+}
