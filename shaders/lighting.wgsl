@@ -10,7 +10,9 @@
 @group(0) @binding(2) var gbuffer0: texture_2d<f32>;
 @group(0) @binding(3) var gbuffer1: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer2: texture_2d<f32>;
-@group(0) @binding(5) var depth_buffer: texture_depth_2d;
+// Depth bound as an unfilterable float texture: GLSL backends cannot textureLoad a
+// depth texture.
+@group(0) @binding(5) var depth_buffer: texture_2d<f32>;
 
 const F16_MAX: f32 = 65504.0;
 
@@ -27,7 +29,7 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
-    let depth = textureLoad(depth_buffer, pixel, 0);
+    let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
         return vec4<f32>(view.background.rgb, 0.0);
     }

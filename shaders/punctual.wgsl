@@ -10,8 +10,8 @@ fn inverse_square(distance_squared: f32) -> f32 {
 // saturate(1 − (d/r)⁴)² (Karis 2013); inv_range_squared = 0 is an unlimited range.
 fn range_window(distance_squared: f32, inv_range_squared: f32) -> f32 {
     let factor = distance_squared * inv_range_squared;
-    let smooth = clamp(1.0 - factor * factor, 0.0, 1.0);
-    return smooth * smooth;
+    let window = clamp(1.0 - factor * factor, 0.0, 1.0);
+    return window * window;
 }
 
 fn distance_attenuation(distance_squared: f32, inv_range_squared: f32) -> f32 {

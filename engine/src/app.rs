@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::quality::Quality;
-use crate::render::device::{AdapterSummary, Gpu};
+use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::plan::FramePlan;
@@ -97,8 +97,13 @@ impl App {
 
     /// An empty scene with a headless GPU (see [`Gpu::new_headless`] for the choice).
     pub fn headless() -> Result<App> {
+        App::headless_with(&GpuRequest::from_env()?)
+    }
+
+    /// An empty scene with a headless GPU chosen by `request`.
+    pub fn headless_with(request: &GpuRequest) -> Result<App> {
         let mut app = App::new();
-        app.attach_gpu(Gpu::new_headless()?)?;
+        app.attach_gpu(Gpu::new(request, None, None)?.0)?;
         Ok(app)
     }
 
@@ -216,13 +221,8 @@ impl App {
             .resource::<FrameEncoder>()
             .timer
             .resolve(&mut encoder);
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let index = gpu.queue.submit([encoder.finish()]);
-        let validation = pollster::block_on(scope.pop());
+        let index = gpu.checked("frame", |_| gpu.queue.submit([encoder.finish()]))?;
         stage("submit", t);
-        if let Some(e) = validation {
-            return Err(Error::Gpu(format!("frame: {e}")));
-        }
 
         let t = Instant::now();
         gpu.device

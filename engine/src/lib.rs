@@ -37,6 +37,8 @@ pub mod scene;
 
 pub use app::{App, FrameReport, PostUpdate, SceneStats, Update};
 pub use error::{Error, Result};
+/// The wgpu version the renderer is built on, for embedding it in your own window code.
+pub use wgpu;
 
 /// What a script usually needs.
 pub mod prelude {

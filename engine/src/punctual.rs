@@ -22,8 +22,8 @@ pub fn inverse_square(distance_squared: f32) -> f32 {
 /// their range never pops. `inv_range_squared = 0` means an unlimited range.
 pub fn range_window(distance_squared: f32, inv_range_squared: f32) -> f32 {
     let factor = distance_squared * inv_range_squared;
-    let smooth = (1.0 - factor * factor).clamp(0.0, 1.0);
-    smooth * smooth
+    let window = (1.0 - factor * factor).clamp(0.0, 1.0);
+    window * window
 }
 
 /// Distance attenuation of a punctual light: inverse-square law times the range window.

@@ -1,1 +1,8 @@
-pub fn x() {}
+//! The `lumen` command's pieces, as a library so the workspace tests can use the built-in
+//! scenes and argument parsing.
+
+pub mod cli;
+pub mod render_cmd;
+pub mod scenes;
+pub mod setup;
+pub mod view;

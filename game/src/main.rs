@@ -1,1 +1,74 @@
-fn main() {}
+//! `lumen`: render, view and list scenes. See `lumen --help`.
+
+use clap::Parser;
+use lumen_game::cli::{Cli, Command, RenderArgs, SceneArgs, ViewArgs};
+use lumen_game::{render_cmd, scenes, view};
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(
+        env_logger::Env::default().default_filter_or("warn,wgpu_core=error,wgpu_hal=error,naga=error"),
+    )
+    .format_timestamp(None)
+    .init();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            // One line: clap's first line names the problem.
+            let text = e.render().to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            eprintln!("lumen: {} (see lumen --help)", first.trim_start_matches("error: "));
+            return ExitCode::from(2);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("lumen: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Some(Command::Render(args)) => render_cmd::run(&args).map(|_| ()),
+        Some(Command::View(args)) => view::run(args),
+        Some(Command::Scenes) => {
+            for s in scenes::SCENES {
+                println!("{:<10} {}", s.name, s.description);
+            }
+            Ok(())
+        }
+        None => {
+            let scene = SceneArgs {
+                scene: Some("spheres".into()),
+                ..SceneArgs::default()
+            };
+            if !cli.headless && view::display_available() {
+                match view::run(ViewArgs {
+                    scene: scene.clone(),
+                    size: (1280, 720),
+                    frames: None,
+                    screenshot: None,
+                }) {
+                    Ok(()) => return Ok(()),
+                    Err(e) => eprintln!("lumen: no window ({e:#}); rendering headless instead"),
+                }
+            }
+            render_cmd::run(&RenderArgs {
+                scene,
+                size: (1280, 720),
+                out: None,
+                json: false,
+                explain: false,
+            })
+            .map(|_| ())
+        }
+    }
+}

@@ -1,4 +1,5 @@
-//! Getting content into the scene: procedural meshes and image files.
+//! Getting content into the scene: procedural meshes, glTF import, image files.
 
+pub mod gltf;
 pub mod image_io;
 pub mod procedural;

@@ -92,25 +92,65 @@ pub fn backends_to_try(env: Option<&str>) -> Result<Vec<wgpu::Backends>> {
     Ok(list)
 }
 
-impl Gpu {
-    /// Picks an adapter for headless rendering and creates the device.
-    pub fn new_headless() -> Result<Gpu> {
-        Ok(Gpu::new(None, None)?.0)
+/// Which adapters may be chosen.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GpuRequest {
+    /// Backend sets to try, in order.
+    pub backends: Vec<wgpu::Backends>,
+    /// Only adapters whose name contains this (case-insensitive).
+    pub adapter_name: Option<String>,
+}
+
+impl Default for GpuRequest {
+    /// Vulkan, then GL; any adapter name.
+    fn default() -> Self {
+        GpuRequest {
+            backends: vec![wgpu::Backends::VULKAN, wgpu::Backends::GL],
+            adapter_name: None,
+        }
+    }
+}
+
+impl GpuRequest {
+    /// The default request, overridden by `WGPU_BACKEND` and `WGPU_ADAPTER_NAME`.
+    pub fn from_env() -> Result<GpuRequest> {
+        let backend_env = std::env::var("WGPU_BACKEND").ok();
+        Ok(GpuRequest {
+            backends: backends_to_try(backend_env.as_deref())?,
+            adapter_name: std::env::var("WGPU_ADAPTER_NAME")
+                .ok()
+                .map(|s| s.trim().to_string())
+                .filter(|s| !s.is_empty()),
+        })
     }
 
-    /// Picks an adapter and creates the device; with a `surface` factory, only adapters
-    /// that can present to that surface qualify, and the surface is returned too.
+    /// Only the given backends (e.g. `wgpu::Backends::GL`), in order.
+    pub fn backends(backends: &[wgpu::Backends]) -> GpuRequest {
+        GpuRequest {
+            backends: backends.to_vec(),
+            adapter_name: None,
+        }
+    }
+}
+
+impl Gpu {
+    /// Picks an adapter for headless rendering (Vulkan, then GL, overridden by the
+    /// environment) and creates the device.
+    pub fn new_headless() -> Result<Gpu> {
+        Ok(Gpu::new(&GpuRequest::from_env()?, None, None)?.0)
+    }
+
+    /// Picks an adapter as `request` says and creates the device; with a `surface` factory,
+    /// only adapters that can present to that surface qualify, and the surface is returned
+    /// too.
     pub fn new(
+        request: &GpuRequest,
         surface: Option<&SurfaceFactory<'_>>,
         display: Option<&DisplayFactory<'_>>,
     ) -> Result<(Gpu, Option<wgpu::Surface<'static>>)> {
-        let backend_env = std::env::var("WGPU_BACKEND").ok();
-        let name_filter = std::env::var("WGPU_ADAPTER_NAME")
-            .ok()
-            .map(|s| s.trim().to_lowercase())
-            .filter(|s| !s.is_empty());
+        let name_filter = request.adapter_name.as_ref().map(|s| s.to_lowercase());
         let mut tried = Vec::new();
-        for backends in backends_to_try(backend_env.as_deref())? {
+        for &backends in &request.backends {
             let mut desc = match display {
                 Some(make) => wgpu::InstanceDescriptor::new_with_display_handle(make()),
                 None => wgpu::InstanceDescriptor::new_without_display_handle(),
@@ -122,9 +162,7 @@ impl Gpu {
                 Some(make) => match make(&instance) {
                     Ok(s) => Some(s),
                     Err(e) => {
-                        tried.push(format!(
-                            "{backends:?}: cannot create a window surface ({e})"
-                        ));
+                        tried.push(format!("{backends:?}: cannot create a window surface ({e})"));
                         continue;
                     }
                 },
@@ -154,18 +192,14 @@ impl Gpu {
                         .as_ref()
                         .map(|f| format!(" whose name contains '{f}'"))
                         .unwrap_or_default(),
-                    if surface.is_some() {
-                        " that can present to the window"
-                    } else {
-                        ""
-                    }
+                    if surface.is_some() { " that can present to the window" } else { "" }
                 ));
                 continue;
             };
             let gpu = Gpu::from_adapter(adapter)?;
             return Ok((gpu, surface));
         }
-        let hint = if backend_env.is_none() {
+        let hint = if *request == GpuRequest::default() {
             " (install mesa-vulkan-drivers for lavapipe, or Mesa's EGL for llvmpipe)"
         } else {
             ""
@@ -220,12 +254,20 @@ impl Gpu {
         self.device.limits().max_texture_dimension_2d
     }
 
-    /// Runs `f` inside a validation error scope and turns a captured error into
-    /// [`Error::Gpu`] naming `what`.
+    /// Runs `f` inside error scopes for every kind of GPU error (validation, internal —
+    /// e.g. a shader the backend cannot translate — and out-of-memory) and turns a
+    /// captured error into [`Error::Gpu`] naming `what`.
     pub fn checked<T>(&self, what: &str, f: impl FnOnce(&wgpu::Device) -> T) -> Result<T> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let internal = self.device.push_error_scope(wgpu::ErrorFilter::Internal);
         let value = f(&self.device);
-        match pollster::block_on(scope.pop()) {
+        let errors = [
+            pollster::block_on(internal.pop()),
+            pollster::block_on(validation.pop()),
+            pollster::block_on(oom.pop()),
+        ];
+        match errors.into_iter().flatten().next() {
             None => Ok(value),
             Some(e) => Err(Error::Gpu(format!("{what}: {e}"))),
         }

@@ -68,7 +68,7 @@ impl LightingPass {
                     texture_entry(2, unfilterable),
                     texture_entry(3, unfilterable),
                     texture_entry(4, unfilterable),
-                    texture_entry(5, wgpu::TextureSampleType::Depth),
+                    texture_entry(5, unfilterable),
                 ],
             });
         let pipeline_layout = gpu

@@ -7,7 +7,7 @@
 //!
 //! The sources are compiled into the binary, so `lumen` runs from any directory.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::render::device::Gpu;
 
 /// Shared constants and helpers (`safe_normalize`, `PI`).
@@ -65,5 +65,4 @@ pub fn create_module(gpu: &Gpu, label: &str, source: String) -> Result<wgpu::Sha
             source: wgpu::ShaderSource::Wgsl(source.into()),
         })
     })
-    .map_err(|e| Error::Gpu(e.to_string()))
 }

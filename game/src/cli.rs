@@ -1,0 +1,194 @@
+//! Command-line arguments of `lumen`.
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Lumen: a physically based deferred renderer.
+#[derive(Parser, Debug)]
+#[command(name = "lumen", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do; without one, render the `spheres` scene in a window when a display is
+    /// available, else to out/spheres.png.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    /// Without a subcommand: render to out/spheres.png even when a display is available.
+    #[arg(long)]
+    pub headless: bool,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render one frame to a PNG (display image) or EXR (linear HDR) file.
+    Render(RenderArgs),
+    /// Open a window with an orbit camera.
+    View(ViewArgs),
+    /// List the built-in scenes.
+    Scenes,
+}
+
+/// What to render and how to expose it (shared by `render` and `view`).
+#[derive(Args, Debug, Clone, Default)]
+pub struct SceneArgs {
+    /// Built-in scene (see `lumen scenes`).
+    #[arg(long, value_name = "NAME", conflicts_with = "file")]
+    pub scene: Option<String>,
+    /// A glTF 2.0 file (.gltf or .glb) instead of a built-in scene.
+    #[arg(value_name = "FILE")]
+    pub file: Option<PathBuf>,
+    /// Exposure value at ISO 100 (−10..30); replaces the camera's.
+    #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_ev100)]
+    pub ev100: Option<f32>,
+    /// Linear exposure multiplier that replaces the camera's (1 = raw radiance).
+    #[arg(long, value_name = "K", conflicts_with = "ev100", value_parser = parse_exposure)]
+    pub exposure: Option<f32>,
+    /// Tone mapper: none, reinhard, aces.
+    #[arg(long, value_name = "NAME", value_parser = parse_tonemapper)]
+    pub tonemap: Option<lumen::color::Tonemapper>,
+    /// Specular visibility term: schlick-ggx (default), smith-correlated, smith-correlated-fast.
+    #[arg(long, value_name = "NAME", value_parser = parse_visibility)]
+    pub visibility: Option<lumen::brdf::VisibilityModel>,
+}
+
+impl SceneArgs {
+    /// The name shown for the scene: the built-in name or the file's stem.
+    pub fn label(&self) -> String {
+        match (&self.file, &self.scene) {
+            (Some(f), _) => f
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into()),
+            (None, Some(s)) => s.clone(),
+            (None, None) => "spheres".into(),
+        }
+    }
+}
+
+/// Arguments of `lumen render`.
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Scene and exposure.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Output file: .png (tone-mapped sRGB) or .exr (linear exposed radiance, f32 RGB).
+    /// Default: out/<scene>.png.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON object with the adapter, passes and timings on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Print which passes and shader features run, and why, on stderr.
+    #[arg(long)]
+    pub explain: bool,
+}
+
+/// Arguments of `lumen view`.
+#[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Scene and exposure.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Initial window size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Quit after this many frames (for scripts).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u64>,
+    /// Save a screenshot (PNG or EXR) when the viewer quits.
+    #[arg(long, value_name = "FILE")]
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Largest image side accepted on the command line (the adapter may allow less).
+pub const MAX_SIDE: u32 = 16384;
+
+/// Parses `WxH`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not WxH (e.g. 1280x720)"))?;
+    let side = |v: &str| -> Result<u32, String> {
+        let n: u32 = v
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not WxH (e.g. 1280x720)"))?;
+        if n == 0 || n > MAX_SIDE {
+            return Err(format!("'{s}': each side must be 1..={MAX_SIDE}"));
+        }
+        Ok(n)
+    };
+    Ok((side(w)?, side(h)?))
+}
+
+fn parse_ev100(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|_| format!("'{s}' is not a number"))?;
+    let (lo, hi) = lumen::scene::Exposure::EV100_RANGE;
+    if !v.is_finite() || !(lo..=hi).contains(&v) {
+        return Err(format!("EV100 {s} is outside {lo}..={hi}"));
+    }
+    Ok(v)
+}
+
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    let v: f32 = s.parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if !v.is_finite() || v <= 0.0 {
+        return Err(format!("exposure {s} must be a finite number > 0"));
+    }
+    Ok(v)
+}
+
+fn parse_tonemapper(s: &str) -> Result<lumen::color::Tonemapper, String> {
+    lumen::color::Tonemapper::from_name(s).ok_or_else(|| {
+        format!(
+            "unknown tone mapper '{s}' (use {})",
+            lumen::color::Tonemapper::ALL
+                .iter()
+                .map(|t| t.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+fn parse_visibility(s: &str) -> Result<lumen::brdf::VisibilityModel, String> {
+    lumen::brdf::VisibilityModel::ALL
+        .into_iter()
+        .find(|m| m.name().eq_ignore_ascii_case(s))
+        .ok_or_else(|| {
+            format!(
+                "unknown visibility term '{s}' (use {})",
+                lumen::brdf::VisibilityModel::ALL
+                    .iter()
+                    .map(|m| m.name())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes() {
+        assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
+        assert_eq!(parse_size("64X32"), Ok((64, 32)));
+        for bad in ["0x10", "10x0", "x", "12", "-1x5", "axb", "99999x1", ""] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn exposure_arguments() {
+        assert_eq!(parse_ev100("-2.5"), Ok(-2.5));
+        assert!(parse_ev100("nan").is_err());
+        assert!(parse_ev100("45").is_err());
+        assert!(parse_exposure("0").is_err());
+        assert!(parse_exposure("inf").is_err());
+        assert_eq!(parse_exposure("1"), Ok(1.0));
+    }
+}

@@ -1,0 +1,111 @@
+//! `lumen render`: one frame to a PNG or EXR file, with a timing report.
+
+use crate::cli::RenderArgs;
+use crate::setup::{build_scene, check_scene_args};
+use anyhow::{Context, Result};
+use lumen::App;
+use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
+use lumen::prelude::Quality;
+use serde_json::json;
+use std::path::PathBuf;
+
+/// Renders, writes the image and prints the report. Returns the path written.
+pub fn run(args: &RenderArgs) -> Result<PathBuf> {
+    check_scene_args(&args.scene)?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/{}.png", args.scene.label())));
+    let format = OutputFormat::from_path(&out)?;
+
+    let mut app = App::headless()?;
+    build_scene(&mut app, &args.scene)?;
+    // The first frame compiles the pipelines the scene needs; the second is measured.
+    let first = app.render_headless(args.size)?;
+    let report = app.render_headless(args.size)?;
+    if args.explain {
+        eprint!("{}", report.plan.explain());
+    }
+    match format {
+        OutputFormat::Png => save_png(&out, &app.read_display_image()?),
+        OutputFormat::Exr => save_exr(&out, &app.read_hdr_image()?),
+    }
+    .with_context(|| format!("writing {}", out.display()))?;
+
+    let adapter = app.adapter().cloned().context("no adapter")?;
+    let gpu_total: Option<f64> = report.passes.iter().map(|p| p.gpu_ms).sum();
+    let quality = *app.world().resource::<Quality>();
+    let tonemapper = report_tonemapper(&app);
+    if args.json {
+        let value = json!({
+            "scene": args.scene.label(),
+            "adapter": adapter.name,
+            "backend": adapter.backend,
+            "device_type": adapter.device_type,
+            "driver": adapter.driver,
+            "size": format!("{}x{}", args.size.0, args.size.1),
+            "width": args.size.0,
+            "height": args.size.1,
+            "out": out.display().to_string(),
+            "format": match format { OutputFormat::Png => "png", OutputFormat::Exr => "exr" },
+            "exposure": report.exposure,
+            "ev100": report.ev100,
+            "tonemapper": tonemapper,
+            "visibility": quality.visibility.name(),
+            "frame_ms": report.frame_ms,
+            "first_frame_ms": first.frame_ms,
+            "gpu_ms": gpu_total,
+            "passes": report.passes.iter().map(|p| json!({
+                "name": p.name, "gpu_ms": p.gpu_ms, "cpu_ms": p.cpu_ms,
+            })).collect::<Vec<_>>(),
+            "stages": report.stages.iter().map(|(name, ms)| json!({
+                "name": name, "cpu_ms": ms,
+            })).collect::<Vec<_>>(),
+            "plan": {
+                "passes": report.plan.passes.iter().map(|(_, d)| json!({
+                    "name": d.name, "runs": d.enabled, "reason": d.reason,
+                })).collect::<Vec<_>>(),
+                "features": report.plan.features.iter().map(|d| json!({
+                    "name": d.name, "enabled": d.enabled, "reason": d.reason,
+                })).collect::<Vec<_>>(),
+            },
+            "stats": {
+                "instances": report.stats.instances,
+                "draws": report.stats.draws,
+                "triangles": report.stats.triangles,
+                "lights": report.stats.lights,
+            },
+        });
+        println!("{value}");
+    } else {
+        println!(
+            "rendered {} at {}x{} on {} ({}, {})",
+            args.scene.label(),
+            args.size.0,
+            args.size.1,
+            adapter.name,
+            adapter.backend,
+            adapter.device_type
+        );
+        for p in &report.passes {
+            match p.gpu_ms {
+                Some(g) => println!("  {:<10} gpu {g:8.3} ms   cpu {:7.3} ms", p.name, p.cpu_ms),
+                None => println!("  {:<10} gpu      n/a      cpu {:7.3} ms", p.name, p.cpu_ms),
+            }
+        }
+        println!(
+            "frame {:.2} ms (first frame, compiling pipelines: {:.1} ms); exposure {:.3e} (EV100 {:.2}), tone mapper {tonemapper}",
+            report.frame_ms, first.frame_ms, report.exposure, report.ev100
+        );
+        println!("wrote {}", out.display());
+    }
+    Ok(out)
+}
+
+fn report_tonemapper(app: &App) -> &'static str {
+    app.world()
+        .get_resource::<lumen::render::extract::ExtractedFrame>()
+        .and_then(|f| f.camera)
+        .map(|c| c.tonemapper.name())
+        .unwrap_or("none")
+}

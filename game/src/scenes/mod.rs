@@ -1,0 +1,49 @@
+//! The built-in demo and test scenes.
+
+mod extremes;
+mod plane;
+mod spheres;
+
+use lumen::App;
+
+/// A built-in scene: a name, one line of description, and the function that spawns it.
+pub struct SceneInfo {
+    /// Name used with `--scene`.
+    pub name: &'static str,
+    /// One line for `lumen scenes`.
+    pub description: &'static str,
+    /// Spawns the scene's meshes, materials, lights and camera into the app.
+    pub build: fn(&mut App) -> lumen::Result<()>,
+}
+
+/// Every built-in scene.
+pub const SCENES: &[SceneInfo] = &[
+    SceneInfo {
+        name: "spheres",
+        description: "7x7 spheres, metallic rising bottom to top, roughness left to right; 4 point lights, a sun (the peer benchmark's scene)",
+        build: spheres::build,
+    },
+    SceneInfo {
+        name: "plane",
+        description: "one flat plate lit by one directional light, seen head-on (GPU vs CPU BRDF check)",
+        build: plane::build,
+    },
+    SceneInfo {
+        name: "extremes",
+        description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
+        build: extremes::build,
+    },
+];
+
+/// The scene called `name`, or an error that lists the available ones.
+pub fn find(name: &str) -> Result<&'static SceneInfo, String> {
+    SCENES.iter().find(|s| s.name == name).ok_or_else(|| {
+        format!(
+            "unknown scene '{name}' (built-in scenes: {})",
+            SCENES.iter().map(|s| s.name).collect::<Vec<_>>().join(", ")
+        )
+    })
+}
+
+pub use plane::{PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL};
+pub use spheres::{SPHERE_RADIUS, sphere_center, sphere_material};
