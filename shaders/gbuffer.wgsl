@@ -1,6 +1,6 @@
 // G-buffer pass: rasterises every mesh instance into the G-buffer.
 // Layout (see README "G-buffer"):
-//   gbuffer0 Rgba8UnormSrgb : base colour (rgb, sRGB-encoded by the hardware), AO (a)
+//   gbuffer0 Rgba8Unorm     : base colour (rgb, exact sRGB curve applied here), AO (a)
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
 //   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
 //   depth    Depth32Float   : reversed Z
@@ -51,7 +51,8 @@ fn fs_main(in: VertexOutput) -> GBufferOutput {
     let inst = instances[in.instance];
     let n = safe_normalize(in.world_normal, vec3<f32>(0.0, 0.0, 1.0));
     var out: GBufferOutput;
-    out.base_color_ao = vec4<f32>(clamp(inst.base_color.rgb, vec3<f32>(0.0), vec3<f32>(1.0)),
+    let base = inst.base_color.rgb;
+    out.base_color_ao = vec4<f32>(srgb_encode(base.r), srgb_encode(base.g), srgb_encode(base.b),
                                   clamp(inst.emissive_occlusion.w, 0.0, 1.0));
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n),
                                               clamp_perceptual_roughness(inst.params.y),

@@ -38,7 +38,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let g2 = textureLoad(gbuffer2, pixel, 0);
 
     var surface: Surface;
-    surface.base_color = g0.rgb;
+    surface.base_color = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
     surface.perceptual_roughness = g1.b;
     surface.metallic = g1.a;
     surface.specular_level = g2.a;

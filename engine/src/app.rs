@@ -58,6 +58,22 @@ pub struct FrameReport {
     pub stats: SceneStats,
 }
 
+/// A render target of the frame that can be read back with [`App::read_target`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameTarget {
+    /// Base colour (rgb, decoded to linear with the exact sRGB curve, as the lighting
+    /// pass does) and ambient occlusion (a).
+    GBuffer0,
+    /// Octahedral normal (rg), perceptual roughness (b), metallic (a).
+    GBuffer1,
+    /// Pre-exposed emissive (rgb), specular level (a).
+    GBuffer2,
+    /// Reversed-Z depth (r): 1 at the near plane, 0 at the far plane and background.
+    Depth,
+    /// Exposed HDR luminance (rgb) and coverage (a).
+    Hdr,
+}
+
 struct Offscreen {
     texture: wgpu::Texture,
     view: wgpu::TextureView,
@@ -274,15 +290,37 @@ impl App {
     /// The last frame's HDR target: exposed luminance (rgb, before tone mapping) and
     /// coverage (a = 1 where geometry was drawn).
     pub fn read_hdr_image(&self) -> Result<image::Rgba32FImage> {
+        self.read_target(FrameTarget::Hdr)
+    }
+
+    /// One of the last frame's targets as float RGBA: G-buffer channels as stored
+    /// (base colour decoded from sRGB by the read, normals still octahedral), depth in the
+    /// red channel.
+    pub fn read_target(&self, target: FrameTarget) -> Result<image::Rgba32FImage> {
         let gpu = self.gpu()?;
         let targets = self.world.resource::<RenderTargets>();
         let t = targets
             .current
             .as_ref()
             .ok_or_else(|| Error::InvalidArgument("no frame was rendered".into()))?;
-        let bytes = read_texture(gpu, &t.hdr.texture, 8)?;
-        image::Rgba32FImage::from_raw(t.size.0, t.size.1, f16_bytes_to_f32(&bytes))
-            .ok_or_else(|| Error::Gpu("HDR readback has the wrong size".into()))
+        let data: Vec<f32> = match target {
+            FrameTarget::GBuffer0 => read_texture(gpu, &t.gbuffer0.texture, 4)?
+                .chunks_exact(4)
+                .flat_map(|p| {
+                    let c = |v: u8| crate::color::srgb_decode(f32::from(v) / 255.0);
+                    [c(p[0]), c(p[1]), c(p[2]), f32::from(p[3]) / 255.0]
+                })
+                .collect(),
+            FrameTarget::GBuffer1 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer1.texture, 8)?),
+            FrameTarget::GBuffer2 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer2.texture, 8)?),
+            FrameTarget::Depth => read_texture(gpu, &t.depth.texture, 4)?
+                .chunks_exact(4)
+                .flat_map(|b| [f32::from_le_bytes([b[0], b[1], b[2], b[3]]), 0.0, 0.0, 1.0])
+                .collect(),
+            FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, &t.hdr.texture, 8)?),
+        };
+        image::Rgba32FImage::from_raw(t.size.0, t.size.1, data)
+            .ok_or_else(|| Error::Gpu("target readback has the wrong size".into()))
     }
 
     fn gpu(&self) -> Result<&Gpu> {

@@ -35,7 +35,7 @@ pub mod quality;
 pub mod render;
 pub mod scene;
 
-pub use app::{App, FrameReport, PostUpdate, SceneStats, Update};
+pub use app::{App, FrameReport, FrameTarget, PostUpdate, SceneStats, Update};
 pub use error::{Error, Result};
 /// The wgpu version the renderer is built on, for embedding it in your own window code.
 pub use wgpu;

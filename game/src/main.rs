@@ -6,8 +6,15 @@ use lumen_game::{render_cmd, scenes, view};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        // SAFETY: first statement of main, before any other thread exists. Mesa's
+        // device_select layer only reorders adapters (Lumen orders them itself) and prints
+        // an XDG_RUNTIME_DIR error on machines without a Wayland session.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
     env_logger::Builder::from_env(
-        env_logger::Env::default().default_filter_or("warn,wgpu_core=error,wgpu_hal=error,naga=error"),
+        env_logger::Env::default()
+            .default_filter_or("warn,wgpu_core=error,wgpu_hal=error,naga=error"),
     )
     .format_timestamp(None)
     .init();
@@ -22,7 +29,10 @@ fn main() -> ExitCode {
             // One line: clap's first line names the problem.
             let text = e.render().to_string();
             let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("lumen: {} (see lumen --help)", first.trim_start_matches("error: "));
+            eprintln!(
+                "lumen: {} (see lumen --help)",
+                first.trim_start_matches("error: ")
+            );
             return ExitCode::from(2);
         }
     };

@@ -21,7 +21,8 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
             );
         }
         (None, name) => {
-            let info = scenes::find(name.as_deref().unwrap_or("spheres")).map_err(anyhow::Error::msg)?;
+            let info =
+                scenes::find(name.as_deref().unwrap_or("spheres")).map_err(anyhow::Error::msg)?;
             (info.build)(app).with_context(|| format!("building scene '{}'", info.name))?;
         }
     }
@@ -48,8 +49,7 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
 /// is initialised.
 pub fn check_scene_args(args: &SceneArgs) -> Result<()> {
     if let Some(file) = &args.file {
-        std::fs::metadata(file)
-            .with_context(|| format!("cannot read {}", file.display()))?;
+        std::fs::metadata(file).with_context(|| format!("cannot read {}", file.display()))?;
     } else if let Some(name) = &args.scene {
         scenes::find(name).map_err(anyhow::Error::msg)?;
     }

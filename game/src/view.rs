@@ -8,10 +8,10 @@ use crate::cli::ViewArgs;
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
-use lumen::wgpu;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
 use lumen::prelude::*;
 use lumen::render::device::{Gpu, GpuRequest};
+use lumen::wgpu;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -56,7 +56,8 @@ impl Orbit {
             self.pitch.sin(),
             self.pitch.cos() * self.yaw.cos(),
         );
-        Transform::from_translation(self.target + dir * self.distance).looking_at(self.target, Vec3::Y)
+        Transform::from_translation(self.target + dir * self.distance)
+            .looking_at(self.target, Vec3::Y)
     }
 }
 
@@ -90,7 +91,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
         error: None,
         screenshots: 0,
     };
-    event_loop.run_app(&mut viewer).context("window event loop")?;
+    event_loop
+        .run_app(&mut viewer)
+        .context("window event loop")?;
     match viewer.error {
         Some(e) => Err(e),
         None => Ok(()),
@@ -99,7 +102,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
 
 fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
     // A non-sRGB 8-bit format lets the tone mapping pass apply the exact sRGB curve.
-    let preferred = [wgpu::TextureFormat::Bgra8Unorm, wgpu::TextureFormat::Rgba8Unorm];
+    let preferred = [
+        wgpu::TextureFormat::Bgra8Unorm,
+        wgpu::TextureFormat::Rgba8Unorm,
+    ];
     preferred
         .iter()
         .find(|f| caps.formats.contains(f))
@@ -132,7 +138,8 @@ impl Viewer {
         )?;
         let surface = surface.ok_or_else(|| anyhow!("no window surface"))?;
         let caps = surface.get_capabilities(&gpu.adapter);
-        let format = pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
+        let format =
+            pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
         let size = window.inner_size();
         let config = wgpu::SurfaceConfiguration {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
@@ -141,12 +148,19 @@ impl Viewer {
             height: size.height.max(1),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
-            alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
             view_formats: vec![],
             color_space: wgpu::SurfaceColorSpace::Auto,
         };
         surface.configure(&gpu.device, &config);
-        eprintln!("lumen view: {} ({}, {})", gpu.summary.name, gpu.summary.backend, gpu.summary.device_type);
+        eprintln!(
+            "lumen view: {} ({}, {})",
+            gpu.summary.name, gpu.summary.backend, gpu.summary.device_type
+        );
 
         let mut app = App::new();
         app.attach_gpu(gpu)?;
@@ -204,7 +218,9 @@ fn redraw(r: &mut Running) -> Result<bool> {
     r.app.update();
     let frame = match r.surface.get_current_texture() {
         wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-        wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(false),
+        wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+            return Ok(false);
+        }
         wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
             let gpu = r.app.world().resource::<Gpu>().clone();
             r.surface.configure(&gpu.device, &r.config);
@@ -214,10 +230,14 @@ fn redraw(r: &mut Running) -> Result<bool> {
             return Err(anyhow!("the window surface reported a validation error"));
         }
     };
-    let view = frame.texture.create_view(&wgpu::TextureViewDescriptor::default());
-    let report = r
-        .app
-        .render_to_view(Some(view), r.config.format, (r.config.width, r.config.height))?;
+    let view = frame
+        .texture
+        .create_view(&wgpu::TextureViewDescriptor::default());
+    let report = r.app.render_to_view(
+        Some(view),
+        r.config.format,
+        (r.config.width, r.config.height),
+    )?;
     r.window.pre_present_notify();
     r.app.world().resource::<Gpu>().queue.present(frame);
     r.frames += 1;
@@ -262,7 +282,8 @@ impl ApplicationHandler for Viewer {
                     Key::Named(NamedKey::Escape) => event_loop.exit(),
                     Key::Character(c) if c.eq_ignore_ascii_case("s") => {
                         self.screenshots += 1;
-                        let path = PathBuf::from(format!("out/screenshot-{}.png", self.screenshots));
+                        let path =
+                            PathBuf::from(format!("out/screenshot-{}.png", self.screenshots));
                         if let Err(e) = self.screenshot(&path) {
                             eprintln!("screenshot failed: {e:#}");
                         }
@@ -278,7 +299,8 @@ impl ApplicationHandler for Viewer {
             WindowEvent::CursorMoved { position, .. } => {
                 if let (true, Some((x, y))) = (r.dragging, r.cursor) {
                     r.orbit.yaw -= ((position.x - x) * 0.005) as f32;
-                    r.orbit.pitch = (r.orbit.pitch + ((position.y - y) * 0.005) as f32).clamp(-1.5, 1.5);
+                    r.orbit.pitch =
+                        (r.orbit.pitch + ((position.y - y) * 0.005) as f32).clamp(-1.5, 1.5);
                 }
                 r.cursor = Some((position.x, position.y));
             }

@@ -46,7 +46,8 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
 /// problem; never panics on malformed input.
 pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, format!("not a valid glTF file: {e}")))?;
+    let gltf = gltf::Gltf::from_slice(&bytes)
+        .map_err(|e| bad(path, format!("not a valid glTF file: {e}")))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
@@ -67,7 +68,10 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         for (p, primitive) in mesh.primitives().enumerate() {
             let what = format!("mesh {} primitive {p}", mesh.index());
             if primitive.mode() != gltf::mesh::Mode::Triangles {
-                summary.warnings.push(format!("{what}: {:?} primitives are not drawn", primitive.mode()));
+                summary.warnings.push(format!(
+                    "{what}: {:?} primitives are not drawn",
+                    primitive.mode()
+                ));
                 continue;
             }
             let data = match read_primitive(&primitive, &buffers) {
@@ -75,7 +79,9 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                 Err(e) => return Err(bad(path, format!("{what}: {e}"))),
             };
             if data.indices.is_empty() {
-                summary.warnings.push(format!("{what}: no drawable triangle"));
+                summary
+                    .warnings
+                    .push(format!("{what}: no drawable triangle"));
                 continue;
             }
             summary.triangles += data.triangle_count();
@@ -97,14 +103,21 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let mut stack: Vec<(gltf::Node, Entity, usize)> = scene.nodes().map(|n| (n, root, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
-            return Err(bad(path, "node hierarchy deeper than 256 levels (a cycle?)"));
+            return Err(bad(
+                path,
+                "node hierarchy deeper than 256 levels (a cycle?)",
+            ));
         }
         let (t, r, s) = node.transform().decomposed();
         let transform = Transform {
             translation: finite_vec(Vec3::from(t), Vec3::ZERO),
             rotation: {
                 let q = Quat::from_array(r);
-                if q.is_finite() && q.length() > 1e-6 { q.normalize() } else { Quat::IDENTITY }
+                if q.is_finite() && q.length() > 1e-6 {
+                    q.normalize()
+                } else {
+                    Quat::IDENTITY
+                }
             },
             scale: finite_vec(Vec3::from(s), Vec3::ONE),
         };
@@ -127,7 +140,9 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                 });
                 summary.has_camera = true;
             } else {
-                summary.warnings.push("orthographic cameras are not supported; ignored".into());
+                summary
+                    .warnings
+                    .push("orthographic cameras are not supported; ignored".into());
             }
         }
         if let Some(light) = node.light() {
@@ -255,62 +270,69 @@ fn read_primitive(
         .ok_or("has no POSITION attribute")?
         .collect();
     let count = positions.len();
-    let indices: Vec<u32> = match reader.read_indices() {
-        Some(i) => i.into_u32().collect(),
-        None => (0..count as u32).collect(),
-    };
-    if indices.len() % 3 != 0 {
-        return Err(format!("{} indices is not a whole number of triangles", indices.len()));
-    }
-    if let Some(i) = indices.iter().find(|&&i| i as usize >= count) {
-        return Err(format!("index {i} points past the {count} vertices"));
-    }
-    if positions.iter().any(|p| !Vec3::from(*p).is_finite()) {
-        return Err("has a NaN or infinite position".into());
-    }
-    let normals: Vec<[f32; 3]> = match reader.read_normals() {
-        Some(n) if n.len() == count => n.collect(),
-        _ => computed_normals(&positions, &indices),
-    };
-    let uvs: Vec<[f32; 2]> = match reader.read_tex_coords(0) {
-        Some(t) => t.into_f32().collect(),
-        None => vec![[0.0; 2]; count],
-    };
-    let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
-    let vertices = (0..count)
-        .map(|i| {
-            let n = Vec3::from(normals[i]).try_normalize().unwrap_or(Vec3::Z);
-            let tangent = tangents
-                .as_ref()
-                .and_then(|t| t.get(i).copied())
-                .filter(|t| Vec3::from_slice(&t[..3]).is_normalized())
-                .unwrap_or_else(|| n.any_orthonormal_vector().extend(1.0).into());
-            Vertex {
-                position: positions[i],
-                normal: n.into(),
+    let normals: Option<Vec<[f32; 3]>> = reader
+        .read_normals()
+        .map(|n| n.collect::<Vec<_>>())
+        .filter(|n| n.len() == count);
+    let uvs: Vec<[f32; 2]> = reader
+        .read_tex_coords(0)
+        .map(|t| t.into_f32().collect())
+        .unwrap_or_default();
+    let tangents: Vec<[f32; 4]> = reader
+        .read_tangents()
+        .map(|t| t.collect())
+        .unwrap_or_default();
+    let mut mesh = MeshData {
+        vertices: positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Vertex {
+                position: *p,
+                normal: normals.as_ref().map_or([0.0; 3], |n| n[i]),
                 uv: uvs.get(i).copied().unwrap_or([0.0; 2]),
-                tangent,
-            }
-        })
-        .collect();
+                tangent: tangents.get(i).copied().unwrap_or([0.0; 4]),
+            })
+            .collect(),
+        indices: match reader.read_indices() {
+            Some(i) => i.into_u32().collect(),
+            None => (0..count as u32).collect(),
+        },
+    };
+    mesh.validate()?;
+    if normals.is_none() {
+        let computed = computed_normals(&mesh);
+        for (v, n) in mesh.vertices.iter_mut().zip(computed) {
+            v.normal = n;
+        }
+    }
+    for v in &mut mesh.vertices {
+        let n = Vec3::from(v.normal).try_normalize().unwrap_or(Vec3::Z);
+        v.normal = n.into();
+        if !Vec3::from_slice(&v.tangent[..3]).is_normalized() {
+            v.tangent = n.any_orthonormal_vector().extend(1.0).into();
+        }
+    }
     // Drop zero-area triangles: they rasterise nothing and have no normal.
-    let indices = indices
+    let vertices = &mesh.vertices;
+    let area = |t: &[u32]| {
+        let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
+        (b - a).cross(c - a).length_squared()
+    };
+    mesh.indices = mesh
+        .indices
         .chunks_exact(3)
-        .filter(|t| {
-            let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(positions[t[k] as usize]));
-            (b - a).cross(c - a).length_squared() > 0.0
-        })
+        .filter(|t| area(t) > 0.0)
         .flatten()
         .copied()
         .collect();
-    Ok(MeshData { vertices, indices })
+    Ok(mesh)
 }
 
-/// Area-weighted vertex normals.
-fn computed_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]> {
-    let mut acc = vec![Vec3::ZERO; positions.len()];
-    for t in indices.chunks_exact(3) {
-        let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(positions[t[k] as usize]));
+/// Area-weighted vertex normals of a validated mesh.
+fn computed_normals(mesh: &MeshData) -> Vec<[f32; 3]> {
+    let mut acc = vec![Vec3::ZERO; mesh.vertices.len()];
+    for t in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(mesh.vertices[t[k] as usize].position));
         let n = (b - a).cross(c - a);
         for &k in t {
             acc[k as usize] += n;

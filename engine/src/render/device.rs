@@ -59,6 +59,22 @@ fn backend_name(backend: wgpu::Backend) -> &'static str {
     }
 }
 
+/// `vulkan+gl`-style names of a set of backends.
+fn backends_label(backends: wgpu::Backends) -> String {
+    backends
+        .iter()
+        .map(|b| match b {
+            wgpu::Backends::VULKAN => "vulkan",
+            wgpu::Backends::GL => "gl",
+            wgpu::Backends::METAL => "metal",
+            wgpu::Backends::DX12 => "dx12",
+            wgpu::Backends::BROWSER_WEBGPU => "webgpu",
+            _ => "other",
+        })
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
 fn device_type_rank(t: wgpu::DeviceType) -> (u8, &'static str) {
     match t {
         wgpu::DeviceType::DiscreteGpu => (0, "discrete"),
@@ -162,7 +178,9 @@ impl Gpu {
                 Some(make) => match make(&instance) {
                     Ok(s) => Some(s),
                     Err(e) => {
-                        tried.push(format!("{backends:?}: cannot create a window surface ({e})"));
+                        tried.push(format!(
+                            "{backends:?}: cannot create a window surface ({e})"
+                        ));
                         continue;
                     }
                 },
@@ -183,16 +201,16 @@ impl Gpu {
             let Some(adapter) = candidates.into_iter().next() else {
                 tried.push(format!(
                     "{}: no adapter{}{}",
-                    backends
-                        .iter()
-                        .map(|b| format!("{b:?}").to_lowercase())
-                        .collect::<Vec<_>>()
-                        .join("+"),
+                    backends_label(backends),
                     name_filter
                         .as_ref()
                         .map(|f| format!(" whose name contains '{f}'"))
                         .unwrap_or_default(),
-                    if surface.is_some() { " that can present to the window" } else { "" }
+                    if surface.is_some() {
+                        " that can present to the window"
+                    } else {
+                        ""
+                    }
                 ));
                 continue;
             };

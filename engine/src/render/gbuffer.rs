@@ -27,6 +27,7 @@ impl GBufferPass {
             &[
                 shaders::COMMON,
                 shaders::BRDF,
+                shaders::COLOR,
                 shaders::ENCODING,
                 shaders::BINDINGS,
                 shaders::GBUFFER,

@@ -99,6 +99,7 @@ impl LightingPass {
                 shaders::COMMON,
                 shaders::BRDF,
                 shaders::PUNCTUAL,
+                shaders::COLOR,
                 shaders::ENCODING,
                 shaders::BINDINGS,
                 shaders::FULLSCREEN,

@@ -89,7 +89,7 @@ impl MeshData {
     /// Checks the invariants the renderer relies on: whole triangles, indices in range,
     /// finite positions. Returns a description of the first problem.
     pub fn validate(&self) -> Result<(), String> {
-        if self.indices.len() % 3 != 0 {
+        if !self.indices.len().is_multiple_of(3) {
             return Err(format!(
                 "{} indices is not a whole number of triangles",
                 self.indices.len()

@@ -1,0 +1,350 @@
+//! The `lumen` command end to end: every command on a tiny size, and bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn lumen(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args(args)
+        .current_dir(cwd)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("lumen runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn tmp() -> tempfile::TempDir {
+    tempfile::tempdir().expect("temp dir")
+}
+
+/// A failed run: non-zero exit, one line on stderr naming `needle`, no panic.
+fn assert_clean_failure(out: &Output, needle: &str) {
+    let err = text(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "expected failure, got success; stderr: {err}"
+    );
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(
+        err.contains(needle),
+        "stderr does not mention '{needle}': {err}"
+    );
+}
+
+#[test]
+fn scenes_lists_the_built_in_scenes() {
+    let out = lumen(&["scenes"], &std::env::temp_dir());
+    assert!(out.status.success());
+    let stdout = text(&out.stdout);
+    for name in ["spheres", "plane", "extremes"] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(name)),
+            "{name} missing: {stdout}"
+        );
+    }
+}
+
+#[test]
+fn render_png_with_json_report() {
+    let dir = tmp();
+    let out = lumen(
+        &[
+            "render", "--scene", "spheres", "--size", "64x48", "--out", "s.png", "--json",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value =
+        serde_json::from_slice(&out.stdout).expect("one JSON object on stdout");
+    for key in [
+        "adapter", "backend", "size", "passes", "exposure", "ev100", "frame_ms", "stats",
+    ] {
+        assert!(report.get(key).is_some(), "missing {key}: {report}");
+    }
+    assert_eq!(report["size"], "64x48");
+    let ev100 = report["ev100"].as_f64().unwrap_or(f64::NAN);
+    let exposure = report["exposure"].as_f64().unwrap_or(f64::NAN);
+    assert!((ev100 - 9.7).abs() < 1e-4, "{ev100}");
+    assert!(
+        (exposure - 1.0 / (1.2 * 2f64.powf(9.7))).abs() < 1e-9,
+        "{exposure}"
+    );
+    let passes = report["passes"].as_array().cloned().unwrap_or_default();
+    let names: Vec<_> = passes.iter().filter_map(|p| p["name"].as_str()).collect();
+    assert_eq!(names, ["gbuffer", "lighting", "tonemap"]);
+    for p in &passes {
+        assert!(p["cpu_ms"].as_f64().is_some_and(|v| v >= 0.0), "{p}");
+        assert!(
+            p["gpu_ms"].is_null() || p["gpu_ms"].as_f64().is_some_and(|v| v >= 0.0),
+            "{p}"
+        );
+    }
+    assert_eq!(report["stats"]["instances"], 50);
+    let img = image::open(dir.path().join("s.png")).expect("PNG written");
+    assert_eq!((img.width(), img.height()), (64, 48));
+}
+
+#[test]
+fn render_exr_is_linear_exposed_radiance() {
+    // With --exposure 1 the EXR holds raw luminance: the plate's centre pixel equals the
+    // CPU BRDF × illuminance × n·l.
+    let dir = tmp();
+    let out = lumen(
+        &[
+            "render",
+            "--scene",
+            "plane",
+            "--size",
+            "33x33",
+            "--exposure",
+            "1",
+            "--out",
+            "p.exr",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let img =
+        lumen::assets::image_io::load_rgba32f(&dir.path().join("p.exr")).expect("EXR written");
+    assert_eq!((img.width(), img.height()), (33, 33));
+    assert!(img.pixels().all(|p| p.0.iter().all(|c| c.is_finite())));
+    let got = glam::Vec3::from_slice(&img.get_pixel(16, 16).0[..3]);
+    let m = lumen_game::scenes::PLANE_MATERIAL;
+    let surface = lumen::brdf::Surface {
+        base_color: m.base_color.truncate(),
+        metallic: m.metallic,
+        perceptual_roughness: m.perceptual_roughness,
+        specular_level: m.specular_level,
+    };
+    let (n, v) = (glam::Vec3::Z, glam::Vec3::Z);
+    let l = lumen_game::scenes::PLANE_LIGHT_DIRECTION.normalize();
+    let want = lumen::brdf::surface_brdf(n, v, l, &surface, Default::default())
+        * lumen_game::scenes::PLANE_ILLUMINANCE_LUX
+        * n.dot(l);
+    let rel = ((got - want).abs() / want).max_element();
+    assert!(rel < 0.01, "EXR {got} vs CPU {want}");
+}
+
+#[test]
+fn render_extremes_is_finite() {
+    let dir = tmp();
+    let out = lumen(
+        &[
+            "render", "--scene", "extremes", "--size", "48x32", "--out", "e.exr",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let img = lumen::assets::image_io::load_rgba32f(&dir.path().join("e.exr")).expect("EXR");
+    assert!(
+        img.pixels()
+            .all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0))
+    );
+}
+
+#[test]
+fn explain_prints_the_plan() {
+    let dir = tmp();
+    let out = lumen(
+        &["render", "--size", "16x16", "--out", "x.png", "--explain"],
+        dir.path(),
+    );
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("gbuffer")
+            && err.contains("spot lights")
+            && err.contains("no light of this kind"),
+        "{err}"
+    );
+}
+
+#[test]
+fn main_job_headless_writes_out_spheres_png() {
+    let dir = tmp();
+    let out = lumen(&["--headless"], dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("wrote out/spheres.png") && stdout.contains("frame "),
+        "{stdout}"
+    );
+    let img = image::open(dir.path().join("out/spheres.png")).expect("out/spheres.png");
+    assert_eq!((img.width(), img.height()), (1280, 720));
+    // Without a display, no subcommand at all also renders headless.
+    let out = lumen(&[], dir.path());
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let dir = tmp();
+    let d = dir.path();
+    assert_clean_failure(
+        &lumen(&["render", "--scene", "nope", "--out", "x.png"], d),
+        "unknown scene 'nope'",
+    );
+    assert_clean_failure(&lumen(&["render", "--size", "0x10"], d), "0x10");
+    assert_clean_failure(&lumen(&["render", "--size", "wide"], d), "wide");
+    assert_clean_failure(&lumen(&["render", "missing.glb"], d), "missing.glb");
+    assert_clean_failure(
+        &lumen(&["render", "--out", "x.jpg", "--size", "8x8"], d),
+        "x.jpg",
+    );
+    assert_clean_failure(&lumen(&["render", "--exposure", "-1"], d), "-1");
+    assert_clean_failure(&lumen(&["render", "--tonemap", "filmic"], d), "filmic");
+    assert_clean_failure(&lumen(&["frobnicate"], d), "frobnicate");
+    // Unwritable output: the parent "directory" is a regular file.
+    std::fs::write(d.join("file"), b"x").expect("write");
+    assert_clean_failure(
+        &lumen(&["render", "--size", "8x8", "--out", "file/x.png"], d),
+        "file",
+    );
+    // Not a glTF file at all.
+    std::fs::write(d.join("junk.gltf"), b"this is not json").expect("write");
+    assert_clean_failure(
+        &lumen(&["render", "--size", "8x8", "junk.gltf"], d),
+        "junk.gltf",
+    );
+}
+
+#[test]
+fn no_adapter_gives_one_line_error() {
+    let dir = tmp();
+    let run = |env: (&str, &str)| {
+        Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args(["render", "--size", "8x8", "--out", "x.png"])
+            .current_dir(dir.path())
+            .env(env.0, env.1)
+            .output()
+            .expect("lumen runs")
+    };
+    assert_clean_failure(&run(("WGPU_BACKEND", "metal")), "no usable GPU adapter");
+    assert_clean_failure(
+        &run(("WGPU_ADAPTER_NAME", "no such adapter")),
+        "no such adapter",
+    );
+    assert_clean_failure(&run(("WGPU_BACKEND", "glide")), "glide");
+}
+
+#[test]
+fn gl_backend_renders() {
+    let dir = tmp();
+    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args(["render", "--size", "32x32", "--out", "g.png", "--json"])
+        .current_dir(dir.path())
+        .env("WGPU_BACKEND", "gl")
+        .output()
+        .expect("lumen runs");
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(report["backend"], "gl");
+}
+
+/// An Xvfb server on a free display, stopped when dropped.
+struct Xvfb {
+    child: std::process::Child,
+    display: String,
+}
+
+impl Xvfb {
+    fn start() -> Xvfb {
+        let n = (60..120)
+            .find(|n| {
+                !Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
+                    && !Path::new(&format!("/tmp/.X{n}-lock")).exists()
+            })
+            .expect("a free X display number");
+        let child = Command::new("Xvfb")
+            .args([
+                format!(":{n}").as_str(),
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("Xvfb (apt-get install xvfb) for the window test");
+        let socket = format!("/tmp/.X11-unix/X{n}");
+        for _ in 0..100 {
+            if Path::new(&socket).exists() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        assert!(Path::new(&socket).exists(), "Xvfb did not start on :{n}");
+        Xvfb {
+            child,
+            display: format!(":{n}"),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn view_presents_frames_in_a_window() {
+    let x = Xvfb::start();
+    let dir = tmp();
+    for backend in ["vulkan", "gl"] {
+        let shot = format!("shot-{backend}.png");
+        // `--frames 3` exits only after three frames were presented to the window.
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args([
+                "view",
+                "--scene",
+                "spheres",
+                "--size",
+                "96x64",
+                "--frames",
+                "3",
+                "--screenshot",
+                &shot,
+            ])
+            .current_dir(dir.path())
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env("WGPU_BACKEND", backend)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("lumen view runs");
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+        while child.try_wait().ok().flatten().is_none() && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        if child.try_wait().ok().flatten().is_none() {
+            let _ = child.kill();
+            panic!("{backend}: lumen view did not finish 3 frames in 120 s");
+        }
+        let out = child.wait_with_output().expect("output");
+        let err = text(&out.stderr);
+        assert!(out.status.success(), "{backend}: {err}");
+        assert!(
+            err.contains(&format!("({backend}, ")),
+            "{backend}: adapter line missing: {err}"
+        );
+        let img = image::open(dir.path().join(&shot))
+            .expect("screenshot")
+            .to_rgba8();
+        assert_eq!((img.width(), img.height()), (96, 64));
+        let lit = img.pixels().filter(|p| p.0[0] > 20).count();
+        assert!(
+            lit > 96 * 64 / 10,
+            "{backend}: screenshot nearly black ({lit} lit pixels)"
+        );
+    }
+}

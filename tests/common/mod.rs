@@ -1,0 +1,60 @@
+//! Helpers shared by the workspace tests.
+#![allow(dead_code)]
+
+use lumen::App;
+use lumen::render::device::{Gpu, GpuRequest};
+
+/// A headless GPU chosen as the environment says (Vulkan, then GL).
+pub fn gpu() -> Gpu {
+    Gpu::new(&GpuRequest::from_env().expect("GPU request"), None, None)
+        .expect("a GPU adapter (install mesa-vulkan-drivers, or use GL)")
+        .0
+}
+
+/// A headless app with `scene` (a built-in scene) spawned.
+pub fn app_with(scene: &str) -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    let info = lumen_game::scenes::find(scene).expect("built-in scene");
+    (info.build)(&mut app).expect("scene builds");
+    app
+}
+
+/// Runs one compute dispatch and reads `output` back as vec4s.
+pub fn run_compute(
+    gpu: &Gpu,
+    pipeline: &wgpu::ComputePipeline,
+    bind_group: &wgpu::BindGroup,
+    workgroups: u32,
+    output: &wgpu::Buffer,
+) -> Vec<[f32; 4]> {
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: output.size(),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(workgroups, 1, 1);
+    }
+    encoder.copy_buffer_to_buffer(output, 0, &readback, 0, output.size());
+    gpu.queue.submit([encoder.finish()]);
+    let slice = readback.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+    gpu.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .expect("poll");
+    let data = slice.get_mapped_range().expect("mapped");
+    bytemuck::cast_slice::<u8, [f32; 4]>(&data).to_vec()
+}
+
+/// Luminance-like mean of the rgb of an HDR pixel.
+pub fn lum(p: &image::Rgba<f32>) -> f32 {
+    0.2126 * p.0[0] + 0.7152 * p.0[1] + 0.0722 * p.0[2]
+}

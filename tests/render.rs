@@ -1,0 +1,434 @@
+//! Rendering tests: headless frames read back and checked against analytic expectations
+//! and the CPU BRDF. All at 256×256 or less.
+
+mod common;
+
+use common::{app_with, lum};
+use glam::{Quat, Vec3};
+use lumen::brdf::{Surface, VisibilityModel, surface_brdf};
+use lumen::prelude::*;
+use lumen::render::device::GpuRequest;
+use lumen::render::plan::PassId;
+use lumen::{App, FrameTarget};
+use lumen_game::scenes::{
+    PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL, SPHERE_RADIUS, sphere_center,
+};
+
+const SIZE: u32 = 256;
+
+/// Direction of the ray through the centre of pixel (x, y) for a camera at the origin
+/// looking down −Z with vertical FOV `fov` (rad), +Y up.
+fn pixel_ray(x: u32, y: u32, size: (u32, u32), fov: f32) -> Vec3 {
+    let (w, h) = (size.0 as f32, size.1 as f32);
+    let t = (fov * 0.5).tan();
+    let ndc_x = (x as f32 + 0.5) / w * 2.0 - 1.0;
+    let ndc_y = 1.0 - (y as f32 + 0.5) / h * 2.0;
+    Vec3::new(ndc_x * t * w / h, ndc_y * t, -1.0).normalize()
+}
+
+fn hits_sphere(origin: Vec3, dir: Vec3, center: Vec3, radius: f32) -> bool {
+    let oc = origin - center;
+    let b = oc.dot(dir);
+    let c = oc.length_squared() - radius * radius;
+    b * b - c >= 0.0 && -b - (b * b - c).max(0.0).sqrt() > 0.0
+}
+
+/// Whether the ray through a pixel of the `spheres` camera hits a sphere or the ground.
+fn spheres_scene_covers(x: u32, y: u32) -> bool {
+    let eye = Vec3::new(0.0, 0.0, 12.0);
+    let dir = pixel_ray(x, y, (SIZE, SIZE), 45f32.to_radians());
+    let sphere =
+        (0..7).any(|j| (0..7).any(|i| hits_sphere(eye, dir, sphere_center(i, j), SPHERE_RADIUS)));
+    let ground = dir.y < 0.0 && {
+        let t = (-4.0 - eye.y) / dir.y;
+        let p = eye + dir * t;
+        p.x.abs() <= 10.0 && p.z.abs() <= 10.0
+    };
+    sphere || ground
+}
+
+/// Projects a world point with the `spheres` camera into pixel coordinates.
+fn spheres_project(p: Vec3) -> (f32, f32) {
+    let v = p - Vec3::new(0.0, 0.0, 12.0);
+    let t = (45f32.to_radians() * 0.5).tan();
+    let ndc = (v.x / (-v.z * t), v.y / (-v.z * t));
+    (
+        (ndc.0 + 1.0) * 0.5 * SIZE as f32,
+        (1.0 - ndc.1) * 0.5 * SIZE as f32,
+    )
+}
+
+#[test]
+fn spheres_is_finite_and_covers_the_expected_area() {
+    let mut app = app_with("spheres");
+    app.render_headless((SIZE, SIZE)).expect("frame");
+    let hdr = app.read_hdr_image().expect("readback");
+    let ldr = app.read_display_image().expect("readback");
+    assert!(
+        hdr.pixels()
+            .all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0)),
+        "NaN/Inf/negative in HDR"
+    );
+
+    // Coverage (HDR alpha) against a CPU ray cast of the true spheres and ground.
+    let (mut covered, mut expected, mut mismatched) = (0u32, 0u32, 0u32);
+    for y in 0..SIZE {
+        for x in 0..SIZE {
+            let gpu = hdr.get_pixel(x, y).0[3] > 0.5;
+            let cpu = spheres_scene_covers(x, y);
+            covered += gpu as u32;
+            expected += cpu as u32;
+            mismatched += (gpu != cpu) as u32;
+        }
+    }
+    let total = SIZE * SIZE;
+    eprintln!("covered {covered}, expected {expected}, mismatched {mismatched} of {total}");
+    assert!(
+        expected > total / 5,
+        "the reference itself is broken: {expected}"
+    );
+    assert!((covered as f32 - expected as f32).abs() < 0.02 * expected as f32);
+    assert!(
+        mismatched < total / 100,
+        "{mismatched} pixels disagree with the ray cast"
+    );
+
+    // Every sphere's centre pixel is lit geometry, and the background is black.
+    for j in 0..7 {
+        for i in 0..7 {
+            let (px, py) = spheres_project(sphere_center(i, j));
+            let p = hdr.get_pixel(px as u32, py as u32);
+            assert!(
+                p.0[3] > 0.5 && lum(p) > 0.0,
+                "sphere ({i}, {j}) missing at ({px}, {py})"
+            );
+        }
+    }
+    assert_eq!(ldr.get_pixel(2, 2).0, [0, 0, 0, 255]);
+}
+
+#[test]
+fn specular_peak_of_a_row_falls_as_roughness_rises() {
+    let mut app = app_with("spheres");
+    app.render_headless((SIZE, SIZE)).expect("frame");
+    let hdr = app.read_hdr_image().expect("readback");
+    // Column 0 (roughness 0.05) is left out: a point light's highlight on a near-mirror
+    // sphere is far smaller than a pixel, so its sampled peak depends on where pixel
+    // centres fall (1.9 against 130 for column 1 at 256×256), not on the BRDF.
+    let radius_px = SPHERE_RADIUS / 12.0 * (SIZE as f32 * 0.5) / (45f32.to_radians() * 0.5).tan();
+    // Rows of metallic 1, 5/6 and 4/6: specular dominates.
+    for j in [6, 5, 4] {
+        let peaks: Vec<f32> = (0..7)
+            .map(|i| {
+                let (cx, cy) = spheres_project(sphere_center(i, j));
+                let r = radius_px * 0.85;
+                let mut peak = 0.0f32;
+                for y in (cy - r) as u32..=(cy + r) as u32 {
+                    for x in (cx - r) as u32..=(cx + r) as u32 {
+                        if (x as f32 + 0.5 - cx).hypot(y as f32 + 0.5 - cy) <= r {
+                            peak = peak.max(lum(hdr.get_pixel(x, y)));
+                        }
+                    }
+                }
+                peak
+            })
+            .collect();
+        eprintln!("row {j}: peaks {peaks:?}");
+        assert!(peaks.iter().all(|p| p.is_finite() && *p > 0.0));
+        for i in 2..7 {
+            assert!(
+                peaks[i] < peaks[i - 1],
+                "row {j}: peak {i} = {} ≥ peak {} = {}",
+                peaks[i],
+                i - 1,
+                peaks[i - 1]
+            );
+        }
+    }
+}
+
+#[test]
+fn extremes_render_finite() {
+    let mut app = app_with("extremes");
+    let report = app.render_headless((192, 128)).expect("frame");
+    let hdr = app.read_hdr_image().expect("readback");
+    let bad = hdr
+        .pixels()
+        .filter(|p| p.0.iter().any(|c| !c.is_finite() || *c < 0.0))
+        .count();
+    assert_eq!(bad, 0, "{bad} non-finite or negative HDR pixels");
+    // The scene is not just black: the 1e9 lux sun and 1e7 cd light reach it.
+    let lit = hdr
+        .pixels()
+        .filter(|p| p.0[3] > 0.5 && lum(p) > 0.0)
+        .count();
+    assert!(lit > 1000, "only {lit} lit pixels");
+    // Every light kind made it into the shader.
+    let features = &report.plan.features;
+    assert!(features.iter().take(3).all(|f| f.enabled), "{features:?}");
+}
+
+/// Expected exposed luminance of the `plane` scene at pixel (x, y), from lumen::brdf.
+fn plane_expected(
+    x: u32,
+    y: u32,
+    size: (u32, u32),
+    base: Vec3,
+    roughness: f32,
+    metallic: f32,
+) -> Vec3 {
+    let eye = Vec3::new(0.0, 0.0, 5.0);
+    let dir = pixel_ray(x, y, size, 30f32.to_radians());
+    let p = eye + dir * (-eye.z / dir.z);
+    let n = Vec3::Z;
+    let v = (eye - p).normalize();
+    let l = PLANE_LIGHT_DIRECTION.normalize();
+    let surface = Surface {
+        base_color: base,
+        metallic,
+        perceptual_roughness: roughness,
+        specular_level: PLANE_MATERIAL.specular_level,
+    };
+    surface_brdf(n, v, l, &surface, VisibilityModel::default()) * PLANE_ILLUMINANCE_LUX * n.dot(l)
+        / 1000.0
+}
+
+#[test]
+fn flat_surface_matches_the_cpu_brdf() {
+    let size = (96, 96);
+    let mut app = app_with("plane");
+    app.render_headless(size).expect("frame");
+    let hdr = app.read_hdr_image().expect("readback");
+    let base = PLANE_MATERIAL.base_color.truncate();
+    // The material as the G-buffer stores it (8-bit sRGB base colour, f16 roughness and
+    // metallic), to hold the lighting pass to brdf.rs without the storage rounding.
+    let g0 = app.read_target(FrameTarget::GBuffer0).expect("readback");
+    let g1 = app.read_target(FrameTarget::GBuffer1).expect("readback");
+    let mut worst = (0.0f32, 0.0f32);
+    for y in (4..96).step_by(8) {
+        for x in (4..96).step_by(8) {
+            let got = Vec3::from_slice(&hdr.get_pixel(x, y).0[..3]);
+            let exact = plane_expected(
+                x,
+                y,
+                size,
+                base,
+                PLANE_MATERIAL.perceptual_roughness,
+                PLANE_MATERIAL.metallic,
+            );
+            let (s0, s1) = (g0.get_pixel(x, y).0, g1.get_pixel(x, y).0);
+            let stored = plane_expected(x, y, size, Vec3::new(s0[0], s0[1], s0[2]), s1[2], s1[3]);
+            let rel = |e: Vec3| ((got - e).abs() / e.abs().max(Vec3::splat(1e-6))).max_element();
+            worst = (worst.0.max(rel(exact)), worst.1.max(rel(stored)));
+            assert!(
+                rel(exact) < 0.01,
+                "pixel ({x}, {y}): GPU {got} vs CPU {exact}"
+            );
+            assert!(
+                rel(stored) < 0.002,
+                "pixel ({x}, {y}): GPU {got} vs CPU with G-buffer quantisation {stored}"
+            );
+        }
+    }
+    eprintln!(
+        "worst relative error: {:.3e} (exact inputs), {:.3e} (as stored)",
+        worst.0, worst.1
+    );
+}
+
+#[test]
+fn one_ev100_step_halves_the_output() {
+    let mut values = Vec::new();
+    for ev in [8.0, 9.0] {
+        let mut app = app_with("plane");
+        let world = app.world_mut();
+        let mut cams = world.query::<&mut Camera>();
+        for mut c in cams.iter_mut(world) {
+            c.exposure = Exposure::Ev100(ev);
+        }
+        app.render_headless((32, 32)).expect("frame");
+        values.push(lum(app
+            .read_hdr_image()
+            .expect("readback")
+            .get_pixel(16, 16)));
+    }
+    let ratio = values[0] / values[1];
+    assert!((ratio - 2.0).abs() < 0.02, "EV100 8 / EV100 9 = {ratio}");
+}
+
+#[test]
+fn gbuffer_normals_round_trip() {
+    // A cube rotated off every axis: each visible face has one exact normal.
+    let mut app = App::headless().expect("GPU");
+    let cube = app
+        .add_mesh(lumen::assets::procedural::cube(2.0))
+        .expect("mesh");
+    let rotation = Quat::from_euler(glam::EulerRot::YXZ, 0.7, 0.5, 0.2);
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(cube),
+        Material::default(),
+        Transform::IDENTITY.with_rotation(rotation),
+    ));
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, 6.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    app.render_headless((128, 128)).expect("frame");
+    let g1 = app.read_target(FrameTarget::GBuffer1).expect("readback");
+    let faces: Vec<Vec3> = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+        .iter()
+        .map(|n| rotation * *n)
+        .collect();
+    let (mut checked, mut worst) = (0, 0.0f32);
+    for p in g1.pixels().filter(|p| p.0[0] != 0.0 || p.0[1] != 0.0) {
+        let n = lumen::encoding::oct_decode(glam::Vec2::new(p.0[0], p.0[1]));
+        let angle = faces
+            .iter()
+            .map(|f| n.angle_between(*f))
+            .fold(f32::MAX, f32::min)
+            .to_degrees();
+        worst = worst.max(angle);
+        checked += 1;
+    }
+    eprintln!("{checked} pixels, worst normal error {worst:.4}°");
+    assert!(checked > 2000, "{checked}");
+    assert!(worst < 0.1, "worst G-buffer normal error {worst}°");
+    // Roughness and metallic of the default material, as stored.
+    let p = g1.get_pixel(64, 64).0;
+    assert!((p[2] - 0.5).abs() < 1e-3 && p[3] == 0.0, "{p:?}");
+}
+
+#[test]
+fn vulkan_and_gl_render_the_same_image() {
+    let mut images = Vec::new();
+    for backend in [wgpu::Backends::VULKAN, wgpu::Backends::GL] {
+        let mut app = App::headless_with(&GpuRequest::backends(&[backend]))
+            .unwrap_or_else(|e| panic!("{backend:?} adapter: {e}"));
+        (lumen_game::scenes::find("spheres").expect("scene").build)(&mut app).expect("scene");
+        app.render_headless((128, 96)).expect("frame");
+        assert_eq!(
+            app.adapter().map(|a| a.backend.as_str()),
+            Some(if backend == wgpu::Backends::GL {
+                "gl"
+            } else {
+                "vulkan"
+            })
+        );
+        images.push(app.read_display_image().expect("readback"));
+    }
+    let max = images[0]
+        .as_raw()
+        .iter()
+        .zip(images[1].as_raw())
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap_or(255);
+    assert!(max <= 2, "Vulkan and GL differ by up to {max}/255");
+}
+
+#[test]
+fn no_adapter_is_a_clear_error() {
+    let err = App::headless_with(&GpuRequest::backends(&[wgpu::Backends::METAL]))
+        .err()
+        .map(|e| e.to_string());
+    assert!(
+        err.as_deref()
+            .is_some_and(|e| e.starts_with("no usable GPU adapter")),
+        "{err:?}"
+    );
+    let err = App::headless_with(&GpuRequest {
+        adapter_name: Some("no such adapter".into()),
+        ..GpuRequest::default()
+    })
+    .err()
+    .map(|e| e.to_string());
+    assert!(
+        err.as_deref()
+            .is_some_and(|e| e.contains("no such adapter")),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn passes_follow_the_scene() {
+    // spheres: no spot light → the spot loop is not compiled in.
+    let mut app = app_with("spheres");
+    let report = app.render_headless((32, 32)).expect("frame");
+    let feature = |name: &str| {
+        report
+            .plan
+            .features
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.enabled)
+    };
+    assert_eq!(feature("directional lights"), Some(true));
+    assert_eq!(feature("point lights"), Some(true));
+    assert_eq!(feature("spot lights"), Some(false));
+    assert!(report.plan.runs(PassId::GBuffer));
+    let names: Vec<_> = report.passes.iter().map(|p| p.name).collect();
+    assert_eq!(names, ["gbuffer", "lighting", "tonemap"]);
+    assert!(
+        report
+            .passes
+            .iter()
+            .all(|p| p.cpu_ms >= 0.0 && p.gpu_ms.is_none_or(|g| g >= 0.0))
+    );
+
+    // No mesh: the G-buffer pass does not run, and the frame is the background.
+    let mut app = App::headless().expect("GPU");
+    app.world_mut().spawn((
+        Camera {
+            background: Vec3::splat(1000.0),
+            ..Camera::default()
+        },
+        Transform::IDENTITY,
+    ));
+    let report = app.render_headless((16, 16)).expect("frame");
+    assert!(!report.plan.runs(PassId::GBuffer));
+    assert!(report.passes.iter().all(|p| p.name != "gbuffer"));
+    let hdr = app.read_hdr_image().expect("readback");
+    let expected = 1000.0 * lumen::scene::Exposure::default().multiplier();
+    assert!(
+        hdr.pixels()
+            .all(|p| (p.0[0] - expected).abs() < 1e-3 * expected && p.0[3] == 0.0)
+    );
+
+    // No camera: a clear error, not a panic.
+    let mut app = App::headless().expect("GPU");
+    let err = app.render_headless((16, 16)).err().map(|e| e.to_string());
+    assert!(
+        err.as_deref()
+            .is_some_and(|e| e.contains("no active camera")),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn moving_a_light_in_a_system_changes_the_image() {
+    let mut app = app_with("plane");
+    app.add_systems(|mut lights: Query<&mut DirectionalLight>| {
+        for mut l in &mut lights {
+            l.illuminance_lux *= 0.5;
+        }
+    });
+    app.render_headless((16, 16)).expect("frame");
+    let before = lum(app.read_hdr_image().expect("readback").get_pixel(8, 8));
+    app.update();
+    app.render_headless((16, 16)).expect("frame");
+    let after = lum(app.read_hdr_image().expect("readback").get_pixel(8, 8));
+    assert!((after / before - 0.5).abs() < 1e-3, "{before} → {after}");
+}
+
+#[test]
+fn bad_sizes_are_errors() {
+    let mut app = app_with("plane");
+    for size in [(0, 10), (10, 0), (100_000, 10)] {
+        let err = app.render_headless(size).err().map(|e| e.to_string());
+        assert!(
+            err.as_deref().is_some_and(|e| e.contains("out of range")),
+            "{size:?}: {err:?}"
+        );
+    }
+}

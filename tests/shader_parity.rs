@@ -1,0 +1,272 @@
+//! Every shared shader function (shaders/brdf.wgsl, punctual.wgsl, color.wgsl,
+//! encoding.wgsl, common.wgsl) against its Rust twin (lumen::brdf, punctual, color,
+//! encoding) on the same inputs, on the GPU.
+
+mod common;
+
+use glam::{Vec3, Vec4};
+use lumen::brdf::{self, Surface, VisibilityModel};
+use lumen::render::shaders::{self, compose};
+use lumen::{color, encoding, punctual};
+use wgpu::util::DeviceExt;
+
+const OUTPUTS: usize = 12;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Case {
+    n: [f32; 4],
+    v: [f32; 4],
+    l: [f32; 4],
+    base_metallic: [f32; 4],
+    params: [f32; 4],
+    scalars: [f32; 4],
+}
+
+/// A small deterministic generator (xorshift) so the cases are the same on every run.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn dir(&mut self) -> Vec3 {
+        let z = self.next() * 2.0 - 1.0;
+        let phi = self.next() * std::f32::consts::TAU;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+fn cases() -> Vec<Case> {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let edge = [0.0f32, 1.0, -1e-3, 1e-4, 0.5, 1.0 + 1e-6];
+    let mut out = Vec::new();
+    for i in 0..4096 {
+        let n = if i % 7 == 0 { Vec3::Z } else { rng.dir() };
+        // Mostly above the horizon, some grazing and below.
+        let mut v = rng.dir();
+        let mut l = rng.dir();
+        if i % 3 != 0 {
+            v = if v.dot(n) < 0.0 {
+                v - 2.0 * v.dot(n) * n
+            } else {
+                v
+            };
+            l = if l.dot(n) < 0.0 {
+                l - 2.0 * l.dot(n) * n
+            } else {
+                l
+            };
+        }
+        let r = if i % 11 == 0 {
+            edge[i % edge.len()]
+        } else {
+            rng.next()
+        };
+        let x = if i % 5 == 0 {
+            edge[(i / 5) % edge.len()]
+        } else {
+            rng.next()
+        };
+        let alpha = (rng.next() * rng.next()).max(1e-3);
+        let theta = rng.next() * std::f32::consts::FRAC_PI_2;
+        out.push(Case {
+            n: n.extend(0.0).into(),
+            v: v.extend(0.0).into(),
+            l: l.extend(0.0).into(),
+            base_metallic: [
+                rng.next(),
+                rng.next(),
+                rng.next(),
+                if i % 4 == 0 { 1.0 } else { rng.next() },
+            ],
+            params: [r, rng.next(), (i % 3) as f32, x],
+            scalars: [
+                alpha,
+                theta.cos(),
+                theta.sin() * theta.sin(),
+                rng.next() * 0.9 + 0.05,
+            ],
+        });
+    }
+    out
+}
+
+fn model(i: u32) -> VisibilityModel {
+    VisibilityModel::ALL[i as usize]
+}
+
+/// The Rust side of every output, in the kernel's order.
+fn expected(c: &Case) -> [Vec4; OUTPUTS] {
+    let [alpha, n_dot_h, nxh2, k] = c.scalars;
+    let [r, spec, m, x] = c.params;
+    let base = Vec3::from_slice(&c.base_metallic[..3]);
+    let s = Surface {
+        base_color: base,
+        metallic: c.base_metallic[3],
+        perceptual_roughness: r,
+        specular_level: spec,
+    };
+    let n = Vec3::from_slice(&c.n[..3]);
+    let v = Vec3::from_slice(&c.v[..3]);
+    let l = Vec3::from_slice(&c.l[..3]);
+    let e = encoding::oct_encode(n);
+    let (sc, off) = (alpha * 10.0, -k);
+    [
+        Vec4::new(
+            brdf::d_ggx(alpha, n_dot_h, nxh2),
+            brdf::g1_schlick_ggx(n_dot_h, k),
+            brdf::v_schlick_ggx(n_dot_h, x, k),
+            brdf::v_smith_ggx_correlated(n_dot_h, x, alpha),
+        ),
+        Vec4::new(
+            brdf::v_smith_ggx_correlated_fast(n_dot_h, x, alpha),
+            brdf::k_direct(r),
+            brdf::k_ibl(r),
+            brdf::pow5_one_minus(x),
+        ),
+        brdf::f_schlick(base, x).extend(brdf::fd_lambert()),
+        brdf::surface_brdf(n, v, l, &s, model(m as u32)).extend(brdf::visibility(
+            model(m as u32),
+            n_dot_h,
+            x,
+            r,
+        )),
+        brdf::compute_f0(base, c.base_metallic[3], spec).extend(brdf::dielectric_f0(spec)),
+        Vec4::new(
+            punctual::inverse_square(x * 10.0),
+            punctual::range_window(n_dot_h * 10.0, k),
+            punctual::distance_attenuation(x * 10.0, k),
+            punctual::spot_attenuation(x, sc, off),
+        ),
+        Vec4::new(
+            e.x,
+            e.y,
+            brdf::clamp_perceptual_roughness(r),
+            brdf::perceptual_roughness_to_alpha(r),
+        ),
+        encoding::oct_decode(e).extend(color::luminance(base)),
+        color::tonemap_reinhard(base * 4.0).extend(color::srgb_encode(x)),
+        color::tonemap_aces_fitted(base * 4.0).extend(color::srgb_decode(x)),
+        color::tonemap_none(base * 2.0 - Vec3::splat(0.5))
+            .extend(brdf::g_smith_schlick_ggx(n_dot_h, x, k)),
+        brdf::safe_normalize(v * x, Vec3::Y).extend(0.0),
+    ]
+}
+
+const NAMES: [&str; OUTPUTS] = [
+    "d_ggx | g1_schlick_ggx | v_schlick_ggx | v_smith_ggx_correlated",
+    "v_smith_ggx_correlated_fast | k_direct | k_ibl | pow5_one_minus",
+    "f_schlick | fd_lambert",
+    "surface_brdf | visibility",
+    "compute_f0 | dielectric_f0",
+    "inverse_square | range_window | distance_attenuation | spot_attenuation",
+    "oct_encode | clamp_perceptual_roughness | perceptual_roughness_to_alpha",
+    "oct_decode | luminance",
+    "tonemap_reinhard | srgb_encode",
+    "tonemap_aces_fitted | srgb_decode",
+    "tonemap_none | g_smith_schlick_ggx",
+    "safe_normalize",
+];
+
+#[test]
+fn wgsl_functions_match_their_rust_twins() {
+    let gpu = common::gpu();
+    let kernel = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/shaders/parity.wgsl"
+    ))
+    .expect("tests/shaders/parity.wgsl");
+    let source = compose(
+        &[],
+        &[
+            shaders::COMMON,
+            shaders::BRDF,
+            shaders::PUNCTUAL,
+            shaders::COLOR,
+            shaders::ENCODING,
+            &kernel,
+        ],
+    );
+    let module = shaders::create_module(&gpu, "parity", source).expect("parity kernel compiles");
+    let cases = cases();
+    let input = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cases"),
+            contents: bytemuck::cast_slice(&cases),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let out_size = (cases.len() * OUTPUTS * 16) as u64;
+    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("results"),
+        size: out_size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let pipeline = gpu
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("parity"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let results: Vec<[f32; 4]> = common::run_compute(
+        &gpu,
+        &pipeline,
+        &bind_group,
+        cases.len().div_ceil(64) as u32,
+        &output,
+    );
+    assert_eq!(results.len(), cases.len() * OUTPUTS);
+
+    let mut worst = [0.0f32; OUTPUTS];
+    for (i, c) in cases.iter().enumerate() {
+        let want = expected(c);
+        for (k, w) in want.iter().enumerate() {
+            let got = Vec4::from(results[i * OUTPUTS + k]);
+            for ch in 0..4 {
+                let (g, e) = (got[ch], w[ch]);
+                assert!(
+                    g.is_finite() == e.is_finite(),
+                    "case {i}, {}: channel {ch}: GPU {g} vs CPU {e}",
+                    NAMES[k]
+                );
+                if !e.is_finite() {
+                    continue;
+                }
+                // Relative error, with an absolute floor for values near 0.
+                let err = (g - e).abs() / e.abs().max(1e-3);
+                worst[k] = worst[k].max(err);
+                assert!(
+                    err < 2e-4,
+                    "case {i}, {}: channel {ch}: GPU {g} vs CPU {e} (relative error {err:e})",
+                    NAMES[k]
+                );
+            }
+        }
+    }
+    for (k, w) in worst.iter().enumerate() {
+        eprintln!("{:<72} worst relative error {w:.2e}", NAMES[k]);
+    }
+}

@@ -1,0 +1,59 @@
+// Evaluates every shared shader function on the inputs of one case; the test
+// tests/shader_parity.rs evaluates the Rust twins on the same inputs and compares.
+
+struct Case {
+    n: vec4<f32>,
+    v: vec4<f32>,
+    l: vec4<f32>,
+    // Base colour (rgb), metallic (w).
+    base_metallic: vec4<f32>,
+    // Perceptual roughness, specular level, visibility model, x.
+    params: vec4<f32>,
+    // α, n·h, |n × h|², k.
+    scalars: vec4<f32>,
+}
+
+const OUTPUTS: u32 = 12u;
+
+@group(0) @binding(0) var<storage, read> cases: array<Case>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) {
+        return;
+    }
+    let c = cases[i];
+    let alpha = c.scalars.x;
+    let n_dot_h = c.scalars.y;
+    let nxh2 = c.scalars.z;
+    let k = c.scalars.w;
+    let r = c.params.x;
+    let spec = c.params.y;
+    let model = u32(c.params.z);
+    let x = c.params.w;
+    var s: Surface;
+    s.base_color = c.base_metallic.rgb;
+    s.metallic = c.base_metallic.w;
+    s.perceptual_roughness = r;
+    s.specular_level = spec;
+    let o = i * OUTPUTS;
+    results[o + 0u] = vec4<f32>(d_ggx(alpha, n_dot_h, nxh2), g1_schlick_ggx(n_dot_h, k),
+                                v_schlick_ggx(n_dot_h, x, k), v_smith_ggx_correlated(n_dot_h, x, alpha));
+    results[o + 1u] = vec4<f32>(v_smith_ggx_correlated_fast(n_dot_h, x, alpha), k_direct(r), k_ibl(r),
+                                pow5_one_minus(x));
+    results[o + 2u] = vec4<f32>(f_schlick(c.base_metallic.rgb, x), fd_lambert());
+    results[o + 3u] = vec4<f32>(surface_brdf(c.n.xyz, c.v.xyz, c.l.xyz, s, model),
+                                visibility(model, n_dot_h, x, r));
+    results[o + 4u] = vec4<f32>(compute_f0(c.base_metallic.rgb, c.base_metallic.w, spec), dielectric_f0(spec));
+    results[o + 5u] = vec4<f32>(inverse_square(x * 10.0), range_window(n_dot_h * 10.0, k),
+                                distance_attenuation(x * 10.0, k), spot_attenuation(x, alpha * 10.0, -k));
+    let e = oct_encode(c.n.xyz);
+    results[o + 6u] = vec4<f32>(e, clamp_perceptual_roughness(r), perceptual_roughness_to_alpha(r));
+    results[o + 7u] = vec4<f32>(oct_decode(e), luminance(c.base_metallic.rgb));
+    results[o + 8u] = vec4<f32>(tonemap_reinhard(c.base_metallic.rgb * 4.0), srgb_encode(x));
+    results[o + 9u] = vec4<f32>(tonemap_aces_fitted(c.base_metallic.rgb * 4.0), srgb_decode(x));
+    results[o + 10u] = vec4<f32>(tonemap_none(c.base_metallic.rgb * 2.0 - vec3<f32>(0.5)), g_smith_schlick_ggx(n_dot_h, x, k));
+    results[o + 11u] = vec4<f32>(safe_normalize(c.v.xyz * x, vec3<f32>(0.0, 1.0, 0.0)), 0.0);
+}
