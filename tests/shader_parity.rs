@@ -175,11 +175,7 @@ const NAMES: [&str; OUTPUTS] = [
 #[test]
 fn wgsl_functions_match_their_rust_twins() {
     let gpu = common::gpu();
-    let kernel = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../tests/shaders/parity.wgsl"
-    ))
-    .expect("tests/shaders/parity.wgsl");
+    let kernel = include_str!("shaders/parity.wgsl");
     let source = compose(
         &[],
         &[
@@ -188,7 +184,7 @@ fn wgsl_functions_match_their_rust_twins() {
             shaders::PUNCTUAL,
             shaders::COLOR,
             shaders::ENCODING,
-            &kernel,
+            kernel,
         ],
     );
     let module = shaders::create_module(&gpu, "parity", source).expect("parity kernel compiles");
