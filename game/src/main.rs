@@ -12,10 +12,11 @@ fn main() -> ExitCode {
         // an XDG_RUNTIME_DIR error on machines without a Wayland session.
         unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
-    env_logger::Builder::from_env(
-        env_logger::Env::default()
-            .default_filter_or("warn,wgpu_core=error,wgpu_hal=error,naga=error"),
-    )
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or(
+        // wgpu logs its own copy of shader-translation and validation errors that Lumen
+        // returns as errors; keep the one line Lumen prints.
+        "warn,wgpu::backend=off,wgpu_core=error,wgpu_hal=error,naga=error",
+    ))
     .format_timestamp(None)
     .init();
     let cli = match Cli::try_parse() {

@@ -172,7 +172,13 @@ impl Gpu {
                 None => wgpu::InstanceDescriptor::new_without_display_handle(),
             };
             desc.backends = backends;
-            desc.flags = wgpu::InstanceFlags::from_build_config().with_env();
+            // Lumen issues no indirect draws or dispatches, so wgpu's indirect-call validation
+            // (on by default) only costs a compute pipeline at device creation, which
+            // NVIDIA's OpenGL driver rejects ("selected version doesn't support
+            // COMPUTE_SHADER"), failing the device. WGPU_VALIDATION_INDIRECT_CALL=1 restores it.
+            desc.flags = (wgpu::InstanceFlags::from_build_config()
+                - wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL)
+                .with_env();
             let instance = wgpu::Instance::new(desc);
             let surface = match surface {
                 Some(make) => match make(&instance) {
@@ -198,7 +204,7 @@ impl Gpu {
                 .filter(|a| surface.as_ref().is_none_or(|s| a.is_surface_supported(s)))
                 .collect();
             candidates.sort_by_key(|a| device_type_rank(a.get_info().device_type).0);
-            let Some(adapter) = candidates.into_iter().next() else {
+            if candidates.is_empty() {
                 tried.push(format!(
                     "{}: no adapter{}{}",
                     backends_label(backends),
@@ -213,9 +219,14 @@ impl Gpu {
                     }
                 ));
                 continue;
-            };
-            let gpu = Gpu::from_adapter(adapter)?;
-            return Ok((gpu, surface));
+            }
+            for adapter in candidates {
+                let name = adapter.get_info().name;
+                match Gpu::from_adapter(adapter) {
+                    Ok(gpu) => return Ok((gpu, surface)),
+                    Err(e) => tried.push(format!("{}: {name}: {e}", backends_label(backends))),
+                }
+            }
         }
         let hint = if *request == GpuRequest::default() {
             " (install mesa-vulkan-drivers for lavapipe, or Mesa's EGL for llvmpipe)"
@@ -225,7 +236,7 @@ impl Gpu {
         Err(Error::NoAdapter(format!("{}{hint}", tried.join("; "))))
     }
 
-    /// Creates the device on a chosen adapter.
+    /// Creates the device on a chosen adapter and checks that it can run Lumen's shaders.
     pub fn from_adapter(adapter: wgpu::Adapter) -> Result<Gpu> {
         let info = adapter.get_info();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
@@ -253,7 +264,7 @@ impl Gpu {
             .copied()
             .collect::<Vec<_>>()
             .join(" ");
-        Ok(Gpu {
+        let gpu = Gpu {
             summary: AdapterSummary {
                 name: info.name.clone(),
                 backend: backend_name(info.backend).to_string(),
@@ -264,6 +275,64 @@ impl Gpu {
             device,
             queue,
             timestamps,
+        };
+        gpu.check_shader_support()?;
+        Ok(gpu)
+    }
+
+    /// Compiles a minimal pipeline that reads storage buffers in a vertex and a fragment
+    /// shader, as the G-buffer and lighting passes do. Some adapters advertise storage
+    /// buffers but cannot compile them: NVIDIA's OpenGL driver gives wgpu a GL 3.3 context,
+    /// whose GLSL 330 has none.
+    fn check_shader_support(&self) -> Result<()> {
+        const PROBE: &str = "
+            @group(0) @binding(0) var<storage, read> data: array<vec4<f32>>;
+            @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+                return data[i];
+            }
+            @fragment fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
+                return data[u32(p.x) % arrayLength(&data)];
+            }";
+        self.checked("storage buffers in vertex and fragment shaders", |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("capability probe"),
+                source: wgpu::ShaderSource::Wgsl(PROBE.into()),
+            });
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("capability probe"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::TextureFormat::Rgba8Unorm.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+        .map(|_| ())
+        .map_err(|e| {
+            let first = e
+                .to_string()
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or_default()
+                .trim()
+                .to_string();
+            Error::Gpu(format!(
+                "cannot compile storage buffers in vertex and fragment shaders ({first})"
+            ))
         })
     }
 
