@@ -26,6 +26,22 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
     return surface_brdf(n, v, l, surface, VISIBILITY_MODEL) * illuminance * n_dot_l;
 }
 
+// Direction towards a point or spot light and the illuminance (× exposure) it gives at
+// `world`, before any spot cone: inverse-square law times the range window.
+struct Incident {
+    l: vec3<f32>,
+    illuminance: vec3<f32>,
+}
+
+fn punctual_incident(light: Light, world: vec3<f32>, n: vec3<f32>) -> Incident {
+    let to_light = light.position.xyz - world;
+    let d2 = dot(to_light, to_light);
+    var incident: Incident;
+    incident.l = safe_normalize(to_light, n);
+    incident.illuminance = light.color_inv_range2.rgb * distance_attenuation(d2, light.color_inv_range2.w);
+    return incident;
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
@@ -61,31 +77,16 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     if HAS_POINT {
         for (var i = counts.x; i < counts.x + counts.y; i++) {
-            let light = lights[i];
-            let to_light = light.position.xyz - world;
-            let d2 = dot(to_light, to_light);
-            let inv_r2 = light.color_inv_range2.w;
-            if inv_r2 > 0.0 && d2 * inv_r2 >= 1.0 {
-                continue;
-            }
-            let l = safe_normalize(to_light, n);
-            let e = light.color_inv_range2.rgb * distance_attenuation(d2, inv_r2);
-            color += shade(n, v, l, surface, e);
+            let incident = punctual_incident(lights[i], world, n);
+            color += shade(n, v, incident.l, surface, incident.illuminance);
         }
     }
     if HAS_SPOT {
         for (var i = counts.x + counts.y; i < counts.w; i++) {
             let light = lights[i];
-            let to_light = light.position.xyz - world;
-            let d2 = dot(to_light, to_light);
-            let inv_r2 = light.color_inv_range2.w;
-            if inv_r2 > 0.0 && d2 * inv_r2 >= 1.0 {
-                continue;
-            }
-            let l = safe_normalize(to_light, n);
-            let cone = spot_attenuation(dot(-l, light.direction.xyz), light.spot.x, light.spot.y);
-            let e = light.color_inv_range2.rgb * (distance_attenuation(d2, inv_r2) * cone);
-            color += shade(n, v, l, surface, e);
+            let incident = punctual_incident(light, world, n);
+            let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
+            color += shade(n, v, incident.l, surface, incident.illuminance * cone);
         }
     }
     // Keep the value finite in the f16 target (PBR-REFERENCE §5); NaN becomes 0.

@@ -8,7 +8,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::plan::FramePlan;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
-use crate::render::targets::RenderTargets;
+use crate::render::targets::{RenderTargets, Target};
 use crate::render::timing::PassTiming;
 use crate::render::{self, ExtractSchedule, RenderSchedule};
 use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
@@ -74,11 +74,6 @@ pub enum FrameTarget {
     Hdr,
 }
 
-struct Offscreen {
-    texture: wgpu::Texture,
-    view: wgpu::TextureView,
-}
-
 /// Format of the headless display image: 8-bit RGBA; the tone mapping pass applies the
 /// exact sRGB curve itself.
 pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -86,7 +81,7 @@ pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm
 /// The scene World, its schedules and, after [`App::attach_gpu`], the renderer.
 pub struct App {
     world: World,
-    offscreen: Option<Offscreen>,
+    offscreen: Option<Target>,
 }
 
 impl Default for App {
@@ -177,22 +172,7 @@ impl App {
             .as_ref()
             .is_none_or(|o| (o.texture.width(), o.texture.height()) != size)
         {
-            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("display image"),
-                size: wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: HEADLESS_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
-            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-            self.offscreen = Some(Offscreen { texture, view });
+            self.offscreen = Some(Target::new(&gpu, "display image", size, HEADLESS_FORMAT));
         }
         let view = self.offscreen.as_ref().map(|o| o.view.clone());
         self.render_to_view(view, HEADLESS_FORMAT, size)

@@ -5,11 +5,24 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
+use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, compose};
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
+
+/// The depth attachment of the G-buffer pass, cleared to 0 (the far plane in reversed Z).
+fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(0.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
 
 /// The G-buffer pass's pipeline and bindings.
 #[derive(Resource)]
@@ -39,26 +52,8 @@ impl GBufferPass {
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("gbuffer"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: true },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
+                    uniform_entry(0, wgpu::ShaderStages::VERTEX),
+                    storage_entry(1, wgpu::ShaderStages::VERTEX),
                 ],
             });
         let pipeline_layout = gpu
@@ -190,14 +185,7 @@ pub fn gbuffer_pass(
                 clear(&t.gbuffer1.view),
                 clear(&t.gbuffer2.view),
             ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &t.depth.view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
+            depth_stencil_attachment: Some(cleared_depth(&t.depth.view)),
             timestamp_writes: timer.render_writes(&scope),
             occlusion_query_set: None,
             multiview_mask: None,
@@ -228,14 +216,7 @@ pub fn clear_gbuffer(targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncod
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("clear depth"),
         color_attachments: &[],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &t.depth.view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(0.0),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
+        depth_stencil_attachment: Some(cleared_depth(&t.depth.view)),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,

@@ -7,6 +7,9 @@
 use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::pipelines::{
+    fullscreen_pipeline, storage_entry, texture_load_entry, uniform_entry,
+};
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef, compose};
@@ -23,52 +26,20 @@ pub struct LightingPass {
     bind_group: Option<((u64, u64), wgpu::BindGroup)>,
 }
 
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type,
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
 impl LightingPass {
     /// Creates the bind group layout; pipelines are compiled per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("lighting"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: true },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    texture_entry(2, unfilterable),
-                    texture_entry(3, unfilterable),
-                    texture_entry(4, unfilterable),
-                    texture_entry(5, unfilterable),
+                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
+                    storage_entry(1, wgpu::ShaderStages::FRAGMENT),
+                    texture_load_entry(2),
+                    texture_load_entry(3),
+                    texture_load_entry(4),
+                    texture_load_entry(5),
                 ],
             });
         let pipeline_layout = gpu
@@ -113,33 +84,14 @@ impl LightingPass {
             return Ok(());
         }
         let module = shaders::create_module(gpu, "lighting", LightingPass::source(variant))?;
-        let pipeline = gpu.checked("lighting pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("lighting"),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: targets::HDR_FORMAT,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "lighting",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            targets::HDR_FORMAT,
+        )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())
     }

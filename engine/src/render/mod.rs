@@ -12,6 +12,7 @@ pub mod frame;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod lighting;
+pub mod pipelines;
 pub mod plan;
 pub mod readback;
 pub mod scene_buffers;

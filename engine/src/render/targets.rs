@@ -26,7 +26,8 @@ pub struct Target {
 }
 
 impl Target {
-    fn new(gpu: &Gpu, label: &str, size: (u32, u32), format: wgpu::TextureFormat) -> Target {
+    /// A 2D texture that can be rendered to, bound for `textureLoad`, and read back.
+    pub fn new(gpu: &Gpu, label: &str, size: (u32, u32), format: wgpu::TextureFormat) -> Target {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
             size: wgpu::Extent3d {

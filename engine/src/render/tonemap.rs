@@ -6,6 +6,7 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::pipelines::{fullscreen_pipeline, texture_load_entry};
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -29,16 +30,7 @@ impl TonemapPass {
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("tonemap"),
-                entries: &[wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                }],
+                entries: &[texture_load_entry(0)],
             });
         let pipeline_layout = gpu
             .device
@@ -68,33 +60,14 @@ impl TonemapPass {
             &[shaders::COLOR, shaders::FULLSCREEN, shaders::TONEMAP],
         );
         let module = shaders::create_module(gpu, "tonemap", source)?;
-        let pipeline = gpu.checked("tonemap pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("tonemap"),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "tonemap",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            format,
+        )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())
     }

@@ -1,0 +1,83 @@
+//! Small builders shared by the passes: bind group layout entries and the full-screen
+//! pipeline that the lighting and tone mapping passes (and the adapter check) use.
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+
+/// A uniform buffer binding.
+pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A read-only storage buffer binding.
+pub fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A 2D texture read with `textureLoad` in the fragment shader (no sampler, so any
+/// float format, depth included, binds as unfilterable float).
+pub fn texture_load_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
+/// target for `vs_fullscreen`) into one colour target of `format`, no blending, no depth.
+pub fn fullscreen_pipeline(
+    gpu: &Gpu,
+    label: &str,
+    layout: Option<&wgpu::PipelineLayout>,
+    module: &wgpu::ShaderModule,
+    (vertex_entry, fragment_entry): (&str, &str),
+    format: wgpu::TextureFormat,
+) -> Result<wgpu::RenderPipeline> {
+    gpu.checked(&format!("{label} pipeline"), |device| {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout,
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vertex_entry),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fragment_entry),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })
+}
