@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::pipelines::{
-    fullscreen_pipeline, storage_entry, texture_load_entry, uniform_entry,
+    draw_fullscreen, fullscreen_pipeline, storage_entry, texture_load_entry, uniform_entry,
 };
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
@@ -167,27 +167,12 @@ pub fn lighting_pass(
     ) else {
         return;
     };
-    let scope = timer.begin_pass("lighting");
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("lighting"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.hdr.view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timer.render_writes(&scope),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, bind_group, &[]);
-        rp.draw(0..3, 0..1);
-    }
-    timer.end_pass(scope);
+    draw_fullscreen(
+        encoder,
+        timer,
+        "lighting",
+        &t.hdr.view,
+        pipeline,
+        bind_group,
+    );
 }

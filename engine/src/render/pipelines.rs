@@ -1,8 +1,9 @@
-//! Small builders shared by the passes: bind group layout entries and the full-screen
-//! pipeline that the lighting and tone mapping passes (and the adapter check) use.
+//! Small builders shared by the passes: bind group layout entries, and the full-screen
+//! pipeline and pass that the lighting and tone mapping passes (and the adapter check) use.
 
 use crate::error::Result;
 use crate::render::device::Gpu;
+use crate::render::timing::GpuTimer;
 
 /// A uniform buffer binding.
 pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
@@ -80,4 +81,38 @@ pub fn fullscreen_pipeline(
             cache: None,
         })
     })
+}
+
+/// Records one timed full-screen pass: `pipeline` with `bind_group` over all of `target`.
+pub fn draw_fullscreen(
+    encoder: &mut wgpu::CommandEncoder,
+    timer: &mut GpuTimer,
+    name: &'static str,
+    target: &wgpu::TextureView,
+    pipeline: &wgpu::RenderPipeline,
+    bind_group: &wgpu::BindGroup,
+) {
+    let scope = timer.begin_pass(name);
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(name),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
 }

@@ -6,7 +6,7 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
-use crate::render::pipelines::{fullscreen_pipeline, texture_load_entry};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline, texture_load_entry};
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -130,27 +130,5 @@ pub fn tonemap_pass(
     ) else {
         return;
     };
-    let scope = timer.begin_pass("tonemap");
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("tonemap"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: timer.render_writes(&scope),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, bind_group, &[]);
-        rp.draw(0..3, 0..1);
-    }
-    timer.end_pass(scope);
+    draw_fullscreen(encoder, timer, "tonemap", view, pipeline, bind_group);
 }
