@@ -14,6 +14,10 @@ struct View {
     background: vec4<f32>,
     // Number of directional, point and spot lights; total.
     light_counts: vec4<u32>,
+    // How many of each kind cast shadows; they come first within their kind.
+    shadowed_counts: vec4<u32>,
+    // Camera forward direction (xyz): view depth for cascade selection.
+    forward: vec4<f32>,
 }
 
 // One drawn object (storage buffer, indexed by instance_index).
@@ -27,7 +31,7 @@ struct Instance {
     base_color: vec4<f32>,
     // Pre-exposed emissive luminance (rgb), ambient occlusion (w).
     emissive_occlusion: vec4<f32>,
-    // Metallic, perceptual roughness, specular level, unused.
+    // Metallic, perceptual roughness, specular level, receives shadows (1 or 0).
     params: vec4<f32>,
 }
 
@@ -43,4 +47,21 @@ struct Light {
     color_inv_range2: vec4<f32>,
     // Spot cone scale and offset (xy).
     spot: vec4<f32>,
+    // Shadow: first shadow view (−1: none), view count, light size (directional: tan of
+    // the angular radius; point and spot: radius in m), cascade blend fraction.
+    shadow: vec4<f32>,
+    // Directional: camera distance (m) where each of up to 4 cascades ends.
+    cascade_far: vec4<f32>,
+    // Shadow biases in texels: depth, slope, normal.
+    shadow_bias: vec4<f32>,
+}
+
+// One shadow view in the atlas.
+struct ShadowView {
+    clip_from_world: mat4x4<f32>,
+    // Atlas rectangle in UV: offset (xy), scale (zw).
+    rect: vec4<f32>,
+    // Texel world size (ortho: m; perspective: m per m of distance), perspective (1/0),
+    // near (perspective, m) or depth range (ortho, m), far (perspective, m).
+    texel: vec4<f32>,
 }

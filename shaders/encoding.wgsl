@@ -25,3 +25,22 @@ fn oct_decode(e: vec2<f32>) -> vec3<f32> {
     }
     return normalize(v);
 }
+
+// gbuffer0.a: ambient occlusion in 7 bits and "receives shadows" in the top bit of the
+// 8-bit UNORM channel.
+fn pack_occlusion_receiver(occlusion: f32, receives_shadows: f32) -> f32 {
+    var ao = 1.0;
+    if occlusion == occlusion {
+        ao = clamp(occlusion, 0.0, 1.0);
+    }
+    return (round(ao * 127.0) + select(0.0, 128.0, receives_shadows > 0.5)) / 255.0;
+}
+
+fn unpack_receives_shadows(a: f32) -> f32 {
+    return select(0.0, 1.0, round(a * 255.0) >= 128.0);
+}
+
+fn unpack_occlusion(a: f32) -> f32 {
+    let v = round(a * 255.0);
+    return (v - select(0.0, 128.0, v >= 128.0)) / 127.0;
+}

@@ -1,6 +1,7 @@
 // G-buffer pass: rasterises every mesh instance into the G-buffer.
 // Layout (see README "G-buffer"):
-//   gbuffer0 Rgba8Unorm     : base colour (rgb, exact sRGB curve applied here), AO (a)
+//   gbuffer0 Rgba8Unorm     : base colour (rgb, exact sRGB curve applied here), AO (7 bits)
+//                             and receives-shadows (top bit) in a
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
 //   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
 //   depth    Depth32Float   : reversed Z
@@ -39,7 +40,7 @@ fn vs_main(in: VertexInput, @builtin(instance_index) instance_index: u32) -> Ver
     out.world_normal = normal_matrix * in.normal;
     let base = inst.base_color.rgb;
     out.base_color_ao = vec4<f32>(srgb_encode(base.r), srgb_encode(base.g), srgb_encode(base.b),
-                                  clamp(inst.emissive_occlusion.w, 0.0, 1.0));
+                                  pack_occlusion_receiver(inst.emissive_occlusion.w, inst.params.w));
     out.emissive_specular = vec4<f32>(min(inst.emissive_occlusion.rgb, vec3<f32>(F16_MAX)),
                                       clamp(inst.params.z, 0.0, 1.0));
     out.roughness_metallic = vec2<f32>(clamp_perceptual_roughness(inst.params.y), clamp(inst.params.x, 0.0, 1.0));

@@ -76,7 +76,7 @@ fn render_png_with_json_report() {
     );
     let passes = report["passes"].as_array().cloned().unwrap_or_default();
     let names: Vec<_> = passes.iter().filter_map(|p| p["name"].as_str()).collect();
-    assert_eq!(names, ["gbuffer", "lighting", "tonemap"]);
+    assert_eq!(names, ["shadow", "gbuffer", "lighting", "tonemap"]);
     for p in &passes {
         assert!(p["cpu_ms"].as_f64().is_some_and(|v| v >= 0.0), "{p}");
         assert!(

@@ -40,6 +40,32 @@ pub fn oct_decode(e: Vec2) -> Vec3 {
     v.normalize()
 }
 
+/// Packs ambient occlusion (7 bits) and the "receives shadows" flag (the top bit) into one
+/// 8-bit UNORM channel (`gbuffer0.a`). NaN occlusion counts as 1 (open).
+pub fn pack_occlusion_receiver(occlusion: f32, receives_shadows: f32) -> f32 {
+    let ao = if occlusion.is_nan() {
+        1.0
+    } else {
+        occlusion.clamp(0.0, 1.0)
+    };
+    ((ao * 127.0).round() + if receives_shadows > 0.5 { 128.0 } else { 0.0 }) / 255.0
+}
+
+/// The flag of [`pack_occlusion_receiver`]: 1 or 0.
+pub fn unpack_receives_shadows(a: f32) -> f32 {
+    if (a * 255.0).round() >= 128.0 {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The occlusion of [`pack_occlusion_receiver`], 0..1 in steps of 1/127.
+pub fn unpack_occlusion(a: f32) -> f32 {
+    let v = (a * 255.0).round();
+    (v - if v >= 128.0 { 128.0 } else { 0.0 }) / 127.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -80,6 +106,24 @@ mod tests {
             worst = worst.max(d.dot(n).clamp(-1.0, 1.0).acos().to_degrees());
         }
         assert!(worst < 0.1, "worst f16 round-trip error {worst}°");
+    }
+
+    #[test]
+    fn occlusion_and_receiver_flag_share_a_byte() {
+        for receives in [0.0f32, 1.0] {
+            for i in 0..=127 {
+                let ao = i as f32 / 127.0;
+                // Through an 8-bit UNORM store and load.
+                let stored = (pack_occlusion_receiver(ao, receives) * 255.0).round() / 255.0;
+                assert_eq!(unpack_receives_shadows(stored), receives);
+                assert!((unpack_occlusion(stored) - ao).abs() < 1e-6, "{ao}");
+            }
+        }
+        assert_eq!(
+            unpack_occlusion(pack_occlusion_receiver(f32::NAN, 1.0)),
+            1.0
+        );
+        assert_eq!(unpack_occlusion(pack_occlusion_receiver(-3.0, 0.0)), 0.0);
     }
 
     #[test]

@@ -45,10 +45,11 @@ pub mod prelude {
     pub use crate::app::{App, FrameReport, Update};
     pub use crate::brdf::VisibilityModel;
     pub use crate::color::Tonemapper;
-    pub use crate::quality::Quality;
+    pub use crate::quality::{Quality, ShadowFilter};
     pub use crate::scene::{
-        Camera, DirectionalLight, Exposure, GlobalTransform, LightColor, LuminousIntensity,
-        Material, Mesh3d, MeshHandle, Meshes, PointLight, Projection, SpotLight, Transform,
+        Camera, Cascades, DirectionalLight, Exposure, GlobalTransform, LightColor,
+        LuminousIntensity, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster,
+        NotShadowReceiver, PointLight, Projection, ShadowSettings, SpotLight, Transform,
     };
     pub use bevy_ecs::hierarchy::ChildOf;
     pub use bevy_ecs::prelude::*;

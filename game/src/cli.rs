@@ -48,6 +48,12 @@ pub struct SceneArgs {
     /// Specular visibility term: schlick-ggx (default), smith-correlated, smith-correlated-fast.
     #[arg(long, value_name = "NAME", value_parser = parse_visibility)]
     pub visibility: Option<lumen::brdf::VisibilityModel>,
+    /// Turn every shadow off (no shadow pass runs).
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Shadow filtering: hardware (2×2 PCF), pcf (16 taps, default), pcss (soft, from the light's size).
+    #[arg(long, value_name = "NAME", value_parser = parse_shadow_filter)]
+    pub shadow_filter: Option<lumen::quality::ShadowFilter>,
 }
 
 impl SceneArgs {
@@ -147,6 +153,19 @@ fn parse_tonemapper(s: &str) -> Result<lumen::color::Tonemapper, String> {
             lumen::color::Tonemapper::ALL
                 .iter()
                 .map(|t| t.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> {
+    lumen::quality::ShadowFilter::from_name(s).ok_or_else(|| {
+        format!(
+            "unknown shadow filter '{s}' (use {})",
+            lumen::quality::ShadowFilter::ALL
+                .iter()
+                .map(|f| f.name())
                 .collect::<Vec<_>>()
                 .join(", ")
         )

@@ -2,6 +2,7 @@
 //! scenes and argument parsing.
 
 pub mod cli;
+pub mod output;
 pub mod render_cmd;
 pub mod scenes;
 pub mod setup;

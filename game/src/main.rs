@@ -51,9 +51,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Render(args)) => render_cmd::run(&args).map(|_| ()),
         Some(Command::View(args)) => view::run(args),
         Some(Command::Scenes) => {
-            for s in scenes::SCENES {
-                println!("{:<10} {}", s.name, s.description);
-            }
+            let text: String = scenes::SCENES
+                .iter()
+                .map(|s| format!("{:<10} {}\n", s.name, s.description))
+                .collect();
+            lumen_game::output::print(&text);
             Ok(())
         }
         None => {

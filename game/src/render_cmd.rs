@@ -76,9 +76,12 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                 "lights": report.stats.lights,
             },
         });
-        println!("{value}");
+        crate::output::print(&format!("{value}\n"));
     } else {
-        println!(
+        let mut text = String::new();
+        use std::fmt::Write as _;
+        let _ = writeln!(
+            text,
             "rendered {} at {}x{} on {} ({}, {})",
             args.scene.label(),
             args.size.0,
@@ -88,16 +91,26 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             adapter.device_type
         );
         for p in &report.passes {
-            match p.gpu_ms {
-                Some(g) => println!("  {:<10} gpu {g:8.3} ms   cpu {:7.3} ms", p.name, p.cpu_ms),
-                None => println!("  {:<10} gpu      n/a      cpu {:7.3} ms", p.name, p.cpu_ms),
-            }
+            let _ = match p.gpu_ms {
+                Some(g) => writeln!(
+                    text,
+                    "  {:<10} gpu {g:8.3} ms   cpu {:7.3} ms",
+                    p.name, p.cpu_ms
+                ),
+                None => writeln!(
+                    text,
+                    "  {:<10} gpu      n/a      cpu {:7.3} ms",
+                    p.name, p.cpu_ms
+                ),
+            };
         }
-        println!(
+        let _ = writeln!(
+            text,
             "frame {:.2} ms (first frame, compiling pipelines: {:.1} ms); exposure {:.3e} (EV100 {:.2}), tone mapper {tonemapper}",
             report.frame_ms, first.frame_ms, report.exposure, report.ev100
         );
-        println!("wrote {}", out.display());
+        let _ = writeln!(text, "wrote {}", out.display());
+        crate::output::print(&text);
     }
     Ok(out)
 }

@@ -39,8 +39,15 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
             camera.tonemapper = t;
         }
     }
+    let mut quality = world.resource_mut::<Quality>();
     if let Some(v) = args.visibility {
-        world.resource_mut::<Quality>().visibility = v;
+        quality.visibility = v;
+    }
+    if args.no_shadows {
+        quality.shadows = false;
+    }
+    if let Some(f) = args.shadow_filter {
+        quality.shadow_filter = f;
     }
     Ok(())
 }

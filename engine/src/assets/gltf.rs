@@ -233,7 +233,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
             e.insert(DirectionalLight {
                 illuminance_lux: intensity,
                 color,
-                cast_shadows: false,
+                ..DirectionalLight::default()
             });
         }
         gltf::khr_lights_punctual::Kind::Point => {
@@ -241,7 +241,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
                 intensity: LuminousIntensity::Candela(intensity),
                 color,
                 range_m,
-                cast_shadows: false,
+                ..PointLight::default()
             });
         }
         gltf::khr_lights_punctual::Kind::Spot {
@@ -254,7 +254,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
                 range_m,
                 inner_angle_rad: inner_cone_angle,
                 outer_angle_rad: outer_cone_angle,
-                cast_shadows: false,
+                ..SpotLight::default()
             });
         }
     }

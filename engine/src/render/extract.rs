@@ -7,11 +7,15 @@
 use crate::color::Tonemapper;
 use crate::error::Error;
 use crate::punctual::spot_scale_offset;
+use crate::quality::Quality;
 use crate::render::frame::{FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
+use crate::render::shadow::views::{
+    CameraForShadows, ShadowView, directional_views, point_views, spot_view,
+};
 use crate::scene::{
-    Camera, DirectionalLight, GlobalTransform, Material, Mesh3d, MeshHandle, Meshes, PointLight,
-    SpotLight,
+    Camera, Cascades, DirectionalLight, GlobalTransform, Material, Mesh3d, MeshHandle, Meshes,
+    NotShadowCaster, NotShadowReceiver, PointLight, ShadowSettings, SpotLight,
 };
 use bevy_ecs::prelude::*;
 use glam::{Mat3, Mat4, Vec3};
@@ -42,6 +46,33 @@ pub struct Batch {
     pub first_instance: u32,
     /// Number of instances.
     pub count: u32,
+}
+
+/// A shadow-casting instance and its world-space bounding sphere.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Caster {
+    /// Index into [`ExtractedFrame::instances`].
+    pub instance: u32,
+    /// Its mesh.
+    pub mesh: MeshHandle,
+    /// Bounding sphere centre (m).
+    pub center: Vec3,
+    /// Bounding sphere radius (m).
+    pub radius: f32,
+}
+
+/// Number of shadowed lights of each kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ShadowCounts {
+    /// Directional lights with shadows.
+    pub directional: u32,
+    /// Point lights with shadows.
+    pub point: u32,
+    /// Spot lights with shadows.
+    pub spot: u32,
+    /// Lights with `cast_shadows` whose shadows were not drawn (shadows disabled or
+    /// nothing casts).
+    pub skipped: u32,
 }
 
 /// Number of lights of each kind.
@@ -77,8 +108,20 @@ pub struct ExtractedFrame {
     pub lights: Vec<GpuLight>,
     /// How many of each kind.
     pub light_counts: LightCounts,
+    /// How many directional, point and spot lights cast shadows this frame.
+    pub shadowed_counts: [u32; 3],
     /// Triangles drawn by the G-buffer pass.
     pub triangles: u64,
+    /// Instances that cast shadows, sorted by mesh.
+    pub casters: Vec<Caster>,
+    /// Number of instances that receive shadows.
+    pub receivers: usize,
+    /// Shadow views, in the order the lights refer to them.
+    pub shadow_views: Vec<ShadowView>,
+    /// Shadowed lights of each kind.
+    pub shadow_counts: ShadowCounts,
+    /// Whether shadows were turned off for the frame (`Quality::shadows`).
+    pub shadows_disabled: bool,
 }
 
 fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
@@ -94,6 +137,58 @@ fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
         n.z_axis.extend(0.0).into(),
     ])
 }
+
+/// World-space bounding sphere of a mesh's box under `m`.
+fn bounding_sphere(meshes: &Meshes, mesh: MeshHandle, m: &Mat4) -> Option<(Vec3, f32)> {
+    let aabb = meshes.get(mesh)?.bounds()?;
+    let center = m.transform_point3(aabb.center());
+    let scale = m
+        .x_axis
+        .truncate()
+        .length()
+        .max(m.y_axis.truncate().length())
+        .max(m.z_axis.truncate().length());
+    Some((center, (aabb.max - aabb.min).length() * 0.5 * scale))
+}
+
+/// Shadow settings with out-of-range values clamped: resolution 64..=8192, biases ≥ 0.
+fn sanitized(s: ShadowSettings) -> ShadowSettings {
+    let bias = |b: f32| {
+        if b.is_finite() {
+            b.clamp(0.0, 100.0)
+        } else {
+            1.0
+        }
+    };
+    ShadowSettings {
+        resolution: s.resolution.clamp(64, 8192),
+        depth_bias: bias(s.depth_bias),
+        slope_bias: bias(s.slope_bias),
+        normal_bias: bias(s.normal_bias),
+    }
+}
+
+fn shadow_fields(
+    first: usize,
+    views: usize,
+    size: f32,
+    s: &ShadowSettings,
+) -> ([f32; 4], [f32; 4]) {
+    (
+        [
+            first as f32,
+            views as f32,
+            finite_or(size, 0.0).max(0.0),
+            0.0,
+        ],
+        [s.depth_bias, s.slope_bias, s.normal_bias, 0.0],
+    )
+}
+
+/// `cascade_far` of a light without cascades.
+const NO_CASCADES: [f32; 4] = [f32::MAX; 4];
+
+const NO_SHADOW: [f32; 4] = [-1.0, 0.0, 0.0, 0.0];
 
 fn finite_or(x: f32, fallback: f32) -> f32 {
     if x.is_finite() { x } else { fallback }
@@ -117,15 +212,30 @@ fn exposed(color: Vec3, intensity: f32, exposure: f32) -> [f32; 3] {
     v.min(Vec3::splat(f32::MAX)).into()
 }
 
+/// What extraction reads of a drawn entity.
+type Drawable = (
+    &'static Mesh3d,
+    &'static Material,
+    &'static GlobalTransform,
+    Has<NotShadowCaster>,
+    Has<NotShadowReceiver>,
+);
+
 /// Extracts the frame from the World (a system of the render schedule).
 #[allow(clippy::too_many_arguments)]
 pub fn extract_frame(
     cameras: Query<(Entity, &Camera, &GlobalTransform)>,
-    drawables: Query<(&Mesh3d, &Material, &GlobalTransform)>,
-    directional: Query<(&DirectionalLight, &GlobalTransform)>,
-    points: Query<(&PointLight, &GlobalTransform)>,
-    spots: Query<(&SpotLight, &GlobalTransform)>,
+    drawables: Query<Drawable>,
+    directional: Query<(
+        &DirectionalLight,
+        &GlobalTransform,
+        Option<&ShadowSettings>,
+        Option<&Cascades>,
+    )>,
+    points: Query<(&PointLight, &GlobalTransform, Option<&ShadowSettings>)>,
+    spots: Query<(&SpotLight, &GlobalTransform, Option<&ShadowSettings>)>,
     meshes: Res<Meshes>,
+    quality: Res<Quality>,
     output: Res<FrameOutput>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,
@@ -165,9 +275,16 @@ pub fn extract_frame(
         tonemapper: camera.tonemapper,
     });
 
-    // Instances, sorted by mesh so each mesh is one instanced draw.
-    let mut items: Vec<(MeshHandle, GpuInstance)> = Vec::new();
-    for (mesh, material, transform) in &drawables {
+    // Instances, sorted by mesh (casters first within a mesh) so each mesh is one
+    // instanced draw.
+    struct Item {
+        mesh: MeshHandle,
+        casts: bool,
+        sphere: Option<(Vec3, f32)>,
+        instance: GpuInstance,
+    }
+    let mut items: Vec<Item> = Vec::new();
+    for (mesh, material, transform, not_caster, not_receiver) in &drawables {
         if meshes.get(mesh.0).is_none() {
             log::warn!(
                 "an entity refers to mesh {} which does not exist; skipped",
@@ -181,9 +298,11 @@ pub fn extract_frame(
             continue;
         };
         let base = material.base_color;
-        items.push((
-            mesh.0,
-            GpuInstance {
+        items.push(Item {
+            mesh: mesh.0,
+            casts: !not_caster,
+            sphere: bounding_sphere(&meshes, mesh.0, &m),
+            instance: GpuInstance {
                 world_from_local: m.to_cols_array_2d(),
                 normal_matrix: normal,
                 base_color: [
@@ -200,34 +319,87 @@ pub fn extract_frame(
                     finite_or(material.metallic, 0.0),
                     finite_or(material.perceptual_roughness, 1.0),
                     finite_or(material.specular_level, 0.5),
-                    0.0,
+                    if not_receiver { 0.0 } else { 1.0 },
                 ],
             },
-        ));
+        });
     }
-    items.sort_by_key(|(mesh, _)| *mesh);
+    items.sort_by_key(|item| (item.mesh, !item.casts));
     frame.instances.clear();
     frame.batches.clear();
+    frame.casters.clear();
     frame.triangles = 0;
-    for (mesh, instance) in items {
+    frame.receivers = 0;
+    let mut bounds: Vec<(Vec3, f32)> = Vec::with_capacity(items.len());
+    for item in items {
         let index = frame.instances.len() as u32;
         match frame.batches.last_mut() {
-            Some(b) if b.mesh == mesh => b.count += 1,
+            Some(b) if b.mesh == item.mesh => b.count += 1,
             _ => frame.batches.push(Batch {
-                mesh,
+                mesh: item.mesh,
                 first_instance: index,
                 count: 1,
             }),
         }
-        frame.instances.push(instance);
-        frame.triangles += meshes.get(mesh).map_or(0, |m| m.triangle_count() as u64);
+        if let Some((center, radius)) = item.sphere {
+            bounds.push((center, radius));
+            if item.casts {
+                frame.casters.push(Caster {
+                    instance: index,
+                    mesh: item.mesh,
+                    center,
+                    radius,
+                });
+            }
+        }
+        frame.receivers += usize::from(item.instance.params[3] > 0.0);
+        frame.instances.push(item.instance);
+        frame.triangles += meshes
+            .get(item.mesh)
+            .map_or(0, |m| m.triangle_count() as u64);
     }
+    let caster_spheres: Vec<(Vec3, f32)> =
+        frame.casters.iter().map(|c| (c.center, c.radius)).collect();
+    frame.shadows_disabled = !quality.shadows;
+    let shadows_on = quality.shadows && !frame.casters.is_empty() && frame.receivers > 0;
+    frame.shadow_views.clear();
+    frame.shadow_counts = ShadowCounts::default();
+    let shadow_camera = CameraForShadows {
+        world_from_view: camera_transform.0,
+        fov_y: camera.projection.fov_y_rad,
+        aspect,
+        near: camera.projection.near_m.max(1e-4),
+        far: camera.projection.far_m,
+    };
 
     // Lights: directional, point, spot.
     frame.lights.clear();
     let mut counts = LightCounts::default();
-    for (light, transform) in &directional {
+    for (light, transform, settings, cascades) in &directional {
         let towards_light = -transform.forward();
+        let (mut shadow, mut shadow_bias, mut cascade_far) = (NO_SHADOW, [0.0; 4], NO_CASCADES);
+        if light.cast_shadows && shadows_on {
+            let s = sanitized(
+                settings
+                    .copied()
+                    .unwrap_or_else(ShadowSettings::directional),
+            );
+            let c = cascades.copied().unwrap_or_default();
+            let views =
+                directional_views(&shadow_camera, transform.forward(), &s, &c, &caster_spheres);
+            let tan_radius =
+                (finite_or(light.angular_diameter_rad, 0.0).clamp(0.0, 0.5) * 0.5).tan();
+            (shadow, shadow_bias) =
+                shadow_fields(frame.shadow_views.len(), views.len(), tan_radius, &s);
+            shadow[3] = finite_or(c.blend_fraction, 0.0).clamp(0.0, 0.5);
+            for (far, v) in cascade_far.iter_mut().zip(&views) {
+                *far = v.cascade_far;
+            }
+            frame.shadow_views.extend(views);
+            frame.shadow_counts.directional += 1;
+        } else if light.cast_shadows {
+            frame.shadow_counts.skipped += 1;
+        }
         frame.lights.push(GpuLight {
             position: [0.0; 4],
             direction: towards_light.extend(0.0).into(),
@@ -236,33 +408,85 @@ pub fn extract_frame(
                 [c[0], c[1], c[2], 0.0]
             },
             spot: [0.0; 4],
+            shadow,
+            cascade_far,
+            shadow_bias,
         });
         counts.directional += 1;
     }
-    for (light, transform) in &points {
+    for (light, transform, settings) in &points {
         let c = exposed(light.color.to_linear_rgb(), light.candela(), exposure);
+        let position = transform.translation();
+        let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
+        if light.cast_shadows && shadows_on {
+            let s = sanitized(settings.copied().unwrap_or_else(ShadowSettings::point));
+            let radius = finite_or(light.radius_m, 0.0).max(0.0);
+            let views = point_views(position, light.range_m, radius, &s, &bounds);
+            (shadow, shadow_bias) =
+                shadow_fields(frame.shadow_views.len(), views.len(), radius, &s);
+            frame.shadow_views.extend(views);
+            frame.shadow_counts.point += 1;
+        } else if light.cast_shadows {
+            frame.shadow_counts.skipped += 1;
+        }
         frame.lights.push(GpuLight {
-            position: transform.translation().extend(1.0).into(),
+            position: position.extend(1.0).into(),
             direction: [0.0; 4],
             color_inv_range2: [c[0], c[1], c[2], inv_range_squared(light.range_m)],
             spot: [0.0; 4],
+            shadow,
+            cascade_far: NO_CASCADES,
+            shadow_bias,
         });
         counts.point += 1;
     }
-    for (light, transform) in &spots {
+    for (light, transform, settings) in &spots {
         let c = exposed(light.color.to_linear_rgb(), light.candela(), exposure);
         let (scale, offset) = spot_scale_offset(
             finite_or(light.inner_angle_rad, 0.0),
             finite_or(light.outer_angle_rad, 0.0),
         );
+        let position = transform.translation();
+        let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
+        if light.cast_shadows && shadows_on {
+            let s = sanitized(settings.copied().unwrap_or_else(ShadowSettings::spot));
+            let radius = finite_or(light.radius_m, 0.0).max(0.0);
+            let view = spot_view(
+                position,
+                transform.forward(),
+                light.outer_angle_rad,
+                light.range_m,
+                radius,
+                &s,
+                &bounds,
+            );
+            (shadow, shadow_bias) = shadow_fields(frame.shadow_views.len(), 1, radius, &s);
+            frame.shadow_views.push(view);
+            frame.shadow_counts.spot += 1;
+        } else if light.cast_shadows {
+            frame.shadow_counts.skipped += 1;
+        }
         frame.lights.push(GpuLight {
-            position: transform.translation().extend(1.0).into(),
+            position: position.extend(1.0).into(),
             direction: transform.forward().extend(0.0).into(),
             color_inv_range2: [c[0], c[1], c[2], inv_range_squared(light.range_m)],
             spot: [scale, offset, 0.0, 0.0],
+            shadow,
+            cascade_far: NO_CASCADES,
+            shadow_bias,
         });
         counts.spot += 1;
     }
+    // Within each kind, shadowed lights first: the lighting shader loops over them with
+    // shadow lookups and over the rest without.
+    let (dir, rest) = frame.lights.split_at_mut(counts.directional as usize);
+    let (point, spot) = rest.split_at_mut(counts.point as usize);
+    let mut shadowed = [0u32; 3];
+    for (k, lights) in [dir, point, spot].into_iter().enumerate() {
+        lights.sort_by_key(|l| l.shadow[0] < 0.0);
+        shadowed[k] = lights.iter().filter(|l| l.shadow[0] >= 0.0).count() as u32;
+    }
+    frame.shadowed_counts = shadowed;
     frame.light_counts = counts;
 
     let background = exposed(camera.background.max(Vec3::ZERO), 1.0, exposure);
@@ -283,5 +507,7 @@ pub fn extract_frame(
             counts.spot,
             counts.total(),
         ],
+        shadowed_counts: [shadowed[0], shadowed[1], shadowed[2], 0],
+        forward: camera_transform.forward().extend(0.0).into(),
     };
 }

@@ -18,6 +18,11 @@ pub struct GpuView {
     pub background: [f32; 4],
     /// Directional, point, spot and total light counts.
     pub light_counts: [u32; 4],
+    /// How many of the directional, point and spot lights cast shadows (each kind's
+    /// shadowed lights come first in the light buffer); unused.
+    pub shadowed_counts: [u32; 4],
+    /// Camera forward direction (xyz, unit) for the view depth that selects cascades.
+    pub forward: [f32; 4],
 }
 
 /// One drawn object (`Instance` in WGSL).
@@ -32,7 +37,7 @@ pub struct GpuInstance {
     pub base_color: [f32; 4],
     /// Pre-exposed emissive luminance (rgb) and ambient occlusion (w).
     pub emissive_occlusion: [f32; 4],
-    /// Metallic, perceptual roughness, specular level, unused.
+    /// Metallic, perceptual roughness, specular level, receives shadows (1 or 0).
     pub params: [f32; 4],
 }
 
@@ -48,6 +53,39 @@ pub struct GpuLight {
     pub color_inv_range2: [f32; 4],
     /// Spot cone scale and offset.
     pub spot: [f32; 4],
+    /// Shadow: index of the first shadow view (−1: no shadow), number of views, light
+    /// size (directional: tan of the angular radius; point and spot: radius in m),
+    /// cascade blend fraction.
+    pub shadow: [f32; 4],
+    /// Directional lights: camera distance (m) where each of up to 4 cascades ends
+    /// (unused entries: f32::MAX).
+    pub cascade_far: [f32; 4],
+    /// Shadow biases in texels: depth, slope, normal; unused.
+    pub shadow_bias: [f32; 4],
+}
+
+/// One shadow view in the atlas (`ShadowView` in WGSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuShadowView {
+    /// Clip from world, depth 0 nearest the light.
+    pub clip_from_world: [[f32; 4]; 4],
+    /// Atlas rectangle in UV: offset (xy), scale (zw).
+    pub rect: [f32; 4],
+    /// Texel world size (ortho: m; perspective: m per m), perspective flag (1/0), near
+    /// (perspective, m) or depth range (ortho, m), far (perspective, m).
+    pub texel: [f32; 4],
+}
+
+/// The matrix one shadow view draws casters with (`CasterView` in WGSL), padded to the
+/// 256-byte dynamic-offset alignment.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuCasterView {
+    /// Clip from world.
+    pub clip_from_world: [[f32; 4]; 4],
+    /// Padding to 256 bytes.
+    pub pad: [[f32; 4]; 12],
 }
 
 #[cfg(test)]
@@ -57,8 +95,10 @@ mod tests {
     #[test]
     fn sizes_match_wgsl_layouts() {
         // std140/std430 sizes of the WGSL structs in shaders/bindings.wgsl.
-        assert_eq!(std::mem::size_of::<GpuView>(), 64 + 64 + 16 * 4);
+        assert_eq!(std::mem::size_of::<GpuView>(), 64 + 64 + 16 * 6);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 64 + 48 + 48);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 64);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 112);
+        assert_eq!(std::mem::size_of::<GpuShadowView>(), 96);
+        assert_eq!(std::mem::size_of::<GpuCasterView>(), 256);
     }
 }

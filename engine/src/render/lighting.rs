@@ -13,6 +13,7 @@ use crate::render::pipelines::{
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
@@ -23,7 +24,7 @@ pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<LightingVariant, wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64), wgpu::BindGroup)>,
+    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
 }
 
 impl LightingPass {
@@ -40,6 +41,24 @@ impl LightingPass {
                     texture_load_entry(3),
                     texture_load_entry(4),
                     texture_load_entry(5),
+                    storage_entry(6, wgpu::ShaderStages::FRAGMENT),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 7,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Depth,
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 8,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                        count: None,
+                    },
+                    texture_load_entry(9),
                 ],
             });
         let pipeline_layout = gpu
@@ -65,6 +84,10 @@ impl LightingPass {
                 ShaderDef::Bool("HAS_POINT", variant.point),
                 ShaderDef::Bool("HAS_SPOT", variant.spot),
                 ShaderDef::U32("VISIBILITY_MODEL", variant.visibility as u32),
+                ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
+                ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
+                ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
+                ShaderDef::U32("SHADOW_FILTER", variant.shadow_filter as u32),
             ],
             &[
                 shaders::COMMON,
@@ -74,6 +97,7 @@ impl LightingPass {
                 shaders::ENCODING,
                 shaders::BINDINGS,
                 shaders::FULLSCREEN,
+                shaders::SHADOWS,
                 shaders::LIGHTING,
             ],
         )
@@ -104,6 +128,7 @@ pub fn prepare_lighting(
     plan: Res<FramePlan>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
+    shadows: Res<ShadowPass>,
     mut pass: ResMut<LightingPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -114,7 +139,7 @@ pub fn prepare_lighting(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let key = (t.generation, buffers.generation);
+    let key = (t.generation, buffers.generation, shadows.generation);
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
@@ -145,6 +170,22 @@ pub fn prepare_lighting(
             wgpu::BindGroupEntry {
                 binding: 5,
                 resource: wgpu::BindingResource::TextureView(&t.depth.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: shadows.gpu_views.buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: wgpu::BindingResource::TextureView(&shadows.atlas.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 8,
+                resource: wgpu::BindingResource::Sampler(&shadows.sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 9,
+                resource: wgpu::BindingResource::TextureView(&shadows.atlas.view),
             },
         ],
     });

@@ -3,7 +3,7 @@
 //!
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
 //! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
-//! pipelines), then the passes in order — G-buffer, lighting, tone mapping — each
+//! pipelines), then the passes in order — shadow, G-buffer, lighting, tone mapping — each
 //! recording into the frame's command encoder with its own timing.
 
 pub mod device;
@@ -17,6 +17,7 @@ pub mod plan;
 pub mod readback;
 pub mod scene_buffers;
 pub mod shaders;
+pub mod shadow;
 pub mod targets;
 pub mod timing;
 pub mod tonemap;
@@ -61,6 +62,7 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
     world.insert_resource(lighting::LightingPass::new(&gpu));
+    world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
     world.insert_resource(tonemap::TonemapPass::new(&gpu));
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
@@ -83,10 +85,12 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
             plan::plan_frame,
             prepare_targets,
             scene_buffers::prepare_scene_buffers,
+            shadow::pass::prepare_shadows,
             gbuffer::prepare_gbuffer,
             lighting::prepare_lighting,
             tonemap::prepare_tonemap,
             begin_frame,
+            shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
             gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
             gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
             lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),

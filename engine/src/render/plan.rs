@@ -2,13 +2,15 @@
 //! they compile, each with the reason ("model only what a scene requires").
 
 use crate::brdf::VisibilityModel;
-use crate::quality::Quality;
+use crate::quality::{Quality, ShadowFilter};
 use crate::render::extract::ExtractedFrame;
 use bevy_ecs::prelude::*;
 
 /// A pass of the frame, in execution order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PassId {
+    /// Draws shadow casters into the shadow atlas.
+    Shadow,
     /// Rasterises meshes into the G-buffer.
     GBuffer,
     /// Full-screen deferred lighting into the HDR target.
@@ -19,11 +21,17 @@ pub enum PassId {
 
 impl PassId {
     /// Every pass, in execution order.
-    pub const ALL: [PassId; 3] = [PassId::GBuffer, PassId::Lighting, PassId::Tonemap];
+    pub const ALL: [PassId; 4] = [
+        PassId::Shadow,
+        PassId::GBuffer,
+        PassId::Lighting,
+        PassId::Tonemap,
+    ];
 
     /// Short name used in reports and JSON.
     pub fn name(self) -> &'static str {
         match self {
+            PassId::Shadow => "shadow",
             PassId::GBuffer => "gbuffer",
             PassId::Lighting => "lighting",
             PassId::Tonemap => "tonemap",
@@ -53,6 +61,10 @@ pub struct LightingVariant {
     pub spot: bool,
     /// Visibility term.
     pub visibility: VisibilityModel,
+    /// Shadow lookups compiled in for directional, point and spot lights.
+    pub shadows: [bool; 3],
+    /// Shadow filter.
+    pub shadow_filter: ShadowFilter,
 }
 
 /// This frame's plan.
@@ -76,6 +88,8 @@ impl Default for FramePlan {
                 point: false,
                 spot: false,
                 visibility: VisibilityModel::default(),
+                shadows: [false; 3],
+                shadow_filter: ShadowFilter::default(),
             },
         }
     }
@@ -123,6 +137,29 @@ fn decision(name: &'static str, enabled: bool, reason: String) -> Decision {
 pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: ResMut<FramePlan>) {
     let instances = frame.instances.len();
     let counts = frame.light_counts;
+    let sc = frame.shadow_counts;
+    let views = frame.shadow_views.len();
+    let shadow = decision(
+        PassId::Shadow.name(),
+        views > 0,
+        if views > 0 {
+            format!(
+                "{views} view(s): {} directional (cascades), {} spot, {} point light(s) (6 faces each); {} caster(s)",
+                sc.directional,
+                sc.spot,
+                sc.point,
+                frame.casters.len()
+            )
+        } else if frame.shadows_disabled {
+            "shadows are off (--no-shadows)".into()
+        } else if sc.skipped == 0 {
+            "no light casts shadows".into()
+        } else if frame.casters.is_empty() {
+            "no mesh casts shadows".into()
+        } else {
+            "no mesh receives shadows".into()
+        },
+    );
     let gbuffer = decision(
         PassId::GBuffer.name(),
         instances > 0,
@@ -173,14 +210,26 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
             true,
             quality.visibility.name().to_string(),
         ),
+        decision(
+            "shadow lookups",
+            views > 0 && instances > 0,
+            if views > 0 {
+                format!("{} filter", quality.shadow_filter.name())
+            } else {
+                "no shadow pass".into()
+            },
+        ),
     ];
     plan.lighting = LightingVariant {
         directional: features[0].enabled,
         point: features[1].enabled,
         spot: features[2].enabled,
         visibility: quality.visibility,
+        shadows: [0, 1, 2].map(|k| features[4].enabled && frame.shadowed_counts[k] > 0),
+        shadow_filter: quality.shadow_filter,
     };
     plan.passes = vec![
+        (PassId::Shadow, shadow),
         (PassId::GBuffer, gbuffer),
         (PassId::Lighting, lighting),
         (PassId::Tonemap, tonemap),

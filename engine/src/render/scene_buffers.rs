@@ -26,7 +26,8 @@ pub struct GrowableBuffer {
 }
 
 impl GrowableBuffer {
-    fn new(gpu: &Gpu, label: &'static str, size: u64) -> Self {
+    /// An empty buffer of at least `size` bytes (and at least 256).
+    pub fn new(gpu: &Gpu, label: &'static str, size: u64) -> Self {
         GrowableBuffer {
             buffer: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -39,7 +40,7 @@ impl GrowableBuffer {
     }
 
     /// Writes `data`, growing the buffer first if needed; returns whether it was recreated.
-    fn write(&mut self, gpu: &Gpu, data: &[u8]) -> bool {
+    pub fn write(&mut self, gpu: &Gpu, data: &[u8]) -> bool {
         let mut recreated = false;
         if data.len() as u64 > self.buffer.size() {
             *self = GrowableBuffer::new(gpu, self.label, (data.len() as u64).next_power_of_two());

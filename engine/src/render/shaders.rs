@@ -28,6 +28,10 @@ pub const FULLSCREEN: &str = include_str!("../../../shaders/fullscreen.wgsl");
 pub const GBUFFER: &str = include_str!("../../../shaders/gbuffer.wgsl");
 /// Deferred lighting pass.
 pub const LIGHTING: &str = include_str!("../../../shaders/lighting.wgsl");
+/// Shadow pass (casters into the atlas).
+pub const SHADOW: &str = include_str!("../../../shaders/shadow.wgsl");
+/// Shadow-map sampling and filtering, used by the lighting pass.
+pub const SHADOWS: &str = include_str!("../../../shaders/shadows.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: &str = include_str!("../../../shaders/tonemap.wgsl");
 

@@ -58,8 +58,12 @@ pub struct DirectionalLight {
     pub illuminance_lux: f32,
     /// Colour.
     pub color: LightColor,
-    /// Whether the light casts shadows (shadow maps arrive with their own issue).
+    /// Whether the light casts shadows (see [`crate::scene::ShadowSettings`] and
+    /// [`crate::scene::Cascades`]).
     pub cast_shadows: bool,
+    /// Angular diameter of the light's disc in radians (the sun: 0.0093 rad = 0.53°): the
+    /// size that soft shadows (PCSS) use for their penumbrae.
+    pub angular_diameter_rad: f32,
 }
 
 impl Default for DirectionalLight {
@@ -68,9 +72,16 @@ impl Default for DirectionalLight {
             illuminance_lux: 10_000.0,
             color: LightColor::default(),
             cast_shadows: false,
+            angular_diameter_rad: SUN_ANGULAR_DIAMETER_RAD,
         }
     }
 }
+
+/// The sun's mean angular diameter seen from the Earth, 0.533°, in radians.
+pub const SUN_ANGULAR_DIAMETER_RAD: f32 = 0.0093;
+
+/// Default radius of point and spot lights: a 2.5 cm bulb.
+pub const DEFAULT_LIGHT_RADIUS_M: f32 = 0.025;
 
 /// A light emitting equally in all directions from a point.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -83,8 +94,10 @@ pub struct PointLight {
     /// Distance in metres beyond which the light has no effect; the falloff is
     /// windowed smoothly to 0 there (PBR-REFERENCE §2). Infinite = no limit.
     pub range_m: f32,
-    /// Whether the light casts shadows.
+    /// Whether the light casts shadows (see [`crate::scene::ShadowSettings`]).
     pub cast_shadows: bool,
+    /// Radius of the emitting sphere in metres: the size that soft shadows (PCSS) use.
+    pub radius_m: f32,
 }
 
 impl Default for PointLight {
@@ -94,6 +107,7 @@ impl Default for PointLight {
             color: LightColor::default(),
             range_m: 20.0,
             cast_shadows: false,
+            radius_m: DEFAULT_LIGHT_RADIUS_M,
         }
     }
 }
@@ -122,8 +136,10 @@ pub struct SpotLight {
     pub inner_angle_rad: f32,
     /// Half-angle from the axis (radians) outside which there is no light; at most π/2.
     pub outer_angle_rad: f32,
-    /// Whether the light casts shadows.
+    /// Whether the light casts shadows (see [`crate::scene::ShadowSettings`]).
     pub cast_shadows: bool,
+    /// Radius of the emitting disc in metres: the size that soft shadows (PCSS) use.
+    pub radius_m: f32,
 }
 
 impl Default for SpotLight {
@@ -135,6 +151,7 @@ impl Default for SpotLight {
             inner_angle_rad: 0.0,
             outer_angle_rad: std::f32::consts::FRAC_PI_4,
             cast_shadows: false,
+            radius_m: DEFAULT_LIGHT_RADIUS_M,
         }
     }
 }

@@ -8,10 +8,12 @@ pub mod camera;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod shadow;
 pub mod transform;
 
 pub use camera::{Camera, Exposure, Projection};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::Material;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
+pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
 pub use transform::{GlobalTransform, Transform, propagate_transforms};

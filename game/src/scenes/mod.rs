@@ -2,6 +2,7 @@
 
 mod extremes;
 mod plane;
+mod shadows;
 mod spheres;
 
 use lumen::App;
@@ -29,6 +30,11 @@ pub const SCENES: &[SceneInfo] = &[
         build: plane::build,
     },
     SceneInfo {
+        name: "shadows",
+        description: "a ground plane, a floating sphere, a cube and a pillar; a sun, a point and a spot light, each casting a shadow in view",
+        build: shadows::build,
+    },
+    SceneInfo {
         name: "extremes",
         description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
         build: extremes::build,
@@ -46,4 +52,8 @@ pub fn find(name: &str) -> Result<&'static SceneInfo, String> {
 }
 
 pub use plane::{PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL};
+pub use shadows::{
+    SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,
+    SHADOWS_SPOT, SHADOWS_SUN_FROM,
+};
 pub use spheres::{SPHERE_RADIUS, sphere_center, sphere_material};

@@ -45,10 +45,21 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             Transform::from_xyz(x, y, 10.0),
         ));
     }
+    // The sun casts shadows like the peer's: one 2048² cascade out to 30 m.
     world.spawn((
         DirectionalLight {
             illuminance_lux: 10_000.0,
+            cast_shadows: true,
             ..DirectionalLight::default()
+        },
+        ShadowSettings {
+            resolution: 2048,
+            ..ShadowSettings::directional()
+        },
+        Cascades {
+            count: 1,
+            max_distance_m: 30.0,
+            ..Cascades::default()
         },
         Transform::from_xyz(1.0, 2.0, 1.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));

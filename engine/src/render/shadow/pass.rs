@@ -1,0 +1,354 @@
+//! The shadow pass: packs the frame's shadow views into one depth atlas and draws each
+//! view's casters into its rectangle, all in one render pass. Per view only the depth draws
+//! repeat: the casters are culled on the CPU against the view's frustum, and each view
+//! selects its matrix with a dynamic offset (no per-view pipeline, pass or target).
+
+use super::atlas::{AtlasLayout, AtlasRect, pack};
+use super::views::{frustum_planes, sphere_in_frustum};
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::FrameEncoder;
+use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
+use crate::render::pipelines::storage_entry;
+use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
+use crate::render::shaders::{self, compose};
+use crate::render::targets::Target;
+use crate::scene::{MeshHandle, Vertex};
+use bevy_ecs::prelude::*;
+
+/// Format of the shadow atlas.
+pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Largest atlas side; views are halved until they fit (README, "Shadows").
+pub const MAX_ATLAS_SIDE: u32 = 8192;
+
+struct ViewDraws {
+    rect: AtlasRect,
+    /// (mesh, first index into the visible list, count).
+    draws: Vec<(MeshHandle, u32, u32)>,
+}
+
+/// The shadow pass's pipeline, atlas and buffers.
+#[derive(Resource)]
+pub struct ShadowPass {
+    pipeline: wgpu::RenderPipeline,
+    caster_layout: wgpu::BindGroupLayout,
+    caster_views: wgpu::Buffer,
+    visible: GrowableBuffer,
+    /// [`GpuShadowView`] per view, read by the lighting pass.
+    pub gpu_views: GrowableBuffer,
+    /// The depth atlas (1×1 until a frame has shadows).
+    pub atlas: Target,
+    /// A comparison sampler (less-equal, bilinear: hardware 2×2 PCF) for the atlas.
+    pub sampler: wgpu::Sampler,
+    caster_bind_group: Option<(u64, wgpu::BindGroup)>,
+    caster_generation: u64,
+    views: Vec<ViewDraws>,
+    /// This frame's atlas layout.
+    pub layout: AtlasLayout,
+    /// Bumped whenever the atlas or the view buffer is recreated.
+    pub generation: u64,
+}
+
+fn atlas_target(gpu: &Gpu, side: u32) -> Target {
+    Target::new(gpu, "shadow atlas", (side, side), ATLAS_FORMAT)
+}
+
+impl ShadowPass {
+    /// Compiles the pass and creates an empty atlas.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let source = compose(&[], &[shaders::BINDINGS, shaders::SHADOW]);
+        let module = shaders::create_module(gpu, "shadow", source)?;
+        let caster_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("shadow casters"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: true,
+                            min_binding_size: wgpu::BufferSize::new(64),
+                        },
+                        count: None,
+                    },
+                    storage_entry(1, wgpu::ShaderStages::VERTEX),
+                    storage_entry(2, wgpu::ShaderStages::VERTEX),
+                ],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow"),
+                bind_group_layouts: &[Some(&caster_layout)],
+                immediate_size: 0,
+            });
+        let attributes = wgpu::vertex_attr_array![0 => Float32x3];
+        let pipeline = gpu.checked("shadow pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("shadow"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attributes,
+                    })],
+                },
+                // Both faces cast: single-sided planes and open meshes must shadow too.
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: ATLAS_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        Ok(ShadowPass {
+            pipeline,
+            caster_layout,
+            caster_views: caster_view_buffer(gpu, 16),
+            visible: GrowableBuffer::new(gpu, "shadow visible casters", 1024),
+            gpu_views: GrowableBuffer::new(
+                gpu,
+                "shadow views",
+                16 * std::mem::size_of::<GpuShadowView>() as u64,
+            ),
+            atlas: atlas_target(gpu, 1),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            }),
+            caster_bind_group: None,
+            caster_generation: 0,
+            views: Vec::new(),
+            layout: AtlasLayout {
+                side: 1,
+                rects: Vec::new(),
+                halvings: 0,
+            },
+            generation: 0,
+        })
+    }
+}
+
+fn caster_view_buffer(gpu: &Gpu, views: usize) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("shadow caster views"),
+        size: (views.max(1) * std::mem::size_of::<GpuCasterView>()) as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Packs the atlas, uploads the views, culls casters per view and (re)builds bindings.
+pub fn prepare_shadows(
+    gpu: Res<Gpu>,
+    frame: Res<ExtractedFrame>,
+    buffers: Res<SceneBuffers>,
+    mut pass: ResMut<ShadowPass>,
+) {
+    let pass = &mut *pass;
+    pass.views.clear();
+    let requests: Vec<u32> = frame.shadow_views.iter().map(|v| v.resolution).collect();
+    let max_side = MAX_ATLAS_SIDE.min(gpu.max_texture_size());
+    let (layout, placed) = pack(&requests, max_side);
+    if layout.halvings > 0 && pass.layout.halvings != layout.halvings {
+        log::warn!(
+            "{} shadow views do not fit a {max_side}² atlas: every view was halved {} time(s)",
+            requests.len(),
+            layout.halvings
+        );
+    }
+    if placed.iter().any(Option::is_none) {
+        log::warn!(
+            "some shadow views do not fit the atlas even at 64²: their lights are unshadowed"
+        );
+    }
+    if !frame.shadow_views.is_empty() && pass.atlas.texture.width() != layout.side {
+        pass.atlas = atlas_target(&gpu, layout.side);
+        pass.generation += 1;
+    }
+    let side = pass.atlas.texture.width() as f32;
+    let gpu_views: Vec<GpuShadowView> = frame
+        .shadow_views
+        .iter()
+        .zip(&layout.rects)
+        .zip(&placed)
+        .map(|((v, r), p)| GpuShadowView {
+            clip_from_world: v.clip_from_world.to_cols_array_2d(),
+            rect: if p.is_some() {
+                [
+                    r.x as f32 / side,
+                    r.y as f32 / side,
+                    r.size as f32 / side,
+                    r.size as f32 / side,
+                ]
+            } else {
+                [0.0; 4]
+            },
+            texel: [
+                v.texel * v.resolution as f32 / r.size.max(1) as f32,
+                if v.perspective { 1.0 } else { 0.0 },
+                v.near_or_depth_range,
+                v.far,
+            ],
+        })
+        .collect();
+    let data: &[u8] = if gpu_views.is_empty() {
+        &[0; std::mem::size_of::<GpuShadowView>()]
+    } else {
+        bytemuck::cast_slice(&gpu_views)
+    };
+    if pass.gpu_views.write(&gpu, data) {
+        pass.generation += 1;
+    }
+
+    // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh.
+    let mut visible: Vec<u32> = Vec::new();
+    let mut caster_views: Vec<GpuCasterView> = Vec::new();
+    for ((view, rect), p) in frame.shadow_views.iter().zip(&layout.rects).zip(&placed) {
+        if p.is_none() {
+            continue;
+        }
+        let planes = frustum_planes(&view.clip_from_world);
+        let mut draws: Vec<(MeshHandle, u32, u32)> = Vec::new();
+        for caster in &frame.casters {
+            if !sphere_in_frustum(&planes, caster.center, caster.radius) {
+                continue;
+            }
+            let index = visible.len() as u32;
+            match draws.last_mut() {
+                Some(d) if d.0 == caster.mesh => d.2 += 1,
+                _ => draws.push((caster.mesh, index, 1)),
+            }
+            visible.push(caster.instance);
+        }
+        caster_views.push(GpuCasterView {
+            clip_from_world: view.clip_from_world.to_cols_array_2d(),
+            pad: [[0.0; 4]; 12],
+        });
+        pass.views.push(ViewDraws { rect: *rect, draws });
+    }
+    pass.layout = layout;
+    if caster_views.is_empty() {
+        return;
+    }
+    let needed = (caster_views.len() * std::mem::size_of::<GpuCasterView>()) as u64;
+    if needed > pass.caster_views.size() {
+        pass.caster_views = caster_view_buffer(&gpu, caster_views.len().next_power_of_two());
+        pass.caster_generation += 1;
+    }
+    gpu.queue
+        .write_buffer(&pass.caster_views, 0, bytemuck::cast_slice(&caster_views));
+    if visible.is_empty() {
+        visible.push(0);
+    }
+    if pass.visible.write(&gpu, bytemuck::cast_slice(&visible)) {
+        pass.caster_generation += 1;
+    }
+    let key = pass.caster_generation + (buffers.generation << 32);
+    if pass
+        .caster_bind_group
+        .as_ref()
+        .is_none_or(|(k, _)| *k != key)
+    {
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shadow casters"),
+            layout: &pass.caster_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &pass.caster_views,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(64),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: buffers.instances.buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: pass.visible.buffer.as_entire_binding(),
+                },
+            ],
+        });
+        pass.caster_bind_group = Some((key, group));
+    }
+}
+
+/// Records the shadow pass: one render pass over the atlas, one viewport per view.
+pub fn shadow_pass(
+    pass: Res<ShadowPass>,
+    buffers: Res<SceneBuffers>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some((_, bind_group))) =
+        (encoder.as_mut(), pass.caster_bind_group.as_ref())
+    else {
+        return;
+    };
+    let scope = timer.begin_pass("shadow");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &pass.atlas.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(&pass.pipeline);
+        for (i, view) in pass.views.iter().enumerate() {
+            let r = view.rect;
+            rp.set_viewport(
+                r.x as f32,
+                r.y as f32,
+                r.size as f32,
+                r.size as f32,
+                0.0,
+                1.0,
+            );
+            rp.set_scissor_rect(r.x, r.y, r.size, r.size);
+            let offset = (i * std::mem::size_of::<GpuCasterView>()) as u32;
+            rp.set_bind_group(0, bind_group, &[offset]);
+            for &(mesh, first, count) in &view.draws {
+                let Some(gpu_mesh) = buffers.meshes.get(&mesh) else {
+                    continue;
+                };
+                rp.set_vertex_buffer(0, gpu_mesh.vertices.slice(..));
+                rp.set_index_buffer(gpu_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                rp.draw_indexed(0..gpu_mesh.index_count, 0, first..first + count);
+            }
+        }
+    }
+    timer.end_pass(scope);
+}
