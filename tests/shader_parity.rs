@@ -10,7 +10,7 @@ use lumen::render::shaders::{self, compose};
 use lumen::{color, encoding, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 12;
+const OUTPUTS: usize = 13;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -154,6 +154,16 @@ fn expected(c: &Case) -> [Vec4; OUTPUTS] {
         color::tonemap_none(base * 2.0 - Vec3::splat(0.5))
             .extend(brdf::g_smith_schlick_ggx(n_dot_h, x, k)),
         brdf::safe_normalize(v * x, Vec3::Y).extend(0.0),
+        {
+            let packed = encoding::pack_occlusion_receiver(x, c.base_metallic[3]);
+            let stored = (packed * 255.0).round() / 255.0;
+            Vec4::new(
+                packed,
+                encoding::unpack_receives_shadows(stored),
+                encoding::unpack_occlusion(stored),
+                0.0,
+            )
+        },
     ]
 }
 
@@ -170,6 +180,7 @@ const NAMES: [&str; OUTPUTS] = [
     "tonemap_aces_fitted | srgb_decode",
     "tonemap_none | g_smith_schlick_ggx",
     "safe_normalize",
+    "pack_occlusion_receiver | unpack_receives_shadows | unpack_occlusion",
 ];
 
 #[test]

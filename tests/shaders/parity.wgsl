@@ -13,7 +13,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 12u;
+const OUTPUTS: u32 = 13u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -56,4 +56,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 9u] = vec4<f32>(tonemap_aces_fitted(c.base_metallic.rgb * 4.0), srgb_decode(x));
     results[o + 10u] = vec4<f32>(tonemap_none(c.base_metallic.rgb * 2.0 - vec3<f32>(0.5)), g_smith_schlick_ggx(n_dot_h, x, k));
     results[o + 11u] = vec4<f32>(safe_normalize(c.v.xyz * x, vec3<f32>(0.0, 1.0, 0.0)), 0.0);
+    let packed = pack_occlusion_receiver(x, c.base_metallic.w);
+    let stored = round(packed * 255.0) / 255.0;
+    results[o + 12u] = vec4<f32>(packed, unpack_receives_shadows(stored), unpack_occlusion(stored), 0.0);
 }
