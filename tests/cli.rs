@@ -348,3 +348,58 @@ fn view_presents_frames_in_a_window() {
         );
     }
 }
+
+#[test]
+fn shadow_flags() {
+    let dir = tmp();
+    let out = lumen(
+        &[
+            "render",
+            "--size",
+            "32x32",
+            "--out",
+            "x.png",
+            "--no-shadows",
+            "--json",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let passes: Vec<_> = report["passes"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|p| p["name"].as_str())
+        .collect();
+    assert!(!passes.contains(&"shadow"), "{passes:?}");
+    let shadow = &report["plan"]["passes"][0];
+    assert_eq!(shadow["name"], "shadow");
+    assert_eq!(shadow["runs"], false);
+    assert!(
+        shadow["reason"]
+            .as_str()
+            .is_some_and(|r| r.contains("--no-shadows"))
+    );
+    for filter in ["hardware", "pcf", "pcss"] {
+        let out = lumen(
+            &[
+                "render",
+                "--scene",
+                "shadows",
+                "--size",
+                "32x32",
+                "--out",
+                "s.png",
+                "--shadow-filter",
+                filter,
+            ],
+            dir.path(),
+        );
+        assert!(out.status.success(), "{filter}: {}", text(&out.stderr));
+    }
+    assert_clean_failure(
+        &lumen(&["render", "--shadow-filter", "vsm"], dir.path()),
+        "vsm",
+    );
+}
