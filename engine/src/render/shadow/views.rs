@@ -256,9 +256,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn spot_view_covers_the_cone() {
-        let v = spot_view(
+    /// A 512² spot 4 m above the origin pointing down, outer half-angle 0.5 rad.
+    fn spot_down() -> ShadowView {
+        spot_view(
             Vec3::new(0.0, 4.0, 0.0),
             Vec3::NEG_Y,
             0.5,
@@ -266,7 +266,12 @@ mod tests {
             0.05,
             &settings(512),
             &[(Vec3::ZERO, 3.0)],
-        );
+        )
+    }
+
+    #[test]
+    fn spot_view_covers_the_cone() {
+        let v = spot_down();
         // A point on the outer cone, 3 m below the light, projects inside.
         let p = v
             .clip_from_world
@@ -291,15 +296,7 @@ mod tests {
 
     #[test]
     fn frustum_culling() {
-        let v = spot_view(
-            Vec3::new(0.0, 4.0, 0.0),
-            Vec3::NEG_Y,
-            0.5,
-            20.0,
-            0.05,
-            &settings(512),
-            &[(Vec3::ZERO, 3.0)],
-        );
+        let v = spot_down();
         let planes = frustum_planes(&v.clip_from_world);
         assert!(sphere_in_frustum(&planes, Vec3::ZERO, 0.5));
         assert!(!sphere_in_frustum(&planes, Vec3::new(10.0, 0.0, 0.0), 0.5));
