@@ -65,3 +65,13 @@ struct ShadowView {
     // near (perspective, m) or depth range (ortho, m), far (perspective, m).
     texel: vec4<f32>,
 }
+
+// The environment, pre-exposed (× intensity × exposure).
+struct EnvironmentUniform {
+    // Radiance spherical harmonics, bands 0–2 (rgb).
+    sh: array<vec4<f32>, 9>,
+    // Scale of cube samples, rotation about +Y (rad), highest prefiltered mip, background mip.
+    params: vec4<f32>,
+    // Uniform environments: radiance (rgb).
+    uniform_radiance: vec4<f32>,
+}

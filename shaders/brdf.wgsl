@@ -119,11 +119,20 @@ fn compute_f0(base_color: vec3<f32>, metallic: f32, specular_level: f32) -> vec3
     return vec3<f32>(dielectric_f0(specular_level)) * (1.0 - m) + base_color * m;
 }
 
-// f_r = kD c/π + D F V, kD = (1 − F)(1 − metallic). Zero below the horizon.
-fn surface_brdf(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, model: u32) -> vec3<f32> {
+// The two lobes of the BRDF (1/sr): kD c/π and D F V.
+struct BrdfLobes {
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+// f_r = kD c/π + D F V, kD = (1 − F)(1 − metallic), as two lobes. Zero below the horizon.
+fn surface_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, model: u32) -> BrdfLobes {
+    var lobes: BrdfLobes;
+    lobes.diffuse = vec3<f32>(0.0);
+    lobes.specular = vec3<f32>(0.0);
     let n_dot_l = dot(n, l);
     if !(n_dot_l > 0.0) {
-        return vec3<f32>(0.0);
+        return lobes;
     }
     let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     let h = safe_normalize(v + l, n);
@@ -141,5 +150,13 @@ fn surface_brdf(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, mode
     let vis = visibility(model, n_dot_v, n_dot_l, r);
 
     let k_d = (vec3<f32>(1.0) - f) * (1.0 - metallic);
-    return k_d * surface.base_color * fd_lambert() + f * (d * vis);
+    lobes.diffuse = k_d * surface.base_color * fd_lambert();
+    lobes.specular = f * (d * vis);
+    return lobes;
+}
+
+// f_r = kD c/π + D F V (1/sr). Zero below the horizon.
+fn surface_brdf(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, model: u32) -> vec3<f32> {
+    let lobes = surface_brdf_lobes(n, v, l, surface, model);
+    return lobes.diffuse + lobes.specular;
 }

@@ -4,7 +4,9 @@
 //
 // Header constants: HAS_DIRECTIONAL, HAS_POINT, HAS_SPOT (light kinds present in the
 // scene; absent kinds compile to nothing), VISIBILITY_MODEL, DIRECTIONAL_SHADOWS,
-// POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights) and SHADOW_FILTER.
+// POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights), SHADOW_FILTER,
+// HAS_ENVIRONMENT and ENV_MAP (image-based lighting from an image or a uniform colour),
+// ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe).
 //
 // Shadowed lights come first within their kind and get their own loop: software
 // rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
@@ -20,16 +22,26 @@
 // depth texture.
 @group(0) @binding(5) var depth_buffer: texture_2d<f32>;
 
+@group(0) @binding(10) var<uniform> environment: EnvironmentUniform;
+@group(0) @binding(11) var env_cube: texture_cube<f32>;
+@group(0) @binding(12) var env_sampler: sampler;
+@group(0) @binding(13) var brdf_lut: texture_2d<f32>;
+
 const F16_MAX: f32 = 65504.0;
 
+// The specular lobe's multiple-scattering compensation for this pixel (1 when off).
+var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
+
 // Radiance leaving the surface towards v for light arriving from l with illuminance
-// `illuminance` (already × exposure): f_r · E · (n·l).
+// `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
+// pixel's energy compensation.
 fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance: vec3<f32>) -> vec3<f32> {
     let n_dot_l = dot(n, l);
     if !(n_dot_l > 0.0) {
         return vec3<f32>(0.0);
     }
-    return surface_brdf(n, v, l, surface, VISIBILITY_MODEL) * illuminance * n_dot_l;
+    let lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
+    return (lobes.diffuse + lobes.specular * specular_energy) * illuminance * n_dot_l;
 }
 
 // Direction towards a point or spot light and the illuminance (× exposure) it gives at
@@ -74,6 +86,34 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 
     var color = g2.rgb;
     let counts = view.light_counts;
+
+    // Split-sum terms shared by energy compensation and image-based lighting.
+    let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    let r = clamp_perceptual_roughness(surface.perceptual_roughness);
+    let f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
+    var dfg = vec2<f32>(1.0, 0.0);
+    if ENERGY_COMPENSATION || HAS_ENVIRONMENT {
+        dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
+    }
+    if ENERGY_COMPENSATION {
+        specular_energy = energy_compensation(f0, dfg);
+    }
+    if HAS_ENVIRONMENT {
+        // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
+        // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
+        // surface in a uniform environment returns exactly that environment.
+        let ao = unpack_occlusion(g0.a);
+        let e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
+        let rotation = environment.params.y;
+        let irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
+        var prefiltered = environment.uniform_radiance.rgb;
+        if ENV_MAP {
+            let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
+            prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
+        }
+        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * (fd_lambert() * ao);
+        color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
+    }
     let shadowed = view.shadowed_counts;
     let receives = unpack_receives_shadows(g0.a);
     let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);

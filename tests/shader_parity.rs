@@ -7,10 +7,10 @@ mod common;
 use glam::{Vec3, Vec4};
 use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::render::shaders::{self, compose};
-use lumen::{color, encoding, punctual};
+use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 13;
+const OUTPUTS: usize = 17;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -99,8 +99,8 @@ fn model(i: u32) -> VisibilityModel {
     VisibilityModel::ALL[i as usize]
 }
 
-/// The Rust side of every output, in the kernel's order.
-fn expected(c: &Case) -> [Vec4; OUTPUTS] {
+/// The Rust side of every output, in the kernel's order; `i` is the case index.
+fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
     let [alpha, n_dot_h, nxh2, k] = c.scalars;
     let [r, spec, m, x] = c.params;
     let base = Vec3::from_slice(&c.base_metallic[..3]);
@@ -164,6 +164,27 @@ fn expected(c: &Case) -> [Vec4; OUTPUTS] {
                 0.0,
             )
         },
+        {
+            let uv = ibl::equirect_uv(v);
+            let rotated = ibl::rotate_y(l, x * 6.0);
+            Vec4::new(uv.x, uv.y, rotated.x, rotated.z)
+        },
+        {
+            let sh: [Vec3; 9] = std::array::from_fn(|k| {
+                base * (k as f32 * 0.3 + 0.1) - Vec3::splat(0.05 * k as f32)
+            });
+            ibl::sh_irradiance(&sh, n).extend(ibl::radical_inverse(i as u32))
+        },
+        {
+            let dfg = ibl::dfg_integrate(n_dot_h, r, 32);
+            Vec4::new(
+                dfg.x,
+                dfg.y,
+                ibl::energy_compensation(base, dfg).x,
+                ibl::specular_occlusion(n_dot_h, x, r),
+            )
+        },
+        ibl::importance_sample_ggx(ibl::hammersley(i as u32 % 64, 64), alpha).extend(0.0),
     ]
 }
 
@@ -181,7 +202,14 @@ const NAMES: [&str; OUTPUTS] = [
     "tonemap_none | g_smith_schlick_ggx",
     "safe_normalize",
     "pack_occlusion_receiver | unpack_receives_shadows | unpack_occlusion",
+    "equirect_uv | rotate_y",
+    "sh_irradiance | radical_inverse",
+    "dfg_integrate | energy_compensation | specular_occlusion",
+    "importance_sample_ggx | hammersley",
 ];
+
+/// Outputs that are unit vectors (or directions' coordinates).
+const UNIT_VECTORS: [usize; 4] = [7, 11, 13, 16];
 
 #[test]
 fn wgsl_functions_match_their_rust_twins() {
@@ -195,6 +223,7 @@ fn wgsl_functions_match_their_rust_twins() {
             shaders::PUNCTUAL,
             shaders::COLOR,
             shaders::ENCODING,
+            shaders::IBL,
             kernel,
         ],
     );
@@ -249,7 +278,7 @@ fn wgsl_functions_match_their_rust_twins() {
 
     let mut worst = [0.0f32; OUTPUTS];
     for (i, c) in cases.iter().enumerate() {
-        let want = expected(c);
+        let want = expected(i, c);
         for (k, w) in want.iter().enumerate() {
             let got = Vec4::from(results[i * OUTPUTS + k]);
             for ch in 0..4 {
@@ -262,11 +291,16 @@ fn wgsl_functions_match_their_rust_twins() {
                 if !e.is_finite() {
                     continue;
                 }
-                // Relative error, with an absolute floor for values near 0.
-                let err = (g - e).abs() / e.abs().max(1e-3);
+                // Relative error, with an absolute floor for values near 0; unit-vector
+                // outputs (GPU sin/cos are not exact near 0) are held in absolute terms.
+                let floor = if UNIT_VECTORS.contains(&k) { 1.0 } else { 1e-3 };
+                let err = (g - e).abs() / e.abs().max(floor);
                 worst[k] = worst[k].max(err);
+                // dfg_integrate sums 32 samples: one on the horizon may fall on different
+                // sides of n·l > 0 on the GPU and the CPU.
+                let tolerance = if k == 15 { 1e-2 } else { 2e-4 };
                 assert!(
-                    err < 2e-4,
+                    err < tolerance,
                     "case {i}, {}: channel {ch}: GPU {g} vs CPU {e} (relative error {err:e})",
                     NAMES[k]
                 );

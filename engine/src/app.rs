@@ -56,6 +56,9 @@ pub struct FrameReport {
     pub ev100: f32,
     /// Scene statistics.
     pub stats: SceneStats,
+    /// One-off preprocessing this frame ran (environment prefiltering, BRDF table), in ms
+    /// per step; empty once everything is cached.
+    pub preprocessing: Vec<(String, f64)>,
 }
 
 /// A render target of the frame that can be read back with [`App::read_target`].
@@ -252,6 +255,11 @@ impl App {
                 triangles: extracted.triangles,
                 lights: extracted.light_counts.total(),
             },
+            preprocessing: self
+                .world
+                .resource::<crate::render::ibl::Ibl>()
+                .last_steps
+                .clone(),
         })
     }
 

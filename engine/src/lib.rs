@@ -30,6 +30,7 @@ pub mod brdf;
 pub mod color;
 pub mod encoding;
 pub mod error;
+pub mod ibl;
 pub mod punctual;
 pub mod quality;
 pub mod render;
@@ -47,9 +48,10 @@ pub mod prelude {
     pub use crate::color::Tonemapper;
     pub use crate::quality::{Quality, ShadowFilter};
     pub use crate::scene::{
-        Camera, Cascades, DirectionalLight, Exposure, GlobalTransform, LightColor,
-        LuminousIntensity, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster,
-        NotShadowReceiver, PointLight, Projection, ShadowSettings, SpotLight, Transform,
+        Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
+        EquirectImage, Exposure, GlobalTransform, LightColor, LuminousIntensity, Material, Mesh3d,
+        MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight, Projection,
+        ShadowSettings, SpotLight, Transform,
     };
     pub use bevy_ecs::hierarchy::ChildOf;
     pub use bevy_ecs::prelude::*;

@@ -56,6 +56,16 @@ pub struct Quality {
     pub shadows: bool,
     /// Shadow filtering.
     pub shadow_filter: ShadowFilter,
+    /// Multiple-scattering energy compensation of the specular lobe (Kulla & Conty 2017),
+    /// for environment and direct light. On: metals and rough surfaces keep their energy
+    /// (the white furnace holds); costs one table lookup per pixel.
+    pub energy_compensation: bool,
+    /// GGX samples per texel when prefiltering an environment (once per image).
+    pub ibl_samples: u32,
+    /// Side of the split-sum BRDF table in texels (built once).
+    pub brdf_lut_size: u32,
+    /// Samples per texel of the split-sum BRDF table.
+    pub brdf_lut_samples: u32,
 }
 
 impl Default for Quality {
@@ -64,6 +74,10 @@ impl Default for Quality {
             visibility: VisibilityModel::default(),
             shadows: true,
             shadow_filter: ShadowFilter::default(),
+            energy_compensation: true,
+            ibl_samples: 64,
+            brdf_lut_size: 64,
+            brdf_lut_samples: 512,
         }
     }
 }

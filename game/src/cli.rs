@@ -54,6 +54,27 @@ pub struct SceneArgs {
     /// Shadow filtering: hardware (2×2 PCF), pcf (16 taps, default), pcss (soft, from the light's size).
     #[arg(long, value_name = "NAME", value_parser = parse_shadow_filter)]
     pub shadow_filter: Option<lumen::quality::ShadowFilter>,
+    /// Environment image (OpenEXR or Radiance .hdr, equirectangular) lighting the scene.
+    #[arg(long, value_name = "FILE", conflicts_with = "env_color")]
+    pub env: Option<std::path::PathBuf>,
+    /// Uniform environment of this linear RGB radiance (cd/m² with --env-intensity 1).
+    #[arg(long, value_name = "R,G,B", value_parser = parse_rgb)]
+    pub env_color: Option<glam::Vec3>,
+    /// Luminance in cd/m² of an environment value of 1 (default: 1000 for --env, 1 for --env-color).
+    #[arg(long, value_name = "CD_M2", value_parser = parse_non_negative)]
+    pub env_intensity: Option<f32>,
+    /// Rotation of the environment about +Y, in degrees.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub env_rotation: Option<f32>,
+    /// Blur of the environment drawn as background, as a roughness 0..1 (0 = sharp).
+    #[arg(long, value_name = "R", value_parser = parse_unit)]
+    pub background_blur: Option<f32>,
+    /// Light with the environment but draw the camera's background colour behind the scene.
+    #[arg(long)]
+    pub env_hidden: bool,
+    /// Single-scattering GGX only: no multiple-scattering energy compensation.
+    #[arg(long)]
+    pub no_energy_compensation: bool,
 }
 
 impl SceneArgs {
@@ -159,6 +180,46 @@ fn parse_tonemapper(s: &str) -> Result<lumen::color::Tonemapper, String> {
     })
 }
 
+fn parse_rgb(s: &str) -> Result<glam::Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|c| c.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}' is not R,G,B (e.g. 1,1,1)"))?;
+    match v[..] {
+        [r, g, b] if v.iter().all(|c| c.is_finite() && *c >= 0.0) => Ok(glam::Vec3::new(r, g, b)),
+        [_, _, _] => Err(format!("'{s}': each component must be a finite number ≥ 0")),
+        _ => Err(format!("'{s}' is not R,G,B (e.g. 1,1,1)")),
+    }
+}
+
+fn parse_finite(s: &str) -> Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("'{s}' is not a finite number"))
+}
+
+fn parse_non_negative(s: &str) -> Result<f32, String> {
+    parse_finite(s).and_then(|v| {
+        if v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{s} must be ≥ 0"))
+        }
+    })
+}
+
+fn parse_unit(s: &str) -> Result<f32, String> {
+    parse_finite(s).and_then(|v| {
+        if (0.0..=1.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{s} must be in 0..=1"))
+        }
+    })
+}
+
 fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> {
     lumen::quality::ShadowFilter::from_name(s).ok_or_else(|| {
         format!(
@@ -199,6 +260,17 @@ mod tests {
         for bad in ["0x10", "10x0", "x", "12", "-1x5", "axb", "99999x1", ""] {
             assert!(parse_size(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn colours_and_ranges() {
+        assert_eq!(parse_rgb("1, 0.5,2"), Ok(glam::Vec3::new(1.0, 0.5, 2.0)));
+        for bad in ["1,2", "1,2,3,4", "a,b,c", "-1,0,0", "nan,0,0", ""] {
+            assert!(parse_rgb(bad).is_err(), "{bad}");
+        }
+        assert!(parse_unit("1.5").is_err() && parse_unit("0.3").is_ok());
+        assert!(parse_non_negative("-2").is_err());
+        assert!(parse_finite("inf").is_err());
     }
 
     #[test]

@@ -26,6 +26,7 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
             (info.build)(app).with_context(|| format!("building scene '{}'", info.name))?;
         }
     }
+    apply_environment(app, args)?;
     let world = app.world_mut();
     let mut cameras = world.query::<&mut Camera>();
     for mut camera in cameras.iter_mut(world) {
@@ -48,6 +49,53 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     }
     if let Some(f) = args.shadow_filter {
         quality.shadow_filter = f;
+    }
+    if args.no_energy_compensation {
+        quality.energy_compensation = false;
+    }
+    Ok(())
+}
+
+/// Luminance (cd/m²) of an environment image value of 1 unless `--env-intensity` says
+/// otherwise: the shipped HDRIs average 0.4–1.9, so 1000 gives an interior of a few hundred
+/// to two thousand cd/m², on the scale of the built-in scenes' lights.
+pub const DEFAULT_ENV_IMAGE_INTENSITY: f32 = 1000.0;
+
+/// Replaces (or adjusts) the scene's environment as `--env*` and `--background-blur` say.
+fn apply_environment(app: &mut App, args: &SceneArgs) -> Result<()> {
+    let new = if let Some(path) = &args.env {
+        let image = EquirectImage::load(path)?;
+        Some(Environment::image(
+            std::sync::Arc::new(image),
+            DEFAULT_ENV_IMAGE_INTENSITY,
+        ))
+    } else {
+        args.env_color.map(Environment::uniform)
+    };
+    let world = app.world_mut();
+    if let Some(env) = new {
+        let old: Vec<Entity> = world
+            .query_filtered::<Entity, With<Environment>>()
+            .iter(world)
+            .collect();
+        for e in old {
+            world.entity_mut(e).remove::<Environment>();
+        }
+        world.spawn(env);
+    }
+    for mut env in world.query::<&mut Environment>().iter_mut(world) {
+        if let Some(i) = args.env_intensity {
+            env.intensity = i;
+        }
+        if let Some(deg) = args.env_rotation {
+            env.rotation_y_rad = deg.to_radians();
+        }
+        if let Some(blur) = args.background_blur {
+            env.background = lumen::scene::Background::Environment { blur };
+        }
+        if args.env_hidden {
+            env.background = lumen::scene::Background::CameraColor;
+        }
     }
     Ok(())
 }

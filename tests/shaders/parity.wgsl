@@ -13,7 +13,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 13u;
+const OUTPUTS: u32 = 17u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -59,4 +59,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let packed = pack_occlusion_receiver(x, c.base_metallic.w);
     let stored = round(packed * 255.0) / 255.0;
     results[o + 12u] = vec4<f32>(packed, unpack_receives_shadows(stored), unpack_occlusion(stored), 0.0);
+    results[o + 13u] = vec4<f32>(equirect_uv(c.v.xyz), rotate_y(c.l.xyz, x * 6.0).xz);
+    var sh: array<vec4<f32>, 9>;
+    for (var k = 0u; k < 9u; k++) {
+        sh[k] = vec4<f32>(c.base_metallic.xyz * (f32(k) * 0.3 + 0.1) - vec3<f32>(0.05 * f32(k)), 0.0);
+    }
+    results[o + 14u] = vec4<f32>(sh_irradiance(sh, c.n.xyz), radical_inverse(i));
+    let dfg = dfg_integrate(n_dot_h, r, 32u);
+    results[o + 15u] = vec4<f32>(dfg, energy_compensation(c.base_metallic.xyz, dfg).x, specular_occlusion(n_dot_h, x, r));
+    results[o + 16u] = vec4<f32>(importance_sample_ggx(hammersley(i % 64u, 64u), alpha), 0.0);
 }

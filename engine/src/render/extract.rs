@@ -14,8 +14,9 @@ use crate::render::shadow::views::{
     CameraForShadows, ShadowView, directional_views, point_views, spot_view,
 };
 use crate::scene::{
-    Camera, Cascades, DirectionalLight, GlobalTransform, Material, Mesh3d, MeshHandle, Meshes,
-    NotShadowCaster, NotShadowReceiver, PointLight, ShadowSettings, SpotLight,
+    Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
+    GlobalTransform, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver,
+    PointLight, ShadowSettings, SpotLight,
 };
 use bevy_ecs::prelude::*;
 use glam::{Mat3, Mat4, Vec3};
@@ -59,6 +60,23 @@ pub struct Caster {
     pub center: Vec3,
     /// Bounding sphere radius (m).
     pub radius: f32,
+}
+
+/// The environment as the passes need it.
+#[derive(Clone, Debug)]
+pub struct ExtractedEnvironment {
+    /// The image, if not uniform.
+    pub image: Option<std::sync::Arc<crate::scene::EquirectImage>>,
+    /// Uniform radiance (cd/m² before the intensity); zero for images.
+    pub uniform: Vec3,
+    /// Intensity (cd/m² per unit value).
+    pub intensity: f32,
+    /// Rotation about +Y (rad).
+    pub rotation: f32,
+    /// Whether the sky pass draws it as the background.
+    pub show_background: bool,
+    /// Background blur as a perceptual roughness 0..1.
+    pub background_blur: f32,
 }
 
 /// Number of shadowed lights of each kind.
@@ -122,6 +140,8 @@ pub struct ExtractedFrame {
     pub shadow_counts: ShadowCounts,
     /// Whether shadows were turned off for the frame (`Quality::shadows`).
     pub shadows_disabled: bool,
+    /// The first environment, if any.
+    pub environment: Option<ExtractedEnvironment>,
 }
 
 fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
@@ -234,6 +254,7 @@ pub fn extract_frame(
     )>,
     points: Query<(&PointLight, &GlobalTransform, Option<&ShadowSettings>)>,
     spots: Query<(&SpotLight, &GlobalTransform, Option<&ShadowSettings>)>,
+    environments: Query<(Entity, &Environment)>,
     meshes: Res<Meshes>,
     quality: Res<Quality>,
     output: Res<FrameOutput>,
@@ -489,6 +510,32 @@ pub fn extract_frame(
     frame.shadowed_counts = shadowed;
     frame.light_counts = counts;
 
+    frame.environment = environments.iter().min_by_key(|(e, _)| *e).map(|(_, env)| {
+        let (image, uniform) = match &env.source {
+            EnvironmentSource::Image(img) => (Some(img.clone()), Vec3::ZERO),
+            EnvironmentSource::Uniform(c) => (
+                None,
+                Vec3::new(
+                    finite_or(c.x, 0.0),
+                    finite_or(c.y, 0.0),
+                    finite_or(c.z, 0.0),
+                )
+                .max(Vec3::ZERO),
+            ),
+        };
+        let (show_background, blur) = match env.background {
+            Background::Environment { blur } => (true, finite_or(blur, 0.0).clamp(0.0, 1.0)),
+            Background::CameraColor => (false, 0.0),
+        };
+        ExtractedEnvironment {
+            image,
+            uniform,
+            intensity: finite_or(env.intensity, 0.0).max(0.0),
+            rotation: finite_or(env.rotation_y_rad, 0.0),
+            show_background,
+            background_blur: blur,
+        }
+    });
     let background = exposed(camera.background.max(Vec3::ZERO), 1.0, exposure);
     frame.view = GpuView {
         clip_from_world: clip_from_world.to_cols_array_2d(),

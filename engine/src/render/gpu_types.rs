@@ -77,6 +77,20 @@ pub struct GpuShadowView {
     pub texel: [f32; 4],
 }
 
+/// The environment as the lighting and sky passes read it (`EnvironmentUniform` in WGSL),
+/// pre-exposed (× intensity × exposure).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuEnvironment {
+    /// Radiance spherical harmonics, bands 0–2 (rgb), × intensity × exposure.
+    pub sh: [[f32; 4]; 9],
+    /// Scale of cube samples (intensity × exposure), rotation about +Y (rad), highest
+    /// prefiltered mip, background mip (blur).
+    pub params: [f32; 4],
+    /// Uniform environments: radiance × intensity × exposure (rgb).
+    pub uniform_radiance: [f32; 4],
+}
+
 /// The matrix one shadow view draws casters with (`CasterView` in WGSL), padded to the
 /// 256-byte dynamic-offset alignment.
 #[repr(C)]
@@ -100,5 +114,6 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuLight>(), 112);
         assert_eq!(std::mem::size_of::<GpuShadowView>(), 96);
         assert_eq!(std::mem::size_of::<GpuCasterView>(), 256);
+        assert_eq!(std::mem::size_of::<GpuEnvironment>(), 9 * 16 + 32);
     }
 }

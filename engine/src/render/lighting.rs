@@ -7,6 +7,7 @@
 use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::ibl::Ibl;
 use crate::render::pipelines::{
     draw_fullscreen, fullscreen_pipeline, storage_entry, texture_load_entry, uniform_entry,
 };
@@ -16,6 +17,7 @@ use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
+use bevy_ecs::system::SystemParam;
 use std::collections::HashMap;
 
 /// The lighting pass's pipelines (one per variant) and bindings.
@@ -24,7 +26,7 @@ pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<LightingVariant, wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
+    bind_group: Option<((u64, u64, u64, u64), wgpu::BindGroup)>,
 }
 
 impl LightingPass {
@@ -59,6 +61,33 @@ impl LightingPass {
                         count: None,
                     },
                     texture_load_entry(9),
+                    uniform_entry(10, wgpu::ShaderStages::FRAGMENT),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 11,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                            view_dimension: wgpu::TextureViewDimension::Cube,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 12,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 13,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
                 ],
             });
         let pipeline_layout = gpu
@@ -88,6 +117,9 @@ impl LightingPass {
                 ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
                 ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
                 ShaderDef::U32("SHADOW_FILTER", variant.shadow_filter as u32),
+                ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
+                ShaderDef::Bool("ENV_MAP", variant.env_map),
+                ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
             ],
             &[
                 shaders::COMMON,
@@ -95,6 +127,7 @@ impl LightingPass {
                 shaders::PUNCTUAL,
                 shaders::COLOR,
                 shaders::ENCODING,
+                shaders::IBL,
                 shaders::BINDINGS,
                 shaders::FULLSCREEN,
                 shaders::SHADOWS,
@@ -121,17 +154,30 @@ impl LightingPass {
     }
 }
 
-/// Compiles this frame's variant if needed and rebuilds the bind group when targets or
-/// buffers changed.
+/// Everything the lighting pass binds.
+#[derive(SystemParam)]
+pub struct LightingInputs<'w> {
+    buffers: Res<'w, SceneBuffers>,
+    targets: Res<'w, RenderTargets>,
+    shadows: Res<'w, ShadowPass>,
+    ibl: Res<'w, Ibl>,
+}
+
+/// Compiles this frame's variant if needed and rebuilds the bind group when targets,
+/// buffers, the shadow atlas or the environment changed.
 pub fn prepare_lighting(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
-    buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
-    shadows: Res<ShadowPass>,
+    inputs: LightingInputs,
     mut pass: ResMut<LightingPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
+    let LightingInputs {
+        buffers,
+        targets,
+        shadows,
+        ibl,
+    } = inputs;
     if let Err(e) = pass.pipeline(&gpu, plan.lighting) {
         errors.0.push(e);
         return;
@@ -139,7 +185,12 @@ pub fn prepare_lighting(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let key = (t.generation, buffers.generation, shadows.generation);
+    let key = (
+        t.generation,
+        buffers.generation,
+        shadows.generation,
+        ibl.generation,
+    );
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
@@ -186,6 +237,22 @@ pub fn prepare_lighting(
             wgpu::BindGroupEntry {
                 binding: 9,
                 resource: wgpu::BindingResource::TextureView(&shadows.atlas.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 10,
+                resource: ibl.uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 11,
+                resource: wgpu::BindingResource::TextureView(ibl.cube_view()),
+            },
+            wgpu::BindGroupEntry {
+                binding: 12,
+                resource: wgpu::BindingResource::Sampler(&ibl.sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 13,
+                resource: wgpu::BindingResource::TextureView(ibl.lut_view()),
             },
         ],
     });

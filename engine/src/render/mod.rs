@@ -3,7 +3,7 @@
 //!
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
 //! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
-//! pipelines), then the passes in order — shadow, G-buffer, lighting, tone mapping — each
+//! pipelines), then the passes in order — shadow, G-buffer, lighting, sky, tone mapping — each
 //! recording into the frame's command encoder with its own timing.
 
 pub mod device;
@@ -11,6 +11,7 @@ pub mod extract;
 pub mod frame;
 pub mod gbuffer;
 pub mod gpu_types;
+pub mod ibl;
 pub mod lighting;
 pub mod pipelines;
 pub mod plan;
@@ -18,6 +19,7 @@ pub mod readback;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod shadow;
+pub mod sky;
 pub mod targets;
 pub mod timing;
 pub mod tonemap;
@@ -63,6 +65,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
     world.insert_resource(lighting::LightingPass::new(&gpu));
     world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
+    world.insert_resource(ibl::Ibl::new(&gpu)?);
+    world.insert_resource(sky::SkyPass::new(&gpu));
     world.insert_resource(tonemap::TonemapPass::new(&gpu));
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
@@ -86,14 +90,17 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
             prepare_targets,
             scene_buffers::prepare_scene_buffers,
             shadow::pass::prepare_shadows,
+            ibl::prepare_ibl,
             gbuffer::prepare_gbuffer,
             lighting::prepare_lighting,
+            sky::prepare_sky,
             tonemap::prepare_tonemap,
             begin_frame,
             shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
             gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
             gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
             lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
+            sky::sky_pass.run_if(pass_runs(PassId::Sky)),
             tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
         )
             .chain(),

@@ -15,6 +15,8 @@ pub enum PassId {
     GBuffer,
     /// Full-screen deferred lighting into the HDR target.
     Lighting,
+    /// The environment as the background.
+    Sky,
     /// Tone mapping and output encoding.
     Tonemap,
 }
@@ -34,6 +36,7 @@ impl PassId {
             PassId::Shadow => "shadow",
             PassId::GBuffer => "gbuffer",
             PassId::Lighting => "lighting",
+            PassId::Sky => "sky",
             PassId::Tonemap => "tonemap",
         }
     }
@@ -65,6 +68,12 @@ pub struct LightingVariant {
     pub shadows: [bool; 3],
     /// Shadow filter.
     pub shadow_filter: ShadowFilter,
+    /// Image-based lighting compiled in.
+    pub environment: bool,
+    /// From an image (else a uniform colour).
+    pub env_map: bool,
+    /// Multiple-scattering energy compensation compiled in.
+    pub energy_compensation: bool,
 }
 
 /// This frame's plan.
@@ -90,6 +99,9 @@ impl Default for FramePlan {
                 visibility: VisibilityModel::default(),
                 shadows: [false; 3],
                 shadow_filter: ShadowFilter::default(),
+                environment: false,
+                env_map: false,
+                energy_compensation: false,
             },
         }
     }
@@ -185,6 +197,22 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
             "writes the background".into()
         },
     );
+    let env = frame.environment.as_ref();
+    let sky = decision(
+        PassId::Sky.name(),
+        env.is_some_and(|e| e.show_background),
+        match env {
+            None => "no environment: the camera's background colour".into(),
+            Some(e) if !e.show_background => {
+                "the environment is hidden: the camera's background colour".into()
+            }
+            Some(e) if e.image.is_some() => format!(
+                "the environment image, blurred to roughness {:.2}",
+                e.background_blur
+            ),
+            Some(_) => "the uniform environment colour".into(),
+        },
+    );
     let tonemap = decision(
         PassId::Tonemap.name(),
         true,
@@ -219,6 +247,26 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
                 "no shadow pass".into()
             },
         ),
+        decision(
+            "environment lighting",
+            env.is_some() && instances > 0,
+            match env {
+                None => "no environment".into(),
+                Some(e) if e.image.is_some() => {
+                    "image: SH irradiance + GGX-prefiltered cube".into()
+                }
+                Some(_) => "uniform colour".into(),
+            },
+        ),
+        decision(
+            "energy compensation",
+            quality.energy_compensation && instances > 0,
+            if quality.energy_compensation {
+                "multiple scattering (Kulla-Conty)".into()
+            } else {
+                "off: single-scattering GGX".into()
+            },
+        ),
     ];
     plan.lighting = LightingVariant {
         directional: features[0].enabled,
@@ -227,11 +275,15 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
         visibility: quality.visibility,
         shadows: [0, 1, 2].map(|k| features[4].enabled && frame.shadowed_counts[k] > 0),
         shadow_filter: quality.shadow_filter,
+        environment: features[5].enabled,
+        env_map: features[5].enabled && env.is_some_and(|e| e.image.is_some()),
+        energy_compensation: features[6].enabled,
     };
     plan.passes = vec![
         (PassId::Shadow, shadow),
         (PassId::GBuffer, gbuffer),
         (PassId::Lighting, lighting),
+        (PassId::Sky, sky),
         (PassId::Tonemap, tonemap),
     ];
     plan.features = features;

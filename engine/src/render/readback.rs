@@ -4,10 +4,31 @@ use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use half::f16;
 
-/// Reads a whole 2D texture of a 4-channel format back, rows unpadded: `bytes_per_pixel`
-/// is 4 (`Rgba8*`, `Bgra8*`), 8 (`Rgba16Float`) or 16 (`Rgba32Float`).
+/// Reads a whole 2D texture back, rows unpadded; `bytes_per_pixel` is the format's texel
+/// size (4 for `Rgba8*` and `Depth32Float`, 8 for `Rgba16Float`, 16 for `Rgba32Float`).
 pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, bytes_per_pixel: u32) -> Result<Vec<u8>> {
-    let (width, height) = (texture.width(), texture.height());
+    read_texture_level(gpu, texture, 0, 0, bytes_per_pixel)
+}
+
+/// Reads one mip level of one array layer (a cube face) of a texture back, rows unpadded.
+pub fn read_texture_level(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    mip: u32,
+    layer: u32,
+    bytes_per_pixel: u32,
+) -> Result<Vec<u8>> {
+    if mip >= texture.mip_level_count() || layer >= texture.depth_or_array_layers() {
+        return Err(Error::InvalidArgument(format!(
+            "mip {mip} / layer {layer} is outside the texture ({} mips, {} layers)",
+            texture.mip_level_count(),
+            texture.depth_or_array_layers()
+        )));
+    }
+    let (width, height) = (
+        (texture.width() >> mip).max(1),
+        (texture.height() >> mip).max(1),
+    );
     let unpadded = width * bytes_per_pixel;
     let padded =
         unpadded.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -23,7 +44,16 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, bytes_per_pixel: u32) ->
             label: Some("readback"),
         });
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: mip,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
+            aspect: wgpu::TextureAspect::All,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout {
@@ -32,7 +62,11 @@ pub fn read_texture(gpu: &Gpu, texture: &wgpu::Texture, bytes_per_pixel: u32) ->
                 rows_per_image: Some(height),
             },
         },
-        texture.size(),
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
     );
     let index = gpu.queue.submit([encoder.finish()]);
     let slice = buffer.slice(..);

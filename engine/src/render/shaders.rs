@@ -32,6 +32,14 @@ pub const LIGHTING: &str = include_str!("../../../shaders/lighting.wgsl");
 pub const SHADOW: &str = include_str!("../../../shaders/shadow.wgsl");
 /// Shadow-map sampling and filtering, used by the lighting pass.
 pub const SHADOWS: &str = include_str!("../../../shaders/shadows.wgsl");
+/// Image-based lighting functions, twin of `ibl.rs`.
+pub const IBL: &str = include_str!("../../../shaders/ibl.wgsl");
+/// Environment preprocessing (compute).
+pub const IBL_PREPROCESS: &str = include_str!("../../../shaders/ibl_preprocess.wgsl");
+/// The split-sum BRDF table.
+pub const BRDF_LUT: &str = include_str!("../../../shaders/brdf_lut.wgsl");
+/// Sky pass: the environment as background.
+pub const SKY: &str = include_str!("../../../shaders/sky.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: &str = include_str!("../../../shaders/tonemap.wgsl");
 

@@ -5,6 +5,7 @@
 //! keeps its own copy of the scene.
 
 pub mod camera;
+pub mod environment;
 pub mod light;
 pub mod material;
 pub mod mesh;
@@ -12,6 +13,7 @@ pub mod shadow;
 pub mod transform;
 
 pub use camera::{Camera, Exposure, Projection};
+pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::Material;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};

@@ -1,6 +1,7 @@
 //! The built-in demo and test scenes.
 
 mod extremes;
+mod furnace;
 mod plane;
 mod shadows;
 mod spheres;
@@ -35,6 +36,11 @@ pub const SCENES: &[SceneInfo] = &[
         build: shadows::build,
     },
     SceneInfo {
+        name: "furnace",
+        description: "white furnace: metal (F0 = 1) and white dielectric spheres, roughness 0..1, in a uniform environment of radiance 1",
+        build: furnace::build,
+    },
+    SceneInfo {
         name: "extremes",
         description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
         build: extremes::build,
@@ -51,6 +57,7 @@ pub fn find(name: &str) -> Result<&'static SceneInfo, String> {
     })
 }
 
+pub use furnace::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 pub use plane::{PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL};
 pub use shadows::{
     SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,

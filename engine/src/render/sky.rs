@@ -1,0 +1,212 @@
+//! Sky pass: draws the environment as the background, only where the G-buffer holds no
+//! geometry (a depth test against the cleared depth, so no fragment runs elsewhere).
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::ibl::Ibl;
+use crate::render::pipelines::uniform_entry;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::targets::{self, RenderTargets};
+use bevy_ecs::prelude::*;
+use std::collections::HashMap;
+
+/// The sky pass's pipelines (image or uniform environment) and bindings.
+#[derive(Resource)]
+pub struct SkyPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<bool, wgpu::RenderPipeline>,
+    bind_group: Option<((u64, u64), wgpu::BindGroup)>,
+}
+
+impl SkyPass {
+    /// Creates the bind group layout; pipelines compile on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("sky"),
+                entries: &[
+                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
+                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 2,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                            view_dimension: wgpu::TextureViewDimension::Cube,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 3,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                        count: None,
+                    },
+                ],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("sky"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        SkyPass {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            bind_group: None,
+        }
+    }
+
+    fn pipeline(&mut self, gpu: &Gpu, env_map: bool) -> Result<()> {
+        if self.pipelines.contains_key(&env_map) {
+            return Ok(());
+        }
+        let source = compose(
+            &[ShaderDef::Bool("ENV_MAP", env_map)],
+            &[
+                shaders::COMMON,
+                shaders::BRDF,
+                shaders::IBL,
+                shaders::BINDINGS,
+                shaders::FULLSCREEN,
+                shaders::SKY,
+            ],
+        );
+        let module = shaders::create_module(gpu, "sky", source)?;
+        let pipeline = gpu.checked("sky pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("sky"),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                // The full-screen triangle lies at depth 0: it passes only where the
+                // G-buffer depth is still the cleared 0 (reversed Z: nothing drawn).
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: targets::DEPTH_FORMAT,
+                    depth_write_enabled: Some(false),
+                    depth_compare: Some(wgpu::CompareFunction::Equal),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_sky"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(targets::HDR_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        self.pipelines.insert(env_map, pipeline);
+        Ok(())
+    }
+}
+
+/// Compiles the sky pipeline this frame needs and rebuilds its bind group on changes.
+pub fn prepare_sky(
+    gpu: Res<Gpu>,
+    frame: Res<ExtractedFrame>,
+    buffers: Res<SceneBuffers>,
+    ibl: Res<Ibl>,
+    mut pass: ResMut<SkyPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let Some(env) = frame.environment.as_ref().filter(|e| e.show_background) else {
+        return;
+    };
+    if let Err(e) = pass.pipeline(&gpu, env.image.is_some()) {
+        errors.0.push(e);
+        return;
+    }
+    let key = (buffers.generation, ibl.generation);
+    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky"),
+        layout: &pass.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.view.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: ibl.uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(ibl.cube_view()),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&ibl.sampler),
+            },
+        ],
+    });
+    pass.bind_group = Some((key, group));
+}
+
+/// Records the sky pass into the HDR target.
+pub fn sky_pass(
+    pass: Res<SkyPass>,
+    frame: Res<ExtractedFrame>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let env_map = frame
+        .environment
+        .as_ref()
+        .is_some_and(|e| e.image.is_some());
+    let (Some(encoder), Some(t), Some((_, bind_group)), Some(pipeline)) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.bind_group.as_ref(),
+        pass.pipelines.get(&env_map),
+    ) else {
+        return;
+    };
+    let scope = timer.begin_pass("sky");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("sky"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &t.hdr.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &t.depth.view,
+                depth_ops: None,
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+}
