@@ -5,7 +5,7 @@ mod common;
 
 use common::{app_with, lum};
 use glam::{Quat, Vec3};
-use lumen::brdf::{Surface, VisibilityModel, surface_brdf};
+use lumen::brdf::{Surface, VisibilityModel};
 use lumen::prelude::*;
 use lumen::render::device::GpuRequest;
 use lumen::render::plan::PassId;
