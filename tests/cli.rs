@@ -403,3 +403,110 @@ fn shadow_flags() {
         "vsm",
     );
 }
+
+fn hdri(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../assets/hdri")
+        .join(format!("{name}.exr"))
+        .display()
+        .to_string()
+}
+
+#[test]
+fn environment_flags() {
+    let dir = tmp();
+    // The furnace from the command line: a linear EXR of exactly 1.0 everywhere.
+    let out = lumen(
+        &[
+            "render",
+            "--scene",
+            "furnace",
+            "--exposure",
+            "1",
+            "--size",
+            "88x32",
+            "--out",
+            "f.exr",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let img = lumen::assets::image_io::load_rgba32f(&dir.path().join("f.exr")).expect("EXR");
+    let worst = img
+        .pixels()
+        .flat_map(|p| p.0[..3].to_vec())
+        .map(|v| (v - 1.0).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 0.02, "furnace EXR deviates by {worst}");
+
+    // spheres under a real HDRI: the sky pass runs, preprocessing is reported.
+    let env = hdri("studio");
+    let out = lumen(
+        &[
+            "render", "--env", &env, "--size", "64x36", "--out", "s.png", "--json",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let passes: Vec<_> = report["passes"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|p| p["name"].as_str())
+        .collect();
+    assert!(passes.contains(&"sky"), "{passes:?}");
+    let steps: Vec<_> = report["preprocessing"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|s| s["step"].as_str())
+        .collect();
+    assert!(
+        steps.contains(&"ggx prefilter") && steps.contains(&"spherical harmonics"),
+        "{steps:?}"
+    );
+
+    // Hidden environment, uniform colour, rotation and blur are accepted.
+    for extra in [
+        vec!["--env", env.as_str(), "--env-hidden"],
+        vec!["--env-color", "0.2,0.3,0.4", "--env-intensity", "500"],
+        vec![
+            "--env",
+            env.as_str(),
+            "--env-rotation",
+            "-90",
+            "--background-blur",
+            "0.5",
+        ],
+        vec!["--env", env.as_str(), "--no-energy-compensation"],
+    ] {
+        let mut args = vec!["render", "--size", "32x18", "--out", "e.png"];
+        args.extend(extra.iter().copied());
+        let out = lumen(&args, dir.path());
+        assert!(out.status.success(), "{extra:?}: {}", text(&out.stderr));
+    }
+}
+
+#[test]
+fn bad_environment_files_are_one_line_errors() {
+    let dir = tmp();
+    let d = dir.path();
+    assert_clean_failure(
+        &lumen(&["render", "--size", "8x8", "--env", "missing.exr"], d),
+        "missing.exr",
+    );
+    std::fs::write(d.join("junk.exr"), b"definitely not an exr").expect("write");
+    assert_clean_failure(
+        &lumen(&["render", "--size", "8x8", "--env", "junk.exr"], d),
+        "junk.exr",
+    );
+    let real = std::fs::read(hdri("sky")).expect("sky.exr");
+    std::fs::write(d.join("cut.exr"), &real[..real.len() / 3]).expect("write");
+    assert_clean_failure(
+        &lumen(&["render", "--size", "8x8", "--env", "cut.exr"], d),
+        "cut.exr",
+    );
+    assert_clean_failure(&lumen(&["render", "--env-color", "1,2"], d), "1,2");
+    assert_clean_failure(&lumen(&["render", "--background-blur", "3"], d), "3");
+}

@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod output;
+pub mod progress;
 pub mod render_cmd;
 pub mod scenes;
 pub mod setup;

@@ -19,6 +19,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     let format = OutputFormat::from_path(&out)?;
 
     let mut app = App::headless()?;
+    crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
     // The first frame compiles the pipelines the scene needs; the second is measured.
     let first = app.render_headless(args.size)?;
@@ -69,6 +70,9 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                     "name": d.name, "enabled": d.enabled, "reason": d.reason,
                 })).collect::<Vec<_>>(),
             },
+            "preprocessing": first.preprocessing.iter().map(|(step, ms)| json!({
+                "step": step, "ms": ms,
+            })).collect::<Vec<_>>(),
             "stats": {
                 "instances": report.stats.instances,
                 "draws": report.stats.draws,
@@ -109,6 +113,14 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             "frame {:.2} ms (first frame, compiling pipelines: {:.1} ms); exposure {:.3e} (EV100 {:.2}), tone mapper {tonemapper}",
             report.frame_ms, first.frame_ms, report.exposure, report.ev100
         );
+        if !first.preprocessing.is_empty() {
+            let steps: Vec<String> = first
+                .preprocessing
+                .iter()
+                .map(|(step, ms)| format!("{step} {ms:.1} ms"))
+                .collect();
+            let _ = writeln!(text, "one-off preprocessing: {}", steps.join(", "));
+        }
         let _ = writeln!(text, "wrote {}", out.display());
         crate::output::print(&text);
     }

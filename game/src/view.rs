@@ -164,6 +164,7 @@ impl Viewer {
 
         let mut app = App::new();
         app.attach_gpu(gpu)?;
+        crate::progress::show_ibl_progress(&mut app);
         build_scene(&mut app, &self.args.scene)?;
         let world = app.world_mut();
         let mut cams = world.query::<(Entity, &Camera, &Transform)>();

@@ -84,7 +84,12 @@ pub struct Ibl {
     pub generation: u64,
     /// Preprocessing steps run during the last frame (ms).
     pub last_steps: Vec<(String, f64)>,
+    /// Called with (step, done, total) while an environment is prefiltered.
+    progress: Option<Progress>,
 }
+
+/// A progress callback: step name, steps done, steps in all.
+pub type Progress = Box<dyn FnMut(&str, u32, u32) + Send + Sync>;
 
 fn compute_pipeline(
     gpu: &Gpu,
@@ -185,7 +190,19 @@ impl Ibl {
             bound_cube: None,
             generation: 0,
             last_steps: Vec::new(),
+            progress: None,
         })
+    }
+
+    /// Reports preprocessing progress to `progress` (e.g. a terminal progress bar).
+    pub fn set_progress(&mut self, progress: Progress) {
+        self.progress = Some(progress);
+    }
+
+    fn report(&mut self, step: &str, done: u32, total: u32) {
+        if let Some(p) = self.progress.as_mut() {
+            p(step, done, total);
+        }
     }
 
     /// The cube view to bind: the prepared environment's, or a 1×1 dummy.
@@ -273,6 +290,11 @@ impl Ibl {
                 .ok_or_else(|| Error::Gpu("environment cache".into()));
         }
         let mut steps: Vec<(&'static str, f64)> = Vec::new();
+        let size = (image.width / 4).next_power_of_two().clamp(32, 1024);
+        let source_mips = size.ilog2() + 1;
+        let mips = source_mips.min(MAX_PREFILTERED_MIPS);
+        let total = 4 + mips;
+        self.report("upload", 0, total);
 
         let t = Instant::now();
         let data: Vec<half::f16> = image
@@ -301,12 +323,12 @@ impl Ibl {
         );
         steps.push(("upload", t.elapsed().as_secs_f64() * 1e3));
 
+        self.report("spherical harmonics", 1, total);
         let t = Instant::now();
         let sh = sh_project(image);
         steps.push(("spherical harmonics", t.elapsed().as_secs_f64() * 1e3));
 
-        let size = (image.width / 4).next_power_of_two().clamp(32, 1024);
-        let source_mips = size.ilog2() + 1;
+        self.report("equirect to cube", 2, total);
         let source = cube_texture(gpu, "environment source cube", size, source_mips);
         let equirect_view = equirect.create_view(&Default::default());
         let base = Params {
@@ -341,6 +363,7 @@ impl Ibl {
         })?;
         steps.push(("equirect to cube", ms));
 
+        self.report("cube mips", 3, total);
         let ms = Ibl::run(gpu, "cube mips", |encoder| {
             for mip in 1..source_mips {
                 Ibl::dispatch(
@@ -370,11 +393,13 @@ impl Ibl {
         })?;
         steps.push(("cube mips", ms));
 
-        let mips = source_mips.min(MAX_PREFILTERED_MIPS);
         let specular = cube_texture(gpu, "environment specular cube", size, mips);
         let source_cube = cube_view(&source);
-        let ms = Ibl::run(gpu, "ggx prefilter", |encoder| {
-            for mip in 0..mips {
+        // One submission per mip, so that a large environment reports progress.
+        let mut ms = 0.0;
+        for mip in 0..mips {
+            self.report("ggx prefilter", 4 + mip, total);
+            ms += Ibl::run(gpu, "ggx prefilter", |encoder| {
                 Ibl::dispatch(
                     gpu,
                     encoder,
@@ -402,8 +427,9 @@ impl Ibl {
                         },
                     ],
                 );
-            }
-        })?;
+            })?;
+        }
+        self.report("done", total, total);
         steps.push(("ggx prefilter", ms));
         let view = cube_view(&specular);
         self.cache.insert(

@@ -1,0 +1,32 @@
+//! Progress bars for long one-off work, on a terminal only.
+
+use lumen::App;
+use lumen::render::ibl::Ibl;
+use std::io::IsTerminal;
+
+/// Shows environment prefiltering progress on stderr when it is a terminal.
+pub fn show_ibl_progress(app: &mut App) {
+    if !std::io::stderr().is_terminal() {
+        return;
+    }
+    let mut bar: Option<indicatif::ProgressBar> = None;
+    if let Some(mut ibl) = app.world_mut().get_resource_mut::<Ibl>() {
+        ibl.set_progress(Box::new(move |step, done, total| {
+            let b = bar.get_or_insert_with(|| {
+                let b = indicatif::ProgressBar::new(u64::from(total));
+                b.set_style(
+                    indicatif::ProgressStyle::with_template(
+                        "preparing environment {bar:30} {pos}/{len} {msg} ({elapsed})",
+                    )
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                );
+                b
+            });
+            b.set_position(u64::from(done));
+            b.set_message(step.to_string());
+            if done >= total {
+                b.finish_and_clear();
+            }
+        }));
+    }
+}
