@@ -24,7 +24,7 @@ fn hdri(name: &str) -> std::path::PathBuf {
 /// (row 0: metal, row 1: dielectric), the worst |pixel − 1| over all sphere pixels, and
 /// the background value.
 fn furnace(compensation: bool) -> ([[f32; 11]; 2], f32, f32) {
-    let size = (440u32, 160u32);
+    let size = (256u32, 96u32);
     let mut app = common::app_with("furnace");
     app.world_mut()
         .resource_mut::<Quality>()
