@@ -302,6 +302,7 @@ impl Gpu {
                     &module,
                     ("vs", "fs"),
                     wgpu::TextureFormat::Rgba8Unorm,
+                    None,
                 )
             })
             .map(|_| ())

@@ -481,6 +481,7 @@ impl Ibl {
             &module,
             ("vs_fullscreen", "fs_brdf_lut"),
             LUT_FORMAT,
+            None,
         )?;
         let target = Target::new(gpu, "brdf lut", (size, size), LUT_FORMAT);
         Ibl::run(gpu, "brdf lut", |encoder| {

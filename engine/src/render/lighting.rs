@@ -9,7 +9,8 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::ibl::Ibl;
 use crate::render::pipelines::{
-    draw_fullscreen, fullscreen_pipeline, storage_entry, texture_load_entry, uniform_entry,
+    draw_fullscreen, filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry,
+    storage_entry, texture_load_entry, uniform_entry,
 };
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
@@ -62,32 +63,9 @@ impl LightingPass {
                     },
                     texture_load_entry(9),
                     uniform_entry(10, wgpu::ShaderStages::FRAGMENT),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 11,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                            view_dimension: wgpu::TextureViewDimension::Cube,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 12,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 13,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
+                    sampled_texture_entry(11, wgpu::TextureViewDimension::Cube),
+                    filtering_sampler_entry(12),
+                    sampled_texture_entry(13, wgpu::TextureViewDimension::D2),
                 ],
             });
         let pipeline_layout = gpu
@@ -148,6 +126,7 @@ impl LightingPass {
             &module,
             ("vs_fullscreen", "fs_main"),
             targets::HDR_FORMAT,
+            None,
         )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())

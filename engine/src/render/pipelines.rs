@@ -48,8 +48,37 @@ pub fn texture_load_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A filterable float texture sampled in the fragment shader (`texture_2d` or
+/// `texture_cube`, as `dimension` says).
+pub fn sampled_texture_entry(
+    binding: u32,
+    dimension: wgpu::TextureViewDimension,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A filtering sampler for the fragment shader.
+pub fn filtering_sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        count: None,
+    }
+}
+
 /// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
-/// target for `vs_fullscreen`) into one colour target of `format`, no blending, no depth.
+/// target for `vs_fullscreen`) into one colour target of `format`, no blending, and the
+/// given depth test (none for most passes).
 pub fn fullscreen_pipeline(
     gpu: &Gpu,
     label: &str,
@@ -57,6 +86,7 @@ pub fn fullscreen_pipeline(
     module: &wgpu::ShaderModule,
     (vertex_entry, fragment_entry): (&str, &str),
     format: wgpu::TextureFormat,
+    depth_stencil: Option<wgpu::DepthStencilState>,
 ) -> Result<wgpu::RenderPipeline> {
     gpu.checked(&format!("{label} pipeline"), |device| {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -69,7 +99,7 @@ pub fn fullscreen_pipeline(
                 buffers: &[],
             },
             primitive: Default::default(),
-            depth_stencil: None,
+            depth_stencil,
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module,

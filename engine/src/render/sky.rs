@@ -6,7 +6,9 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::ibl::Ibl;
-use crate::render::pipelines::uniform_entry;
+use crate::render::pipelines::{
+    filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, uniform_entry,
+};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::targets::{self, RenderTargets};
@@ -32,22 +34,8 @@ impl SkyPass {
                 entries: &[
                     uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
                     uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 2,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                            view_dimension: wgpu::TextureViewDimension::Cube,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 3,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                        count: None,
-                    },
+                    sampled_texture_entry(2, wgpu::TextureViewDimension::Cube),
+                    filtering_sampler_entry(3),
                 ],
             });
         let pipeline_layout = gpu
@@ -81,37 +69,24 @@ impl SkyPass {
             ],
         );
         let module = shaders::create_module(gpu, "sky", source)?;
-        let pipeline = gpu.checked("sky pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("sky"),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                // The full-screen triangle lies at depth 0: it passes only where the
-                // G-buffer depth is still the cleared 0 (reversed Z: nothing drawn).
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: targets::DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    depth_compare: Some(wgpu::CompareFunction::Equal),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_sky"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(targets::HDR_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+        // The full-screen triangle lies at depth 0: it passes only where the G-buffer
+        // depth is still the cleared 0 (reversed Z: nothing drawn).
+        let depth = wgpu::DepthStencilState {
+            format: targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::Equal),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "sky",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_sky"),
+            targets::HDR_FORMAT,
+            Some(depth),
+        )?;
         self.pipelines.insert(env_map, pipeline);
         Ok(())
     }

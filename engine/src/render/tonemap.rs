@@ -67,6 +67,7 @@ impl TonemapPass {
             &module,
             ("vs_fullscreen", "fs_main"),
             format,
+            None,
         )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())
