@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::quality::Quality;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
+use crate::render::exposure::{ExposurePass, FrameDelta, MeteredExposure};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::plan::FramePlan;
@@ -59,6 +60,10 @@ pub struct FrameReport {
     /// One-off preprocessing this frame ran (environment prefiltering, BRDF table), in ms
     /// per step; empty once everything is cached.
     pub preprocessing: Vec<(String, f64)>,
+    /// Camera settings that were out of range and clamped, one line each.
+    pub notes: Vec<String>,
+    /// What automatic exposure metered (after this frame; empty for other modes).
+    pub metered: MeteredExposure,
 }
 
 /// A render target of the frame that can be read back with [`App::read_target`].
@@ -85,6 +90,8 @@ pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm
 pub struct App {
     world: World,
     offscreen: Option<Target>,
+    fixed_delta: Option<f32>,
+    last_frame: Option<Instant>,
 }
 
 impl Default for App {
@@ -106,6 +113,8 @@ impl App {
         App {
             world,
             offscreen: None,
+            fixed_delta: None,
+            last_frame: None,
         }
     }
 
@@ -160,6 +169,12 @@ impl App {
         self
     }
 
+    /// Makes every frame advance time by `delta_s` seconds (automatic exposure adapts by
+    /// it) instead of the real time between frames; `None` goes back to real time.
+    pub fn set_fixed_delta(&mut self, delta_s: Option<f32>) {
+        self.fixed_delta = delta_s.filter(|d| d.is_finite() && *d >= 0.0);
+    }
+
     /// Runs your [`Update`] systems once.
     pub fn update(&mut self) {
         self.world.run_schedule(Update);
@@ -194,6 +209,14 @@ impl App {
         let start = Instant::now();
         let mut stages = Vec::new();
         let mut stage = |name, t: Instant| stages.push((name, t.elapsed().as_secs_f64() * 1e3));
+
+        let delta = match (self.fixed_delta, self.last_frame) {
+            (Some(d), _) => d,
+            (None, Some(last)) => last.elapsed().as_secs_f32().clamp(0.0, 0.25),
+            (None, None) => 1.0 / 60.0,
+        };
+        self.last_frame = Some(start);
+        self.world.insert_resource(FrameDelta(delta));
 
         let t = Instant::now();
         self.world.run_schedule(PostUpdate);
@@ -238,9 +261,14 @@ impl App {
             .collect(&gpu);
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
 
+        if self.world.resource::<ExposurePass>().ran {
+            let metered = self.world.resource::<ExposurePass>().read_state(&gpu)?;
+            self.world.insert_resource(metered);
+        }
         let extracted = self.world.resource::<ExtractedFrame>();
         let camera = extracted
             .camera
+            .as_ref()
             .ok_or_else(|| Error::Scene("no active camera".into()))?;
         Ok(FrameReport {
             passes,
@@ -260,6 +288,8 @@ impl App {
                 .resource::<crate::render::ibl::Ibl>()
                 .last_steps
                 .clone(),
+            notes: camera.notes.clone(),
+            metered: *self.world.resource::<MeteredExposure>(),
         })
     }
 

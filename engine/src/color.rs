@@ -40,8 +40,15 @@ pub enum Tonemapper {
     Reinhard = 1,
     /// Stephen Hill's fit of the ACES RRT + ODT (sRGB, 100 cd/m² display), as
     /// Bevy's `AcesFitted`.
-    #[default]
     AcesFitted = 2,
+    /// AgX (Troy Sobotka), in Benjamin Wrensch's polynomial approximation: hue-stable
+    /// desaturation of bright colours.
+    Agx = 3,
+    /// Khronos PBR Neutral (2024): colours up to 0.76 are reproduced exactly (after a
+    /// small black-level offset), only highlights are compressed. The default: the most
+    /// faithful base colours, which is what a renderer measured for accuracy should show.
+    #[default]
+    PbrNeutral = 4,
 }
 
 impl Tonemapper {
@@ -58,6 +65,8 @@ impl Tonemapper {
             Tonemapper::None => "none",
             Tonemapper::Reinhard => "reinhard",
             Tonemapper::AcesFitted => "aces",
+            Tonemapper::Agx => "agx",
+            Tonemapper::PbrNeutral => "pbr-neutral",
         }
     }
 
@@ -74,6 +83,8 @@ impl Tonemapper {
             Tonemapper::None => tonemap_none(c),
             Tonemapper::Reinhard => tonemap_reinhard(c),
             Tonemapper::AcesFitted => tonemap_aces_fitted(c),
+            Tonemapper::Agx => tonemap_agx(c),
+            Tonemapper::PbrNeutral => tonemap_pbr_neutral(c),
         }
     }
 }
@@ -121,6 +132,69 @@ pub fn tonemap_aces_fitted(c: Vec3) -> Vec3 {
     let v = aces_input_matrix() * c.max(Vec3::ZERO);
     let v = aces_rrt_odt_fit(v);
     (aces_output_matrix() * v).clamp(Vec3::ZERO, Vec3::ONE)
+}
+
+/// AgX inset matrix (linear sRGB → AgX log encoding space), columns.
+fn agx_inset() -> Mat3 {
+    Mat3::from_cols(
+        Vec3::new(0.842_479_06, 0.042_328_24, 0.042_375_655),
+        Vec3::new(0.078_433_6, 0.878_468_6, 0.078_433_6),
+        Vec3::new(0.079_223_745, 0.079_166_13, 0.879_142_97),
+    )
+}
+
+/// AgX outset matrix (inverse of the inset), columns.
+fn agx_outset() -> Mat3 {
+    Mat3::from_cols(
+        Vec3::new(1.196_879, -0.052_896_85, -0.052_971_635),
+        Vec3::new(-0.098_020_88, 1.151_903_1, -0.098_043_45),
+        Vec3::new(-0.099_029_74, -0.098_961_18, 1.151_073_7),
+    )
+}
+
+/// Wrensch's 6th-order fit of AgX's default contrast curve.
+pub fn agx_contrast(x: Vec3) -> Vec3 {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    15.5 * x4 * x2 - 40.14 * x4 * x + 31.96 * x4 - 6.868 * x2 * x + 0.4298 * x2 + 0.1191 * x
+        - Vec3::splat(0.002_32)
+}
+
+/// AgX (Sobotka 2023; approximation by Wrensch 2023, "Minimal AgX Implementation"):
+/// inset matrix, log2 encoding over [−12.47, 4.03] EV, contrast curve, outset matrix,
+/// and the curve's 2.2 display power undone, giving linear display values in [0, 1].
+pub fn tonemap_agx(c: Vec3) -> Vec3 {
+    const MIN_EV: f32 = -12.473_931;
+    const MAX_EV: f32 = 4.026_069;
+    let v = agx_inset() * c.max(Vec3::ZERO);
+    let v = v
+        .max(Vec3::splat(1e-10))
+        .log2()
+        .clamp(Vec3::splat(MIN_EV), Vec3::splat(MAX_EV));
+    let v = (v - Vec3::splat(MIN_EV)) / (MAX_EV - MIN_EV);
+    let v = agx_outset() * agx_contrast(v);
+    v.max(Vec3::ZERO).powf(2.2).min(Vec3::ONE)
+}
+
+/// Khronos PBR Neutral (Khronos 3D Commerce, 2024): subtract a small offset near black,
+/// then compress only values whose largest channel exceeds 0.76, desaturating the
+/// compressed part towards white.
+pub fn tonemap_pbr_neutral(c: Vec3) -> Vec3 {
+    const START_COMPRESSION: f32 = 0.8 - 0.04;
+    const DESATURATION: f32 = 0.15;
+    let c = c.max(Vec3::ZERO);
+    let x = c.min_element();
+    let offset = if x < 0.08 { x - 6.25 * x * x } else { 0.04 };
+    let c = c - Vec3::splat(offset);
+    let peak = c.max_element();
+    if peak < START_COMPRESSION {
+        return c;
+    }
+    let d = 1.0 - START_COMPRESSION;
+    let new_peak = 1.0 - d * d / (peak + d - START_COMPRESSION);
+    let c = c * (new_peak / peak);
+    let g = 1.0 - 1.0 / (DESATURATION * (peak - new_peak) + 1.0);
+    c * (1.0 - g) + Vec3::splat(new_peak * g)
 }
 
 /// Lowest and highest colour temperature (K) of the Planckian-locus fit used by

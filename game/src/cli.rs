@@ -42,7 +42,37 @@ pub struct SceneArgs {
     /// Linear exposure multiplier that replaces the camera's (1 = raw radiance).
     #[arg(long, value_name = "K", conflicts_with = "ev100", value_parser = parse_exposure)]
     pub exposure: Option<f32>,
-    /// Tone mapper: none, reinhard, aces.
+    /// Aperture f-number (0.5..64); with --shutter and --iso the exposure follows the lens.
+    #[arg(long, value_name = "N", value_parser = parse_positive)]
+    pub aperture: Option<f32>,
+    /// Shutter time in seconds (1/25000..60), e.g. 0.008 or 1/125.
+    #[arg(long, value_name = "T", value_parser = parse_seconds)]
+    pub shutter: Option<f32>,
+    /// Sensor sensitivity, ISO (10..204800).
+    #[arg(long, value_name = "S", value_parser = parse_positive)]
+    pub iso: Option<f32>,
+    /// Focal length in millimetres on the camera's sensor (sets the field of view).
+    #[arg(long, value_name = "MM", value_parser = parse_positive)]
+    pub focal_length: Option<f32>,
+    /// Focus distance in metres (or "inf").
+    #[arg(long, value_name = "M", value_parser = parse_focus)]
+    pub focus: Option<f32>,
+    /// Depth of field from the lens (thin-lens circle of confusion).
+    #[arg(long)]
+    pub dof: bool,
+    /// Depth-of-field sample rings, 1..=5 (default 3); implies --dof.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=5))]
+    pub dof_rings: Option<u32>,
+    /// Natural (cos⁴) vignetting; an optional strength 0..1 (default 1).
+    #[arg(long, value_name = "STRENGTH", num_args = 0..=1, default_missing_value = "1", value_parser = parse_unit)]
+    pub vignette: Option<f32>,
+    /// Automatic exposure from the frame's luminance histogram.
+    #[arg(long, conflicts_with_all = ["ev100", "exposure"])]
+    pub auto_exposure: bool,
+    /// Exposure compensation in stops (+1 = twice as bright).
+    #[arg(long, value_name = "STOPS", allow_hyphen_values = true, value_parser = parse_finite)]
+    pub exposure_compensation: Option<f32>,
+    /// Tone mapper: pbr-neutral (default), aces, agx, reinhard, none.
     #[arg(long, value_name = "NAME", value_parser = parse_tonemapper)]
     pub tonemap: Option<lumen::color::Tonemapper>,
     /// Specular visibility term: schlick-ggx (default), smith-correlated, smith-correlated-fast.
@@ -193,6 +223,34 @@ fn parse_rgb(s: &str) -> Result<glam::Vec3, String> {
     }
 }
 
+fn parse_positive(s: &str) -> Result<f32, String> {
+    parse_finite(s).and_then(|v| {
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("{s} must be > 0"))
+        }
+    })
+}
+
+/// Seconds as a decimal or a fraction (`1/125`).
+fn parse_seconds(s: &str) -> Result<f32, String> {
+    match s.split_once('/') {
+        Some((n, d)) => {
+            let (n, d) = (parse_positive(n.trim())?, parse_positive(d.trim())?);
+            Ok(n / d)
+        }
+        None => parse_positive(s),
+    }
+}
+
+fn parse_focus(s: &str) -> Result<f32, String> {
+    if s.eq_ignore_ascii_case("inf") || s.eq_ignore_ascii_case("infinity") {
+        return Ok(f32::INFINITY);
+    }
+    parse_positive(s)
+}
+
 fn parse_finite(s: &str) -> Result<f32, String> {
     s.parse::<f32>()
         .ok()
@@ -271,6 +329,15 @@ mod tests {
         assert!(parse_unit("1.5").is_err() && parse_unit("0.3").is_ok());
         assert!(parse_non_negative("-2").is_err());
         assert!(parse_finite("inf").is_err());
+    }
+
+    #[test]
+    fn camera_arguments() {
+        assert_eq!(parse_seconds("1/125"), Ok(0.008));
+        assert_eq!(parse_seconds("0.5"), Ok(0.5));
+        assert!(parse_seconds("1/0").is_err() && parse_seconds("-1").is_err());
+        assert_eq!(parse_focus("inf"), Ok(f32::INFINITY));
+        assert!(parse_focus("0").is_err());
     }
 
     #[test]

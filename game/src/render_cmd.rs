@@ -22,8 +22,24 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
     // The first frame compiles the pipelines the scene needs; the second is measured.
+    // Automatic exposure first adapts: frames at a fixed 1/30 s until the meter settles.
     let first = app.render_headless(args.size)?;
+    let mut adaptation_frames = 0;
+    if first.plan.runs(lumen::render::plan::PassId::Exposure) {
+        app.set_fixed_delta(Some(1.0 / 30.0));
+        for _ in 0..240 {
+            let r = app.render_headless(args.size)?;
+            adaptation_frames += 1;
+            match (r.metered.ev100, r.metered.target_ev100) {
+                (Some(ev), Some(target)) if (ev - target).abs() < 0.01 => break,
+                _ => {}
+            }
+        }
+    }
     let report = app.render_headless(args.size)?;
+    for note in &report.notes {
+        log::warn!("camera: {note}");
+    }
     if args.explain {
         eprint!("{}", report.plan.explain());
     }
@@ -70,6 +86,13 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                     "name": d.name, "enabled": d.enabled, "reason": d.reason,
                 })).collect::<Vec<_>>(),
             },
+            "camera_notes": report.notes,
+            "auto_exposure": report.metered.ev100.map(|ev| json!({
+                "ev100": ev,
+                "target_ev100": report.metered.target_ev100,
+                "average_log2_luminance": report.metered.average_log2_luminance,
+                "adaptation_frames": adaptation_frames,
+            })),
             "preprocessing": first.preprocessing.iter().map(|(step, ms)| json!({
                 "step": step, "ms": ms,
             })).collect::<Vec<_>>(),
@@ -130,7 +153,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
 fn report_tonemapper(app: &App) -> &'static str {
     app.world()
         .get_resource::<lumen::render::extract::ExtractedFrame>()
-        .and_then(|f| f.camera)
+        .and_then(|f| f.camera.as_ref())
         .map(|c| c.tonemapper.name())
         .unwrap_or("none")
 }

@@ -4,6 +4,7 @@ use crate::cli::SceneArgs;
 use crate::scenes;
 use anyhow::{Context, Result};
 use lumen::prelude::*;
+use lumen::scene::AutoExposure;
 
 /// Spawns the requested scene (built-in or glTF file) into `app` and applies the
 /// exposure, tone mapping and quality overrides.
@@ -30,15 +31,7 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     let world = app.world_mut();
     let mut cameras = world.query::<&mut Camera>();
     for mut camera in cameras.iter_mut(world) {
-        if let Some(ev) = args.ev100 {
-            camera.exposure = Exposure::Ev100(ev);
-        }
-        if let Some(k) = args.exposure {
-            camera.exposure = Exposure::Linear(k);
-        }
-        if let Some(t) = args.tonemap {
-            camera.tonemapper = t;
-        }
+        apply_camera(&mut camera, args);
     }
     let mut quality = world.resource_mut::<Quality>();
     if let Some(v) = args.visibility {
@@ -54,6 +47,55 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         quality.energy_compensation = false;
     }
     Ok(())
+}
+
+/// The command line's camera settings.
+fn apply_camera(camera: &mut Camera, args: &SceneArgs) {
+    if let Some(ev) = args.ev100 {
+        camera.exposure = Exposure::Ev100(ev);
+    }
+    if let Some(k) = args.exposure {
+        camera.exposure = Exposure::Linear(k);
+    }
+    if let Some(n) = args.aperture {
+        camera.lens.aperture_f_stops = n;
+    }
+    if let Some(t) = args.shutter {
+        camera.lens.shutter_s = t;
+    }
+    if let Some(s) = args.iso {
+        camera.lens.iso = s;
+    }
+    // Shutter or ISO only make sense as physical exposure; an aperture alone may be for
+    // depth of field.
+    if args.shutter.is_some() || args.iso.is_some() {
+        camera.exposure = Exposure::Physical;
+    }
+    if args.auto_exposure {
+        camera.exposure = Exposure::Auto(AutoExposure::default());
+    }
+    if let Some(stops) = args.exposure_compensation {
+        camera.exposure_compensation = stops;
+    }
+    if let Some(mm) = args.focal_length {
+        camera.projection.fov_y_rad = camera.lens.fov_for_focal_length(mm);
+    }
+    if let Some(m) = args.focus {
+        camera.lens.focus_distance_m = m;
+    }
+    if args.dof || args.dof_rings.is_some() {
+        let mut dof = camera.depth_of_field.unwrap_or_default();
+        if let Some(r) = args.dof_rings {
+            dof.rings = r;
+        }
+        camera.depth_of_field = Some(dof);
+    }
+    if let Some(strength) = args.vignette {
+        camera.vignette = Some(lumen::scene::Vignette { strength });
+    }
+    if let Some(t) = args.tonemap {
+        camera.tonemapper = t;
+    }
 }
 
 /// Luminance (cd/m²) of an environment image value of 1 unless `--env-intensity` says

@@ -301,7 +301,7 @@ impl Gpu {
                     None,
                     &module,
                     ("vs", "fs"),
-                    wgpu::TextureFormat::Rgba8Unorm,
+                    &[wgpu::TextureFormat::Rgba8Unorm],
                     None,
                 )
             })

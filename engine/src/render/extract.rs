@@ -22,7 +22,7 @@ use bevy_ecs::prelude::*;
 use glam::{Mat3, Mat4, Vec3};
 
 /// The camera as the passes need it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ExtractedCamera {
     /// World-space position in metres.
     pub position: Vec3,
@@ -36,6 +36,22 @@ pub struct ExtractedCamera {
     pub ev100: f32,
     /// Tone mapper.
     pub tonemapper: Tonemapper,
+    /// Lens settings after clamping (PBR-REFERENCE §5).
+    pub lens: crate::scene::Lens,
+    /// Focal length (m), from the field of view and the sensor height.
+    pub focal_length_m: f32,
+    /// Vertical field of view (rad) and aspect ratio.
+    pub fov_y: f32,
+    /// Width / height.
+    pub aspect: f32,
+    /// Depth of field, if on.
+    pub depth_of_field: Option<crate::scene::DepthOfField>,
+    /// Vignetting strength (0 = none).
+    pub vignette: f32,
+    /// Automatic exposure settings, if that mode is on.
+    pub auto_exposure: Option<crate::scene::AutoExposure>,
+    /// Settings that were out of range and clamped, one line each.
+    pub notes: Vec<String>,
 }
 
 /// Consecutive instances of one mesh, drawn with one instanced draw call.
@@ -257,6 +273,7 @@ pub fn extract_frame(
     environments: Query<(Entity, &Environment)>,
     meshes: Res<Meshes>,
     quality: Res<Quality>,
+    metered: Res<crate::render::exposure::MeteredExposure>,
     output: Res<FrameOutput>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,
@@ -276,7 +293,8 @@ pub fn extract_frame(
         ));
         return;
     };
-    let exposure = camera.exposure.multiplier();
+    let resolved = camera.resolve_exposure(metered.ev100);
+    let exposure = resolved.multiplier;
     let view_from_world = camera_transform.0.inverse();
     if !view_from_world.is_finite() {
         errors.0.push(Error::Scene(
@@ -287,13 +305,34 @@ pub fn extract_frame(
     let clip_from_view = camera.projection.matrix(aspect);
     let clip_from_world = clip_from_view * view_from_world;
     let position = camera_transform.translation();
+    let fov_y = camera.projection.fov_y_rad;
+    let focal_length_m = camera.lens.focal_length_m(fov_y);
+    let (lens, mut notes) = camera.lens.clamped(focal_length_m);
+    notes.extend(resolved.notes);
+    notes.dedup();
     frame.camera = Some(ExtractedCamera {
         position,
         view_from_world,
         clip_from_view,
         exposure,
-        ev100: camera.exposure.ev100(),
+        ev100: resolved.ev100,
         tonemapper: camera.tonemapper,
+        lens,
+        focal_length_m,
+        fov_y,
+        aspect,
+        depth_of_field: camera.depth_of_field.map(|d| crate::scene::DepthOfField {
+            rings: d.rings.clamp(1, 5),
+            max_coc_px: finite_or(d.max_coc_px, 32.0).clamp(1.0, 128.0),
+        }),
+        vignette: camera
+            .vignette
+            .map_or(0.0, |v| finite_or(v.strength, 0.0).clamp(0.0, 1.0)),
+        auto_exposure: match camera.exposure {
+            crate::scene::Exposure::Auto(a) => Some(a),
+            _ => None,
+        },
+        notes,
     });
 
     // Instances, sorted by mesh (casters first within a mesh) so each mesh is one

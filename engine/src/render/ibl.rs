@@ -480,7 +480,7 @@ impl Ibl {
             None,
             &module,
             ("vs_fullscreen", "fs_brdf_lut"),
-            LUT_FORMAT,
+            &[LUT_FORMAT],
             None,
         )?;
         let target = Target::new(gpu, "brdf lut", (size, size), LUT_FORMAT);
@@ -521,7 +521,7 @@ pub fn prepare_ibl(
 ) {
     let ibl = &mut *ibl;
     ibl.last_steps.clear();
-    let exposure = frame.camera.map_or(1.0, |c| c.exposure);
+    let exposure = frame.camera.as_ref().map_or(1.0, |c| c.exposure);
     let env = frame.environment.as_ref();
     if env.is_some() || quality.energy_compensation {
         match ibl.ensure_lut(&gpu, quality.brdf_lut_size, quality.brdf_lut_samples) {

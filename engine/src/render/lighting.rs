@@ -125,7 +125,7 @@ impl LightingPass {
             Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_main"),
-            targets::HDR_FORMAT,
+            &[targets::HDR_FORMAT],
             None,
         )?;
         self.pipelines.insert(variant, pipeline);
@@ -258,7 +258,7 @@ pub fn lighting_pass(
         encoder,
         timer,
         "lighting",
-        &t.hdr.view,
+        &[&t.hdr.view],
         pipeline,
         bind_group,
     );

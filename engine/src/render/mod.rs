@@ -3,10 +3,13 @@
 //!
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
 //! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
-//! pipelines), then the passes in order — shadow, G-buffer, lighting, sky, tone mapping — each
+//! pipelines), then the passes in order — shadow, G-buffer, lighting, sky, exposure,
+//! depth of field, tone mapping — each
 //! recording into the frame's command encoder with its own timing.
 
 pub mod device;
+pub mod dof;
+pub mod exposure;
 pub mod extract;
 pub mod frame;
 pub mod gbuffer;
@@ -67,6 +70,10 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
     world.insert_resource(ibl::Ibl::new(&gpu)?);
     world.insert_resource(sky::SkyPass::new(&gpu));
+    world.insert_resource(exposure::ExposurePass::new(&gpu)?);
+    world.insert_resource(dof::DofPass::new(&gpu)?);
+    world.init_resource::<exposure::MeteredExposure>();
+    world.init_resource::<exposure::FrameDelta>();
     world.insert_resource(tonemap::TonemapPass::new(&gpu));
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
@@ -94,6 +101,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
             gbuffer::prepare_gbuffer,
             lighting::prepare_lighting,
             sky::prepare_sky,
+            exposure::prepare_exposure,
+            dof::prepare_dof,
             tonemap::prepare_tonemap,
             begin_frame,
             shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
@@ -101,6 +110,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
             gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
             lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
             sky::sky_pass.run_if(pass_runs(PassId::Sky)),
+            exposure::exposure_pass.run_if(pass_runs(PassId::Exposure)),
+            dof::dof_pass.run_if(pass_runs(PassId::Dof)),
             tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
         )
             .chain(),

@@ -77,7 +77,7 @@ pub fn filtering_sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
 }
 
 /// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
-/// target for `vs_fullscreen`) into one colour target of `format`, no blending, and the
+/// target for `vs_fullscreen`) into colour targets of `formats`, no blending, and the
 /// given depth test (none for most passes).
 pub fn fullscreen_pipeline(
     gpu: &Gpu,
@@ -85,9 +85,11 @@ pub fn fullscreen_pipeline(
     layout: Option<&wgpu::PipelineLayout>,
     module: &wgpu::ShaderModule,
     (vertex_entry, fragment_entry): (&str, &str),
-    format: wgpu::TextureFormat,
+    formats: &[wgpu::TextureFormat],
     depth_stencil: Option<wgpu::DepthStencilState>,
 ) -> Result<wgpu::RenderPipeline> {
+    let targets: Vec<Option<wgpu::ColorTargetState>> =
+        formats.iter().map(|f| Some((*f).into())).collect();
     gpu.checked(&format!("{label} pipeline"), |device| {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
@@ -105,7 +107,7 @@ pub fn fullscreen_pipeline(
                 module,
                 entry_point: Some(fragment_entry),
                 compilation_options: Default::default(),
-                targets: &[Some(format.into())],
+                targets: &targets,
             }),
             multiview_mask: None,
             cache: None,
@@ -113,28 +115,34 @@ pub fn fullscreen_pipeline(
     })
 }
 
-/// Records one timed full-screen pass: `pipeline` with `bind_group` over all of `target`.
+/// Records one timed full-screen pass: `pipeline` with `bind_group` over all of `targets`.
 pub fn draw_fullscreen(
     encoder: &mut wgpu::CommandEncoder,
     timer: &mut GpuTimer,
     name: &'static str,
-    target: &wgpu::TextureView,
+    targets: &[&wgpu::TextureView],
     pipeline: &wgpu::RenderPipeline,
     bind_group: &wgpu::BindGroup,
 ) {
     let scope = timer.begin_pass(name);
     {
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
+            .iter()
+            .map(|view| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            })
+            .collect();
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(name),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &attachments,
             depth_stencil_attachment: None,
             timestamp_writes: timer.render_writes(&scope),
             occlusion_query_set: None,

@@ -17,6 +17,10 @@ pub enum PassId {
     Lighting,
     /// The environment as the background.
     Sky,
+    /// Automatic exposure: luminance histogram and metering.
+    Exposure,
+    /// Depth of field.
+    Dof,
     /// Tone mapping and output encoding.
     Tonemap,
 }
@@ -37,6 +41,8 @@ impl PassId {
             PassId::GBuffer => "gbuffer",
             PassId::Lighting => "lighting",
             PassId::Sky => "sky",
+            PassId::Exposure => "exposure",
+            PassId::Dof => "dof",
             PassId::Tonemap => "tonemap",
         }
     }
@@ -213,6 +219,33 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
             Some(_) => "the uniform environment colour".into(),
         },
     );
+    let camera = frame.camera.as_ref();
+    let exposure = decision(
+        PassId::Exposure.name(),
+        camera.is_some_and(|c| c.auto_exposure.is_some()),
+        match camera.and_then(|c| c.auto_exposure) {
+            Some(a) => format!(
+                "automatic exposure, EV100 {:.1}..{:.1}",
+                a.min_ev100, a.max_ev100
+            ),
+            None => "manual, physical or linear exposure: nothing to meter".into(),
+        },
+    );
+    let dof = decision(
+        PassId::Dof.name(),
+        camera.is_some_and(|c| c.depth_of_field.is_some()),
+        match camera.and_then(|c| c.depth_of_field.map(|d| (c, d))) {
+            Some((c, d)) => format!(
+                "f/{:.1}, focus {:.2} m, {:.0} mm, {} rings, CoC ≤ {:.0} px",
+                c.lens.aperture_f_stops,
+                c.lens.focus_distance_m,
+                c.focal_length_m * 1e3,
+                d.rings,
+                d.max_coc_px
+            ),
+            None => "depth of field is off".into(),
+        },
+    );
     let tonemap = decision(
         PassId::Tonemap.name(),
         true,
@@ -284,6 +317,8 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
         (PassId::GBuffer, gbuffer),
         (PassId::Lighting, lighting),
         (PassId::Sky, sky),
+        (PassId::Exposure, exposure),
+        (PassId::Dof, dof),
         (PassId::Tonemap, tonemap),
     ];
     plan.features = features;

@@ -40,6 +40,12 @@ pub const IBL_PREPROCESS: &str = include_str!("../../../shaders/ibl_preprocess.w
 pub const BRDF_LUT: &str = include_str!("../../../shaders/brdf_lut.wgsl");
 /// Sky pass: the environment as background.
 pub const SKY: &str = include_str!("../../../shaders/sky.wgsl");
+/// Camera optics (circle of confusion, vignetting), twin of `scene/camera.rs`.
+pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
+/// Automatic exposure (compute).
+pub const EXPOSURE: &str = include_str!("../../../shaders/exposure.wgsl");
+/// Depth of field passes.
+pub const DOF: &str = include_str!("../../../shaders/dof.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: &str = include_str!("../../../shaders/tonemap.wgsl");
 

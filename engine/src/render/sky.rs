@@ -84,7 +84,7 @@ impl SkyPass {
             Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_sky"),
-            targets::HDR_FORMAT,
+            &[targets::HDR_FORMAT],
             Some(depth),
         )?;
         self.pipelines.insert(env_map, pipeline);

@@ -26,7 +26,7 @@ pub struct Target {
 }
 
 impl Target {
-    /// A 2D texture that can be rendered to, bound for `textureLoad`, and read back.
+    /// A 2D texture that can be rendered to, bound for sampling, copied to and read back.
     pub fn new(gpu: &Gpu, label: &str, size: (u32, u32), format: wgpu::TextureFormat) -> Target {
         let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
@@ -41,7 +41,8 @@ impl Target {
             format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC,
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());

@@ -6,7 +6,9 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline, texture_load_entry};
+use crate::render::pipelines::{
+    draw_fullscreen, fullscreen_pipeline, texture_load_entry, uniform_entry,
+};
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -21,6 +23,7 @@ pub struct TonemapPass {
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<Variant, wgpu::RenderPipeline>,
     bind_group: Option<(u64, wgpu::BindGroup)>,
+    params: wgpu::Buffer,
 }
 
 impl TonemapPass {
@@ -30,7 +33,10 @@ impl TonemapPass {
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("tonemap"),
-                entries: &[texture_load_entry(0)],
+                entries: &[
+                    texture_load_entry(0),
+                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
+                ],
             });
         let pipeline_layout = gpu
             .device
@@ -44,6 +50,12 @@ impl TonemapPass {
             pipeline_layout,
             pipelines: HashMap::new(),
             bind_group: None,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("post params"),
+                size: 16,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         }
     }
 
@@ -57,7 +69,12 @@ impl TonemapPass {
                 ShaderDef::U32("TONEMAPPER", tonemapper as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
             ],
-            &[shaders::COLOR, shaders::FULLSCREEN, shaders::TONEMAP],
+            &[
+                shaders::COLOR,
+                shaders::CAMERA,
+                shaders::FULLSCREEN,
+                shaders::TONEMAP,
+            ],
         );
         let module = shaders::create_module(gpu, "tonemap", source)?;
         let pipeline = fullscreen_pipeline(
@@ -66,7 +83,7 @@ impl TonemapPass {
             Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_main"),
-            format,
+            &[format],
             None,
         )?;
         self.pipelines.insert(variant, pipeline);
@@ -77,7 +94,11 @@ impl TonemapPass {
 fn variant(output: &FrameOutput, frame: &ExtractedFrame) -> Variant {
     (
         output.format,
-        frame.camera.map(|c| c.tonemapper).unwrap_or_default(),
+        frame
+            .camera
+            .as_ref()
+            .map(|c| c.tonemapper)
+            .unwrap_or_default(),
     )
 }
 
@@ -97,6 +118,12 @@ pub fn prepare_tonemap(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
+    let params = frame.camera.as_ref().map_or([0.0; 4], |c| {
+        let tan_y = (c.fov_y * 0.5).tan();
+        [c.vignette, tan_y * c.aspect, tan_y, 0.0]
+    });
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::cast_slice(&params));
     if pass
         .bind_group
         .as_ref()
@@ -107,10 +134,16 @@ pub fn prepare_tonemap(
     let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("tonemap"),
         layout: &pass.layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::TextureView(&t.hdr.view),
-        }],
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&t.hdr.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: pass.params.as_entire_binding(),
+            },
+        ],
     });
     pass.bind_group = Some((t.generation, group));
 }
@@ -131,5 +164,5 @@ pub fn tonemap_pass(
     ) else {
         return;
     };
-    draw_fullscreen(encoder, timer, "tonemap", view, pipeline, bind_group);
+    draw_fullscreen(encoder, timer, "tonemap", &[view], pipeline, bind_group);
 }

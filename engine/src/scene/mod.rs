@@ -12,7 +12,7 @@ pub mod mesh;
 pub mod shadow;
 pub mod transform;
 
-pub use camera::{Camera, Exposure, Projection};
+pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::Material;

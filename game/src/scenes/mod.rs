@@ -1,5 +1,6 @@
 //! The built-in demo and test scenes.
 
+mod dof;
 mod extremes;
 mod furnace;
 mod plane;
@@ -41,6 +42,11 @@ pub const SCENES: &[SceneInfo] = &[
         build: furnace::build,
     },
     SceneInfo {
+        name: "dof",
+        description: "striped panels at 1.8, 4 and 16 m through an 85 mm f/1.4 lens focused at 4 m: near, focused and far planes",
+        build: dof::build,
+    },
+    SceneInfo {
         name: "extremes",
         description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
         build: extremes::build,
@@ -57,6 +63,9 @@ pub fn find(name: &str) -> Result<&'static SceneInfo, String> {
     })
 }
 
+pub use dof::{
+    DOF_APERTURE, DOF_DISTANCES, DOF_FOCAL_LENGTH_MM, DOF_PANEL_FRACTION, DOF_SCREEN_X, DOF_STRIPES,
+};
 pub use furnace::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 pub use plane::{PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL};
 pub use shadows::{

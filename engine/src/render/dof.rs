@@ -1,0 +1,240 @@
+//! Depth of field (`shaders/dof.wgsl`): the thin-lens circle of confusion, a ring gather
+//! at half resolution with separate far and near fields, composited at full resolution.
+//! Runs only when the camera has [`crate::scene::DepthOfField`].
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, compose};
+use crate::render::targets::{HDR_FORMAT, RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use wgpu::util::DeviceExt;
+
+/// Format of the half-resolution depth-of-field targets.
+pub const DOF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    focus_m: f32,
+    focal_length_m: f32,
+    aperture_diameter_m: f32,
+    pixels_per_m: f32,
+    max_radius_px: f32,
+    rings: u32,
+    pad: [f32; 2],
+}
+
+struct DofTargets {
+    size: (u32, u32),
+    sharp: Target,
+    input: Target,
+    far: Target,
+    near: Target,
+}
+
+/// The depth-of-field passes.
+#[derive(Resource)]
+pub struct DofPass {
+    prepare: wgpu::RenderPipeline,
+    blur: wgpu::RenderPipeline,
+    composite: wgpu::RenderPipeline,
+    params: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+    targets: Option<DofTargets>,
+    bind_groups: Option<(u64, [wgpu::BindGroup; 3])>,
+}
+
+impl DofPass {
+    /// Compiles the three pipelines.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let source = compose(
+            &[],
+            &[
+                shaders::COMMON,
+                shaders::CAMERA,
+                shaders::BINDINGS,
+                shaders::FULLSCREEN,
+                shaders::DOF,
+            ],
+        );
+        let module = shaders::create_module(gpu, "dof", source)?;
+        let pipeline = |entry, formats: &[wgpu::TextureFormat]| {
+            fullscreen_pipeline(
+                gpu,
+                entry,
+                None,
+                &module,
+                ("vs_fullscreen", entry),
+                formats,
+                None,
+            )
+        };
+        Ok(DofPass {
+            prepare: pipeline("fs_dof_prepare", &[DOF_FORMAT])?,
+            blur: pipeline("fs_dof_blur", &[DOF_FORMAT, DOF_FORMAT])?,
+            composite: pipeline("fs_dof_composite", &[HDR_FORMAT])?,
+            params: gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("dof params"),
+                    contents: &[0; std::mem::size_of::<Params>()],
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                }),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("dof linear"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            targets: None,
+            bind_groups: None,
+        })
+    }
+}
+
+/// Sizes the targets, writes the lens parameters and builds the bind groups.
+pub fn prepare_dof(
+    gpu: Res<Gpu>,
+    frame: Res<ExtractedFrame>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<DofPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
+        return;
+    };
+    let Some(dof) = camera.depth_of_field else {
+        return;
+    };
+    if pass.targets.as_ref().is_none_or(|d| d.size != t.size) {
+        let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
+        pass.targets = Some(DofTargets {
+            size: t.size,
+            sharp: Target::new(&gpu, "dof sharp", t.size, HDR_FORMAT),
+            input: Target::new(&gpu, "dof input", half, DOF_FORMAT),
+            far: Target::new(&gpu, "dof far", half, DOF_FORMAT),
+            near: Target::new(&gpu, "dof near", half, DOF_FORMAT),
+        });
+        pass.bind_groups = None;
+    }
+    let lens = camera.lens;
+    let params = Params {
+        focus_m: lens.focus_distance_m,
+        focal_length_m: camera.focal_length_m,
+        aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
+        pixels_per_m: t.size.1 as f32 / (lens.sensor_height_mm * 1e-3),
+        max_radius_px: dof.max_coc_px * 0.5,
+        rings: dof.rings,
+        pad: [0.0; 2],
+    };
+    if !(params.pixels_per_m.is_finite() && params.aperture_diameter_m.is_finite()) {
+        errors.0.push(crate::Error::Scene(
+            "depth of field: the lens gives no finite aperture".into(),
+        ));
+        return;
+    }
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    let key = t.generation + (buffers.generation << 32);
+    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let Some(d) = pass.targets.as_ref() else {
+        return;
+    };
+    fn view(b: u32, target: &Target) -> wgpu::BindGroupEntry<'_> {
+        wgpu::BindGroupEntry {
+            binding: b,
+            resource: wgpu::BindingResource::TextureView(&target.view),
+        }
+    }
+    let common = |b: u32| match b {
+        0 => wgpu::BindGroupEntry {
+            binding: 0,
+            resource: buffers.view.as_entire_binding(),
+        },
+        _ => wgpu::BindGroupEntry {
+            binding: 1,
+            resource: pass.params.as_entire_binding(),
+        },
+    };
+    let group = |pipeline: &wgpu::RenderPipeline, entries: &[wgpu::BindGroupEntry]| {
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("dof"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries,
+        })
+    };
+    let prepare = group(
+        &pass.prepare,
+        &[common(0), common(1), view(2, &d.sharp), view(3, &t.depth)],
+    );
+    let blur = group(&pass.blur, &[common(1), view(4, &d.input)]);
+    let composite = group(
+        &pass.composite,
+        &[
+            common(0),
+            common(1),
+            view(2, &d.sharp),
+            view(3, &t.depth),
+            view(5, &d.far),
+            view(6, &d.near),
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: wgpu::BindingResource::Sampler(&pass.sampler),
+            },
+        ],
+    );
+    pass.bind_groups = Some((key, [prepare, blur, composite]));
+}
+
+/// Records the depth-of-field passes: copy, prepare, blur, composite into the HDR target.
+pub fn dof_pass(
+    pass: Res<DofPass>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some(d), Some((_, [prepare, blur, composite]))) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.targets.as_ref(),
+        pass.bind_groups.as_ref(),
+    ) else {
+        return;
+    };
+    encoder.copy_texture_to_texture(
+        t.hdr.texture.as_image_copy(),
+        d.sharp.texture.as_image_copy(),
+        t.hdr.texture.size(),
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "dof prepare",
+        &[&d.input.view],
+        &pass.prepare,
+        prepare,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "dof blur",
+        &[&d.far.view, &d.near.view],
+        &pass.blur,
+        blur,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "dof composite",
+        &[&t.hdr.view],
+        &pass.composite,
+        composite,
+    );
+}
