@@ -63,6 +63,9 @@ pub struct SceneArgs {
     /// Depth-of-field sample rings, 1..=5 (default 3); implies --dof.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=5))]
     pub dof_rings: Option<u32>,
+    /// Turn depth of field off even where the scene's camera has it (no DoF pass runs).
+    #[arg(long, conflicts_with_all = ["dof", "dof_rings"])]
+    pub no_dof: bool,
     /// Natural (cos⁴) vignetting; an optional strength 0..1 (default 1).
     #[arg(long, value_name = "STRENGTH", num_args = 0..=1, default_missing_value = "1", value_parser = parse_unit)]
     pub vignette: Option<f32>,

@@ -90,6 +90,9 @@ fn apply_camera(camera: &mut Camera, args: &SceneArgs) {
         }
         camera.depth_of_field = Some(dof);
     }
+    if args.no_dof {
+        camera.depth_of_field = None;
+    }
     if let Some(strength) = args.vignette {
         camera.vignette = Some(lumen::scene::Vignette { strength });
     }

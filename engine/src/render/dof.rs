@@ -15,6 +15,10 @@ use wgpu::util::DeviceExt;
 
 /// Format of the half-resolution depth-of-field targets.
 pub const DOF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the near-field tile target (largest near CoC radius, half-res pixels).
+const TILE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+/// Half-resolution pixels per side of a near-field tile (`TILE` in `dof.wgsl`).
+const TILE: u32 = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -32,6 +36,7 @@ struct DofTargets {
     size: (u32, u32),
     sharp: Target,
     input: Target,
+    tiles: Target,
     far: Target,
     near: Target,
 }
@@ -40,12 +45,13 @@ struct DofTargets {
 #[derive(Resource)]
 pub struct DofPass {
     prepare: wgpu::RenderPipeline,
+    tiles: wgpu::RenderPipeline,
     blur: wgpu::RenderPipeline,
     composite: wgpu::RenderPipeline,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     targets: Option<DofTargets>,
-    bind_groups: Option<(u64, [wgpu::BindGroup; 3])>,
+    bind_groups: Option<(u64, [wgpu::BindGroup; 4])>,
 }
 
 impl DofPass {
@@ -75,6 +81,7 @@ impl DofPass {
         };
         Ok(DofPass {
             prepare: pipeline("fs_dof_prepare", &[DOF_FORMAT])?,
+            tiles: pipeline("fs_dof_tiles", &[TILE_FORMAT])?,
             blur: pipeline("fs_dof_blur", &[DOF_FORMAT, DOF_FORMAT])?,
             composite: pipeline("fs_dof_composite", &[HDR_FORMAT])?,
             params: gpu
@@ -117,6 +124,12 @@ pub fn prepare_dof(
             size: t.size,
             sharp: Target::new(&gpu, "dof sharp", t.size, HDR_FORMAT),
             input: Target::new(&gpu, "dof input", half, DOF_FORMAT),
+            tiles: Target::new(
+                &gpu,
+                "dof near tiles",
+                (half.0.div_ceil(TILE), half.1.div_ceil(TILE)),
+                TILE_FORMAT,
+            ),
             far: Target::new(&gpu, "dof far", half, DOF_FORMAT),
             near: Target::new(&gpu, "dof near", half, DOF_FORMAT),
         });
@@ -124,7 +137,8 @@ pub fn prepare_dof(
     }
     let lens = camera.lens;
     let params = Params {
-        focus_m: lens.focus_distance_m,
+        // Infinity as the largest float: the shader tests `> 3e38`.
+        focus_m: lens.focus_distance_m.min(f32::MAX),
         focal_length_m: camera.focal_length_m,
         aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
         pixels_per_m: t.size.1 as f32 / (lens.sensor_height_mm * 1e-3),
@@ -174,7 +188,11 @@ pub fn prepare_dof(
         &pass.prepare,
         &[common(0), common(1), view(2, &d.sharp), view(3, &t.depth)],
     );
-    let blur = group(&pass.blur, &[common(1), view(4, &d.input)]);
+    let tiles = group(&pass.tiles, &[common(1), view(4, &d.input)]);
+    let blur = group(
+        &pass.blur,
+        &[common(1), view(4, &d.input), view(8, &d.tiles)],
+    );
     let composite = group(
         &pass.composite,
         &[
@@ -190,17 +208,18 @@ pub fn prepare_dof(
             },
         ],
     );
-    pass.bind_groups = Some((key, [prepare, blur, composite]));
+    pass.bind_groups = Some((key, [prepare, tiles, blur, composite]));
 }
 
-/// Records the depth-of-field passes: copy, prepare, blur, composite into the HDR target.
+/// Records the depth-of-field passes: copy, prepare, near tiles, blur, composite into the
+/// HDR target.
 pub fn dof_pass(
     pass: Res<DofPass>,
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(d), Some((_, [prepare, blur, composite]))) = (
+    let (Some(encoder), Some(t), Some(d), Some((_, [prepare, tiles, blur, composite]))) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.targets.as_ref(),
@@ -220,6 +239,14 @@ pub fn dof_pass(
         &[&d.input.view],
         &pass.prepare,
         prepare,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "dof tiles",
+        &[&d.tiles.view],
+        &pass.tiles,
+        tiles,
     );
     draw_fullscreen(
         encoder,

@@ -418,7 +418,7 @@ impl Camera {
 /// Signed circle of confusion of the thin lens, diameter on the sensor in metres:
 /// `c = A · f · |z − S| / (z · (S − f))` with aperture diameter A = f/N, focal length f,
 /// focus distance S and depth z (all m; PBR-REFERENCE §3). Negative in front of the
-/// focus plane. `S = ∞` gives `A · f / z`. Depth is clamped to ≥ 1 µm and S to ≥ 1.01 f.
+/// focus plane. `S = ∞` gives `−A · f / z` (everything lies in front of the focus plane). Depth is clamped to ≥ 1 µm and S to ≥ 1.01 f.
 pub fn circle_of_confusion(
     depth_m: f32,
     focus_m: f32,
@@ -428,7 +428,7 @@ pub fn circle_of_confusion(
     let z = depth_m.max(1e-6);
     let f = focal_length_m;
     if !focus_m.is_finite() {
-        return aperture_diameter_m * f / z;
+        return -aperture_diameter_m * f / z;
     }
     let s = focus_m.max(f * 1.01);
     aperture_diameter_m * f * (z - s) / (z * (s - f))
@@ -575,7 +575,7 @@ mod tests {
         ] {
             assert!(circle_of_confusion(z, s, f, a).is_finite(), "{z} {s}");
         }
-        assert!((circle_of_confusion(10.0, f32::INFINITY, f, a) - a * f / 10.0).abs() < 1e-9);
+        assert!((circle_of_confusion(10.0, f32::INFINITY, f, a) + a * f / 10.0).abs() < 1e-9);
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub const DOF_SCREEN_X: [f32; 3] = [-0.55, 0.0, 0.55];
 /// Each panel's height as a fraction of the view's height at its distance.
 pub const DOF_PANEL_FRACTION: f32 = 0.5;
 /// Stripes per panel.
-pub const DOF_STRIPES: u32 = 12;
+pub const DOF_STRIPES: u32 = 24;
 /// The camera: 85 mm on a full-frame (24 mm) sensor at f/1.4, focused on the middle panel.
 pub const DOF_FOCAL_LENGTH_MM: f32 = 85.0;
 /// Aperture f-number.
