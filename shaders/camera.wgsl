@@ -5,7 +5,7 @@
 fn circle_of_confusion(depth_m: f32, focus_m: f32, focal_length_m: f32, aperture_diameter_m: f32) -> f32 {
     let z = max(depth_m, 1e-6);
     let f = focal_length_m;
-    if focus_m > 3.0e38 {
+    if !(focus_m <= 3.0e38) {
         return -aperture_diameter_m * f / z;
     }
     let s = max(focus_m, f * 1.01);

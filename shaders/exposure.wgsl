@@ -1,6 +1,6 @@
 // Automatic exposure (compute): a histogram of the scene luminance of every pixel (HDR /
 // current exposure), then one workgroup that averages log2 luminance between two
-// percentiles, meters it (EV100 = log2(L · 100 / 12.5)), clamps it and adapts the state
+// percentiles of the non-black pixels, meters it (EV100 = log2(L · 100 / 12.5)), clamps it and adapts the state
 // exponentially towards it. Needs color.wgsl.
 
 struct ExposureParams {
@@ -70,8 +70,9 @@ fn cs_average(@builtin(local_invocation_index) index: u32) {
     atomicStore(&histogram[index], 0u);
     workgroupBarrier();
     if index == 0u {
+        // Bin 0 (black: an empty background, unlit pixels) is not metered.
         var total = 0.0;
-        for (var b = 0u; b < BINS; b++) {
+        for (var b = 1u; b < BINS; b++) {
             total += f32(counts[b]);
         }
         let low = total * params.low_percentile;
@@ -79,7 +80,7 @@ fn cs_average(@builtin(local_invocation_index) index: u32) {
         var cumulative = 0.0;
         var sum = 0.0;
         var weight = 0.0;
-        for (var b = 0u; b < BINS; b++) {
+        for (var b = 1u; b < BINS; b++) {
             let c = f32(counts[b]);
             let w = min(cumulative + c, high) - max(cumulative, low);
             if w > 0.0 {
@@ -88,10 +89,10 @@ fn cs_average(@builtin(local_invocation_index) index: u32) {
             }
             cumulative += c;
         }
-        let average_log2 = select(params.min_log2, sum / weight, weight > 0.0);
-        // log2(L · 100 / 12.5) = log2 L + 3.
-        let target_ev = clamp(average_log2 + 3.0, params.min_ev100, params.max_ev100);
         let previous = select(params.initial_ev100, state[0], state[3] > 0.5);
+        // log2(L · 100 / 12.5) = log2 L + 3; an all-black frame keeps the exposure.
+        let average_log2 = select(previous - 3.0, sum / weight, weight > 0.0);
+        let target_ev = clamp(average_log2 + 3.0, params.min_ev100, params.max_ev100);
         let ev = previous + (target_ev - previous) * (1.0 - exp(-params.delta_s * params.rate_per_s));
         state[0] = ev;
         state[1] = target_ev;

@@ -177,13 +177,14 @@ fn metered_scene(lux: f32) -> App {
     app
 }
 
-/// The meter's reading of an exposed HDR image on the CPU: log2 of the mean log
-/// luminance between the default percentiles, in scene cd/m².
+/// The meter's reading of an exposed HDR image on the CPU: the mean log2 luminance
+/// (scene cd/m²) of the pixels brighter than black, between the default percentiles.
 fn cpu_meter(hdr: &image::Rgba32FImage, exposure: f32) -> f32 {
     let mut logs: Vec<f32> = hdr
         .pixels()
-        .map(|p| (lum(p) / exposure).max(HISTOGRAM_MIN_LOG2.exp2()).log2())
-        .map(|l| l.min(HISTOGRAM_MIN_LOG2 + HISTOGRAM_LOG2_RANGE))
+        .map(|p| lum(p) / exposure)
+        .filter(|&l| l > HISTOGRAM_MIN_LOG2.exp2())
+        .map(|l| l.log2().min(HISTOGRAM_MIN_LOG2 + HISTOGRAM_LOG2_RANGE))
         .collect();
     logs.sort_by(f32::total_cmp);
     let auto = AutoExposure::default();
@@ -249,15 +250,32 @@ fn auto_exposure_converges_on_a_dark_and_a_bright_scene() {
 }
 
 #[test]
+fn auto_exposure_ignores_black_and_keeps_its_state_on_an_all_black_frame() {
+    // No light at all: every pixel is black, nothing is metered, the camera keeps its
+    // initial EV100 instead of running off to the dark end.
+    let mut app = metered_scene(0.0);
+    app.set_fixed_delta(Some(1.0));
+    let mut report = app.render_headless((64, 36)).expect("frame");
+    for _ in 0..5 {
+        report = app.render_headless((64, 36)).expect("frame");
+    }
+    let initial = AutoExposure::default().initial_ev100;
+    assert!((report.ev100 - initial).abs() < 1e-3, "{}", report.ev100);
+}
+
+#[test]
 fn auto_exposure_stays_inside_its_range() {
-    // Starlight far below the default lowest EV100 (−6): the camera stops there.
-    let mut app = metered_scene(1e-4);
+    // Starlight (0.005 lux: a sky of 6e-4 cd/m², EV100 ≈ −7.6) below the default lowest
+    // EV100 (−6) but above black (2⁻¹² cd/m²): the camera stops at −6.
+    let mut app = metered_scene(0.005);
     app.set_fixed_delta(Some(1.0));
     let mut report = app.render_headless((64, 36)).expect("frame");
     for _ in 0..20 {
         report = app.render_headless((64, 36)).expect("frame");
     }
     let auto = AutoExposure::default();
+    let average = report.metered.average_log2_luminance.expect("metered");
+    assert!(average + 3.0 < auto.min_ev100 - 1.0, "{average}");
     assert_eq!(report.metered.target_ev100, Some(auto.min_ev100));
     assert!(
         (report.ev100 - auto.min_ev100).abs() < 1e-3,
@@ -309,4 +327,46 @@ fn pre_exposure_keeps_a_blinding_and_a_dark_scene_in_range() {
             "{luminance} cd/m²: ball {ball}, expected {expected}"
         );
     }
+}
+
+#[test]
+fn vignetting_follows_the_cos4_law() {
+    let size = (96u32, 54u32);
+    let mut app = App::headless().expect("a GPU adapter");
+    let world = app.world_mut();
+    world.spawn(Environment::uniform(Vec3::splat(0.5)));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1.0),
+            tonemapper: lumen::color::Tonemapper::None,
+            vignette: Some(lumen::scene::Vignette { strength: 1.0 }),
+            ..Camera::default()
+        },
+        Transform::IDENTITY,
+    ));
+    app.render_headless(size).expect("frame");
+    let display = app.read_display_image().expect("readback");
+    let decoded =
+        |x: u32, y: u32| lumen::color::srgb_decode(display.get_pixel(x, y).0[1] as f32 / 255.0);
+    let fov = Camera::default().projection.fov_y_rad;
+    let tan_y = (fov * 0.5).tan();
+    let tan_x = tan_y * size.0 as f32 / size.1 as f32;
+    let centre = decoded(size.0 / 2, size.1 / 2);
+    for (x, y) in [
+        (0, 0),
+        (size.0 - 1, 0),
+        (0, size.1 / 2),
+        (size.0 / 2, size.1 - 1),
+    ] {
+        let ndc_x = (x as f32 + 0.5) / size.0 as f32 * 2.0 - 1.0;
+        let ndc_y = (y as f32 + 0.5) / size.1 as f32 * 2.0 - 1.0;
+        let tan2 = (ndc_x * tan_x).powi(2) + (ndc_y * tan_y).powi(2);
+        let cos4 = (1.0 / (1.0 + tan2)).powi(2);
+        let ratio = decoded(x, y) / centre;
+        assert!(
+            (ratio - cos4).abs() < 0.02,
+            "pixel ({x}, {y}): {ratio} vs cos⁴θ = {cos4}"
+        );
+    }
+    assert!((centre - 0.5).abs() < 0.01, "centre {centre}");
 }

@@ -510,3 +510,106 @@ fn bad_environment_files_are_one_line_errors() {
     assert_clean_failure(&lumen(&["render", "--env-color", "1,2"], d), "1,2");
     assert_clean_failure(&lumen(&["render", "--background-blur", "3"], d), "3");
 }
+
+fn render_json(args: &[&str]) -> serde_json::Value {
+    let dir = tmp();
+    let mut all = vec!["render", "--size", "48x32", "--out", "o.png", "--json"];
+    all.extend_from_slice(args);
+    let out = lumen(&all, dir.path());
+    assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("one JSON object on stdout")
+}
+
+fn pass_names(report: &serde_json::Value) -> Vec<String> {
+    report["passes"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|p| p["name"].as_str().map(String::from))
+        .collect()
+}
+
+#[test]
+fn physical_exposure_matches_filament() {
+    // Filament's example: f/16, 1/125 s, ISO 100 → EV100 14.97.
+    let r = render_json(&["--aperture", "16", "--shutter", "1/125", "--iso", "100"]);
+    let ev = r["ev100"].as_f64().unwrap_or(f64::NAN);
+    assert!((ev - 14.97).abs() < 0.01, "{ev}");
+    let exposure = r["exposure"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        ((exposure * 1.2 * 2f64.powf(ev)) - 1.0).abs() < 1e-4,
+        "{exposure}"
+    );
+    assert_eq!(r["camera_notes"].as_array().map(Vec::len), Some(0), "{r}");
+    // One stop each: ISO 200 (+1 EV... brighter: EV100 − 1), 1/250 s (EV + 1), f/22.6 (+1).
+    for (args, want) in [
+        (
+            ["--aperture", "16", "--shutter", "1/125", "--iso", "200"],
+            13.97,
+        ),
+        (
+            ["--aperture", "16", "--shutter", "1/250", "--iso", "100"],
+            15.97,
+        ),
+        (
+            ["--aperture", "22.627", "--shutter", "1/125", "--iso", "100"],
+            15.97,
+        ),
+    ] {
+        let ev = render_json(&args)["ev100"].as_f64().unwrap_or(f64::NAN);
+        assert!((ev - want).abs() < 0.01, "{args:?}: {ev}");
+    }
+}
+
+#[test]
+fn out_of_range_camera_settings_are_clamped_and_reported() {
+    let r = render_json(&["--aperture", "0.1", "--shutter", "1/125", "--iso", "100"]);
+    // Clamped to f/0.5: log2(0.25 · 125) = 4.97.
+    let ev = r["ev100"].as_f64().unwrap_or(f64::NAN);
+    assert!((ev - 4.97).abs() < 0.01, "{ev}");
+    let notes = r["camera_notes"].to_string();
+    assert!(notes.contains("aperture"), "{notes}");
+    let r = render_json(&["--ev100", "-10", "--exposure-compensation", "5"]);
+    assert_eq!(r["ev100"].as_f64(), Some(-10.0));
+    assert!(r["camera_notes"].to_string().contains("clamped"), "{r}");
+}
+
+#[test]
+fn camera_flags() {
+    for name in ["none", "reinhard", "aces", "agx", "pbr-neutral"] {
+        let r = render_json(&["--tonemap", name]);
+        assert_eq!(r["tonemapper"], name);
+    }
+    let with = pass_names(&render_json(&["--dof", "--focus", "2"]));
+    assert!(with.iter().any(|p| p == "dof blur"), "{with:?}");
+    let without = pass_names(&render_json(&["--scene", "dof", "--no-dof"]));
+    assert!(!without.iter().any(|p| p.starts_with("dof")), "{without:?}");
+    let r = render_json(&["--auto-exposure"]);
+    assert!(pass_names(&r).iter().any(|p| p == "exposure"), "{r}");
+    let auto = &r["auto_exposure"];
+    let (ev, target) = (auto["ev100"].as_f64(), auto["target_ev100"].as_f64());
+    assert!(
+        matches!((ev, target), (Some(e), Some(t)) if (e - t).abs() < 0.01),
+        "{auto}"
+    );
+    // The frame was exposed with the adapted EV100 (the meter moved < 0.01 since).
+    let used = r["ev100"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        (used - ev.unwrap_or(f64::NAN)).abs() < 0.01,
+        "{used} vs {auto}"
+    );
+    let dir = tmp();
+    for (args, needle) in [
+        (vec!["--tonemap", "filmic"], "filmic"),
+        (vec!["--aperture=-2"], "aperture"),
+        (vec!["--shutter", "1/0"], "shutter"),
+        (vec!["--dof-rings", "9"], "dof-rings"),
+        (vec!["--vignette", "3"], "vignette"),
+        (vec!["--focus", "nan"], "focus"),
+    ] {
+        let mut all = vec!["render", "--size", "16x16"];
+        all.extend(args);
+        assert_clean_failure(&lumen(&all, dir.path()), needle);
+    }
+}

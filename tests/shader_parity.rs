@@ -1,16 +1,17 @@
 //! Every shared shader function (shaders/brdf.wgsl, punctual.wgsl, color.wgsl,
-//! encoding.wgsl, common.wgsl) against its Rust twin (lumen::brdf, punctual, color,
-//! encoding) on the same inputs, on the GPU.
+//! encoding.wgsl, ibl.wgsl, camera.wgsl, common.wgsl) against its Rust twin (lumen::brdf,
+//! punctual, color, encoding, ibl, scene::camera) on the same inputs, on the GPU.
 
 mod common;
 
 use glam::{Vec3, Vec4};
 use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::render::shaders::{self, compose};
+use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 17;
+const OUTPUTS: usize = 19;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -185,6 +186,13 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             )
         },
         ibl::importance_sample_ggx(ibl::hammersley(i as u32 % 64, 64), alpha).extend(0.0),
+        color::tonemap_agx(base * 4.0).extend(camera::circle_of_confusion(
+            x * 20.0,
+            coc_focus(i),
+            0.05,
+            k * 0.05,
+        )),
+        color::tonemap_pbr_neutral(base * 4.0).extend(camera::vignetting(x * 3.0, n_dot_h)),
     ]
 }
 
@@ -206,7 +214,20 @@ const NAMES: [&str; OUTPUTS] = [
     "sh_irradiance | radical_inverse",
     "dfg_integrate | energy_compensation | specular_occlusion",
     "importance_sample_ggx | hammersley",
+    "tonemap_agx | circle_of_confusion",
+    "tonemap_pbr_neutral | vignetting",
 ];
+
+/// Focus distance (m) of case `i` for `circle_of_confusion`: mostly ordinary, some at
+/// the focal length (0.05 m), at 0, and at infinity (the largest float).
+fn coc_focus(i: usize) -> f32 {
+    match i % 9 {
+        0 => 0.05,
+        1 => 0.0,
+        2 => f32::MAX,
+        _ => (i % 97) as f32 * 0.25,
+    }
+}
 
 /// Outputs that are unit vectors (or directions' coordinates).
 const UNIT_VECTORS: [usize; 4] = [7, 11, 13, 16];
@@ -224,6 +245,7 @@ fn wgsl_functions_match_their_rust_twins() {
             shaders::COLOR,
             shaders::ENCODING,
             shaders::IBL,
+            shaders::CAMERA,
             kernel,
         ],
     );

@@ -53,10 +53,12 @@ pub enum Tonemapper {
 
 impl Tonemapper {
     /// Every operator, in the order of their shader constants.
-    pub const ALL: [Tonemapper; 3] = [
+    pub const ALL: [Tonemapper; 5] = [
         Tonemapper::None,
         Tonemapper::Reinhard,
         Tonemapper::AcesFitted,
+        Tonemapper::Agx,
+        Tonemapper::PbrNeutral,
     ];
 
     /// The name used on the command line.
@@ -139,7 +141,7 @@ fn agx_inset() -> Mat3 {
     Mat3::from_cols(
         Vec3::new(0.842_479_06, 0.042_328_24, 0.042_375_655),
         Vec3::new(0.078_433_6, 0.878_468_6, 0.078_433_6),
-        Vec3::new(0.079_223_745, 0.079_166_13, 0.879_142_97),
+        Vec3::new(0.079_223_745, 0.079_166_13, 0.879_143),
     )
 }
 
@@ -267,7 +269,8 @@ mod tests {
 
     #[test]
     fn tonemappers_map_zero_to_zero_and_are_monotonic() {
-        for t in Tonemapper::ALL {
+        for (i, t) in Tonemapper::ALL.into_iter().enumerate() {
+            assert_eq!(t as usize, i, "ALL is in shader-constant order");
             assert!(t.apply(Vec3::ZERO).max_element().abs() < 1e-3, "{t:?}");
             let mut last = -1.0f32;
             for i in 0..2000 {
@@ -284,6 +287,13 @@ mod tests {
         // fit alone gives (0.18·0.20458 − 0.00009)/(0.18·0.61003 + 0.23808) = 0.1056 for a
         // grey, which the two matrices keep grey).
         assert!(tonemap_aces_fitted(Vec3::splat(100.0)).min_element() > 0.99);
+        // PBR Neutral: below the compression start only the 0.04 black-level offset.
+        let c = tonemap_pbr_neutral(Vec3::new(0.6, 0.3, 0.1));
+        assert!(
+            (c - Vec3::new(0.56, 0.26, 0.06)).abs().max_element() < 1e-6,
+            "{c}"
+        );
+        assert!(tonemap_pbr_neutral(Vec3::splat(1e4)).max_element() <= 1.0);
         let mid = tonemap_aces_fitted(Vec3::splat(0.18));
         assert!(
             (mid - Vec3::splat(0.1056)).abs().max_element() < 2e-3,

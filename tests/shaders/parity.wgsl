@@ -13,7 +13,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 17u;
+const OUTPUTS: u32 = 19u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -68,4 +68,17 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let dfg = dfg_integrate(n_dot_h, r, 32u);
     results[o + 15u] = vec4<f32>(dfg, energy_compensation(c.base_metallic.xyz, dfg).x, specular_occlusion(n_dot_h, x, r));
     results[o + 16u] = vec4<f32>(importance_sample_ggx(hammersley(i % 64u, 64u), alpha), 0.0);
+    results[o + 17u] = vec4<f32>(tonemap_agx(c.base_metallic.rgb * 4.0),
+                                 circle_of_confusion(x * 20.0, coc_focus(i), 0.05, k * 0.05));
+    results[o + 18u] = vec4<f32>(tonemap_pbr_neutral(c.base_metallic.rgb * 4.0), vignetting(x * 3.0, n_dot_h));
+}
+
+// The same focus distances as coc_focus in tests/shader_parity.rs.
+fn coc_focus(i: u32) -> f32 {
+    switch i % 9u {
+        case 0u: { return 0.05; }
+        case 1u: { return 0.0; }
+        case 2u: { return 3.4028235e38; }
+        default: { return f32(i % 97u) * 0.25; }
+    }
 }

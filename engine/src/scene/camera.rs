@@ -427,7 +427,8 @@ pub fn circle_of_confusion(
 ) -> f32 {
     let z = depth_m.max(1e-6);
     let f = focal_length_m;
-    if !focus_m.is_finite() {
+    // Infinity, NaN and anything beyond 3e38 m (the largest float) focus at infinity.
+    if focus_m.is_nan() || focus_m > 3.0e38 {
         return -aperture_diameter_m * f / z;
     }
     let s = focus_m.max(f * 1.01);
