@@ -370,3 +370,35 @@ fn vignetting_follows_the_cos4_law() {
     }
     assert!((centre - 0.5).abs() < 0.01, "centre {centre}");
 }
+
+#[test]
+fn dof_gather_approaches_the_thin_lens_reference() {
+    use lumen::reference::relative_luminance_error;
+    use lumen::reference::thin_lens::render_thin_lens_reference;
+    let mut app = app_with("dof");
+    let reference =
+        render_thin_lens_reference(&mut app, DOF_SIZE, 128, |_, _| {}).expect("reference");
+    let mut error = |dof: Option<u32>| {
+        with_camera(&mut app, |c| {
+            c.depth_of_field = dof.map(|rings| lumen::scene::DepthOfField {
+                rings,
+                ..Default::default()
+            })
+        });
+        app.render_headless(DOF_SIZE).expect("frame");
+        let hdr = app.read_hdr_image().expect("readback");
+        relative_luminance_error(&hdr, &reference).expect("comparable")
+    };
+    let without = error(None);
+    let rings: Vec<f64> = (1..=5).map(|r| error(Some(r))).collect();
+    println!(
+        "relative luminance error vs the thin-lens reference: no DoF {without:.4}, rings 1..5 {rings:.4?}"
+    );
+    for (k, e) in rings.iter().enumerate() {
+        assert!(
+            *e < without * 0.6,
+            "{} rings: {e} vs no DoF {without}",
+            k + 1
+        );
+    }
+}

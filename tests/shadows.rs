@@ -55,6 +55,7 @@ fn project_with(p: Vec3, (eye, target): (Vec3, Vec3), fov_deg: f32) -> (u32, u32
         fov_y_rad: fov_deg.to_radians(),
         near_m: 0.1,
         far_m: 100.0,
+        ..Projection::default()
     }
     .matrix(SIZE.0 as f32 / SIZE.1 as f32);
     let ndc = (proj * view).project_point3(p);

@@ -33,6 +33,7 @@ pub mod error;
 pub mod ibl;
 pub mod punctual;
 pub mod quality;
+pub mod reference;
 pub mod render;
 pub mod scene;
 

@@ -135,6 +135,7 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                         fov_y_rad: p.yfov(),
                         near_m: p.znear(),
                         far_m: p.zfar().unwrap_or(p.znear() * 1e5),
+                        ..Projection::default()
                     },
                     ..Camera::default()
                 });

@@ -1,11 +1,9 @@
-//! The camera: projection and exposure (PBR-REFERENCE §3).
-//!
-//! The physical camera (aperture, shutter, ISO, depth of field) arrives with its own
-//! issue; [`Exposure`] is where it plugs in.
+//! The physical camera (PBR-REFERENCE §3): projection, lens (aperture, shutter, ISO,
+//! focal length, focus), exposure modes, depth of field, vignetting and tone mapping.
 
 use crate::color::Tonemapper;
 use bevy_ecs::prelude::*;
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 /// A perspective projection.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -16,6 +14,10 @@ pub struct Projection {
     pub near_m: f32,
     /// Far plane distance in metres (> near).
     pub far_m: f32,
+    /// Off-axis shift of the frustum's centre in tangent units (view-space x/−z, y/−z):
+    /// a lens shift. Zero for a centred frustum; the thin-lens reference
+    /// ([`crate::reference::thin_lens`]) uses it to keep the focus plane still.
+    pub shift: Vec2,
 }
 
 impl Default for Projection {
@@ -24,6 +26,7 @@ impl Default for Projection {
             fov_y_rad: 45f32.to_radians(),
             near_m: 0.1,
             far_m: 100.0,
+            shift: Vec2::ZERO,
         }
     }
 }
@@ -54,7 +57,16 @@ impl Projection {
         } else {
             1.0
         };
-        Mat4::perspective_rh(fov, aspect, far, near)
+        let tan_half = (fov * 0.5).tan();
+        let shift = if self.shift.is_finite() {
+            self.shift
+        } else {
+            Vec2::ZERO
+        };
+        // Clip x' = x − k·w moves NDC x by −k: a tangent offset of shift.x.
+        let k = Vec2::new(shift.x / (tan_half * aspect), shift.y / tan_half);
+        let shear = Mat4::from_cols(Vec4::X, Vec4::Y, Vec4::Z, Vec4::new(-k.x, -k.y, 0.0, 1.0));
+        shear * Mat4::perspective_rh(fov, aspect, far, near)
     }
 }
 
@@ -590,6 +602,23 @@ mod tests {
         // 50 mm on full frame: 27° vertical field of view.
         assert!((lens.fov_for_focal_length(50.0).to_degrees() - 26.99).abs() < 0.01);
         assert!((lens.focal_length_m(lens.fov_for_focal_length(50.0)) - 0.05).abs() < 1e-6);
+    }
+
+    #[test]
+    fn projection_shift_moves_the_frustum_in_tangent_units() {
+        let shifted = Projection {
+            shift: Vec2::new(0.1, -0.05),
+            ..Projection::default()
+        };
+        let (p, q) = (Projection::default().matrix(1.5), shifted.matrix(1.5));
+        // A point on the shifted axis (tangents 0.1, −0.05) lands at the centre.
+        for z in [-0.5f32, -3.0, -40.0] {
+            let c = q.project_point3(Vec3::new(0.1 * -z, -0.05 * -z, z));
+            assert!(c.x.abs() < 1e-5 && c.y.abs() < 1e-5, "{c}");
+            // Depth is unchanged.
+            let d = p.project_point3(Vec3::new(0.0, 0.0, z)).z;
+            assert!((c.z - d).abs() < 1e-6);
+        }
     }
 
     #[test]

@@ -79,6 +79,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
                 fov_y_rad: fov,
                 near_m: 0.2,
                 far_m: 500.0,
+                ..Projection::default()
             },
             exposure: Exposure::Ev100(12.5),
             lens,

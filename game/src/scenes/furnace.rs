@@ -38,6 +38,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
                 fov_y_rad: 20f32.to_radians(),
                 near_m: 0.5,
                 far_m: 100.0,
+                ..Projection::default()
             },
             exposure: Exposure::Linear(1.0),
             tonemapper: Tonemapper::None,

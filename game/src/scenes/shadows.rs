@@ -84,6 +84,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
                 fov_y_rad: SHADOWS_FOV_DEG.to_radians(),
                 near_m: 0.1,
                 far_m: 100.0,
+                ..Projection::default()
             },
             exposure: Exposure::Ev100(10.0),
             ..Camera::default()

@@ -69,6 +69,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
                 fov_y_rad: 45f32.to_radians(),
                 near_m: 0.1,
                 far_m: 100.0,
+                ..Projection::default()
             },
             exposure: Exposure::Ev100(9.7),
             tonemapper: Tonemapper::AcesFitted,
