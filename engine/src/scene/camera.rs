@@ -632,6 +632,7 @@ mod tests {
             fov_y_rad: f32::NAN,
             near_m: 0.0,
             far_m: -1.0,
+            shift: Vec2::NAN,
         };
         assert!(bad.matrix(0.0).is_finite());
     }
