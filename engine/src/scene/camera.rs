@@ -195,7 +195,7 @@ impl Lens {
         let d = Lens::default();
         let mut notes = Vec::new();
         let aperture = clamp_noted(
-            "aperture f/",
+            "aperture (f-number)",
             self.aperture_f_stops,
             APERTURE_RANGE,
             d.aperture_f_stops,
