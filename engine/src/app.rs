@@ -335,6 +335,12 @@ impl App {
                 .chunks_exact(4)
                 .flat_map(|b| [f32::from_le_bytes([b[0], b[1], b[2], b[3]]), 0.0, 0.0, 1.0])
                 .collect(),
+            FrameTarget::Hdr if t.hdr_format == wgpu::TextureFormat::Rgba32Float => {
+                read_texture(gpu, &t.hdr.texture, 16)?
+                    .chunks_exact(4)
+                    .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .collect()
+            }
             FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, &t.hdr.texture, 8)?),
         };
         image::Rgba32FImage::from_raw(t.size.0, t.size.1, data)

@@ -1,5 +1,5 @@
-//! Speed/accuracy knobs. Each is a field with a documented cost; presets arrive with the
-//! benchmark issue.
+//! Speed/accuracy knobs. Each is a field of [`Quality`] with a documented cost (README,
+//! "Quality presets"); [`QualityPreset`] sets them all at once.
 
 use crate::brdf::VisibilityModel;
 use bevy_ecs::prelude::Resource;
@@ -66,6 +66,127 @@ pub struct Quality {
     pub brdf_lut_size: u32,
     /// Samples per texel of the split-sum BRDF table.
     pub brdf_lut_samples: u32,
+    /// Multiplies every light's shadow-map resolution (`ShadowSettings::resolution`);
+    /// the result is clamped to 64..=8192 texels.
+    pub shadow_resolution_scale: f32,
+    /// Most cascades any directional light gets (1..=4), whatever its `Cascades` asks.
+    pub max_cascades: u32,
+    /// Depth-of-field sample rings for every camera with DoF (1..=5); `None` keeps each
+    /// camera's own `DepthOfField::rings`.
+    pub dof_rings: Option<u32>,
+    /// Precision of the HDR target that lighting, sky and DoF write and tone mapping
+    /// reads.
+    pub hdr_precision: HdrPrecision,
+}
+
+/// Format of the exposed HDR target.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum HdrPrecision {
+    /// `Rgba16Float`: 11 significant bits (relative step 2⁻¹¹), values up to 65504.
+    /// Pre-exposure keeps a frame inside that range.
+    #[default]
+    Half,
+    /// `Rgba32Float`: 24 significant bits; twice the bandwidth of every pass that writes
+    /// or reads the target.
+    Full,
+}
+
+impl HdrPrecision {
+    /// The target's texture format.
+    pub fn format(self) -> wgpu::TextureFormat {
+        match self {
+            HdrPrecision::Half => wgpu::TextureFormat::Rgba16Float,
+            HdrPrecision::Full => wgpu::TextureFormat::Rgba32Float,
+        }
+    }
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            HdrPrecision::Half => "f16",
+            HdrPrecision::Full => "f32",
+        }
+    }
+}
+
+/// Named sets of every knob, cheapest first. `High` is [`Quality::default`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum QualityPreset {
+    /// Hardware 2×2 shadow filtering at half resolution with one cascade, no energy
+    /// compensation, 16-sample IBL prefiltering, one DoF ring.
+    Low,
+    /// 16-tap PCF at full resolution with two cascades, energy compensation, 32 IBL
+    /// samples, two DoF rings.
+    Medium,
+    /// The defaults: 16-tap PCF, up to four cascades, 64 IBL samples, the camera's rings.
+    High,
+    /// PCSS at twice the resolution, height-correlated Smith visibility, 256 IBL samples,
+    /// a 128² BRDF table of 1024 samples, five DoF rings and an f32 HDR target.
+    Ultra,
+}
+
+impl QualityPreset {
+    /// Every preset, cheapest first.
+    pub const ALL: [QualityPreset; 4] = [
+        QualityPreset::Low,
+        QualityPreset::Medium,
+        QualityPreset::High,
+        QualityPreset::Ultra,
+    ];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            QualityPreset::Low => "low",
+            QualityPreset::Medium => "medium",
+            QualityPreset::High => "high",
+            QualityPreset::Ultra => "ultra",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<QualityPreset> {
+        QualityPreset::ALL
+            .into_iter()
+            .find(|p| p.name().eq_ignore_ascii_case(name))
+    }
+
+    /// Every knob of this preset.
+    pub fn quality(self) -> Quality {
+        let high = Quality::default();
+        match self {
+            QualityPreset::Low => Quality {
+                shadow_filter: ShadowFilter::Hardware2x2,
+                shadow_resolution_scale: 0.5,
+                max_cascades: 1,
+                energy_compensation: false,
+                ibl_samples: 16,
+                brdf_lut_size: 32,
+                brdf_lut_samples: 128,
+                dof_rings: Some(1),
+                ..high
+            },
+            QualityPreset::Medium => Quality {
+                max_cascades: 2,
+                ibl_samples: 32,
+                brdf_lut_samples: 256,
+                dof_rings: Some(2),
+                ..high
+            },
+            QualityPreset::High => high,
+            QualityPreset::Ultra => Quality {
+                visibility: VisibilityModel::SmithGgxCorrelated,
+                shadow_filter: ShadowFilter::Pcss,
+                shadow_resolution_scale: 2.0,
+                ibl_samples: 256,
+                brdf_lut_size: 128,
+                brdf_lut_samples: 1024,
+                dof_rings: Some(5),
+                hdr_precision: HdrPrecision::Full,
+                ..high
+            },
+        }
+    }
 }
 
 impl Default for Quality {
@@ -78,6 +199,10 @@ impl Default for Quality {
             ibl_samples: 64,
             brdf_lut_size: 64,
             brdf_lut_samples: 512,
+            shadow_resolution_scale: 1.0,
+            max_cascades: 4,
+            dof_rings: None,
+            hdr_precision: HdrPrecision::Half,
         }
     }
 }

@@ -108,6 +108,27 @@ pub struct SceneArgs {
     /// Single-scattering GGX only: no multiple-scattering energy compensation.
     #[arg(long)]
     pub no_energy_compensation: bool,
+    /// Quality preset: low, medium, high (default), ultra. The options below override it.
+    #[arg(long, value_name = "PRESET", value_parser = parse_preset)]
+    pub quality: Option<lumen::quality::QualityPreset>,
+    /// Multiplier of every light's shadow-map resolution (0.125..=4).
+    #[arg(long, value_name = "X", value_parser = parse_shadow_scale)]
+    pub shadow_resolution_scale: Option<f32>,
+    /// Most cascades a directional light gets (1..=4).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4))]
+    pub cascades: Option<u32>,
+    /// GGX samples per texel when prefiltering the environment (1..=4096).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub ibl_samples: Option<u32>,
+    /// Side of the split-sum BRDF table in texels (8..=512).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(8..=512))]
+    pub brdf_lut_size: Option<u32>,
+    /// Samples per texel of the split-sum BRDF table (1..=65536).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub brdf_lut_samples: Option<u32>,
+    /// Precision of the HDR target: f16 (default) or f32.
+    #[arg(long, value_name = "P", value_parser = parse_hdr_precision)]
+    pub hdr: Option<lumen::quality::HdrPrecision>,
 }
 
 impl SceneArgs {
@@ -292,6 +313,38 @@ fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> 
                 .join(", ")
         )
     })
+}
+
+fn parse_preset(s: &str) -> Result<lumen::quality::QualityPreset, String> {
+    use lumen::quality::QualityPreset;
+    QualityPreset::from_name(s).ok_or_else(|| {
+        format!(
+            "unknown quality preset '{s}' (use {})",
+            QualityPreset::ALL
+                .iter()
+                .map(|p| p.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
+fn parse_shadow_scale(s: &str) -> Result<f32, String> {
+    parse_finite(s).and_then(|v| {
+        if (0.125..=4.0).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{s} must be in 0.125..=4"))
+        }
+    })
+}
+
+fn parse_hdr_precision(s: &str) -> Result<lumen::quality::HdrPrecision, String> {
+    use lumen::quality::HdrPrecision;
+    [HdrPrecision::Half, HdrPrecision::Full]
+        .into_iter()
+        .find(|p| p.name().eq_ignore_ascii_case(s))
+        .ok_or_else(|| format!("unknown HDR precision '{s}' (use f16, f32)"))
 }
 
 fn parse_visibility(s: &str) -> Result<lumen::brdf::VisibilityModel, String> {

@@ -34,6 +34,30 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         apply_camera(&mut camera, args);
     }
     let mut quality = world.resource_mut::<Quality>();
+    if let Some(preset) = args.quality {
+        *quality = preset.quality();
+    }
+    if let Some(x) = args.shadow_resolution_scale {
+        quality.shadow_resolution_scale = x;
+    }
+    if let Some(n) = args.cascades {
+        quality.max_cascades = n;
+    }
+    if let Some(n) = args.ibl_samples {
+        quality.ibl_samples = n;
+    }
+    if let Some(n) = args.brdf_lut_size {
+        quality.brdf_lut_size = n;
+    }
+    if let Some(n) = args.brdf_lut_samples {
+        quality.brdf_lut_samples = n;
+    }
+    if let Some(p) = args.hdr {
+        quality.hdr_precision = p;
+    }
+    if args.dof_rings.is_some() {
+        quality.dof_rings = args.dof_rings;
+    }
     if let Some(v) = args.visibility {
         quality.visibility = v;
     }

@@ -9,8 +9,9 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, compose};
-use crate::render::targets::{HDR_FORMAT, RenderTargets, Target};
+use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
+use std::collections::HashMap;
 use wgpu::util::DeviceExt;
 
 /// Format of the half-resolution depth-of-field targets.
@@ -34,6 +35,7 @@ struct Params {
 
 struct DofTargets {
     size: (u32, u32),
+    format: wgpu::TextureFormat,
     sharp: Target,
     input: Target,
     tiles: Target,
@@ -47,7 +49,8 @@ pub struct DofPass {
     prepare: wgpu::RenderPipeline,
     tiles: wgpu::RenderPipeline,
     blur: wgpu::RenderPipeline,
-    composite: wgpu::RenderPipeline,
+    composite: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    module: wgpu::ShaderModule,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
     targets: Option<DofTargets>,
@@ -83,7 +86,7 @@ impl DofPass {
             prepare: pipeline("fs_dof_prepare", &[DOF_FORMAT])?,
             tiles: pipeline("fs_dof_tiles", &[TILE_FORMAT])?,
             blur: pipeline("fs_dof_blur", &[DOF_FORMAT, DOF_FORMAT])?,
-            composite: pipeline("fs_dof_composite", &[HDR_FORMAT])?,
+            composite: HashMap::new(),
             params: gpu
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -99,7 +102,25 @@ impl DofPass {
             }),
             targets: None,
             bind_groups: None,
+            module,
         })
+    }
+
+    /// The composite pipeline writing an HDR target of `format`, compiled on first use.
+    fn composite_pipeline(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
+        if !self.composite.contains_key(&format) {
+            let pipeline = fullscreen_pipeline(
+                gpu,
+                "fs_dof_composite",
+                None,
+                &self.module,
+                ("vs_fullscreen", "fs_dof_composite"),
+                &[format],
+                None,
+            )?;
+            self.composite.insert(format, pipeline);
+        }
+        Ok(())
     }
 }
 
@@ -118,11 +139,20 @@ pub fn prepare_dof(
     let Some(dof) = camera.depth_of_field else {
         return;
     };
-    if pass.targets.as_ref().is_none_or(|d| d.size != t.size) {
+    if let Err(e) = pass.composite_pipeline(&gpu, t.hdr_format) {
+        errors.0.push(e);
+        return;
+    }
+    if pass
+        .targets
+        .as_ref()
+        .is_none_or(|d| d.size != t.size || d.format != t.hdr_format)
+    {
         let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
         pass.targets = Some(DofTargets {
             size: t.size,
-            sharp: Target::new(&gpu, "dof sharp", t.size, HDR_FORMAT),
+            format: t.hdr_format,
+            sharp: Target::new(&gpu, "dof sharp", t.size, t.hdr_format),
             input: Target::new(&gpu, "dof input", half, DOF_FORMAT),
             tiles: Target::new(
                 &gpu,
@@ -193,8 +223,11 @@ pub fn prepare_dof(
         &pass.blur,
         &[common(1), view(4, &d.input), view(8, &d.tiles)],
     );
+    let Some(composite_pipeline) = pass.composite.get(&t.hdr_format) else {
+        return;
+    };
     let composite = group(
-        &pass.composite,
+        composite_pipeline,
         &[
             common(0),
             common(1),
@@ -225,6 +258,9 @@ pub fn dof_pass(
         pass.targets.as_ref(),
         pass.bind_groups.as_ref(),
     ) else {
+        return;
+    };
+    let Some(composite_pipeline) = pass.composite.get(&t.hdr_format) else {
         return;
     };
     encoder.copy_texture_to_texture(
@@ -261,7 +297,7 @@ pub fn dof_pass(
         timer,
         "dof composite",
         &[&t.hdr.view],
-        &pass.composite,
+        composite_pipeline,
         composite,
     );
 }

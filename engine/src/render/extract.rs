@@ -187,8 +187,9 @@ fn bounding_sphere(meshes: &Meshes, mesh: MeshHandle, m: &Mat4) -> Option<(Vec3,
     Some((center, (aabb.max - aabb.min).length() * 0.5 * scale))
 }
 
-/// Shadow settings with out-of-range values clamped: resolution 64..=8192, biases ≥ 0.
-fn sanitized(s: ShadowSettings) -> ShadowSettings {
+/// Shadow settings with out-of-range values clamped (resolution × `scale` into 64..=8192,
+/// biases ≥ 0).
+fn sanitized(s: ShadowSettings, scale: f32) -> ShadowSettings {
     let bias = |b: f32| {
         if b.is_finite() {
             b.clamp(0.0, 100.0)
@@ -197,7 +198,9 @@ fn sanitized(s: ShadowSettings) -> ShadowSettings {
         }
     };
     ShadowSettings {
-        resolution: s.resolution.clamp(64, 8192),
+        resolution: (s.resolution as f32 * finite_or(scale, 1.0).clamp(0.0, 64.0))
+            .round()
+            .clamp(64.0, 8192.0) as u32,
         depth_bias: bias(s.depth_bias),
         slope_bias: bias(s.slope_bias),
         normal_bias: bias(s.normal_bias),
@@ -322,7 +325,7 @@ pub fn extract_frame(
         fov_y,
         aspect,
         depth_of_field: camera.depth_of_field.map(|d| crate::scene::DepthOfField {
-            rings: d.rings.clamp(1, 5),
+            rings: quality.dof_rings.unwrap_or(d.rings).clamp(1, 5),
             max_coc_px: finite_or(d.max_coc_px, 32.0).clamp(1.0, 128.0),
         }),
         vignette: camera
@@ -443,8 +446,10 @@ pub fn extract_frame(
                 settings
                     .copied()
                     .unwrap_or_else(ShadowSettings::directional),
+                quality.shadow_resolution_scale,
             );
-            let c = cascades.copied().unwrap_or_default();
+            let mut c = cascades.copied().unwrap_or_default();
+            c.count = c.count.min(quality.max_cascades.max(1));
             let views =
                 directional_views(&shadow_camera, transform.forward(), &s, &c, &caster_spheres);
             let tan_radius =
@@ -479,7 +484,10 @@ pub fn extract_frame(
         let position = transform.translation();
         let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
         if light.cast_shadows && shadows_on {
-            let s = sanitized(settings.copied().unwrap_or_else(ShadowSettings::point));
+            let s = sanitized(
+                settings.copied().unwrap_or_else(ShadowSettings::point),
+                quality.shadow_resolution_scale,
+            );
             let radius = finite_or(light.radius_m, 0.0).max(0.0);
             let views = point_views(position, light.range_m, radius, &s, &bounds);
             (shadow, shadow_bias) =
@@ -509,7 +517,10 @@ pub fn extract_frame(
         let position = transform.translation();
         let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
         if light.cast_shadows && shadows_on {
-            let s = sanitized(settings.copied().unwrap_or_else(ShadowSettings::spot));
+            let s = sanitized(
+                settings.copied().unwrap_or_else(ShadowSettings::spot),
+                quality.shadow_resolution_scale,
+            );
             let radius = finite_or(light.radius_m, 0.0).max(0.0);
             let view = spot_view(
                 position,

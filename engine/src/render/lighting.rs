@@ -16,7 +16,7 @@ use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::shadow::pass::ShadowPass;
-use crate::render::targets::{self, RenderTargets};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use std::collections::HashMap;
@@ -26,7 +26,7 @@ use std::collections::HashMap;
 pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<LightingVariant, wgpu::RenderPipeline>,
+    pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
     bind_group: Option<((u64, u64, u64, u64), wgpu::BindGroup)>,
 }
 
@@ -114,8 +114,13 @@ impl LightingPass {
         )
     }
 
-    fn pipeline(&mut self, gpu: &Gpu, variant: LightingVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
+    fn pipeline(
+        &mut self,
+        gpu: &Gpu,
+        variant: LightingVariant,
+        format: wgpu::TextureFormat,
+    ) -> Result<()> {
+        if self.pipelines.contains_key(&(variant, format)) {
             return Ok(());
         }
         let module = shaders::create_module(gpu, "lighting", LightingPass::source(variant))?;
@@ -125,10 +130,10 @@ impl LightingPass {
             Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_main"),
-            &[targets::HDR_FORMAT],
+            &[format],
             None,
         )?;
-        self.pipelines.insert(variant, pipeline);
+        self.pipelines.insert((variant, format), pipeline);
         Ok(())
     }
 }
@@ -157,13 +162,13 @@ pub fn prepare_lighting(
         shadows,
         ibl,
     } = inputs;
-    if let Err(e) = pass.pipeline(&gpu, plan.lighting) {
-        errors.0.push(e);
-        return;
-    }
     let Some(t) = targets.current.as_ref() else {
         return;
     };
+    if let Err(e) = pass.pipeline(&gpu, plan.lighting, t.hdr_format) {
+        errors.0.push(e);
+        return;
+    }
     let key = (
         t.generation,
         buffers.generation,
@@ -250,7 +255,10 @@ pub fn lighting_pass(
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.bind_group.as_ref(),
-        pass.pipelines.get(&plan.lighting),
+        targets
+            .current
+            .as_ref()
+            .and_then(|t| pass.pipelines.get(&(plan.lighting, t.hdr_format))),
     ) else {
         return;
     };

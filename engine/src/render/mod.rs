@@ -46,9 +46,10 @@ pub struct RenderSchedule;
 fn prepare_targets(
     gpu: Res<Gpu>,
     output: Res<FrameOutput>,
+    quality: Res<crate::quality::Quality>,
     mut targets: ResMut<targets::RenderTargets>,
 ) {
-    targets.ensure(&gpu, output.size);
+    targets.ensure(&gpu, output.size, quality.hdr_precision.format());
 }
 
 /// Opens the frame's command encoder.

@@ -20,7 +20,7 @@ use std::collections::HashMap;
 pub struct SkyPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<bool, wgpu::RenderPipeline>,
+    pipelines: HashMap<(bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
     bind_group: Option<((u64, u64), wgpu::BindGroup)>,
 }
 
@@ -53,8 +53,8 @@ impl SkyPass {
         }
     }
 
-    fn pipeline(&mut self, gpu: &Gpu, env_map: bool) -> Result<()> {
-        if self.pipelines.contains_key(&env_map) {
+    fn pipeline(&mut self, gpu: &Gpu, env_map: bool, format: wgpu::TextureFormat) -> Result<()> {
+        if self.pipelines.contains_key(&(env_map, format)) {
             return Ok(());
         }
         let source = compose(
@@ -84,10 +84,10 @@ impl SkyPass {
             Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_sky"),
-            &[targets::HDR_FORMAT],
+            &[format],
             Some(depth),
         )?;
-        self.pipelines.insert(env_map, pipeline);
+        self.pipelines.insert((env_map, format), pipeline);
         Ok(())
     }
 }
@@ -98,13 +98,17 @@ pub fn prepare_sky(
     frame: Res<ExtractedFrame>,
     buffers: Res<SceneBuffers>,
     ibl: Res<Ibl>,
+    targets: Res<RenderTargets>,
     mut pass: ResMut<SkyPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    let Some(env) = frame.environment.as_ref().filter(|e| e.show_background) else {
+    let (Some(env), Some(t)) = (
+        frame.environment.as_ref().filter(|e| e.show_background),
+        targets.current.as_ref(),
+    ) else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, env.image.is_some()) {
+    if let Err(e) = pass.pipeline(&gpu, env.image.is_some(), t.hdr_format) {
         errors.0.push(e);
         return;
     }
@@ -153,7 +157,10 @@ pub fn sky_pass(
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.bind_group.as_ref(),
-        pass.pipelines.get(&env_map),
+        targets
+            .current
+            .as_ref()
+            .and_then(|t| pass.pipelines.get(&(env_map, t.hdr_format))),
     ) else {
         return;
     };

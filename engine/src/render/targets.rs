@@ -14,8 +14,6 @@ pub const GBUFFER1_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Floa
 pub const GBUFFER2_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Depth, reversed Z.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// HDR lighting output: pre-exposed luminance and coverage.
-pub const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// One render target and its default view.
 pub struct Target {
@@ -62,8 +60,10 @@ pub struct FrameTargets {
     pub gbuffer2: Target,
     /// Depth.
     pub depth: Target,
-    /// HDR luminance.
+    /// HDR luminance (pre-exposed) and coverage, in `hdr_format`.
     pub hdr: Target,
+    /// Format of `hdr` ([`crate::quality::HdrPrecision`]).
+    pub hdr_format: wgpu::TextureFormat,
     /// Bumped whenever the targets are recreated, so passes can rebuild bind groups.
     pub generation: u64,
 }
@@ -77,9 +77,13 @@ pub struct RenderTargets {
 }
 
 impl RenderTargets {
-    /// Makes sure the targets exist at `size`.
-    pub fn ensure(&mut self, gpu: &Gpu, size: (u32, u32)) {
-        if self.current.as_ref().is_some_and(|t| t.size == size) {
+    /// Makes sure the targets exist at `size` with an HDR target of `hdr_format`.
+    pub fn ensure(&mut self, gpu: &Gpu, size: (u32, u32), hdr_format: wgpu::TextureFormat) {
+        if self
+            .current
+            .as_ref()
+            .is_some_and(|t| t.size == size && t.hdr_format == hdr_format)
+        {
             return;
         }
         self.generation += 1;
@@ -99,7 +103,8 @@ impl RenderTargets {
                 GBUFFER2_FORMAT,
             ),
             depth: Target::new(gpu, "depth", size, DEPTH_FORMAT),
-            hdr: Target::new(gpu, "hdr", size, HDR_FORMAT),
+            hdr: Target::new(gpu, "hdr", size, hdr_format),
+            hdr_format,
             generation: self.generation,
         });
     }
