@@ -23,6 +23,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Open a window with an orbit camera.
     View(ViewArgs),
+    /// Measure frame times: per pass (GPU) and per stage (CPU), with statistics.
+    Bench(BenchArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -33,8 +35,8 @@ pub struct SceneArgs {
     /// Built-in scene (see `lumen scenes`).
     #[arg(long, value_name = "NAME", conflicts_with = "file")]
     pub scene: Option<String>,
-    /// A glTF 2.0 file (.gltf or .glb) instead of a built-in scene.
-    #[arg(value_name = "FILE")]
+    /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene.
+    #[arg(value_name = "FILE|SCENE")]
     pub file: Option<PathBuf>,
     /// Exposure value at ISO 100 (−10..30); replaces the camera's.
     #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_ev100)]
@@ -132,6 +134,20 @@ pub struct SceneArgs {
 }
 
 impl SceneArgs {
+    /// A positional `FILE` that is not a file but names a built-in scene (no extension)
+    /// becomes `--scene NAME`, so `lumen bench spheres` works.
+    pub fn resolve_builtin(&mut self) {
+        if let Some(file) = &self.file
+            && file.extension().is_none()
+            && !file.exists()
+            && let Some(name) = file.to_str()
+            && crate::scenes::find(name).is_ok()
+        {
+            self.scene = Some(name.to_string());
+            self.file = None;
+        }
+    }
+
     /// The name shown for the scene: the built-in name or the file's stem.
     pub fn label(&self) -> String {
         match (&self.file, &self.scene) {
@@ -181,6 +197,38 @@ pub struct ViewArgs {
     /// Save a screenshot (PNG or EXR) when the viewer quits.
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
+}
+
+/// Arguments of `lumen bench`.
+#[derive(Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Scene, exposure and quality.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Measured frames.
+    #[arg(long, value_name = "N", default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: u32,
+    /// Frames rendered before measuring (pipelines compile, caches fill, auto exposure adapts).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(0..=100_000))]
+    pub warmup: u32,
+    /// Image (or window) size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Write the JSON report (schema lumen-bench/1) to this file ("-": standard output).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write one CSV row per measured frame to this file.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Draw a frame-time chart with the per-pass breakdown into this PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
+    /// Measure presented frames in a window (no vsync) instead of offscreen frames.
+    #[arg(long)]
+    pub window: bool,
+    /// Compare two JSON reports: print B / A for the frame, every pass and every stage.
+    #[arg(long, num_args = 2, value_names = ["A.json", "B.json"], conflicts_with_all = ["json", "csv", "plot", "window"])]
+    pub compare: Option<Vec<PathBuf>>,
 }
 
 /// Largest image side accepted on the command line (the adapter may allow less).

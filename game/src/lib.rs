@@ -1,6 +1,7 @@
 //! The `lumen` command's pieces, as a library so the workspace tests can use the built-in
 //! scenes and argument parsing.
 
+pub mod bench;
 pub mod cli;
 pub mod output;
 pub mod progress;

@@ -48,8 +48,18 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Some(Command::Render(args)) => render_cmd::run(&args).map(|_| ()),
-        Some(Command::View(args)) => view::run(args),
+        Some(Command::Render(mut args)) => {
+            args.scene.resolve_builtin();
+            render_cmd::run(&args).map(|_| ())
+        }
+        Some(Command::View(mut args)) => {
+            args.scene.resolve_builtin();
+            view::run(args)
+        }
+        Some(Command::Bench(mut args)) => {
+            args.scene.resolve_builtin();
+            lumen_game::bench::run(&args)
+        }
         Some(Command::Scenes) => {
             let text: String = scenes::SCENES
                 .iter()

@@ -179,3 +179,28 @@ pub fn check_scene_args(args: &SceneArgs) -> Result<()> {
     }
     Ok(())
 }
+
+/// The preset whose knobs equal `quality`, or `custom`.
+pub fn preset_name(quality: &Quality) -> String {
+    lumen::quality::QualityPreset::ALL
+        .into_iter()
+        .find(|p| p.quality() == *quality)
+        .map_or_else(|| "custom".into(), |p| p.name().into())
+}
+
+/// Every quality knob as JSON (the `quality` object of `render --json` and `bench`).
+pub fn quality_json(q: &Quality) -> serde_json::Value {
+    serde_json::json!({
+        "visibility": q.visibility.name(),
+        "shadows": q.shadows,
+        "shadow_filter": q.shadow_filter.name(),
+        "shadow_resolution_scale": q.shadow_resolution_scale,
+        "max_cascades": q.max_cascades,
+        "energy_compensation": q.energy_compensation,
+        "ibl_samples": q.ibl_samples,
+        "brdf_lut_size": q.brdf_lut_size,
+        "brdf_lut_samples": q.brdf_lut_samples,
+        "dof_rings": q.dof_rings,
+        "hdr_precision": q.hdr_precision.name(),
+    })
+}

@@ -4,6 +4,7 @@
 //! `out/`, `Esc` quits. Resizing (down to a minimised 0×0 window) and lost or outdated
 //! surfaces are handled; errors end the viewer with a message, never a panic.
 
+use crate::bench::report::FrameSample;
 use crate::cli::ViewArgs;
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
@@ -74,11 +75,23 @@ struct Running {
     last_title: Instant,
 }
 
+/// A measured run in the window (`lumen bench --window`).
+struct Measure {
+    warmup: u32,
+    frames: u32,
+    samples: Vec<FrameSample>,
+    seen: u32,
+    last_start: Option<Instant>,
+    pending: Option<FrameSample>,
+    progress: Box<dyn FnMut(u32)>,
+}
+
 struct Viewer {
     args: ViewArgs,
     running: Option<Running>,
     error: Option<anyhow::Error>,
     screenshots: u32,
+    measure: Option<Measure>,
 }
 
 /// Opens the viewer and runs until the window closes.
@@ -90,6 +103,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         running: None,
         error: None,
         screenshots: 0,
+        measure: None,
     };
     event_loop
         .run_app(&mut viewer)
@@ -98,6 +112,53 @@ pub fn run(args: ViewArgs) -> Result<()> {
         Some(e) => Err(e),
         None => Ok(()),
     }
+}
+
+/// Renders `warmup + frames` frames into a window without vsync and returns the
+/// measured frames and the app. A frame's time is the wall time from its start to the
+/// next frame's start (update, record, submit, GPU, present). `progress(done)` is called
+/// after every frame.
+pub fn run_measured(
+    args: ViewArgs,
+    warmup: u32,
+    frames: u32,
+    progress: Box<dyn FnMut(u32)>,
+) -> Result<(Vec<FrameSample>, App)> {
+    check_scene_args(&args.scene)?;
+    let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
+    let mut viewer = Viewer {
+        args,
+        running: None,
+        error: None,
+        screenshots: 0,
+        measure: Some(Measure {
+            warmup,
+            frames,
+            samples: Vec::new(),
+            seen: 0,
+            last_start: None,
+            pending: None,
+            progress,
+        }),
+    };
+    event_loop
+        .run_app(&mut viewer)
+        .context("window event loop")?;
+    if let Some(e) = viewer.error {
+        return Err(e);
+    }
+    let samples = viewer.measure.map(|m| m.samples).unwrap_or_default();
+    let app = viewer
+        .running
+        .map(|r| r.app)
+        .ok_or_else(|| anyhow!("the window never opened"))?;
+    if samples.len() < frames as usize {
+        return Err(anyhow!(
+            "the window closed after {} of {frames} measured frames",
+            samples.len()
+        ));
+    }
+    Ok((samples, app))
 }
 
 fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
@@ -146,7 +207,11 @@ impl Viewer {
             format,
             width: size.width.max(1),
             height: size.height.max(1),
-            present_mode: wgpu::PresentMode::AutoVsync,
+            present_mode: if self.measure.is_some() {
+                wgpu::PresentMode::AutoNoVsync
+            } else {
+                wgpu::PresentMode::AutoVsync
+            },
             desired_maximum_frame_latency: 2,
             alpha_mode: caps
                 .alpha_modes
@@ -209,23 +274,27 @@ impl Viewer {
     }
 }
 
-fn redraw(r: &mut Running) -> Result<bool> {
+/// Draws one frame; returns its report and the ECS update time (ms), or `None` when no
+/// frame could be drawn (minimised, surface lost).
+fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
     if r.config.width == 0 || r.config.height == 0 {
-        return Ok(false);
+        return Ok(None);
     }
     if let Some(mut t) = r.app.world_mut().get_mut::<Transform>(r.camera) {
         *t = r.orbit.transform();
     }
+    let update = Instant::now();
     r.app.update();
+    let update_ms = update.elapsed().as_secs_f64() * 1e3;
     let frame = match r.surface.get_current_texture() {
         wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
         wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
-            return Ok(false);
+            return Ok(None);
         }
         wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
             let gpu = r.app.world().resource::<Gpu>().clone();
             r.surface.configure(&gpu.device, &r.config);
-            return Ok(false);
+            return Ok(None);
         }
         wgpu::CurrentSurfaceTexture::Validation => {
             return Err(anyhow!("the window surface reported a validation error"));
@@ -247,7 +316,32 @@ fn redraw(r: &mut Running) -> Result<bool> {
             .set_title(&format!("lumen — {:.1} ms/frame", report.frame_ms));
         r.last_title = Instant::now();
     }
-    Ok(true)
+    Ok(Some((report, update_ms)))
+}
+
+impl Measure {
+    /// Records a frame that started at `start`; the previous frame's time ends here.
+    /// Returns true once every measured frame is in.
+    fn frame(&mut self, start: Instant, report: lumen::FrameReport, update_ms: f64) -> bool {
+        if let (Some(last), Some(mut sample)) = (self.last_start, self.pending.take()) {
+            sample.frame_ms = start.duration_since(last).as_secs_f64() * 1e3;
+            self.samples.push(sample);
+        }
+        self.seen += 1;
+        (self.progress)(self.seen);
+        self.last_start = Some(start);
+        if self.seen > self.warmup {
+            let mut stages = vec![("update", update_ms)];
+            stages.extend(report.stages);
+            self.pending = Some(FrameSample {
+                frame_ms: 0.0,
+                stages,
+                passes: report.passes,
+            });
+        }
+        // One frame more than measured closes the last measured frame's interval.
+        self.samples.len() >= self.frames as usize
+    }
 }
 
 impl ApplicationHandler for Viewer {
@@ -313,9 +407,20 @@ impl ApplicationHandler for Viewer {
                 r.orbit.distance = (r.orbit.distance * 0.9f32.powf(steps)).clamp(0.05, 1e4);
             }
             WindowEvent::RedrawRequested => {
-                if let Err(e) = redraw(r) {
-                    self.fail(event_loop, e);
-                    return;
+                let start = Instant::now();
+                match redraw(r) {
+                    Err(e) => {
+                        self.fail(event_loop, e);
+                        return;
+                    }
+                    Ok(Some((report, update_ms))) => {
+                        if let Some(m) = self.measure.as_mut()
+                            && m.frame(start, report, update_ms)
+                        {
+                            event_loop.exit();
+                        }
+                    }
+                    Ok(None) => {}
                 }
                 if self.args.frames.is_some_and(|n| r.frames >= n) {
                     event_loop.exit();

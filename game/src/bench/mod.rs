@@ -1,0 +1,166 @@
+//! `lumen bench`: frame times of a scene, per pass on the GPU (timestamp queries) and per
+//! stage on the CPU, summarised (mean, median, p95, p99, min, max, standard deviation),
+//! written as JSON, CSV and a chart, and compared between runs.
+
+pub mod compare;
+pub mod plot;
+pub mod report;
+pub mod stats;
+
+use crate::cli::{BenchArgs, ViewArgs};
+use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
+use anyhow::{Context, Result, anyhow};
+use lumen::App;
+use lumen::prelude::Quality;
+use report::{FrameSample, RunInfo};
+use std::io::IsTerminal;
+use std::path::Path;
+use std::time::{Instant, SystemTime, UNIX_EPOCH};
+
+/// Runs the benchmark (or the comparison) the arguments ask for.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    if let Some([a, b]) = args.compare.as_deref() {
+        let rows = compare::compare(a, b)?;
+        crate::output::print(&compare::to_text(a, b, &rows));
+        return Ok(());
+    }
+    check_scene_args(&args.scene)?;
+    for (path, ext) in [(&args.csv, "csv"), (&args.plot, "png")] {
+        if let Some(p) = path
+            && !p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
+        {
+            return Err(anyhow!("{}: expected a .{ext} file", p.display()));
+        }
+    }
+    let total = args.warmup + args.frames;
+    let bar = progress_bar(u64::from(total));
+    let started_unix_s = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (samples, app, mode) = if args.window {
+        let b = bar.clone();
+        let view = ViewArgs {
+            scene: args.scene.clone(),
+            size: args.size,
+            frames: None,
+            screenshot: None,
+        };
+        let (samples, app) = crate::view::run_measured(
+            view,
+            args.warmup,
+            args.frames,
+            Box::new(move |done| b.set_position(u64::from(done))),
+        )?;
+        (samples, app, "window")
+    } else {
+        let (samples, app) = headless(args, &bar)?;
+        (samples, app, "headless")
+    };
+    bar.finish_and_clear();
+
+    let adapter = app.adapter().cloned().context("no adapter")?;
+    let quality = *app.world().resource::<Quality>();
+    let last = samples
+        .last()
+        .ok_or_else(|| anyhow!("no frame was measured"))?;
+    let info = RunInfo {
+        mode,
+        scene: args.scene.label(),
+        size: args.size,
+        preset: preset_name(&quality),
+        quality: quality_json(&quality),
+        adapter: [
+            adapter.name.clone(),
+            adapter.backend.to_string(),
+            adapter.device_type.to_string(),
+            adapter.driver.clone(),
+        ],
+        timestamps: last.gpu_ms().is_some(),
+        warmup: args.warmup,
+        scene_stats: scene_stats(&app),
+        started_unix_s,
+    };
+    let json = report::to_json(&info, &samples);
+    match args.json.as_deref() {
+        Some(p) if p == Path::new("-") => crate::output::print(&format!("{json}\n")),
+        Some(p) => write(p, &format!("{json:#}\n"))?,
+        None => {}
+    }
+    if let Some(p) = &args.csv {
+        write(p, &report::to_csv(&samples))?;
+    }
+    if let Some(p) = &args.plot {
+        let title = format!(
+            "{} {}x{}, {}, {} ({})",
+            info.scene, info.size.0, info.size.1, info.preset, adapter.name, adapter.backend
+        );
+        plot::plot(p, &title, &samples)?;
+    }
+    let text = report::summary_text(&info, &samples);
+    if args.json.as_deref() == Some(Path::new("-")) {
+        eprint!("{text}");
+    } else {
+        crate::output::print(&text);
+    }
+    Ok(())
+}
+
+/// Offscreen frames: ECS update, then the frame up to the GPU finishing.
+fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<FrameSample>, App)> {
+    let mut app = App::headless()?;
+    crate::progress::show_ibl_progress(&mut app);
+    build_scene(&mut app, &args.scene)?;
+    let mut samples = Vec::with_capacity(args.frames as usize);
+    for i in 0..args.warmup + args.frames {
+        let start = Instant::now();
+        app.update();
+        let update_ms = start.elapsed().as_secs_f64() * 1e3;
+        let report = app.render_headless(args.size)?;
+        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
+        if i >= args.warmup {
+            let mut stages = vec![("update", update_ms)];
+            stages.extend(report.stages);
+            samples.push(FrameSample {
+                frame_ms,
+                stages,
+                passes: report.passes,
+            });
+        }
+        bar.set_position(u64::from(i + 1));
+    }
+    Ok((samples, app))
+}
+
+fn scene_stats(app: &App) -> [usize; 4] {
+    app.world()
+        .get_resource::<lumen::render::extract::ExtractedFrame>()
+        .map_or([0; 4], |f| {
+            [
+                f.instances.len(),
+                f.batches.len(),
+                usize::try_from(f.triangles).unwrap_or(usize::MAX),
+                f.light_counts.total() as usize,
+            ]
+        })
+}
+
+fn progress_bar(total: u64) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "bench {bar:30} {pos}/{len} frames ({elapsed}, eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}
