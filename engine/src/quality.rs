@@ -77,6 +77,9 @@ pub struct Quality {
     /// Precision of the HDR target that lighting, sky and DoF write and tone mapping
     /// reads.
     pub hdr_precision: HdrPrecision,
+    /// Tiled light culling for scenes with many unshadowed point and spot lights (an
+    /// exact optimisation: a light is skipped only where its range window is 0).
+    pub light_culling: bool,
 }
 
 /// Format of the exposed HDR target.
@@ -203,6 +206,7 @@ impl Default for Quality {
             max_cascades: 4,
             dof_rings: None,
             hdr_precision: HdrPrecision::Half,
+            light_culling: true,
         }
     }
 }

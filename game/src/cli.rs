@@ -38,6 +38,9 @@ pub struct SceneArgs {
     /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene.
     #[arg(value_name = "FILE|SCENE")]
     pub file: Option<PathBuf>,
+    /// Number of point lights of the `lights` scene (0..=65536, default 256).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=65536))]
+    pub lights: Option<u32>,
     /// Exposure value at ISO 100 (−10..30); replaces the camera's.
     #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = parse_ev100)]
     pub ev100: Option<f32>,
@@ -110,6 +113,9 @@ pub struct SceneArgs {
     /// Single-scattering GGX only: no multiple-scattering energy compensation.
     #[arg(long)]
     pub no_energy_compensation: bool,
+    /// No tiled light culling: every pixel loops over every point and spot light.
+    #[arg(long)]
+    pub no_light_culling: bool,
     /// Quality preset: low, medium, high (default), ultra. The options below override it.
     #[arg(long, value_name = "PRESET", value_parser = parse_preset)]
     pub quality: Option<lumen::quality::QualityPreset>,

@@ -24,6 +24,10 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         (None, name) => {
             let info =
                 scenes::find(name.as_deref().unwrap_or("spheres")).map_err(anyhow::Error::msg)?;
+            if let Some(count) = args.lights {
+                app.world_mut()
+                    .insert_resource(scenes::LightsSceneOptions { count });
+            }
             (info.build)(app).with_context(|| format!("building scene '{}'", info.name))?;
         }
     }
@@ -54,6 +58,9 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     }
     if let Some(p) = args.hdr {
         quality.hdr_precision = p;
+    }
+    if args.no_light_culling {
+        quality.light_culling = false;
     }
     if args.dof_rings.is_some() {
         quality.dof_rings = args.dof_rings;
@@ -172,6 +179,9 @@ fn apply_environment(app: &mut App, args: &SceneArgs) -> Result<()> {
 /// Checks up front that a scene argument can be used, so that errors come before the GPU
 /// is initialised.
 pub fn check_scene_args(args: &SceneArgs) -> Result<()> {
+    if args.lights.is_some() && (args.file.is_some() || args.scene.as_deref() != Some("lights")) {
+        anyhow::bail!("--lights applies to the `lights` scene only (use --scene lights)");
+    }
     if let Some(file) = &args.file {
         std::fs::metadata(file).with_context(|| format!("cannot read {}", file.display()))?;
     } else if let Some(name) = &args.scene {
@@ -202,5 +212,6 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "brdf_lut_samples": q.brdf_lut_samples,
         "dof_rings": q.dof_rings,
         "hdr_precision": q.hdr_precision.name(),
+        "light_culling": q.light_culling,
     })
 }

@@ -8,6 +8,7 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::ibl::Ibl;
+use crate::render::light_culling::LightCullingPass;
 use crate::render::pipelines::{
     draw_fullscreen, filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry,
     storage_entry, texture_load_entry, uniform_entry,
@@ -27,7 +28,7 @@ pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64, u64, u64), wgpu::BindGroup)>,
+    bind_group: Option<((u64, u64, u64, u64, u64), wgpu::BindGroup)>,
 }
 
 impl LightingPass {
@@ -66,6 +67,7 @@ impl LightingPass {
                     sampled_texture_entry(11, wgpu::TextureViewDimension::Cube),
                     filtering_sampler_entry(12),
                     sampled_texture_entry(13, wgpu::TextureViewDimension::D2),
+                    storage_entry(14, wgpu::ShaderStages::FRAGMENT),
                 ],
             });
         let pipeline_layout = gpu
@@ -98,6 +100,7 @@ impl LightingPass {
                 ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
                 ShaderDef::Bool("ENV_MAP", variant.env_map),
                 ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
+                ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ],
             &[
                 shaders::COMMON,
@@ -109,6 +112,7 @@ impl LightingPass {
                 shaders::BINDINGS,
                 shaders::FULLSCREEN,
                 shaders::SHADOWS,
+                shaders::LIGHT_TILES,
                 shaders::LIGHTING,
             ],
         )
@@ -145,6 +149,7 @@ pub struct LightingInputs<'w> {
     targets: Res<'w, RenderTargets>,
     shadows: Res<'w, ShadowPass>,
     ibl: Res<'w, Ibl>,
+    culling: Res<'w, LightCullingPass>,
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group when targets,
@@ -161,6 +166,7 @@ pub fn prepare_lighting(
         targets,
         shadows,
         ibl,
+        culling,
     } = inputs;
     let Some(t) = targets.current.as_ref() else {
         return;
@@ -174,6 +180,7 @@ pub fn prepare_lighting(
         buffers.generation,
         shadows.generation,
         ibl.generation,
+        culling.generation,
     );
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
@@ -237,6 +244,10 @@ pub fn prepare_lighting(
             wgpu::BindGroupEntry {
                 binding: 13,
                 resource: wgpu::BindingResource::TextureView(ibl.lut_view()),
+            },
+            wgpu::BindGroupEntry {
+                binding: 14,
+                resource: culling.tiles.as_entire_binding(),
             },
         ],
     });

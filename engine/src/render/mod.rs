@@ -15,6 +15,7 @@ pub mod frame;
 pub mod gbuffer;
 pub mod gpu_types;
 pub mod ibl;
+pub mod light_culling;
 pub mod lighting;
 pub mod pipelines;
 pub mod plan;
@@ -68,6 +69,7 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
     world.insert_resource(lighting::LightingPass::new(&gpu));
+    world.insert_resource(light_culling::LightCullingPass::new(&gpu)?);
     world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
     world.insert_resource(ibl::Ibl::new(&gpu)?);
     world.insert_resource(sky::SkyPass::new(&gpu));
@@ -94,26 +96,34 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     let mut render = Schedule::new(RenderSchedule);
     render.add_systems(
         (
-            plan::plan_frame,
-            prepare_targets,
-            scene_buffers::prepare_scene_buffers,
-            shadow::pass::prepare_shadows,
-            ibl::prepare_ibl,
-            gbuffer::prepare_gbuffer,
-            lighting::prepare_lighting,
-            sky::prepare_sky,
-            exposure::prepare_exposure,
-            dof::prepare_dof,
-            tonemap::prepare_tonemap,
-            begin_frame,
-            shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
-            gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
-            gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
-            lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
-            sky::sky_pass.run_if(pass_runs(PassId::Sky)),
-            exposure::exposure_pass.run_if(pass_runs(PassId::Exposure)),
-            dof::dof_pass.run_if(pass_runs(PassId::Dof)),
-            tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
+            (
+                plan::plan_frame,
+                prepare_targets,
+                scene_buffers::prepare_scene_buffers,
+                shadow::pass::prepare_shadows,
+                ibl::prepare_ibl,
+                gbuffer::prepare_gbuffer,
+                light_culling::prepare_light_culling,
+                lighting::prepare_lighting,
+                sky::prepare_sky,
+                exposure::prepare_exposure,
+                dof::prepare_dof,
+                tonemap::prepare_tonemap,
+            )
+                .chain(),
+            (
+                begin_frame,
+                shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
+                gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
+                gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
+                light_culling::light_culling_pass.run_if(pass_runs(PassId::LightCulling)),
+                lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
+                sky::sky_pass.run_if(pass_runs(PassId::Sky)),
+                exposure::exposure_pass.run_if(pass_runs(PassId::Exposure)),
+                dof::dof_pass.run_if(pass_runs(PassId::Dof)),
+                tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
+            )
+                .chain(),
         )
             .chain(),
     );

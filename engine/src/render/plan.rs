@@ -13,6 +13,8 @@ pub enum PassId {
     Shadow,
     /// Rasterises meshes into the G-buffer.
     GBuffer,
+    /// Lists the lights that reach each screen tile.
+    LightCulling,
     /// Full-screen deferred lighting into the HDR target.
     Lighting,
     /// The environment as the background.
@@ -39,6 +41,7 @@ impl PassId {
         match self {
             PassId::Shadow => "shadow",
             PassId::GBuffer => "gbuffer",
+            PassId::LightCulling => "light culling",
             PassId::Lighting => "lighting",
             PassId::Sky => "sky",
             PassId::Exposure => "exposure",
@@ -80,6 +83,8 @@ pub struct LightingVariant {
     pub env_map: bool,
     /// Multiple-scattering energy compensation compiled in.
     pub energy_compensation: bool,
+    /// Unshadowed point and spot lights come from the tile lists of the culling pass.
+    pub light_culling: bool,
 }
 
 /// This frame's plan.
@@ -108,6 +113,7 @@ impl Default for FramePlan {
                 environment: false,
                 env_map: false,
                 energy_compensation: false,
+                light_culling: false,
             },
         }
     }
@@ -201,6 +207,24 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
             )
         } else {
             "writes the background".into()
+        },
+    );
+    let unshadowed = (counts.point - frame.shadowed_counts[1].min(counts.point))
+        + (counts.spot - frame.shadowed_counts[2].min(counts.spot));
+    let min_lights = crate::render::light_culling::LIGHT_CULLING_MIN_LIGHTS;
+    let culling = decision(
+        PassId::LightCulling.name(),
+        quality.light_culling && instances > 0 && unshadowed >= min_lights,
+        if !quality.light_culling {
+            "off (--no-light-culling)".into()
+        } else if instances == 0 {
+            "nothing to light".into()
+        } else if unshadowed >= min_lights {
+            format!("{unshadowed} unshadowed point/spot light(s) into 16×16-pixel tiles")
+        } else {
+            format!(
+                "{unshadowed} unshadowed point/spot light(s): fewer than {min_lights}, every pixel loops over all"
+            )
         },
     );
     let env = frame.environment.as_ref();
@@ -311,10 +335,12 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
         environment: features[5].enabled,
         env_map: features[5].enabled && env.is_some_and(|e| e.image.is_some()),
         energy_compensation: features[6].enabled,
+        light_culling: culling.enabled,
     };
     plan.passes = vec![
         (PassId::Shadow, shadow),
         (PassId::GBuffer, gbuffer),
+        (PassId::LightCulling, culling),
         (PassId::Lighting, lighting),
         (PassId::Sky, sky),
         (PassId::Exposure, exposure),

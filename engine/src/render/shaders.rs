@@ -46,6 +46,10 @@ pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
 pub const EXPOSURE: &str = include_str!("../../../shaders/exposure.wgsl");
 /// Depth of field passes.
 pub const DOF: &str = include_str!("../../../shaders/dof.wgsl");
+/// Tile light lists shared by light culling and lighting.
+pub const LIGHT_TILES: &str = include_str!("../../../shaders/light_tiles.wgsl");
+/// Tiled light culling (compute).
+pub const LIGHT_CULLING: &str = include_str!("../../../shaders/light_culling.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: &str = include_str!("../../../shaders/tonemap.wgsl");
 

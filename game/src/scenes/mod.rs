@@ -3,6 +3,7 @@
 mod dof;
 mod extremes;
 mod furnace;
+mod lights;
 mod plane;
 mod shadows;
 mod spheres;
@@ -47,6 +48,11 @@ pub const SCENES: &[SceneInfo] = &[
         build: dof::build,
     },
     SceneInfo {
+        name: "lights",
+        description: "many small point lights (256, or --lights N) of 3 m range over a field of blocks: light culling",
+        build: lights::build,
+    },
+    SceneInfo {
         name: "extremes",
         description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
         build: extremes::build,
@@ -67,6 +73,7 @@ pub use dof::{
     DOF_APERTURE, DOF_DISTANCES, DOF_FOCAL_LENGTH_MM, DOF_PANEL_FRACTION, DOF_SCREEN_X, DOF_STRIPES,
 };
 pub use furnace::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
+pub use lights::{LIGHTS_GROUND_M, LIGHTS_RANGE_M, LightsSceneOptions};
 pub use plane::{PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL};
 pub use shadows::{
     SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,

@@ -1,0 +1,155 @@
+//! Tiled light culling (`shaders/light_culling.wgsl`): a compute pass that lists, per
+//! 16×16-pixel tile, the unshadowed point and spot lights whose range reaches the tile's
+//! geometry, so the lighting pass pays only for those. Runs when the scene has at least
+//! [`LIGHT_CULLING_MIN_LIGHTS`] unshadowed point and spot lights and
+//! [`crate::quality::Quality::light_culling`] is on.
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::frame::FrameEncoder;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, compose};
+use crate::render::targets::RenderTargets;
+use bevy_ecs::prelude::*;
+
+/// Pixels per tile side (`TILE_SIZE` in `light_tiles.wgsl`).
+pub const TILE_SIZE: u32 = 16;
+/// Lights of one kind a tile lists (`MAX_TILE_LIGHTS`); more make the tile fall back to
+/// every light of that kind.
+pub const MAX_TILE_LIGHTS: u32 = 255;
+/// Words per tile (`TILE_STRIDE`).
+const TILE_STRIDE: u32 = 2 + 2 * MAX_TILE_LIGHTS;
+/// The fewest unshadowed point and spot lights for which culling runs. Below it the
+/// culling pass costs more than it saves (README, "Light culling", measured on lavapipe).
+pub const LIGHT_CULLING_MIN_LIGHTS: u32 = 8;
+
+/// The culling pipeline, the tile buffer and its bind group.
+#[derive(Resource)]
+pub struct LightCullingPass {
+    pipeline: wgpu::ComputePipeline,
+    /// Tile lists, read by the lighting pass (a 16-byte placeholder until culling runs).
+    pub tiles: wgpu::Buffer,
+    /// Bumped whenever `tiles` is recreated.
+    pub generation: u64,
+    tile_count: (u32, u32),
+    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
+}
+
+impl LightCullingPass {
+    /// Compiles the pass.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let module = shaders::create_module(
+            gpu,
+            "light culling",
+            compose(
+                &[],
+                &[
+                    shaders::COMMON,
+                    shaders::BINDINGS,
+                    shaders::LIGHT_TILES,
+                    shaders::LIGHT_CULLING,
+                ],
+            ),
+        )?;
+        let pipeline = gpu.checked("light culling pipeline", |device| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("light culling"),
+                layout: None,
+                module: &module,
+                entry_point: Some("cs_cull"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })?;
+        Ok(LightCullingPass {
+            pipeline,
+            tiles: tile_buffer(gpu, 16),
+            generation: 0,
+            tile_count: (0, 0),
+            bind_group: None,
+        })
+    }
+}
+
+fn tile_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("light tiles"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    })
+}
+
+/// Tiles across and down a target of `size` pixels.
+pub fn tile_count(size: (u32, u32)) -> (u32, u32) {
+    (size.0.div_ceil(TILE_SIZE), size.1.div_ceil(TILE_SIZE))
+}
+
+/// Sizes the tile buffer for this frame's target and rebuilds the bind group on changes.
+pub fn prepare_light_culling(
+    gpu: Res<Gpu>,
+    plan: Res<crate::render::plan::FramePlan>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<LightCullingPass>,
+) {
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    if !plan.lighting.light_culling {
+        return;
+    }
+    let count = tile_count(t.size);
+    if pass.tile_count != count {
+        let words = u64::from(count.0) * u64::from(count.1) * u64::from(TILE_STRIDE);
+        pass.tiles = tile_buffer(&gpu, words * 4);
+        pass.tile_count = count;
+        pass.generation += 1;
+    }
+    let key = (t.generation, buffers.generation, pass.generation);
+    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("light culling"),
+        layout: &pass.pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.view.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: buffers.lights.buffer.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&t.depth.view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: pass.tiles.as_entire_binding(),
+            },
+        ],
+    });
+    pass.bind_group = Some((key, group));
+}
+
+/// Records the culling dispatch: one workgroup per tile.
+pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<FrameEncoder>) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some((_, group))) = (encoder.as_mut(), pass.bind_group.as_ref()) else {
+        return;
+    };
+    let scope = timer.begin_pass("light culling");
+    {
+        let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("light culling"),
+            timestamp_writes: timer.compute_writes(&scope),
+        });
+        cp.set_pipeline(&pass.pipeline);
+        cp.set_bind_group(0, group, &[]);
+        cp.dispatch_workgroups(pass.tile_count.0, pass.tile_count.1, 1);
+    }
+    timer.end_pass(scope);
+}
