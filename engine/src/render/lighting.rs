@@ -22,13 +22,17 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use std::collections::HashMap;
 
+/// Generations of the targets, scene buffers, shadow atlas, environment and light tiles
+/// a bind group was built from.
+type BindingGenerations = (u64, u64, u64, u64, u64);
+
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
 pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64, u64, u64, u64), wgpu::BindGroup)>,
+    bind_group: Option<(BindingGenerations, wgpu::BindGroup)>,
 }
 
 impl LightingPass {
