@@ -1,6 +1,8 @@
-// Deferred lighting pass: one full-screen triangle; per pixel, the Cook-Torrance BRDF of
-// every light that reaches it, plus emissive. Output: pre-exposed HDR luminance (rgb)
-// and coverage (a = 1 where geometry was drawn, 0 for the background).
+// Deferred lighting pass: one full-screen triangle (depth-tested where the adapter allows:
+// background pixels are not shaded); per pixel with geometry,
+// the Cook-Torrance BRDF of every light that reaches it, plus emissive. Output:
+// pre-exposed HDR luminance (rgb) and coverage (a = 1; the background keeps the pass's
+// clear colour with a = 0).
 //
 // Header constants: HAS_DIRECTIONAL, HAS_POINT, HAS_SPOT (light kinds present in the
 // scene; absent kinds compile to nothing), VISIBILITY_MODEL, DIRECTIONAL_SHADOWS,
@@ -31,6 +33,21 @@
 @group(0) @binding(12) var env_sampler: sampler;
 @group(0) @binding(13) var brdf_lut: texture_2d<f32>;
 @group(0) @binding(14) var<storage, read> light_tiles: array<u32>;
+
+// The first UNIFORM_LIGHT_CAPACITY lights again, in a uniform buffer: read from here when
+// every light fits (UNIFORM_LIGHTS), because uniform loads in the loops cost a third of
+// storage loads on lavapipe.
+struct UniformLights {
+    items: array<Light, UNIFORM_LIGHT_CAPACITY>,
+}
+@group(0) @binding(15) var<uniform> uniform_lights: UniformLights;
+
+fn light_at(i: u32) -> Light {
+    if UNIFORM_LIGHTS {
+        return uniform_lights.items[min(i, UNIFORM_LIGHT_CAPACITY - 1u)];
+    }
+    return lights[i];
+}
 
 // The number of lights to loop over for one kind whose unshadowed lights span
 // [first, end), and the tile list they come from (`list`: the word after the counts).
@@ -100,6 +117,9 @@ fn punctual_incident(light: Light, world: vec3<f32>, n: vec3<f32>) -> Incident {
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
+    // Where the adapter can depth-test against a depth buffer it also reads, the depth
+    // test already rejected the background (the pass's clear colour); elsewhere (GL) it
+    // is written here.
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
         return vec4<f32>(view.background.rgb, 0.0);
@@ -164,14 +184,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if DIRECTIONAL_SHADOWS {
             first = shadowed.x;
             for (var i = 0u; i < shadowed.x; i++) {
-                let light = lights[i];
+                let light = light_at(i);
                 let l = light.direction.xyz;
                 let lit = mix(1.0, directional_shadow(light, world, n, frag.xy, view_depth), receives);
                 color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
             }
         }
         for (var i = first; i < counts.x; i++) {
-            let light = lights[i];
+            let light = light_at(i);
             color += shade(n, v, light.direction.xyz, surface, light.color_inv_range2.rgb);
         }
     }
@@ -180,7 +200,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if POINT_SHADOWS {
             first = counts.x + shadowed.y;
             for (var i = counts.x; i < first; i++) {
-                let light = lights[i];
+                let light = light_at(i);
                 let incident = punctual_incident(light, world, n);
                 let lit = mix(1.0, point_shadow(light, world, n, incident.l, frag.xy), receives);
                 color += shade(n, v, incident.l, surface, incident.illuminance * lit);
@@ -188,7 +208,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
         let list = light_list(tile, 0u, first, counts.x + counts.y);
         for (var k = 0u; k < list.count; k++) {
-            let incident = punctual_incident(lights[list_light(list, k)], world, n);
+            let incident = punctual_incident(light_at(list_light(list, k)), world, n);
             color += shade(n, v, incident.l, surface, incident.illuminance);
         }
     }
@@ -198,7 +218,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if SPOT_SHADOWS {
             first = start + shadowed.z;
             for (var i = start; i < first; i++) {
-                let light = lights[i];
+                let light = light_at(i);
                 let incident = punctual_incident(light, world, n);
                 let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
                 let lit = mix(1.0, spot_shadow(light, world, n, incident.l, frag.xy), receives);
@@ -207,7 +227,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
         let list = light_list(tile, 1u, first, counts.w);
         for (var k = 0u; k < list.count; k++) {
-            let light = lights[list_light(list, k)];
+            let light = light_at(list_light(list, k));
             let incident = punctual_incident(light, world, n);
             let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
             color += shade(n, v, incident.l, surface, incident.illuminance * cone);

@@ -106,3 +106,31 @@ fn culling_runs_only_where_it_pays() {
     let report = app.render_headless((64, 64)).expect("frame");
     assert!(!report.plan.runs(PassId::LightCulling));
 }
+
+#[test]
+fn uniform_and_storage_light_paths_agree() {
+    // 200 lights fit the uniform copy; 400 more dark lights far away push the scene past
+    // its capacity (512), onto the storage-buffer path, without changing the light.
+    let mut small = lights_app(200);
+    let (uniform_path, _) = render(&mut small, false);
+    let mut large = lights_app(200);
+    let world = large.world_mut();
+    for k in 0..400 {
+        world.spawn((
+            PointLight {
+                intensity: LuminousIntensity::Lumens(0.0),
+                range_m: 1.0,
+                ..PointLight::default()
+            },
+            Transform::from_xyz(1000.0 + k as f32, 50.0, 0.0),
+        ));
+    }
+    let report = large.render_headless(SIZE).expect("frame");
+    assert!(
+        !report.plan.lighting.uniform_lights,
+        "600 lights must use storage"
+    );
+    let (storage_path, _) = render(&mut large, false);
+    let worst = worst_difference(&storage_path, &uniform_path);
+    assert!(worst < 1e-6, "{worst}");
+}

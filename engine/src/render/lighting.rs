@@ -6,18 +6,19 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::ibl::Ibl;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::pipelines::{
-    draw_fullscreen, filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry,
-    storage_entry, texture_load_entry, uniform_entry,
+    filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, storage_entry,
+    texture_load_entry, uniform_entry,
 };
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::shadow::pass::ShadowPass;
-use crate::render::targets::RenderTargets;
+use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use std::collections::HashMap;
@@ -32,6 +33,10 @@ pub struct LightingPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    /// Whether the adapter can depth-test against the depth buffer the shader reads
+    /// (`READ_ONLY_DEPTH_STENCIL`; GL cannot): background pixels are then rejected
+    /// before shading.
+    depth_test: bool,
     bind_group: Option<(BindingGenerations, wgpu::BindGroup)>,
 }
 
@@ -72,6 +77,7 @@ impl LightingPass {
                     filtering_sampler_entry(12),
                     sampled_texture_entry(13, wgpu::TextureViewDimension::D2),
                     storage_entry(14, wgpu::ShaderStages::FRAGMENT),
+                    uniform_entry(15, wgpu::ShaderStages::FRAGMENT),
                 ],
             });
         let pipeline_layout = gpu
@@ -85,12 +91,17 @@ impl LightingPass {
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
+            depth_test: gpu
+                .adapter
+                .get_downlevel_capabilities()
+                .flags
+                .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL),
             bind_group: None,
         }
     }
 
-    /// The WGSL of one variant.
-    pub fn source(variant: LightingVariant) -> String {
+    /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
+    pub fn source(variant: LightingVariant, uniform_capacity: u32) -> String {
         compose(
             &[
                 ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
@@ -105,6 +116,8 @@ impl LightingPass {
                 ShaderDef::Bool("ENV_MAP", variant.env_map),
                 ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
                 ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
+                ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
+                ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
             ],
             &[
                 shaders::COMMON,
@@ -126,12 +139,17 @@ impl LightingPass {
         &mut self,
         gpu: &Gpu,
         variant: LightingVariant,
+        uniform_capacity: u32,
         format: wgpu::TextureFormat,
     ) -> Result<()> {
         if self.pipelines.contains_key(&(variant, format)) {
             return Ok(());
         }
-        let module = shaders::create_module(gpu, "lighting", LightingPass::source(variant))?;
+        let module = shaders::create_module(
+            gpu,
+            "lighting",
+            LightingPass::source(variant, uniform_capacity),
+        )?;
         let pipeline = fullscreen_pipeline(
             gpu,
             "lighting",
@@ -139,7 +157,15 @@ impl LightingPass {
             &module,
             ("vs_fullscreen", "fs_main"),
             &[format],
-            None,
+            self.depth_test.then_some(wgpu::DepthStencilState {
+                format: targets::DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                // The triangle lies at depth 0: it passes where geometry was drawn
+                // (reversed Z, background 0), so background pixels are never shaded.
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
         )?;
         self.pipelines.insert((variant, format), pipeline);
         Ok(())
@@ -175,7 +201,12 @@ pub fn prepare_lighting(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, plan.lighting, t.hdr_format) {
+    if let Err(e) = pass.pipeline(
+        &gpu,
+        plan.lighting,
+        buffers.uniform_light_capacity,
+        t.hdr_format,
+    ) {
         errors.0.push(e);
         return;
     }
@@ -253,15 +284,22 @@ pub fn prepare_lighting(
                 binding: 14,
                 resource: culling.tiles.as_entire_binding(),
             },
+            wgpu::BindGroupEntry {
+                binding: 15,
+                resource: buffers.lights_uniform.as_entire_binding(),
+            },
         ],
     });
     pass.bind_group = Some((key, group));
 }
 
-/// Records the lighting pass.
+/// Records the lighting pass: the HDR target is cleared to the pre-exposed background
+/// (coverage 0), then a depth-tested full-screen triangle shades only the pixels that
+/// hold geometry.
 pub fn lighting_pass(
     plan: Res<FramePlan>,
     pass: Res<LightingPass>,
+    frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
@@ -277,12 +315,39 @@ pub fn lighting_pass(
     ) else {
         return;
     };
-    draw_fullscreen(
-        encoder,
-        timer,
-        "lighting",
-        &[&t.hdr.view],
-        pipeline,
-        bind_group,
-    );
+    let [r, g, b, _] = frame.view.background;
+    let scope = timer.begin_pass("lighting");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("lighting"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &t.hdr.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: f64::from(r),
+                        g: f64::from(g),
+                        b: f64::from(b),
+                        a: 0.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: pass.depth_test.then_some(
+                wgpu::RenderPassDepthStencilAttachment {
+                    view: &t.depth.view,
+                    depth_ops: None,
+                    stencil_ops: None,
+                },
+            ),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, bind_group, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
 }

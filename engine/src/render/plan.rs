@@ -85,6 +85,9 @@ pub struct LightingVariant {
     pub energy_compensation: bool,
     /// Unshadowed point and spot lights come from the tile lists of the culling pass.
     pub light_culling: bool,
+    /// Every light fits the uniform copy of the light array (read from it, not from the
+    /// storage buffer).
+    pub uniform_lights: bool,
 }
 
 /// This frame's plan.
@@ -114,6 +117,7 @@ impl Default for FramePlan {
                 env_map: false,
                 energy_compensation: false,
                 light_culling: false,
+                uniform_lights: false,
             },
         }
     }
@@ -158,7 +162,12 @@ fn decision(name: &'static str, enabled: bool, reason: String) -> Decision {
 }
 
 /// Decides this frame's passes and shader features from the extracted scene.
-pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: ResMut<FramePlan>) {
+pub fn plan_frame(
+    frame: Res<ExtractedFrame>,
+    quality: Res<Quality>,
+    buffers: Res<crate::render::scene_buffers::SceneBuffers>,
+    mut plan: ResMut<FramePlan>,
+) {
     let instances = frame.instances.len();
     let counts = frame.light_counts;
     let sc = frame.shadow_counts;
@@ -336,6 +345,7 @@ pub fn plan_frame(frame: Res<ExtractedFrame>, quality: Res<Quality>, mut plan: R
         env_map: features[5].enabled && env.is_some_and(|e| e.image.is_some()),
         energy_compensation: features[6].enabled,
         light_culling: culling.enabled,
+        uniform_lights: counts.total() <= buffers.uniform_light_capacity,
     };
     plan.passes = vec![
         (PassId::Shadow, shadow),
