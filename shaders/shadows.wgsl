@@ -9,6 +9,20 @@
 // read with textureLoad on GL).
 @group(0) @binding(9) var shadow_atlas_depth: texture_2d<f32>;
 
+// The first UNIFORM_SHADOW_VIEW_CAPACITY views again, in a uniform buffer, read when every
+// view fits (UNIFORM_SHADOW_VIEWS): cheaper than storage loads on lavapipe.
+struct UniformShadowViews {
+    items: array<ShadowView, UNIFORM_SHADOW_VIEW_CAPACITY>,
+}
+@group(0) @binding(16) var<uniform> uniform_shadow_views: UniformShadowViews;
+
+fn shadow_view(i: u32) -> ShadowView {
+    if UNIFORM_SHADOW_VIEWS {
+        return uniform_shadow_views.items[min(i, UNIFORM_SHADOW_VIEW_CAPACITY - 1u)];
+    }
+    return shadow_views[i];
+}
+
 const SHADOW_FILTER_HARDWARE: u32 = 0u;
 const SHADOW_FILTER_PCF: u32 = 1u;
 const SHADOW_FILTER_PCSS: u32 = 2u;
@@ -23,11 +37,21 @@ fn interleaved_gradient_noise(p: vec2<f32>) -> f32 {
     return fract(52.9829189 * fract(dot(p, vec2<f32>(0.06711056, 0.00583715))));
 }
 
-// Tap i of n on a Vogel (golden-angle spiral) disc of radius 1, rotated by phi.
-fn vogel_disk(i: u32, n: u32, phi: f32) -> vec2<f32> {
-    let r = sqrt((f32(i) + 0.5) / f32(n));
-    let theta = f32(i) * 2.39996323 + phi;
-    return vec2<f32>(cos(theta), sin(theta)) * r;
+// Vogel (golden-angle spiral) disc of radius 1: tap i at radius √((i + ½)/n) and angle
+// i · 2.39996323 plus a per-pixel rotation. The angle advances by multiplying the unit
+// direction with the golden-angle rotation, so a kernel costs one sin/cos per pixel, not
+// one per tap.
+const GOLDEN_ANGLE_ROTATION: vec2<f32> = vec2<f32>(-0.73736888, 0.67549029);
+
+// The next tap direction after `dir`.
+fn vogel_step(dir: vec2<f32>) -> vec2<f32> {
+    let r = GOLDEN_ANGLE_ROTATION;
+    return vec2<f32>(dir.x * r.x - dir.y * r.y, dir.x * r.y + dir.y * r.x);
+}
+
+// Radius of tap i of n.
+fn vogel_radius(i: u32, n: u32) -> f32 {
+    return sqrt((f32(i) + 0.5) / f32(n));
 }
 
 // Distance from the light (m) of a stored depth, for a view's `texel` parameters.
@@ -72,6 +96,7 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
         return shadow_tap(rect, local, depth, texel_uv);
     }
     let phi = interleaved_gradient_noise(frag) * 6.28318531;
+    let rotation = vec2<f32>(cos(phi), sin(phi));
     var radius = PCF_RADIUS;
     if SHADOW_FILTER == SHADOW_FILTER_PCSS {
         // Fernando 2005: average depth of the blockers inside the light's footprint, then
@@ -87,8 +112,10 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
         search = clamp(search, 1.0, PCSS_MAX_RADIUS);
         var blocker_sum = 0.0;
         var blockers = 0.0;
+        var dir = rotation;
         for (var i = 0u; i < SHADOW_TAPS; i++) {
-            let offset = vogel_disk(i, SHADOW_TAPS, phi) * search;
+            let offset = dir * (vogel_radius(i, SHADOW_TAPS) * search);
+            dir = vogel_step(dir);
             let l = clamp(local + offset * texel_uv, vec2<f32>(0.0), vec2<f32>(1.0 - texel_uv));
             let z = textureLoad(shadow_atlas_depth, vec2<i32>((rect.xy + l * rect.zw) * atlas_side), 0).r;
             if z < depth + dot(gradient, offset) {
@@ -109,8 +136,10 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
         radius = clamp(penumbra, 1.0, PCSS_MAX_RADIUS);
     }
     var lit = 0.0;
+    var dir = rotation;
     for (var i = 0u; i < SHADOW_TAPS; i++) {
-        let offset = vogel_disk(i, SHADOW_TAPS, phi) * radius;
+        let offset = dir * (vogel_radius(i, SHADOW_TAPS) * radius);
+        dir = vogel_step(dir);
         lit += shadow_tap(rect, local + offset * texel_uv, depth + dot(gradient, offset), texel_uv);
     }
     return lit / f32(SHADOW_TAPS);
@@ -122,9 +151,10 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
 // - the receiver plane (normal `n`) gives each tap its own reference depth, and
 //   `slope_bias` texels' worth of the plane's depth gradient is kept as margin.
 fn biased_shadow(index: u32, light: Light, world: vec3<f32>, n: vec3<f32>, l: vec3<f32>, frag: vec2<f32>) -> f32 {
-    let m = shadow_views[index].clip_from_world;
-    let texel = shadow_views[index].texel;
-    let rect = shadow_views[index].rect;
+    let view = shadow_view(index);
+    let m = view.clip_from_world;
+    let texel = view.texel;
+    let rect = view.rect;
     let size = rect.z * f32(textureDimensions(shadow_atlas).x);
     let clip = m * vec4<f32>(world, 1.0);
     // Orthographic: clip.w = 1; perspective: clip.w is the distance along the view axis.

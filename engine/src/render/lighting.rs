@@ -78,6 +78,7 @@ impl LightingPass {
                     sampled_texture_entry(13, wgpu::TextureViewDimension::D2),
                     storage_entry(14, wgpu::ShaderStages::FRAGMENT),
                     uniform_entry(15, wgpu::ShaderStages::FRAGMENT),
+                    uniform_entry(16, wgpu::ShaderStages::FRAGMENT),
                 ],
             });
         let pipeline_layout = gpu
@@ -117,6 +118,11 @@ impl LightingPass {
                 ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
                 ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
                 ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
+                ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
+                ShaderDef::U32(
+                    "UNIFORM_SHADOW_VIEW_CAPACITY",
+                    crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
+                ),
                 ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
             ],
             &[
@@ -287,6 +293,10 @@ pub fn prepare_lighting(
             wgpu::BindGroupEntry {
                 binding: 15,
                 resource: buffers.lights_uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 16,
+                resource: shadows.views_uniform.as_entire_binding(),
             },
         ],
     });

@@ -88,6 +88,8 @@ pub struct LightingVariant {
     /// Every light fits the uniform copy of the light array (read from it, not from the
     /// storage buffer).
     pub uniform_lights: bool,
+    /// Every shadow view fits the uniform copy of the view array.
+    pub uniform_shadow_views: bool,
 }
 
 /// This frame's plan.
@@ -118,6 +120,7 @@ impl Default for FramePlan {
                 energy_compensation: false,
                 light_culling: false,
                 uniform_lights: false,
+                uniform_shadow_views: false,
             },
         }
     }
@@ -346,6 +349,7 @@ pub fn plan_frame(
         energy_compensation: features[6].enabled,
         light_culling: culling.enabled,
         uniform_lights: counts.total() <= buffers.uniform_light_capacity,
+        uniform_shadow_views: views <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
     };
     plan.passes = vec![
         (PassId::Shadow, shadow),

@@ -38,6 +38,10 @@ pub struct ShadowPass {
     visible: GrowableBuffer,
     /// [`GpuShadowView`] per view, read by the lighting pass.
     pub gpu_views: GrowableBuffer,
+    /// The first [`UNIFORM_SHADOW_VIEWS`] views again, as a uniform buffer the lighting
+    /// pass reads when every view fits (uniform loads are cheaper on lavapipe, as for
+    /// the lights).
+    pub views_uniform: wgpu::Buffer,
     /// The depth atlas (1×1 until a frame has shadows).
     pub atlas: Target,
     /// A comparison sampler (less-equal, bilinear: hardware 2×2 PCF) for the atlas.
@@ -50,6 +54,9 @@ pub struct ShadowPass {
     /// Bumped whenever the atlas or the view buffer is recreated.
     pub generation: u64,
 }
+
+/// Shadow views the uniform copy holds (96 bytes each: 12 KiB).
+pub const UNIFORM_SHADOW_VIEWS: u32 = 128;
 
 fn atlas_target(gpu: &Gpu, side: u32) -> Target {
     Target::new(gpu, "shadow atlas", (side, side), ATLAS_FORMAT)
@@ -129,6 +136,12 @@ impl ShadowPass {
                 "shadow views",
                 16 * std::mem::size_of::<GpuShadowView>() as u64,
             ),
+            views_uniform: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shadow views (uniform)"),
+                size: u64::from(UNIFORM_SHADOW_VIEWS) * std::mem::size_of::<GpuShadowView>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             atlas: atlas_target(gpu, 1),
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow comparison"),
@@ -221,6 +234,11 @@ pub fn prepare_shadows(
     if pass.gpu_views.write(&gpu, data) {
         pass.generation += 1;
     }
+    let in_uniform = data
+        .len()
+        .min(UNIFORM_SHADOW_VIEWS as usize * std::mem::size_of::<GpuShadowView>());
+    gpu.queue
+        .write_buffer(&pass.views_uniform, 0, &data[..in_uniform]);
 
     // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh.
     let mut visible: Vec<u32> = Vec::new();
