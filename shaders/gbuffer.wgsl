@@ -7,13 +7,26 @@
 //   depth    Depth32Float   : reversed Z
 
 @group(0) @binding(0) var<uniform> view: View;
-@group(0) @binding(1) var<storage, read> instances: array<Instance>;
 
 struct VertexInput {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+}
+
+// The instance (the `Instance` layout of bindings.wgsl) as per-instance attributes.
+struct InstanceInput {
+    @location(4) world_0: vec4<f32>,
+    @location(5) world_1: vec4<f32>,
+    @location(6) world_2: vec4<f32>,
+    @location(7) world_3: vec4<f32>,
+    @location(8) normal_matrix_0: vec4<f32>,
+    @location(9) normal_matrix_1: vec4<f32>,
+    @location(10) normal_matrix_2: vec4<f32>,
+    @location(11) base_color: vec4<f32>,
+    @location(12) emissive_occlusion: vec4<f32>,
+    @location(13) params: vec4<f32>,
 }
 
 // The material is resolved once per vertex and passed flat, not read from the instance
@@ -27,9 +40,9 @@ struct VertexOutput {
 }
 
 @vertex
-fn vs_main(in: VertexInput, @builtin(instance_index) instance_index: u32) -> VertexOutput {
-    let inst = instances[instance_index];
-    let world = inst.world_from_local * vec4<f32>(in.position, 1.0);
+fn vs_main(in: VertexInput, inst: InstanceInput) -> VertexOutput {
+    let world_from_local = mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
+    let world = world_from_local * vec4<f32>(in.position, 1.0);
     let normal_matrix = mat3x3<f32>(
         inst.normal_matrix_0.xyz,
         inst.normal_matrix_1.xyz,

@@ -5,7 +5,8 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
-use crate::render::pipelines::{storage_entry, uniform_entry};
+use crate::render::gpu_types::GpuInstance;
+use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, compose};
 use crate::render::targets::{self, RenderTargets};
@@ -51,10 +52,7 @@ impl GBufferPass {
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("gbuffer"),
-                entries: &[
-                    uniform_entry(0, wgpu::ShaderStages::VERTEX),
-                    storage_entry(1, wgpu::ShaderStages::VERTEX),
-                ],
+                entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX)],
             });
         let pipeline_layout = gpu
             .device
@@ -65,6 +63,13 @@ impl GBufferPass {
             });
         let attributes = wgpu::vertex_attr_array![
             0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4
+        ];
+        // The instance buffer read as per-instance vertex attributes: on lavapipe vertex
+        // fetch is cheaper than a storage-buffer read per vertex.
+        let instance_attributes = wgpu::vertex_attr_array![
+            4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4,
+            8 => Float32x4, 9 => Float32x4, 10 => Float32x4,
+            11 => Float32x4, 12 => Float32x4, 13 => Float32x4
         ];
         let target = |format| {
             Some(wgpu::ColorTargetState {
@@ -81,11 +86,18 @@ impl GBufferPass {
                     module: &module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &attributes,
-                    })],
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<Vertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &attributes,
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<GpuInstance>() as u64,
+                            step_mode: wgpu::VertexStepMode::Instance,
+                            attributes: &instance_attributes,
+                        }),
+                    ],
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
@@ -135,16 +147,10 @@ pub fn prepare_gbuffer(gpu: Res<Gpu>, buffers: Res<SceneBuffers>, mut pass: ResM
     let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("gbuffer"),
         layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.view.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: buffers.instances.buffer.as_entire_binding(),
-            },
-        ],
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: buffers.view.as_entire_binding(),
+        }],
     });
     pass.bind_group = Some((buffers.generation, group));
 }
@@ -192,6 +198,7 @@ pub fn gbuffer_pass(
         });
         rp.set_pipeline(&pass.pipeline);
         rp.set_bind_group(0, bind_group, &[]);
+        rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
         for batch in &frame.batches {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;

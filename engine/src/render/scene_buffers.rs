@@ -18,7 +18,8 @@ pub struct GpuMesh {
     pub index_count: u32,
 }
 
-/// A storage buffer that grows (by doubling) to fit its contents.
+/// A storage buffer (also usable as a vertex buffer) that grows (by doubling) to fit its
+/// contents.
 pub struct GrowableBuffer {
     /// The buffer.
     pub buffer: wgpu::Buffer,
@@ -32,7 +33,9 @@ impl GrowableBuffer {
             buffer: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: size.max(256),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::VERTEX
+                    | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             label,

@@ -10,7 +10,6 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
-use crate::render::pipelines::storage_entry;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shaders::{self, compose};
 use crate::render::targets::Target;
@@ -71,20 +70,16 @@ impl ShadowPass {
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("shadow casters"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: true,
-                            min_binding_size: wgpu::BufferSize::new(64),
-                        },
-                        count: None,
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: wgpu::BufferSize::new(64),
                     },
-                    storage_entry(1, wgpu::ShaderStages::VERTEX),
-                    storage_entry(2, wgpu::ShaderStages::VERTEX),
-                ],
+                    count: None,
+                }],
             });
         let pipeline_layout = gpu
             .device
@@ -94,6 +89,11 @@ impl ShadowPass {
                 immediate_size: 0,
             });
         let attributes = wgpu::vertex_attr_array![0 => Float32x3];
+        // Each visible caster's world matrix, per instance (vertex fetch is cheaper than
+        // storage reads on lavapipe).
+        let instance_attributes = wgpu::vertex_attr_array![
+            1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
+        ];
         let pipeline = gpu.checked("shadow pipeline", |device| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("shadow"),
@@ -102,11 +102,18 @@ impl ShadowPass {
                     module: &module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &attributes,
-                    })],
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<Vertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &attributes,
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: 64,
+                            step_mode: wgpu::VertexStepMode::Instance,
+                            attributes: &instance_attributes,
+                        }),
+                    ],
                 },
                 // Both faces cast: single-sided planes and open meshes must shadow too.
                 primitive: wgpu::PrimitiveState {
@@ -173,12 +180,7 @@ fn caster_view_buffer(gpu: &Gpu, views: usize) -> wgpu::Buffer {
 }
 
 /// Packs the atlas, uploads the views, culls casters per view and (re)builds bindings.
-pub fn prepare_shadows(
-    gpu: Res<Gpu>,
-    frame: Res<ExtractedFrame>,
-    buffers: Res<SceneBuffers>,
-    mut pass: ResMut<ShadowPass>,
-) {
+pub fn prepare_shadows(gpu: Res<Gpu>, frame: Res<ExtractedFrame>, mut pass: ResMut<ShadowPass>) {
     let pass = &mut *pass;
     pass.views.clear();
     let requests: Vec<u32> = frame.shadow_views.iter().map(|v| v.resolution).collect();
@@ -241,7 +243,7 @@ pub fn prepare_shadows(
         .write_buffer(&pass.views_uniform, 0, &data[..in_uniform]);
 
     // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh.
-    let mut visible: Vec<u32> = Vec::new();
+    let mut visible: Vec<[[f32; 4]; 4]> = Vec::new();
     let mut caster_views: Vec<GpuCasterView> = Vec::new();
     for ((view, rect), p) in frame.shadow_views.iter().zip(&layout.rects).zip(&placed) {
         if p.is_none() {
@@ -258,7 +260,12 @@ pub fn prepare_shadows(
                 Some(d) if d.0 == caster.mesh => d.2 += 1,
                 _ => draws.push((caster.mesh, index, 1)),
             }
-            visible.push(caster.instance);
+            visible.push(
+                frame
+                    .instances
+                    .get(caster.instance as usize)
+                    .map_or([[0.0; 4]; 4], |i| i.world_from_local),
+            );
         }
         caster_views.push(GpuCasterView {
             clip_from_world: view.clip_from_world.to_cols_array_2d(),
@@ -278,12 +285,12 @@ pub fn prepare_shadows(
     gpu.queue
         .write_buffer(&pass.caster_views, 0, bytemuck::cast_slice(&caster_views));
     if visible.is_empty() {
-        visible.push(0);
+        visible.push([[0.0; 4]; 4]);
     }
     if pass.visible.write(&gpu, bytemuck::cast_slice(&visible)) {
         pass.caster_generation += 1;
     }
-    let key = pass.caster_generation + (buffers.generation << 32);
+    let key = pass.caster_generation;
     if pass
         .caster_bind_group
         .as_ref()
@@ -292,24 +299,14 @@ pub fn prepare_shadows(
         let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("shadow casters"),
             layout: &pass.caster_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &pass.caster_views,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: buffers.instances.buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: pass.visible.buffer.as_entire_binding(),
-                },
-            ],
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &pass.caster_views,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(64),
+                }),
+            }],
         });
         pass.caster_bind_group = Some((key, group));
     }
@@ -345,6 +342,7 @@ pub fn shadow_pass(
             multiview_mask: None,
         });
         rp.set_pipeline(&pass.pipeline);
+        rp.set_vertex_buffer(1, pass.visible.buffer.slice(..));
         for (i, view) in pass.views.iter().enumerate() {
             let r = view.rect;
             rp.set_viewport(
