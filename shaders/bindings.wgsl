@@ -56,6 +56,23 @@ struct Light {
     shadow_bias: vec4<f32>,
 }
 
+// The part of a light its unshadowed loop reads (48 bytes): position (m, xyz) and
+// 1/range² (w); colour × intensity × exposure (rgb) and spot cone scale (w); direction
+// (xyz) and spot cone offset (w).
+struct PunctualLight {
+    position_inv_range2: vec4<f32>,
+    color_spot_scale: vec4<f32>,
+    direction_spot_offset: vec4<f32>,
+}
+
+fn punctual_of(light: Light) -> PunctualLight {
+    return PunctualLight(
+        vec4<f32>(light.position.xyz, light.color_inv_range2.w),
+        vec4<f32>(light.color_inv_range2.rgb, light.spot.x),
+        vec4<f32>(light.direction.xyz, light.spot.y),
+    );
+}
+
 // One shadow view in the atlas.
 struct ShadowView {
     clip_from_world: mat4x4<f32>,

@@ -1,143 +1,139 @@
 // Tiled light culling (compute; Harada et al. 2012, "Forward+"; Olsson & Assarsson 2011,
-// "Tiled Shading"). One 8×8 workgroup per 16×16-pixel screen tile (each invocation reads
-// 2×2 pixels; fewer invocations make the barriers cheaper on CPU rasterizers): the tile's
-// depth bounds from the G-buffer depth, then the tile's frustum between them as four side
-// planes through the eye, a view-depth interval and a world-space box. Every unshadowed
-// point and spot light whose range sphere meets all three is listed for the tile. Lights without a range (1/range² = 0) meet every tile. Background-only tiles list
-// nothing. Needs common, bindings, light_tiles.
+// "Tiled Shading"). One invocation per 16×16-pixel screen tile: the tile's depth bounds
+// from the G-buffer depth, then the tile's frustum between them as four side planes
+// through the eye, a view-depth interval and a world-space box. Every unshadowed point
+// and spot light whose range sphere meets all three is listed for the tile. Lights
+// without a range (1/range² = 0) meet every tile. Background-only tiles list nothing.
+// An invocation per tile needs no barrier and no atomic, which costs a quarter of the
+// cooperative 8×8-workgroup version on lavapipe (measured). Needs common, bindings,
+// light_tiles.
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;
 @group(0) @binding(2) var depth_buffer: texture_2d<f32>;
 @group(0) @binding(3) var<storage, read_write> tiles: array<u32>;
 
-var<workgroup> depth_min: atomic<u32>;
-var<workgroup> depth_max: atomic<u32>;
-var<workgroup> point_count: atomic<u32>;
-var<workgroup> spot_count: atomic<u32>;
-var<workgroup> box_min: vec3<f32>;
-var<workgroup> box_max: vec3<f32>;
-// Inward side planes (normal, offset) and the view-depth interval of the tile.
-var<workgroup> planes: array<vec4<f32>, 4>;
-var<workgroup> depth_range: vec2<f32>;
-var<workgroup> has_geometry: u32;
+// The compact copy the lighting pass reads too (UNIFORM_LIGHTS: every light fits).
+struct UniformLights {
+    items: array<PunctualLight, UNIFORM_LIGHT_CAPACITY>,
+}
+@group(0) @binding(4) var<uniform> uniform_lights: UniformLights;
 
-// Whether the light's range sphere meets the tile's box, side planes and depth interval.
-fn reaches(light: Light, lo: vec3<f32>, hi: vec3<f32>, sides: array<vec4<f32>, 4>, depths: vec2<f32>) -> bool {
-    let inv_range2 = light.color_inv_range2.w;
+// Position (xyz) and 1/range² (w) of light i.
+fn light_sphere(i: u32) -> vec4<f32> {
+    if UNIFORM_LIGHTS {
+        return uniform_lights.items[min(i, UNIFORM_LIGHT_CAPACITY - 1u)].position_inv_range2;
+    }
+    return vec4<f32>(lights[i].position.xyz, lights[i].color_inv_range2.w);
+}
+
+// The tile's bounds: a world-space box, inward side planes (normal, offset) and the
+// view-depth interval.
+struct TileBounds {
+    lo: vec3<f32>,
+    hi: vec3<f32>,
+    sides: array<vec4<f32>, 4>,
+    depths: vec2<f32>,
+}
+
+// Whether the range sphere (position xyz, 1/range² w) meets the tile's bounds.
+fn reaches(sphere: vec4<f32>, b: TileBounds) -> bool {
+    let inv_range2 = sphere.w;
     if !(inv_range2 > 0.0) {
         return true;
     }
-    let p = light.position.xyz;
+    let p = sphere.xyz;
     let r = inverseSqrt(inv_range2);
-    let d = max(max(lo - p, p - hi), vec3<f32>(0.0));
+    let d = max(max(b.lo - p, p - b.hi), vec3<f32>(0.0));
     var inside = dot(d, d) <= r * r;
     for (var k = 0u; k < 4u; k++) {
-        inside = inside && dot(sides[k].xyz, p) + sides[k].w >= -r;
+        inside = inside && dot(b.sides[k].xyz, p) + b.sides[k].w >= -r;
     }
     let z = dot(p - view.position_exposure.xyz, view.forward.xyz);
-    return inside && z >= depths.x - r && z <= depths.y + r;
+    return inside && z >= b.depths.x - r && z <= b.depths.y + r;
 }
 
-const GROUP: u32 = 64u;
+// The bounds of the tile `tile` between the reversed-Z depths `depths` (nearest is the
+// larger value).
+fn tile_bounds(tile: vec2<u32>, depths: vec2<f32>) -> TileBounds {
+    let uv_lo = vec2<f32>(tile * TILE_SIZE) * view.viewport.zw;
+    let uv_hi = min(vec2<f32>((tile + 1u) * TILE_SIZE) * view.viewport.zw, vec2<f32>(1.0));
+    var b: TileBounds;
+    b.lo = vec3<f32>(3.0e38);
+    b.hi = vec3<f32>(-3.0e38);
+    b.depths = vec2<f32>(3.0e38, -3.0e38);
+    var corners: array<vec3<f32>, 4>;
+    let eye = view.position_exposure.xyz;
+    for (var k = 0u; k < 8u; k++) {
+        let uv = select(uv_lo, uv_hi, vec2<bool>((k & 1u) != 0u, (k & 2u) != 0u));
+        let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, select(depths.x, depths.y, (k & 4u) != 0u), 1.0);
+        let w = view.world_from_clip * ndc;
+        let p = w.xyz / w.w;
+        b.lo = min(b.lo, p);
+        b.hi = max(b.hi, p);
+        let depth = dot(p - eye, view.forward.xyz);
+        b.depths = vec2<f32>(min(b.depths.x, depth), max(b.depths.y, depth));
+        corners[k & 3u] = p - eye;
+    }
+    // Corners 0 (lo, lo), 1 (hi, lo), 3 (hi, hi), 2 (lo, hi) go round the tile; each side
+    // plane holds the eye and two neighbouring corner rays, its normal towards the tile's
+    // centre ray.
+    let centre = corners[0] + corners[1] + corners[2] + corners[3];
+    let ring = array<u32, 5>(0u, 1u, 3u, 2u, 0u);
+    for (var k = 0u; k < 4u; k++) {
+        var n = normalize(cross(corners[ring[k]], corners[ring[k + 1u]]));
+        n = select(n, -n, dot(n, centre) < 0.0);
+        b.sides[k] = vec4<f32>(n, -dot(n, eye));
+    }
+    return b;
+}
 
 @compute @workgroup_size(8, 8, 1)
-fn cs_cull(
-    @builtin(workgroup_id) tile: vec3<u32>,
-    @builtin(local_invocation_id) local: vec3<u32>,
-    @builtin(local_invocation_index) index: u32,
-) {
-    if index == 0u {
-        atomicStore(&depth_min, 0x7f800000u);
-        atomicStore(&depth_max, 0u);
-        atomicStore(&point_count, 0u);
-        atomicStore(&spot_count, 0u);
-    }
-    workgroupBarrier();
+fn cs_cull(@builtin(global_invocation_id) id: vec3<u32>) {
     let size = vec2<u32>(view.viewport.xy);
-    // Reversed Z: 0 is the background; positive floats order like their bits.
-    var lo_bits = 0x7f800000u;
-    var hi_bits = 0u;
-    for (var k = 0u; k < 4u; k++) {
-        let pixel = tile.xy * TILE_SIZE + local.xy * 2u + vec2<u32>(k & 1u, k >> 1u);
-        if all(pixel < size) {
-            let d = textureLoad(depth_buffer, vec2<i32>(pixel), 0).r;
+    let tiles_xy = (size + TILE_SIZE - 1u) / TILE_SIZE;
+    if any(id.xy >= tiles_xy) {
+        return;
+    }
+    let tile = id.xy;
+    let base = (tile.y * tiles_xy.x + tile.x) * TILE_STRIDE;
+    // Reversed Z: 0 is the background.
+    let origin = tile * TILE_SIZE;
+    let end = min(origin + TILE_SIZE, size);
+    var far_depth = 3.0e38;
+    var near_depth = 0.0;
+    for (var y = origin.y; y < end.y; y++) {
+        for (var x = origin.x; x < end.x; x++) {
+            let d = textureLoad(depth_buffer, vec2<i32>(i32(x), i32(y)), 0).r;
             if d > 0.0 {
-                lo_bits = min(lo_bits, bitcast<u32>(d));
-                hi_bits = max(hi_bits, bitcast<u32>(d));
+                far_depth = min(far_depth, d);
+                near_depth = max(near_depth, d);
             }
         }
     }
-    atomicMin(&depth_min, lo_bits);
-    atomicMax(&depth_max, hi_bits);
-    workgroupBarrier();
-    if index == 0u {
-        let max_bits = atomicLoad(&depth_max);
-        has_geometry = select(0u, 1u, max_bits != 0u);
-        let depths = vec2<f32>(bitcast<f32>(atomicLoad(&depth_min)), bitcast<f32>(max_bits));
-        let uv_lo = vec2<f32>(tile.xy * TILE_SIZE) * view.viewport.zw;
-        let uv_hi = min(vec2<f32>((tile.xy + 1u) * TILE_SIZE) * view.viewport.zw, vec2<f32>(1.0));
-        var lo = vec3<f32>(3.0e38);
-        var hi = vec3<f32>(-3.0e38);
-        var z = vec2<f32>(3.0e38, -3.0e38);
-        var corners: array<vec3<f32>, 4>;
-        let eye = view.position_exposure.xyz;
-        for (var k = 0u; k < 8u; k++) {
-            let uv = select(uv_lo, uv_hi, vec2<bool>((k & 1u) != 0u, (k & 2u) != 0u));
-            let ndc = vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, select(depths.x, depths.y, (k & 4u) != 0u), 1.0);
-            let w = view.world_from_clip * ndc;
-            let p = w.xyz / w.w;
-            lo = min(lo, p);
-            hi = max(hi, p);
-            let depth = dot(p - eye, view.forward.xyz);
-            z = vec2<f32>(min(z.x, depth), max(z.y, depth));
-            corners[k & 3u] = p - eye;
-        }
-        box_min = lo;
-        box_max = hi;
-        depth_range = z;
-        // Corners 0 (lo, lo), 1 (hi, lo), 3 (hi, hi), 2 (lo, hi) go round the tile; each
-        // side plane holds the eye and two neighbouring corner rays, its normal towards
-        // the tile's centre ray.
-        let centre = corners[0] + corners[1] + corners[2] + corners[3];
-        let ring = array<u32, 5>(0u, 1u, 3u, 2u, 0u);
-        for (var k = 0u; k < 4u; k++) {
-            var n = normalize(cross(corners[ring[k]], corners[ring[k + 1u]]));
-            n = select(n, -n, dot(n, centre) < 0.0);
-            planes[k] = vec4<f32>(n, -dot(n, eye));
-        }
-    }
-    let tile_has_geometry = workgroupUniformLoad(&has_geometry);
-    let base = (tile.y * ((size.x + TILE_SIZE - 1u) / TILE_SIZE) + tile.x) * TILE_STRIDE;
-    if tile_has_geometry != 0u {
-        let lo = box_min;
-        let hi = box_max;
-        let sides = planes;
-        let depths = depth_range;
+    var points = 0u;
+    var spots = 0u;
+    if near_depth > 0.0 {
+        let b = tile_bounds(tile, vec2<f32>(far_depth, near_depth));
         let counts = view.light_counts;
         let shadowed = view.shadowed_counts;
-        for (var i = counts.x + shadowed.y + index; i < counts.x + counts.y; i += GROUP) {
-            if reaches(lights[i], lo, hi, sides, depths) {
-                let slot = atomicAdd(&point_count, 1u);
-                if slot < MAX_TILE_LIGHTS {
-                    tiles[base + 2u + slot] = i;
+        for (var i = counts.x + shadowed.y; i < counts.x + counts.y; i++) {
+            if reaches(light_sphere(i), b) {
+                if points < MAX_TILE_LIGHTS {
+                    tiles[base + 2u + points] = i;
                 }
+                points += 1u;
             }
         }
-        for (var i = counts.x + counts.y + shadowed.z + index; i < counts.w; i += GROUP) {
-            if reaches(lights[i], lo, hi, sides, depths) {
-                let slot = atomicAdd(&spot_count, 1u);
-                if slot < MAX_TILE_LIGHTS {
-                    tiles[base + 2u + MAX_TILE_LIGHTS + slot] = i;
+        for (var i = counts.x + counts.y + shadowed.z; i < counts.w; i++) {
+            if reaches(light_sphere(i), b) {
+                if spots < MAX_TILE_LIGHTS {
+                    tiles[base + 2u + MAX_TILE_LIGHTS + spots] = i;
                 }
+                spots += 1u;
             }
         }
     }
-    workgroupBarrier();
-    if index == 0u {
-        let points = atomicLoad(&point_count);
-        let spots = atomicLoad(&spot_count);
-        tiles[base] = select(points, TILE_OVERFLOW, points > MAX_TILE_LIGHTS);
-        tiles[base + 1u] = select(spots, TILE_OVERFLOW, spots > MAX_TILE_LIGHTS);
-    }
+    tiles[base] = select(points, TILE_OVERFLOW, points > MAX_TILE_LIGHTS);
+    tiles[base + 1u] = select(spots, TILE_OVERFLOW, spots > MAX_TILE_LIGHTS);
 }

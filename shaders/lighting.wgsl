@@ -34,19 +34,35 @@
 @group(0) @binding(13) var brdf_lut: texture_2d<f32>;
 @group(0) @binding(14) var<storage, read> light_tiles: array<u32>;
 
-// The first UNIFORM_LIGHT_CAPACITY lights again, in a uniform buffer: read from here when
-// every light fits (UNIFORM_LIGHTS), because uniform loads in the loops cost a third of
-// storage loads on lavapipe.
+// The first UNIFORM_LIGHT_CAPACITY lights again, compact, in a uniform buffer: the
+// unshadowed loops read from here when every light fits (UNIFORM_LIGHTS), because uniform
+// loads in the loops cost a third of storage loads on lavapipe. Shadowed lights, few and
+// each far costlier, read the full `lights` entry.
 struct UniformLights {
-    items: array<Light, UNIFORM_LIGHT_CAPACITY>,
+    items: array<PunctualLight, UNIFORM_LIGHT_CAPACITY>,
 }
 @group(0) @binding(15) var<uniform> uniform_lights: UniformLights;
 
-fn light_at(i: u32) -> Light {
+// The shadowed lights again, whole and packed (directional, point, spot): read from here
+// when UNIFORM_LIGHTS.
+struct ShadowedLights {
+    items: array<Light, SHADOWED_LIGHT_CAPACITY>,
+}
+@group(0) @binding(17) var<uniform> shadowed_lights: ShadowedLights;
+
+// Shadowed light i of `lights`, the `slot`-th shadowed light overall.
+fn shadowed_light(i: u32, slot: u32) -> Light {
+    if UNIFORM_LIGHTS {
+        return shadowed_lights.items[min(slot, SHADOWED_LIGHT_CAPACITY - 1u)];
+    }
+    return lights[i];
+}
+
+fn punctual_at(i: u32) -> PunctualLight {
     if UNIFORM_LIGHTS {
         return uniform_lights.items[min(i, UNIFORM_LIGHT_CAPACITY - 1u)];
     }
-    return lights[i];
+    return punctual_of(lights[i]);
 }
 
 // The number of lights to loop over for one kind whose unshadowed lights span
@@ -105,12 +121,12 @@ struct Incident {
     illuminance: vec3<f32>,
 }
 
-fn punctual_incident(light: Light, world: vec3<f32>, n: vec3<f32>) -> Incident {
-    let to_light = light.position.xyz - world;
+fn punctual_incident(light: PunctualLight, world: vec3<f32>, n: vec3<f32>) -> Incident {
+    let to_light = light.position_inv_range2.xyz - world;
     let d2 = dot(to_light, to_light);
     var incident: Incident;
     incident.l = safe_normalize(to_light, n);
-    incident.illuminance = light.color_inv_range2.rgb * distance_attenuation(d2, light.color_inv_range2.w);
+    incident.illuminance = light.color_spot_scale.rgb * distance_attenuation(d2, light.position_inv_range2.w);
     return incident;
 }
 
@@ -184,15 +200,15 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if DIRECTIONAL_SHADOWS {
             first = shadowed.x;
             for (var i = 0u; i < shadowed.x; i++) {
-                let light = light_at(i);
+                let light = shadowed_light(i, i);
                 let l = light.direction.xyz;
                 let lit = mix(1.0, directional_shadow(light, world, n, frag.xy, view_depth), receives);
                 color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
             }
         }
         for (var i = first; i < counts.x; i++) {
-            let light = light_at(i);
-            color += shade(n, v, light.direction.xyz, surface, light.color_inv_range2.rgb);
+            let light = punctual_at(i);
+            color += shade(n, v, light.direction_spot_offset.xyz, surface, light.color_spot_scale.rgb);
         }
     }
     if HAS_POINT {
@@ -200,15 +216,15 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if POINT_SHADOWS {
             first = counts.x + shadowed.y;
             for (var i = counts.x; i < first; i++) {
-                let light = light_at(i);
-                let incident = punctual_incident(light, world, n);
+                let light = shadowed_light(i, i - counts.x + shadowed.x);
+                let incident = punctual_incident(punctual_of(light), world, n);
                 let lit = mix(1.0, point_shadow(light, world, n, incident.l, frag.xy), receives);
                 color += shade(n, v, incident.l, surface, incident.illuminance * lit);
             }
         }
         let list = light_list(tile, 0u, first, counts.x + counts.y);
         for (var k = 0u; k < list.count; k++) {
-            let incident = punctual_incident(light_at(list_light(list, k)), world, n);
+            let incident = punctual_incident(punctual_at(list_light(list, k)), world, n);
             color += shade(n, v, incident.l, surface, incident.illuminance);
         }
     }
@@ -218,8 +234,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         if SPOT_SHADOWS {
             first = start + shadowed.z;
             for (var i = start; i < first; i++) {
-                let light = light_at(i);
-                let incident = punctual_incident(light, world, n);
+                let light = shadowed_light(i, i - start + shadowed.x + shadowed.y);
+                let incident = punctual_incident(punctual_of(light), world, n);
                 let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
                 let lit = mix(1.0, spot_shadow(light, world, n, incident.l, frag.xy), receives);
                 color += shade(n, v, incident.l, surface, incident.illuminance * (cone * lit));
@@ -227,9 +243,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
         let list = light_list(tile, 1u, first, counts.w);
         for (var k = 0u; k < list.count; k++) {
-            let light = light_at(list_light(list, k));
+            let light = punctual_at(list_light(list, k));
             let incident = punctual_incident(light, world, n);
-            let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
+            let cone = spot_attenuation(dot(-incident.l, light.direction_spot_offset.xyz), light.color_spot_scale.w, light.direction_spot_offset.w);
             color += shade(n, v, incident.l, surface, incident.illuminance * cone);
         }
     }

@@ -109,13 +109,38 @@ fn culling_runs_only_where_it_pays() {
 
 #[test]
 fn uniform_and_storage_light_paths_agree() {
-    // 200 lights fit the uniform copy; 400 more dark lights far away push the scene past
-    // its capacity (512), onto the storage-buffer path, without changing the light.
+    // 200 lights fit the uniform copy; 1200 more dark lights far away push the scene past
+    // its capacity (1365 compact lights in 64 KiB), onto the storage-buffer path, without
+    // changing the light.
+    // A shadowed sun and a shadowed spot light exercise the packed shadowed-light copy
+    // (the spot comes after every point light, so its slot is not its index).
+    let add_shadowed = |app: &mut App| {
+        let world = app.world_mut();
+        world.spawn((
+            DirectionalLight {
+                illuminance_lux: 2.0,
+                cast_shadows: true,
+                ..DirectionalLight::default()
+            },
+            Transform::from_xyz(0.0, 10.0, 0.0).looking_at(Vec3::new(3.0, 0.0, 1.0), Vec3::Y),
+        ));
+        world.spawn((
+            SpotLight {
+                intensity: LuminousIntensity::Lumens(5_000.0),
+                range_m: 30.0,
+                cast_shadows: true,
+                ..SpotLight::default()
+            },
+            Transform::from_xyz(-4.0, 8.0, 4.0).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+    };
     let mut small = lights_app(200);
+    add_shadowed(&mut small);
     let (uniform_path, _) = render(&mut small, false);
     let mut large = lights_app(200);
+    add_shadowed(&mut large);
     let world = large.world_mut();
-    for k in 0..400 {
+    for k in 0..1200 {
         world.spawn((
             PointLight {
                 intensity: LuminousIntensity::Lumens(0.0),
@@ -128,9 +153,17 @@ fn uniform_and_storage_light_paths_agree() {
     let report = large.render_headless(SIZE).expect("frame");
     assert!(
         !report.plan.lighting.uniform_lights,
-        "600 lights must use storage"
+        "1400 lights must use storage"
     );
     let (storage_path, _) = render(&mut large, false);
     let worst = worst_difference(&storage_path, &uniform_path);
+    assert!(worst < 1e-6, "{worst}");
+    // The culling pass reads the storage buffer too; its lists give the same image.
+    let (storage_culled, ran) = render(&mut large, true);
+    assert!(ran);
+    let (uniform_culled, _) = render(&mut small, true);
+    let worst = worst_difference(&storage_culled, &uniform_path);
+    assert!(worst < 2e-3, "{worst}");
+    let worst = worst_difference(&storage_culled, &uniform_culled);
     assert!(worst < 1e-6, "{worst}");
 }

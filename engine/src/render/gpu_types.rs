@@ -64,6 +64,33 @@ pub struct GpuLight {
     pub shadow_bias: [f32; 4],
 }
 
+/// The part of a light that its unshadowed loop reads (`PunctualLight` in WGSL): 48
+/// bytes, so 1365 fit a 64 KiB uniform buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuPunctualLight {
+    /// Position in metres (xyz) and 1/range² in 1/m² (w, 0 = unlimited).
+    pub position_inv_range2: [f32; 4],
+    /// Colour × intensity × exposure (rgb: lux or candela) and the spot cone scale (w).
+    pub color_spot_scale: [f32; 4],
+    /// Unit vector towards the light (directional) or the spot axis (xyz), and the spot
+    /// cone offset (w).
+    pub direction_spot_offset: [f32; 4],
+}
+
+impl From<&GpuLight> for GpuPunctualLight {
+    fn from(light: &GpuLight) -> Self {
+        let [px, py, pz, _] = light.position;
+        let [r, g, b, inv_range2] = light.color_inv_range2;
+        let [dx, dy, dz, _] = light.direction;
+        GpuPunctualLight {
+            position_inv_range2: [px, py, pz, inv_range2],
+            color_spot_scale: [r, g, b, light.spot[0]],
+            direction_spot_offset: [dx, dy, dz, light.spot[1]],
+        }
+    }
+}
+
 /// One shadow view in the atlas (`ShadowView` in WGSL).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]

@@ -6,9 +6,10 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
-use crate::render::frame::FrameEncoder;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, compose};
+use crate::render::shaders::{self, ShaderDef, compose};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -23,10 +24,16 @@ const TILE_STRIDE: u32 = 2 + 2 * MAX_TILE_LIGHTS;
 /// culling pass costs more than it saves (README, "Light culling", measured on lavapipe).
 pub const LIGHT_CULLING_MIN_LIGHTS: u32 = 8;
 
-/// The culling pipeline, the tile buffer and its bind group.
+/// The culling pipelines (compiled on first use, one per light source: the compact
+/// uniform copy or the storage buffer), the tile buffer and its bind group.
 #[derive(Resource)]
 pub struct LightCullingPass {
-    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// Index 1: lights read from the uniform copy; 0: from the storage buffer.
+    pipelines: [Option<wgpu::ComputePipeline>; 2],
+    /// The variant this frame dispatches.
+    uniform_lights: bool,
     /// Tile lists, read by the lighting pass (a 16-byte placeholder until culling runs).
     pub tiles: wgpu::Buffer,
     /// Bumped whenever `tiles` is recreated.
@@ -36,38 +43,93 @@ pub struct LightCullingPass {
 }
 
 impl LightCullingPass {
-    /// Compiles the pass.
-    pub fn new(gpu: &Gpu) -> Result<Self> {
-        let module = shaders::create_module(
-            gpu,
-            "light culling",
-            compose(
-                &[],
-                &[
-                    shaders::COMMON,
-                    shaders::BINDINGS,
-                    shaders::LIGHT_TILES,
-                    shaders::LIGHT_CULLING,
+    /// The bind group layout and an empty tile buffer; no pipeline is compiled yet.
+    pub fn new(gpu: &Gpu) -> Self {
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("light culling"),
+                entries: &[
+                    uniform_entry(0, compute),
+                    storage_entry(1, compute),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 2,
+                        visibility: compute,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 3,
+                        visibility: compute,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Storage { read_only: false },
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    uniform_entry(4, compute),
                 ],
-            ),
-        )?;
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("light culling"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        LightCullingPass {
+            layout,
+            pipeline_layout,
+            pipelines: [None, None],
+            uniform_lights: false,
+            tiles: tile_buffer(gpu, 16),
+            generation: 0,
+            tile_count: (0, 0),
+            bind_group: None,
+        }
+    }
+
+    /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
+    pub fn source(uniform_lights: bool, uniform_capacity: u32) -> String {
+        compose(
+            &[
+                ShaderDef::Bool("UNIFORM_LIGHTS", uniform_lights),
+                ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
+            ],
+            &[
+                shaders::COMMON,
+                shaders::BINDINGS,
+                shaders::LIGHT_TILES,
+                shaders::LIGHT_CULLING,
+            ],
+        )
+    }
+
+    fn ensure_pipeline(&mut self, gpu: &Gpu, uniform_lights: bool, capacity: u32) -> Result<()> {
+        let slot = usize::from(uniform_lights);
+        if self.pipelines[slot].is_some() {
+            return Ok(());
+        }
+        let module =
+            shaders::create_module(gpu, "light culling", Self::source(uniform_lights, capacity))?;
         let pipeline = gpu.checked("light culling pipeline", |device| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("light culling"),
-                layout: None,
+                layout: Some(&self.pipeline_layout),
                 module: &module,
                 entry_point: Some("cs_cull"),
                 compilation_options: Default::default(),
                 cache: None,
             })
         })?;
-        Ok(LightCullingPass {
-            pipeline,
-            tiles: tile_buffer(gpu, 16),
-            generation: 0,
-            tile_count: (0, 0),
-            bind_group: None,
-        })
+        self.pipelines[slot] = Some(pipeline);
+        Ok(())
     }
 }
 
@@ -85,13 +147,15 @@ pub fn tile_count(size: (u32, u32)) -> (u32, u32) {
     (size.0.div_ceil(TILE_SIZE), size.1.div_ceil(TILE_SIZE))
 }
 
-/// Sizes the tile buffer for this frame's target and rebuilds the bind group on changes.
+/// Compiles the variant this frame needs, sizes the tile buffer for this frame's target
+/// and rebuilds the bind group on changes.
 pub fn prepare_light_culling(
     gpu: Res<Gpu>,
     plan: Res<crate::render::plan::FramePlan>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
     mut pass: ResMut<LightCullingPass>,
+    mut errors: ResMut<FrameErrors>,
 ) {
     let Some(t) = targets.current.as_ref() else {
         return;
@@ -99,6 +163,12 @@ pub fn prepare_light_culling(
     if !plan.lighting.light_culling {
         return;
     }
+    let uniform_lights = plan.lighting.uniform_lights;
+    if let Err(e) = pass.ensure_pipeline(&gpu, uniform_lights, buffers.uniform_light_capacity) {
+        errors.0.push(e);
+        return;
+    }
+    pass.uniform_lights = uniform_lights;
     let count = tile_count(t.size);
     if pass.tile_count != count {
         let words = u64::from(count.0) * u64::from(count.1) * u64::from(TILE_STRIDE);
@@ -112,7 +182,7 @@ pub fn prepare_light_culling(
     }
     let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("light culling"),
-        layout: &pass.pipeline.get_bind_group_layout(0),
+        layout: &pass.layout,
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
@@ -130,15 +200,22 @@ pub fn prepare_light_culling(
                 binding: 3,
                 resource: pass.tiles.as_entire_binding(),
             },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: buffers.lights_uniform.as_entire_binding(),
+            },
         ],
     });
     pass.bind_group = Some((key, group));
 }
 
-/// Records the culling dispatch: one workgroup per tile.
+/// Records the culling dispatch: one invocation per tile, in 8×8 workgroups.
 pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, group))) = (encoder.as_mut(), pass.bind_group.as_ref()) else {
+    let pipeline = pass.pipelines[usize::from(pass.uniform_lights)].as_ref();
+    let (Some(encoder), Some((_, group)), Some(pipeline)) =
+        (encoder.as_mut(), pass.bind_group.as_ref(), pipeline)
+    else {
         return;
     };
     let scope = timer.begin_pass("light culling");
@@ -147,9 +224,13 @@ pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<Frame
             label: Some("light culling"),
             timestamp_writes: timer.compute_writes(&scope),
         });
-        cp.set_pipeline(&pass.pipeline);
+        cp.set_pipeline(pipeline);
         cp.set_bind_group(0, group, &[]);
-        cp.dispatch_workgroups(pass.tile_count.0, pass.tile_count.1, 1);
+        cp.dispatch_workgroups(
+            pass.tile_count.0.div_ceil(8),
+            pass.tile_count.1.div_ceil(8),
+            1,
+        );
     }
     timer.end_pass(scope);
 }

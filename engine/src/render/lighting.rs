@@ -79,6 +79,7 @@ impl LightingPass {
                     storage_entry(14, wgpu::ShaderStages::FRAGMENT),
                     uniform_entry(15, wgpu::ShaderStages::FRAGMENT),
                     uniform_entry(16, wgpu::ShaderStages::FRAGMENT),
+                    uniform_entry(17, wgpu::ShaderStages::FRAGMENT),
                 ],
             });
         let pipeline_layout = gpu
@@ -124,6 +125,10 @@ impl LightingPass {
                     crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
                 ),
                 ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
+                ShaderDef::U32(
+                    "SHADOWED_LIGHT_CAPACITY",
+                    crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
+                ),
             ],
             &[
                 shaders::COMMON,
@@ -297,6 +302,10 @@ pub fn prepare_lighting(
             wgpu::BindGroupEntry {
                 binding: 16,
                 resource: shadows.views_uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 17,
+                resource: buffers.shadowed_lights_uniform.as_entire_binding(),
             },
         ],
     });

@@ -69,7 +69,7 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
     world.insert_resource(lighting::LightingPass::new(&gpu));
-    world.insert_resource(light_culling::LightCullingPass::new(&gpu)?);
+    world.insert_resource(light_culling::LightCullingPass::new(&gpu));
     world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
     world.insert_resource(ibl::Ibl::new(&gpu)?);
     world.insert_resource(sky::SkyPass::new(&gpu));

@@ -348,7 +348,8 @@ pub fn plan_frame(
         env_map: features[5].enabled && env.is_some_and(|e| e.image.is_some()),
         energy_compensation: features[6].enabled,
         light_culling: culling.enabled,
-        uniform_lights: counts.total() <= buffers.uniform_light_capacity,
+        uniform_lights: counts.total() <= buffers.uniform_light_capacity
+            && frame.shadowed_counts.iter().sum::<u32>() <= buffers.shadowed_light_capacity,
         uniform_shadow_views: views <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
     };
     plan.passes = vec![
