@@ -3,10 +3,20 @@
 //! with a metal/roughness [`Material`]; the first camera and `KHR_lights_punctual`
 //! lights are mapped onto ours (glTF's lux and candela are our units).
 //!
+//! - Primitives: u8/u16/u32 or no indices; `KHR_draco_mesh_compression` (decoded with
+//!   `draco-core`). Every accessor's byte range is checked against its buffer before it
+//!   is read. Missing normals are computed (area-weighted); missing tangents are
+//!   generated with MikkTSpace from texture coordinate set 0.
+//! - Materials: the metal/roughness factors; `KHR_materials_pbrSpecularGlossiness`
+//!   converted to metal/roughness at load ([`crate::workflow`]); `KHR_materials_ior` and
+//!   `KHR_materials_specular` give the dielectric F0; `KHR_materials_emissive_strength`
+//!   scales the emission. Alpha mode `MASK` keeps or drops a primitive by its constant
+//!   alpha; `BLEND` primitives are not drawn (a warning), unless their alpha is exactly 1.
+//!
 //! Textures are not read yet: materials use their factors, and a warning says how many
-//! textures were ignored. Missing normals are computed (area-weighted); missing tangents
-//! are an arbitrary orthonormal basis around the normal.
+//! textures were ignored.
 
+use super::{draco, tangents};
 use crate::app::App;
 use crate::brdf::f0_from_ior;
 use crate::error::{Error, Result};
@@ -14,6 +24,7 @@ use crate::scene::{
     Aabb, Camera, DirectionalLight, GlobalTransform, LightColor, LuminousIntensity, Material,
     Mesh3d, MeshData, PointLight, Projection, SpotLight, Transform, Vertex,
 };
+use crate::workflow;
 use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3, Vec4};
@@ -34,9 +45,17 @@ pub struct GltfSummary {
     pub has_camera: bool,
     /// Bounds of all imported geometry in world space (m), if any.
     pub bounds: Option<Aabb>,
+    /// Whether the file had no light, so a default sun, sky and exposure were added.
+    pub default_lighting: bool,
     /// Problems that did not stop the import.
     pub warnings: Vec<String>,
 }
+
+/// Luminance of the uniform sky added to files without lights (cd/m²): with the default
+/// 10 000 lx sun, a white surface facing both receives about 13 000 lx.
+pub const DEFAULT_SKY_NITS: f32 = 1000.0;
+/// Exposure of files without lights, set for the default sun and sky (EV100).
+pub const DEFAULT_EV100: f32 = 13.0;
 
 fn bad(path: &Path, message: impl Into<String>) -> Error {
     Error::bad_file(path, message)
@@ -46,8 +65,7 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
 /// problem; never panics on malformed input.
 pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| bad(path, format!("not a valid glTF file: {e}")))?;
+    let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
@@ -61,6 +79,10 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         ));
     }
 
+    let source = Source {
+        buffers: &buffers,
+        views: document.views().collect(),
+    };
     // Meshes: one MeshData + Material per triangle primitive.
     let mut meshes: Vec<Vec<(crate::scene::MeshHandle, Material)>> = Vec::new();
     for mesh in document.meshes() {
@@ -74,7 +96,11 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                 ));
                 continue;
             }
-            let data = match read_primitive(&primitive, &buffers) {
+            let Some(material) = material(&primitive.material(), &what, &mut summary.warnings)
+            else {
+                continue;
+            };
+            let data = match read_primitive(&primitive, &source, &mut summary.warnings, &what) {
                 Ok(d) => d,
                 Err(e) => return Err(bad(path, format!("{what}: {e}"))),
             };
@@ -89,7 +115,7 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
             let handle = app
                 .add_mesh(data)
                 .map_err(|e| bad(path, format!("{what}: {e}")))?;
-            prims.push((handle, material(&primitive.material())));
+            prims.push((handle, material));
         }
         meshes.push(prims);
     }
@@ -189,10 +215,31 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         ));
     }
     if summary.lights == 0 {
+        // Default lighting: a 10 000 lx sun from the upper right, a uniform sky of
+        // DEFAULT_SKY_NITS, and every camera exposed for them.
         world.spawn((
-            DirectionalLight::default(),
+            DirectionalLight {
+                cast_shadows: true,
+                ..DirectionalLight::default()
+            },
+            crate::scene::ShadowSettings::directional(),
             Transform::from_xyz(1.0, 2.0, 1.5).looking_at(Vec3::ZERO, Vec3::Y),
         ));
+        let has_environment = world
+            .query::<&crate::scene::Environment>()
+            .iter(world)
+            .next()
+            .is_some();
+        if !has_environment {
+            world.spawn(crate::scene::Environment::uniform(Vec3::splat(
+                DEFAULT_SKY_NITS,
+            )));
+        }
+        let mut cameras = world.query::<&mut Camera>();
+        for mut camera in cameras.iter_mut(world) {
+            camera.exposure = crate::scene::Exposure::Ev100(DEFAULT_EV100);
+        }
+        summary.default_lighting = true;
     }
     for w in &summary.warnings {
         log::warn!("{}: {w}", path.display());
@@ -204,23 +251,86 @@ fn finite_vec(v: Vec3, fallback: Vec3) -> Vec3 {
     if v.is_finite() { v } else { fallback }
 }
 
-fn material(m: &gltf::Material) -> Material {
+/// The material of a primitive, or `None` when the primitive is not drawn (alpha mode
+/// `BLEND` with alpha below 1, or `MASK` with the constant alpha below the cutoff).
+fn material(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Material> {
     let pbr = m.pbr_metallic_roughness();
-    let base = Vec4::from(pbr.base_color_factor());
+    let (base, metallic, roughness) = match m.pbr_specular_glossiness() {
+        Some(sg) => {
+            let diffuse = Vec4::from(sg.diffuse_factor());
+            let converted = workflow::to_metal_rough(workflow::SpecGloss {
+                diffuse: diffuse.truncate(),
+                specular: Vec3::from(sg.specular_factor()),
+                glossiness: sg.glossiness_factor(),
+            });
+            (
+                converted.base_color.extend(diffuse.w),
+                converted.metallic,
+                converted.roughness,
+            )
+        }
+        None => (
+            Vec4::from(pbr.base_color_factor()),
+            pbr.metallic_factor(),
+            pbr.roughness_factor(),
+        ),
+    };
+    let alpha = if base.w.is_nan() { 1.0 } else { base.w };
+    match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => {}
+        gltf::material::AlphaMode::Mask => {
+            if alpha < m.alpha_cutoff().unwrap_or(0.5) {
+                warnings.push(format!(
+                    "{what}: alpha {alpha} is below the mask cutoff: not drawn"
+                ));
+                return None;
+            }
+        }
+        gltf::material::AlphaMode::Blend => {
+            let textured_alpha = pbr.base_color_texture().is_some()
+                || m.pbr_specular_glossiness()
+                    .is_some_and(|sg| sg.diffuse_texture().is_some());
+            if alpha < 1.0 || textured_alpha {
+                warnings.push(format!(
+                    "{what}: alpha blending is not drawn yet: primitive skipped"
+                ));
+                return None;
+            }
+        }
+    }
     let strength = m.emissive_strength().unwrap_or(1.0);
-    let specular_level = m
-        .ior()
-        .map(|ior| (f0_from_ior(ior) / 0.08).clamp(0.0, 1.0))
-        .unwrap_or(0.5);
-    Material {
+    Some(Material {
         base_color: base,
-        metallic: pbr.metallic_factor(),
-        perceptual_roughness: pbr.roughness_factor(),
-        specular_level,
+        metallic,
+        perceptual_roughness: roughness,
+        specular_level: specular_level(m, what, warnings),
         // glTF emissive is a colour factor × strength in nits (cd/m²) per
         // KHR_materials_emissive_strength's reference of 1 = 1 nit.
         emissive: Vec3::from(m.emissive_factor()) * strength,
         occlusion: 1.0,
+    })
+}
+
+/// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):
+/// `KHR_materials_ior` gives F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular`
+/// scales it by its factor and the largest channel of its colour (a tinted dielectric
+/// specular is not modelled: a warning says so).
+fn specular_level(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> f32 {
+    let mut f0 = f0_from_ior(m.ior().unwrap_or(1.5));
+    if let Some(spec) = m.specular() {
+        let colour = Vec3::from(spec.specular_color_factor());
+        if colour.max_element() - colour.min_element() > 1e-3 {
+            warnings.push(format!(
+                "{what}: tinted KHR_materials_specular colour is drawn untinted"
+            ));
+        }
+        f0 *= spec.specular_factor() * colour.max_element();
+    }
+    let level = f0 / 0.08;
+    if level.is_nan() {
+        0.5
+    } else {
+        level.clamp(0.0, 1.0)
     }
 }
 
@@ -261,28 +371,161 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
     }
 }
 
+/// Parses a glTF or GLB file and validates it, allowing what Draco compression implies:
+/// the required extension itself, and accessors without a buffer view (their data is in
+/// the Draco stream).
+fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
+    use gltf::json::validation::{Error as Invalid, Validate};
+    let gltf = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| format!("not a valid glTF file: {e}"))?;
+    let root = gltf.document.as_json();
+    let draco_required = root
+        .extensions_required
+        .iter()
+        .any(|e| e == draco::EXTENSION);
+    let mut errors = Vec::new();
+    root.validate(root, gltf::json::Path::new, &mut |path, error| {
+        let path = path().to_string();
+        let allowed = draco_required
+            && ((error == Invalid::Unsupported && path.starts_with("extensionsRequired"))
+                || (error == Invalid::Missing
+                    && path.starts_with("accessors[")
+                    && path.ends_with("].bufferView")));
+        if !allowed {
+            errors.push(format!("{path}: {error}"));
+        }
+    });
+    if !errors.is_empty() {
+        return Err(format!("invalid glTF: {}", errors.join("; ")));
+    }
+    for required in &root.extensions_required {
+        if required != draco::EXTENSION
+            && !gltf::json::extensions::ENABLED_EXTENSIONS.contains(&required.as_str())
+        {
+            return Err(format!("requires the unsupported extension {required}"));
+        }
+    }
+    Ok(gltf)
+}
+
+/// The file's buffers and buffer views.
+struct Source<'a> {
+    buffers: &'a [gltf::buffer::Data],
+    views: Vec<gltf::buffer::View<'a>>,
+}
+
+/// The bytes of a buffer view, if it lies inside its buffer.
+fn view_bytes<'a>(
+    view: &gltf::buffer::View,
+    buffers: &'a [gltf::buffer::Data],
+) -> Option<&'a [u8]> {
+    let data = buffers.get(view.buffer().index())?;
+    let end = view.offset().checked_add(view.length())?;
+    data.0.get(view.offset()..end)
+}
+
+/// Checks that an accessor's elements lie inside its buffer view and buffer (the glTF
+/// reader would otherwise panic on a short buffer).
+fn check_accessor(
+    accessor: &gltf::Accessor,
+    buffers: &[gltf::buffer::Data],
+) -> std::result::Result<(), String> {
+    let name = format!("accessor {}", accessor.index());
+    if let Some(view) = accessor.view() {
+        let bytes = view_bytes(&view, buffers).ok_or(format!(
+            "{name}: buffer view {} lies outside its buffer",
+            view.index()
+        ))?;
+        let element = accessor.size();
+        let stride = view.stride().unwrap_or(element).max(element);
+        let needed = match accessor.count() {
+            0 => 0,
+            n => (n - 1)
+                .checked_mul(stride)
+                .and_then(|x| x.checked_add(element))
+                .and_then(|x| x.checked_add(accessor.offset()))
+                .ok_or(format!("{name}: size overflows"))?,
+        };
+        if needed > bytes.len() {
+            return Err(format!(
+                "{name} needs {needed} bytes but its buffer view holds {}",
+                bytes.len()
+            ));
+        }
+    }
+    if let Some(sparse) = accessor.sparse() {
+        for view in [sparse.indices().view(), sparse.values().view()] {
+            if view_bytes(&view, buffers).is_none() {
+                return Err(format!(
+                    "{name}: sparse buffer view {} lies outside its buffer",
+                    view.index()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn read_primitive(
     primitive: &gltf::Primitive,
-    buffers: &[gltf::buffer::Data],
+    source: &Source,
+    warnings: &mut Vec<String>,
+    what: &str,
 ) -> std::result::Result<MeshData, String> {
-    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-    let positions: Vec<[f32; 3]> = reader
-        .read_positions()
-        .ok_or("has no POSITION attribute")?
-        .collect();
+    let buffers = source.buffers;
+    let (positions, normals, uvs, indices) = match primitive.extension_value(draco::EXTENSION) {
+        Some(extension) => {
+            let decoded = draco::decode_primitive(extension, |i| {
+                source.views.get(i).and_then(|v| view_bytes(v, buffers))
+            })?;
+            (
+                decoded.positions,
+                decoded.normals,
+                decoded.uvs,
+                Some(decoded.indices),
+            )
+        }
+        None => {
+            for (_, accessor) in primitive.attributes() {
+                check_accessor(&accessor, buffers)?;
+            }
+            if let Some(accessor) = primitive.indices() {
+                check_accessor(&accessor, buffers)?;
+            }
+            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let positions: Vec<[f32; 3]> = reader
+                .read_positions()
+                .ok_or("has no POSITION attribute")?
+                .collect();
+            let normals = reader.read_normals().map(|n| n.collect::<Vec<_>>());
+            let uvs = reader
+                .read_tex_coords(0)
+                .map(|t| t.into_f32().collect::<Vec<_>>());
+            let indices = reader.read_indices().map(|i| i.into_u32().collect());
+            (positions, normals, uvs, indices)
+        }
+    };
     let count = positions.len();
-    let normals: Option<Vec<[f32; 3]>> = reader
-        .read_normals()
-        .map(|n| n.collect::<Vec<_>>())
-        .filter(|n| n.len() == count);
-    let uvs: Vec<[f32; 2]> = reader
-        .read_tex_coords(0)
-        .map(|t| t.into_f32().collect())
-        .unwrap_or_default();
-    let tangents: Vec<[f32; 4]> = reader
-        .read_tangents()
-        .map(|t| t.collect())
-        .unwrap_or_default();
+    let normals = normals.filter(|n| n.len() == count);
+    let uvs = uvs.filter(|t| t.len() == count);
+    let tangents: Option<Vec<[f32; 4]>> = primitive
+        .get(&gltf::Semantic::Tangents)
+        .filter(|_| primitive.extension_value(draco::EXTENSION).is_none())
+        .and_then(|_| {
+            primitive
+                .reader(|b| buffers.get(b.index()).map(|d| &d.0[..]))
+                .read_tangents()
+                .map(|t| t.collect::<Vec<_>>())
+        })
+        .filter(|t| t.len() == count);
+    for (semantic, _) in primitive.attributes() {
+        if matches!(
+            semantic,
+            gltf::Semantic::Colors(_) | gltf::Semantic::TexCoords(1..)
+        ) {
+            warnings.push(format!("{what}: {semantic:?} is not drawn yet"));
+        }
+    }
     let mut mesh = MeshData {
         vertices: positions
             .iter()
@@ -290,30 +533,15 @@ fn read_primitive(
             .map(|(i, p)| Vertex {
                 position: *p,
                 normal: normals.as_ref().map_or([0.0; 3], |n| n[i]),
-                uv: uvs.get(i).copied().unwrap_or([0.0; 2]),
-                tangent: tangents.get(i).copied().unwrap_or([0.0; 4]),
+                uv: uvs.as_ref().map_or([0.0; 2], |t| t[i]),
+                tangent: tangents.as_ref().map_or([0.0; 4], |t| t[i]),
             })
             .collect(),
-        indices: match reader.read_indices() {
-            Some(i) => i.into_u32().collect(),
-            None => (0..count as u32).collect(),
-        },
+        indices: indices.unwrap_or_else(|| (0..count as u32).collect()),
     };
     mesh.validate()?;
-    if normals.is_none() {
-        let computed = computed_normals(&mesh);
-        for (v, n) in mesh.vertices.iter_mut().zip(computed) {
-            v.normal = n;
-        }
-    }
-    for v in &mut mesh.vertices {
-        let n = Vec3::from(v.normal).try_normalize().unwrap_or(Vec3::Z);
-        v.normal = n.into();
-        if !Vec3::from_slice(&v.tangent[..3]).is_normalized() {
-            v.tangent = n.any_orthonormal_vector().extend(1.0).into();
-        }
-    }
     // Drop zero-area triangles: they rasterise nothing and have no normal.
+    let before = mesh.indices.len() / 3;
     let vertices = &mesh.vertices;
     let area = |t: &[u32]| {
         let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(vertices[t[k] as usize].position));
@@ -326,6 +554,39 @@ fn read_primitive(
         .flatten()
         .copied()
         .collect();
+    let dropped = before - mesh.indices.len() / 3;
+    if dropped > 0 {
+        warnings.push(format!("{what}: {dropped} zero-area triangle(s) dropped"));
+    }
+    if normals.is_none() {
+        let computed = computed_normals(&mesh);
+        for (v, n) in mesh.vertices.iter_mut().zip(computed) {
+            v.normal = n;
+        }
+    }
+    for v in &mut mesh.vertices {
+        let n = Vec3::from(v.normal).try_normalize().unwrap_or(Vec3::Z);
+        v.normal = n.into();
+    }
+    match tangents {
+        Some(_) => {
+            // The file's tangents, with their handedness (w) kept; broken ones get a
+            // perpendicular fallback.
+            for v in &mut mesh.vertices {
+                let n = Vec3::from(v.normal);
+                let t = Vec3::from_slice(&v.tangent[..3]);
+                if !t.is_finite() || t.length_squared() < 1e-12 {
+                    v.tangent = n.any_orthonormal_vector().extend(1.0).into();
+                } else {
+                    let w = if v.tangent[3] < 0.0 { -1.0 } else { 1.0 };
+                    v.tangent = t.normalize().extend(w).into();
+                }
+            }
+        }
+        None => {
+            tangents::generate_mikktspace(&mut mesh);
+        }
+    }
     Ok(mesh)
 }
 

@@ -1,5 +1,7 @@
 //! Getting content into the scene: procedural meshes, glTF import, image files.
 
+pub mod draco;
 pub mod gltf;
 pub mod image_io;
 pub mod procedural;
+pub mod tangents;
