@@ -67,6 +67,17 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
+    for buffer in gltf.document.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source()
+            && !uri.starts_with("data:")
+            && !base.join(percent_decoded(uri)).is_file()
+        {
+            return Err(bad(
+                path,
+                format!("buffer {}: file {uri} not found", buffer.index()),
+            ));
+        }
+    }
     let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
     let document = gltf.document;
@@ -406,6 +417,30 @@ fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
         }
     }
     Ok(gltf)
+}
+
+/// A URI's `%XX` escapes decoded (glTF URIs are percent-encoded); malformed escapes stay.
+fn percent_decoded(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(b)) => {
+                out.push(b);
+                i += 3;
+            }
+            (c, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// The file's buffers and buffer views.

@@ -1,0 +1,318 @@
+//! glTF import: files written here render the values `brdf.rs` predicts, the two PBR
+//! workflows render alike, the real assets load and frame, and every broken file in
+//! `tests/data/gltf/` is a one-line error naming the file (or its documented fallback).
+
+mod common;
+
+use lumen::App;
+use lumen::assets::gltf::{GltfSummary, load_gltf};
+use lumen::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
+use lumen::prelude::*;
+use lumen::workflow::{MetalRough, to_spec_gloss};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+const SIZE: (u32, u32) = (64, 64);
+/// Illuminance of the test files' sun (lx), shining straight at the quad.
+const SUN_LUX: f32 = 1000.0;
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/gltf")
+        .join(name)
+}
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../assets/models")
+        .join(name)
+}
+
+/// A 4 × 4 m quad facing +z at z = 0 (positions and texture coordinates), a camera at
+/// z = 3 looking down −z, a KHR_lights_punctual sun shining down −z, and `material`.
+/// Writes `quad.gltf` and `quad.bin` into `dir` and returns the .gltf path.
+fn write_quad(dir: &Path, material: serde_json::Value, extensions: &[&str]) -> PathBuf {
+    let positions: [[f32; 3]; 4] = [
+        [-2.0, -2.0, 0.0],
+        [2.0, -2.0, 0.0],
+        [2.0, 2.0, 0.0],
+        [-2.0, 2.0, 0.0],
+    ];
+    let uvs: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
+    let mut bin: Vec<u8> = Vec::new();
+    bin.extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    std::fs::write(dir.join("quad.bin"), &bin).expect("write bin");
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": extensions.iter().chain(["KHR_lights_punctual"].iter()).collect::<Vec<_>>(),
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "directional", "intensity": SUN_LUX, "color": [1.0, 1.0, 1.0]}
+        ]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [
+            {"mesh": 0},
+            {"camera": 0, "translation": [0.0, 0.0, 3.0]},
+            {"extensions": {"KHR_lights_punctual": {"light": 0}}}
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 100.0}}],
+        "materials": [material],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "buffers": [{"byteLength": bin.len(), "uri": "quad.bin"}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-2.0, -2.0, 0.0], "max": [2.0, 2.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.join("quad.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&doc).expect("json")).expect("write gltf");
+    path
+}
+
+/// Loads `path` into a fresh app without energy compensation (so the expected value is
+/// the plain BRDF), renders it, and returns the centre pixel, the exposure and the summary.
+fn render_centre(path: &Path) -> (Vec3, f32, GltfSummary) {
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, path).expect("loads");
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .energy_compensation = false;
+    let report = app.render_headless(SIZE).expect("frame");
+    let hdr = app.read_hdr_image().expect("readback");
+    let p = hdr.get_pixel(SIZE.0 / 2, SIZE.1 / 2).0;
+    (Vec3::new(p[0], p[1], p[2]), report.exposure, summary)
+}
+
+/// The CPU BRDF's radiance at the centre: n = v = l = +z.
+fn expected(base: Vec3, metallic: f32, roughness: f32, specular_level: f32) -> Vec3 {
+    let surface = Surface {
+        base_color: base,
+        metallic,
+        perceptual_roughness: roughness,
+        specular_level,
+    };
+    let lobes = surface_brdf_lobes(
+        Vec3::Z,
+        Vec3::Z,
+        Vec3::Z,
+        &surface,
+        VisibilityModel::default(),
+    );
+    (lobes.diffuse + lobes.specular) * SUN_LUX
+}
+
+fn relative_error(a: Vec3, b: Vec3) -> f32 {
+    (a - b).abs().max_element() / b.max_element()
+}
+
+#[test]
+fn a_written_quad_renders_the_brdf_value() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let base = Vec3::new(0.6, 0.3, 0.1);
+    for (metallic, roughness, ior) in [(0.0f32, 0.8f32, 1.5f32), (1.0, 0.5, 1.5), (0.0, 0.6, 2.0)] {
+        let material = json!({
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [base.x, base.y, base.z, 1.0],
+                "metallicFactor": metallic, "roughnessFactor": roughness
+            },
+            "extensions": {"KHR_materials_ior": {"ior": ior}}
+        });
+        let path = write_quad(dir.path(), material, &["KHR_materials_ior"]);
+        let (pixel, exposure, summary) = render_centre(&path);
+        assert!(summary.has_camera && summary.lights == 1 && !summary.default_lighting);
+        let level = (((ior - 1.0) / (ior + 1.0)).powi(2) / 0.08).min(1.0);
+        let want = expected(base, metallic, roughness, level) * exposure;
+        let err = relative_error(pixel, want);
+        println!(
+            "metallic {metallic} roughness {roughness} ior {ior}: {pixel} vs {want} ({err:.4})"
+        );
+        // The G-buffer stores base colour in 8 bits and the HDR target is f16.
+        assert!(err < 0.01, "{pixel} vs {want}");
+    }
+}
+
+#[test]
+fn spec_gloss_renders_like_its_metal_rough_twin() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (base, metallic, roughness) in [
+        (Vec3::new(0.5, 0.5, 0.5), 0.0, 0.7),
+        (Vec3::new(0.95, 0.64, 0.54), 1.0, 0.3),
+        (Vec3::splat(0.7), 0.5, 0.5),
+    ] {
+        let mr = json!({"pbrMetallicRoughness": {
+            "baseColorFactor": [base.x, base.y, base.z, 1.0],
+            "metallicFactor": metallic, "roughnessFactor": roughness
+        }});
+        let (a, _, _) = render_centre(&write_quad(dir.path(), mr, &[]));
+        let sg = to_spec_gloss(MetalRough {
+            base_color: base,
+            metallic,
+            roughness,
+        });
+        let material = json!({"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+            "diffuseFactor": [sg.diffuse.x, sg.diffuse.y, sg.diffuse.z, 1.0],
+            "specularFactor": [sg.specular.x, sg.specular.y, sg.specular.z],
+            "glossinessFactor": sg.glossiness
+        }}});
+        let (b, _, _) = render_centre(&write_quad(
+            dir.path(),
+            material,
+            &["KHR_materials_pbrSpecularGlossiness"],
+        ));
+        let err = relative_error(b, a);
+        println!("{base} metallic {metallic}: metal/rough {a}, spec/gloss {b} ({err:.4})");
+        // Both go through the same 8-bit G-buffer; the conversion is exact for these.
+        assert!(err < 0.01, "{a} vs {b}");
+    }
+}
+
+#[test]
+fn material_extensions_map_onto_the_material() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({
+        "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0]},
+        "emissiveFactor": [1.0, 0.5, 0.0],
+        "extensions": {
+            "KHR_materials_emissive_strength": {"emissiveStrength": 40.0},
+            "KHR_materials_specular": {"specularFactor": 0.5},
+            "KHR_materials_ior": {"ior": 1.5}
+        }
+    });
+    let path = write_quad(
+        dir.path(),
+        material,
+        &[
+            "KHR_materials_emissive_strength",
+            "KHR_materials_specular",
+            "KHR_materials_ior",
+        ],
+    );
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let materials: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert_eq!(materials.len(), 1);
+    let m = materials[0];
+    assert_eq!(m.emissive, Vec3::new(40.0, 20.0, 0.0));
+    // F0 = 0.04 (ior 1.5) × 0.5 = 0.02 → level 0.25; glTF's default metallic is 1.
+    assert!(
+        (m.specular_level - 0.25).abs() < 1e-6,
+        "{}",
+        m.specular_level
+    );
+    assert_eq!(m.metallic, 1.0);
+}
+
+#[test]
+fn generated_tangents_follow_the_texture_directions() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = write_quad(dir.path(), json!({}), &[]);
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let handles: Vec<MeshHandle> = world.query::<&Mesh3d>().iter(world).map(|m| m.0).collect();
+    let meshes = world.resource::<lumen::scene::Meshes>();
+    let mesh = meshes.get(handles[0]).expect("mesh");
+    // The quad's u runs along +x and its v along −y. MikkTSpace's tangent follows u; glTF's
+    // bitangent, cross(normal, tangent) × w, must follow v, which takes w = −1 here.
+    for v in &mesh.vertices {
+        let t = Vec3::from_slice(&v.tangent[..3]);
+        assert!((t - Vec3::X).length() < 1e-4, "{t}");
+        let bitangent = Vec3::from(v.normal).cross(t) * v.tangent[3];
+        assert!((bitangent - Vec3::NEG_Y).length() < 1e-4, "{bitangent}");
+    }
+}
+
+#[test]
+fn bunny_and_suzi_load_and_fill_the_frame() {
+    for (name, triangles) in [("bunny.glb", 5648), ("suzi.glb", 14842)] {
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &asset(name)).expect("loads");
+        assert_eq!(summary.triangles, triangles, "{name}");
+        assert!(summary.default_lighting && !summary.has_camera, "{name}");
+        let bounds = summary.bounds.expect("bounds");
+        assert!(bounds.min.is_finite() && bounds.max.is_finite());
+        let size = (128, 128);
+        app.render_headless(size).expect("frame");
+        let hdr = app.read_hdr_image().expect("readback");
+        let world = app.world_mut();
+        let background = world
+            .query::<&Environment>()
+            .iter(world)
+            .next()
+            .map(|_| lumen::assets::gltf::DEFAULT_SKY_NITS)
+            .expect("default sky");
+        let ev = lumen::scene::Exposure::Ev100(lumen::assets::gltf::DEFAULT_EV100).multiplier();
+        let sky = background * ev;
+        // Object pixels differ from the uniform sky behind it.
+        let mut count = 0usize;
+        let (mut sx, mut sy) = (0.0f64, 0.0f64);
+        for (x, y, p) in hdr.enumerate_pixels() {
+            assert!(
+                p.0.iter().all(|c| c.is_finite() && *c >= 0.0),
+                "{name} ({x}, {y})"
+            );
+            if (common::lum(p) - sky).abs() > 0.02 * sky {
+                count += 1;
+                sx += f64::from(x);
+                sy += f64::from(y);
+            }
+        }
+        let fraction = count as f64 / f64::from(size.0 * size.1);
+        let (cx, cy) = (sx / count.max(1) as f64, sy / count.max(1) as f64);
+        println!(
+            "{name}: {:.1} % of the frame, centroid ({cx:.0}, {cy:.0})",
+            100.0 * fraction
+        );
+        assert!((0.1..0.8).contains(&fraction), "{name}: {fraction}");
+        assert!(
+            (32.0..96.0).contains(&cx) && (32.0..96.0).contains(&cy),
+            "{name}: ({cx}, {cy})"
+        );
+    }
+}
+
+#[test]
+fn broken_files_are_one_line_errors_naming_the_file() {
+    for (file, needle) in [
+        ("not_gltf.gltf", "not a valid glTF file"),
+        ("invalid_json.gltf", "not a valid glTF file"),
+        ("truncated.glb", "not a valid glTF file"),
+        ("missing_bin.gltf", "missing.bin"),
+        ("accessor_out_of_range.gltf", "accessor 0 needs 3600 bytes"),
+        (
+            "view_out_of_range.gltf",
+            "buffer view 0 lies outside its buffer",
+        ),
+        (
+            "index_past_vertices.gltf",
+            "index 7 points past the 3 vertices",
+        ),
+        ("nan_position.gltf", "non-finite position"),
+        ("inf_position.gltf", "non-finite position"),
+        ("does_not_exist.gltf", "does_not_exist.gltf"),
+    ] {
+        let mut app = App::headless().expect("a GPU adapter");
+        let err = load_gltf(&mut app, &data(file))
+            .expect_err(file)
+            .to_string();
+        assert_eq!(err.lines().count(), 1, "{file}: {err}");
+        assert!(err.contains(file), "{file}: {err}");
+        assert!(err.contains(needle), "{file}: {err}");
+    }
+    // Zero-area triangles are dropped with a warning; the good one stays.
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &data("zero_area.gltf")).expect("loads");
+    assert_eq!(summary.triangles, 1);
+    assert!(summary.warnings.iter().any(|w| w.contains("2 zero-area")));
+}
