@@ -13,6 +13,8 @@ struct VertexInput {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    @location(14) uv1: vec2<f32>,
+    @location(15) color: vec4<f32>,
 }
 
 // The instance (the `Instance` layout of bindings.wgsl) as per-instance attributes.
@@ -70,11 +72,128 @@ struct GBufferOutput {
 const F16_MAX: f32 = 65504.0;
 
 @fragment
-fn fs_main(in: VertexOutput) -> GBufferOutput {
-    let n = safe_normalize(in.world_normal, vec3<f32>(0.0, 0.0, 1.0));
+fn fs_main(in: VertexOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
+    // Back faces reach here only for double-sided materials: light them from the side
+    // the viewer sees.
+    let n = safe_normalize(select(-in.world_normal, in.world_normal, front), vec3<f32>(0.0, 0.0, 1.0));
     var out: GBufferOutput;
     out.base_color_ao = in.base_color_ao;
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n), in.roughness_metallic);
     out.emissive_specular = in.emissive_specular;
+    return out;
+}
+
+// ---- Textured variant: entities with MaterialMaps (textures and/or vertex colours) ----
+
+// Texture slots, in binding order.
+const SLOT_BASE: u32 = 0u;
+const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
+const SLOT_NORMAL: u32 = 2u;
+const SLOT_OCCLUSION: u32 = 3u;
+const SLOT_EMISSIVE: u32 = 4u;
+
+struct Maps {
+    // Per slot, the rows of its 2 × 3 texture-coordinate transform (xyz of two vec4s).
+    transforms: array<vec4<f32>, 10>,
+    // Per slot, the texture coordinate set (0 or 1); the emissive slot's is in `extra.x`.
+    uv_sets: vec4<u32>,
+    // x: emissive coordinate set; y: 1 when a normal map is bound.
+    extra: vec4<u32>,
+    // x: normal scale; y: occlusion strength; z: alpha cutoff (< 0: opaque).
+    params: vec4<f32>,
+}
+
+@group(1) @binding(0) var<uniform> maps: Maps;
+@group(1) @binding(1) var base_color_map: texture_2d<f32>;
+@group(1) @binding(2) var metallic_roughness_map: texture_2d<f32>;
+@group(1) @binding(3) var normal_map: texture_2d<f32>;
+@group(1) @binding(4) var occlusion_map: texture_2d<f32>;
+@group(1) @binding(5) var emissive_map: texture_2d<f32>;
+@group(1) @binding(6) var base_color_sampler: sampler;
+@group(1) @binding(7) var metallic_roughness_sampler: sampler;
+@group(1) @binding(8) var normal_sampler: sampler;
+@group(1) @binding(9) var occlusion_sampler: sampler;
+@group(1) @binding(10) var emissive_sampler: sampler;
+
+struct TexturedOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_normal: vec3<f32>,
+    @location(1) world_tangent: vec4<f32>,
+    @location(2) uv0: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
+    // Linear base colour factor × vertex colour (rgba).
+    @location(4) base_color: vec4<f32>,
+    @location(5) @interpolate(flat) emissive_occlusion: vec4<f32>,
+    // Metallic, perceptual roughness, specular level, receives shadows.
+    @location(6) @interpolate(flat) params: vec4<f32>,
+}
+
+@vertex
+fn vs_textured(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
+    let world_from_local = mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
+    let world = world_from_local * vec4<f32>(in.position, 1.0);
+    let normal_matrix = mat3x3<f32>(
+        inst.normal_matrix_0.xyz,
+        inst.normal_matrix_1.xyz,
+        inst.normal_matrix_2.xyz,
+    );
+    var out: TexturedOutput;
+    out.clip = view.clip_from_world * world;
+    out.world_normal = normal_matrix * in.normal;
+    // Tangents transform with the model matrix (they lie in the surface).
+    out.world_tangent = vec4<f32>((world_from_local * vec4<f32>(in.tangent.xyz, 0.0)).xyz, in.tangent.w);
+    out.uv0 = in.uv;
+    out.uv1 = in.uv1;
+    out.base_color = inst.base_color * in.color;
+    out.emissive_occlusion = inst.emissive_occlusion;
+    out.params = inst.params;
+    return out;
+}
+
+// The coordinates of `slot` after its set choice and KHR_texture_transform.
+fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
+    let uv = vec3<f32>(select(uv0, uv1, uv_set == 1u), 1.0);
+    return vec2<f32>(dot(maps.transforms[slot * 2u].xyz, uv), dot(maps.transforms[slot * 2u + 1u].xyz, uv));
+}
+
+@fragment
+fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
+    let base_texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
+    let base = in.base_color * base_texel;
+    if maps.params.z >= 0.0 && base.a < maps.params.z {
+        discard;
+    }
+    let mr = textureSample(metallic_roughness_map, metallic_roughness_sampler,
+                           slot_uv(SLOT_METALLIC_ROUGHNESS, maps.uv_sets.y, in.uv0, in.uv1));
+    let occlusion_texel = textureSample(occlusion_map, occlusion_sampler,
+                                        slot_uv(SLOT_OCCLUSION, maps.uv_sets.w, in.uv0, in.uv1)).r;
+    let emissive_texel = textureSample(emissive_map, emissive_sampler,
+                                       slot_uv(SLOT_EMISSIVE, maps.extra.x, in.uv0, in.uv1)).rgb;
+    let normal_texel = textureSample(normal_map, normal_sampler,
+                                     slot_uv(SLOT_NORMAL, maps.uv_sets.z, in.uv0, in.uv1)).xyz;
+
+    // glTF: the geometric normal and tangent, flipped for back faces of double-sided
+    // materials; bitangent = cross(normal, tangent) × w.
+    let sign = select(-1.0, 1.0, front);
+    let ng = safe_normalize(in.world_normal * sign, vec3<f32>(0.0, 0.0, 1.0));
+    var n = ng;
+    if maps.extra.y != 0u {
+        let t = safe_normalize(in.world_tangent.xyz - ng * dot(ng, in.world_tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+        let b = cross(ng, t) * select(-1.0, 1.0, in.world_tangent.w >= 0.0);
+        let tn = (normal_texel * 2.0 - 1.0) * vec3<f32>(maps.params.x, maps.params.x, 1.0);
+        n = safe_normalize(t * tn.x + b * tn.y + ng * tn.z, ng);
+    }
+
+    let metallic = clamp(in.params.x * mr.b, 0.0, 1.0);
+    let roughness = clamp_perceptual_roughness(in.params.y * mr.g);
+    let occlusion = in.emissive_occlusion.w * (1.0 + maps.params.y * (occlusion_texel - 1.0));
+    let emissive = min(in.emissive_occlusion.rgb * emissive_texel, vec3<f32>(F16_MAX));
+    let rgb = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+
+    var out: GBufferOutput;
+    out.base_color_ao = vec4<f32>(srgb_encode(rgb.r), srgb_encode(rgb.g), srgb_encode(rgb.b),
+                                  pack_occlusion_receiver(occlusion, in.params.w));
+    out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, metallic);
+    out.emissive_specular = vec4<f32>(emissive, clamp(in.params.z, 0.0, 1.0));
     return out;
 }

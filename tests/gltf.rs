@@ -223,13 +223,14 @@ fn generated_tangents_follow_the_texture_directions() {
     let handles: Vec<MeshHandle> = world.query::<&Mesh3d>().iter(world).map(|m| m.0).collect();
     let meshes = world.resource::<lumen::scene::Meshes>();
     let mesh = meshes.get(handles[0]).expect("mesh");
-    // The quad's u runs along +x and its v along −y. MikkTSpace's tangent follows u; glTF's
-    // bitangent, cross(normal, tangent) × w, must follow v, which takes w = −1 here.
+    // The quad's u runs along +x and its v along −y (the image's top is at +y). The
+    // tangent follows u; glTF's bitangent, cross(normal, tangent) × w, points up the
+    // image, towards decreasing v: +y here.
     for v in &mesh.vertices {
         let t = Vec3::from_slice(&v.tangent[..3]);
         assert!((t - Vec3::X).length() < 1e-4, "{t}");
         let bitangent = Vec3::from(v.normal).cross(t) * v.tangent[3];
-        assert!((bitangent - Vec3::NEG_Y).length() < 1e-4, "{bitangent}");
+        assert!((bitangent - Vec3::Y).length() < 1e-4, "{bitangent}");
     }
 }
 

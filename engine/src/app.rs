@@ -105,6 +105,7 @@ impl App {
     pub fn new() -> App {
         let mut world = World::new();
         world.init_resource::<Meshes>();
+        world.init_resource::<crate::scene::Textures>();
         world.init_resource::<Quality>();
         world.add_schedule(Schedule::new(Update));
         let mut post = Schedule::new(PostUpdate);
@@ -156,6 +157,17 @@ impl App {
             .resource_mut::<Meshes>()
             .add(mesh)
             .map_err(|e| Error::Scene(format!("invalid mesh: {e}")))
+    }
+
+    /// Adds a texture to the [`crate::scene::Textures`] store.
+    pub fn add_texture(
+        &mut self,
+        texture: crate::scene::TextureData,
+    ) -> Result<crate::scene::TextureHandle> {
+        self.world
+            .resource_mut::<crate::scene::Textures>()
+            .add(texture)
+            .map_err(|e| Error::Scene(format!("invalid texture: {e}")))
     }
 
     /// Adds systems to the [`Update`] schedule.

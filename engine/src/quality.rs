@@ -80,6 +80,9 @@ pub struct Quality {
     /// Tiled light culling for scenes with many unshadowed point and spot lights (an
     /// exact optimisation: a light is skipped only where its range window is 0).
     pub light_culling: bool,
+    /// Texture budget: the longest side, in texels, a texture keeps when it is loaded
+    /// (larger ones are downscaled with a warning; the device's own limit applies too).
+    pub max_texture_size: u32,
 }
 
 /// Format of the exposed HDR target.
@@ -167,6 +170,7 @@ impl QualityPreset {
                 brdf_lut_size: 32,
                 brdf_lut_samples: 128,
                 dof_rings: Some(1),
+                max_texture_size: 1024,
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -174,6 +178,7 @@ impl QualityPreset {
                 ibl_samples: 32,
                 brdf_lut_samples: 256,
                 dof_rings: Some(2),
+                max_texture_size: 2048,
                 ..high
             },
             QualityPreset::High => high,
@@ -186,6 +191,7 @@ impl QualityPreset {
                 brdf_lut_samples: 1024,
                 dof_rings: Some(5),
                 hdr_precision: HdrPrecision::Full,
+                max_texture_size: 8192,
                 ..high
             },
         }
@@ -207,6 +213,7 @@ impl Default for Quality {
             dof_rings: None,
             hdr_precision: HdrPrecision::Half,
             light_culling: true,
+            max_texture_size: 4096,
         }
     }
 }

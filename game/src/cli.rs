@@ -137,6 +137,10 @@ pub struct SceneArgs {
     /// Precision of the HDR target: f16 (default) or f32.
     #[arg(long, value_name = "P", value_parser = parse_hdr_precision)]
     pub hdr: Option<lumen::quality::HdrPrecision>,
+    /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
+    /// default 4096); larger textures are downscaled with a warning
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]
+    pub max_texture_size: Option<u32>,
 }
 
 impl SceneArgs {

@@ -9,6 +9,8 @@ use lumen::scene::AutoExposure;
 /// Spawns the requested scene (built-in or glTF file) into `app` and applies the
 /// exposure, tone mapping and quality overrides.
 pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
+    // Quality first: the glTF loader reads the texture budget.
+    apply_quality(&mut app.world_mut().resource_mut::<Quality>(), args);
     match (&args.file, &args.scene) {
         (Some(file), _) => {
             let summary = lumen::assets::gltf::load_gltf(app, file)?;
@@ -37,7 +39,11 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     for mut camera in cameras.iter_mut(world) {
         apply_camera(&mut camera, args);
     }
-    let mut quality = world.resource_mut::<Quality>();
+    Ok(())
+}
+
+/// Applies `--quality` and the single-knob options.
+fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(preset) = args.quality {
         *quality = preset.quality();
     }
@@ -77,7 +83,9 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     if args.no_energy_compensation {
         quality.energy_compensation = false;
     }
-    Ok(())
+    if let Some(n) = args.max_texture_size {
+        quality.max_texture_size = n;
+    }
 }
 
 /// The command line's camera settings.
@@ -213,5 +221,6 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "dof_rings": q.dof_rings,
         "hdr_precision": q.hdr_precision.name(),
         "light_culling": q.light_culling,
+        "max_texture_size": q.max_texture_size,
     })
 }

@@ -16,18 +16,19 @@
 //! Textures are not read yet: materials use their factors, and a warning says how many
 //! textures were ignored.
 
+use super::gltf_material::{self, TextureLoader};
 use super::{draco, tangents};
 use crate::app::App;
-use crate::brdf::f0_from_ior;
 use crate::error::{Error, Result};
 use crate::scene::{
     Aabb, Camera, DirectionalLight, GlobalTransform, LightColor, LuminousIntensity, Material,
     Mesh3d, MeshData, PointLight, Projection, SpotLight, Transform, Vertex,
 };
-use crate::workflow;
+use crate::scene::{MaterialMaps, Textures};
 use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::prelude::*;
-use glam::{Quat, Vec3, Vec4};
+use glam::{Quat, Vec3};
+use std::collections::HashMap;
 use std::path::Path;
 
 /// What an import brought in.
@@ -45,6 +46,8 @@ pub struct GltfSummary {
     pub has_camera: bool,
     /// Bounds of all imported geometry in world space (m), if any.
     pub bounds: Option<Aabb>,
+    /// Images decoded (once per colour space they are used in).
+    pub textures: usize,
     /// Whether the file had no light, so a default sun, sky and exposure were added.
     pub default_lighting: bool,
     /// Problems that did not stop the import.
@@ -83,19 +86,22 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let document = gltf.document;
     let mut summary = GltfSummary::default();
 
-    let textures = document.textures().count();
-    if textures > 0 {
-        summary.warnings.push(format!(
-            "{textures} texture(s) not drawn: materials use their factors only"
-        ));
-    }
-
     let source = Source {
         buffers: &buffers,
         views: document.views().collect(),
     };
-    // Meshes: one MeshData + Material per triangle primitive.
-    let mut meshes: Vec<Vec<(crate::scene::MeshHandle, Material)>> = Vec::new();
+    let max_size = texture_budget(app);
+    let mut loader = TextureLoader {
+        base,
+        buffers: &buffers,
+        views: &source.views,
+        max_size,
+        cache: HashMap::new(),
+        warnings: Vec::new(),
+    };
+    // Meshes: one MeshData + Material (+ MaterialMaps) per triangle primitive.
+    type Drawn = (crate::scene::MeshHandle, Material, Option<MaterialMaps>);
+    let mut meshes: Vec<Vec<Drawn>> = Vec::new();
     for mesh in document.meshes() {
         let mut prims = Vec::new();
         for (p, primitive) in mesh.primitives().enumerate() {
@@ -107,13 +113,19 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                 ));
                 continue;
             }
-            let Some(material) = material(&primitive.material(), &what, &mut summary.warnings)
-            else {
-                continue;
-            };
             let data = match read_primitive(&primitive, &source, &mut summary.warnings, &what) {
                 Ok(d) => d,
                 Err(e) => return Err(bad(path, format!("{what}: {e}"))),
+            };
+            let has_colors = primitive.get(&gltf::Semantic::Colors(0)).is_some();
+            let Some((material, maps)) = gltf_material::material(
+                &primitive.material(),
+                &what,
+                has_colors,
+                &mut loader,
+                &mut app.world_mut().resource_mut::<Textures>(),
+            ) else {
+                continue;
             };
             if data.indices.is_empty() {
                 summary
@@ -126,10 +138,12 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
             let handle = app
                 .add_mesh(data)
                 .map_err(|e| bad(path, format!("{what}: {e}")))?;
-            prims.push((handle, material));
+            prims.push((handle, material, maps));
         }
         meshes.push(prims);
     }
+    summary.textures = loader.cache.len();
+    summary.warnings.append(&mut loader.warnings);
 
     let scene = document
         .default_scene()
@@ -161,8 +175,12 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         let entity = world.spawn((transform, ChildOf(parent))).id();
         summary.nodes += 1;
         if let Some(mesh) = node.mesh() {
-            for (handle, mat) in meshes.get(mesh.index()).into_iter().flatten() {
-                world.spawn((Mesh3d(*handle), *mat, Transform::IDENTITY, ChildOf(entity)));
+            for (handle, mat, maps) in meshes.get(mesh.index()).into_iter().flatten() {
+                let mut e =
+                    world.spawn((Mesh3d(*handle), *mat, Transform::IDENTITY, ChildOf(entity)));
+                if let Some(maps) = maps {
+                    e.insert(maps.clone());
+                }
             }
         }
         if let (Some(camera), false) = (node.camera(), summary.has_camera) {
@@ -258,91 +276,22 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
     Ok(summary)
 }
 
+/// The longest texture side a load keeps: the quality's budget, and the device's limit
+/// when a GPU is attached.
+fn texture_budget(app: &App) -> u32 {
+    let budget = app
+        .world()
+        .get_resource::<crate::quality::Quality>()
+        .map_or(4096, |q| q.max_texture_size);
+    let device = app
+        .world()
+        .get_resource::<crate::render::device::Gpu>()
+        .map_or(8192, |g| g.device.limits().max_texture_dimension_2d);
+    budget.min(device).max(1)
+}
+
 fn finite_vec(v: Vec3, fallback: Vec3) -> Vec3 {
     if v.is_finite() { v } else { fallback }
-}
-
-/// The material of a primitive, or `None` when the primitive is not drawn (alpha mode
-/// `BLEND` with alpha below 1, or `MASK` with the constant alpha below the cutoff).
-fn material(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Material> {
-    let pbr = m.pbr_metallic_roughness();
-    let (base, metallic, roughness) = match m.pbr_specular_glossiness() {
-        Some(sg) => {
-            let diffuse = Vec4::from(sg.diffuse_factor());
-            let converted = workflow::to_metal_rough(workflow::SpecGloss {
-                diffuse: diffuse.truncate(),
-                specular: Vec3::from(sg.specular_factor()),
-                glossiness: sg.glossiness_factor(),
-            });
-            (
-                converted.base_color.extend(diffuse.w),
-                converted.metallic,
-                converted.roughness,
-            )
-        }
-        None => (
-            Vec4::from(pbr.base_color_factor()),
-            pbr.metallic_factor(),
-            pbr.roughness_factor(),
-        ),
-    };
-    let alpha = if base.w.is_nan() { 1.0 } else { base.w };
-    match m.alpha_mode() {
-        gltf::material::AlphaMode::Opaque => {}
-        gltf::material::AlphaMode::Mask => {
-            if alpha < m.alpha_cutoff().unwrap_or(0.5) {
-                warnings.push(format!(
-                    "{what}: alpha {alpha} is below the mask cutoff: not drawn"
-                ));
-                return None;
-            }
-        }
-        gltf::material::AlphaMode::Blend => {
-            let textured_alpha = pbr.base_color_texture().is_some()
-                || m.pbr_specular_glossiness()
-                    .is_some_and(|sg| sg.diffuse_texture().is_some());
-            if alpha < 1.0 || textured_alpha {
-                warnings.push(format!(
-                    "{what}: alpha blending is not drawn yet: primitive skipped"
-                ));
-                return None;
-            }
-        }
-    }
-    let strength = m.emissive_strength().unwrap_or(1.0);
-    Some(Material {
-        base_color: base,
-        metallic,
-        perceptual_roughness: roughness,
-        specular_level: specular_level(m, what, warnings),
-        // glTF emissive is a colour factor × strength in nits (cd/m²) per
-        // KHR_materials_emissive_strength's reference of 1 = 1 nit.
-        emissive: Vec3::from(m.emissive_factor()) * strength,
-        occlusion: 1.0,
-    })
-}
-
-/// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):
-/// `KHR_materials_ior` gives F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular`
-/// scales it by its factor and the largest channel of its colour (a tinted dielectric
-/// specular is not modelled: a warning says so).
-fn specular_level(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> f32 {
-    let mut f0 = f0_from_ior(m.ior().unwrap_or(1.5));
-    if let Some(spec) = m.specular() {
-        let colour = Vec3::from(spec.specular_color_factor());
-        if colour.max_element() - colour.min_element() > 1e-3 {
-            warnings.push(format!(
-                "{what}: tinted KHR_materials_specular colour is drawn untinted"
-            ));
-        }
-        f0 *= spec.specular_factor() * colour.max_element();
-    }
-    let level = f0 / 0.08;
-    if level.is_nan() {
-        0.5
-    } else {
-        level.clamp(0.0, 1.0)
-    }
 }
 
 fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punctual::Light) {
@@ -420,7 +369,7 @@ fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
 }
 
 /// A URI's `%XX` escapes decoded (glTF URIs are percent-encoded); malformed escapes stay.
-fn percent_decoded(uri: &str) -> String {
+pub(super) fn percent_decoded(uri: &str) -> String {
     let bytes = uri.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
@@ -450,7 +399,7 @@ struct Source<'a> {
 }
 
 /// The bytes of a buffer view, if it lies inside its buffer.
-fn view_bytes<'a>(
+pub(super) fn view_bytes<'a>(
     view: &gltf::buffer::View,
     buffers: &'a [gltf::buffer::Data],
 ) -> Option<&'a [u8]> {
@@ -540,6 +489,18 @@ fn read_primitive(
             (positions, normals, uvs, indices)
         }
     };
+    let draco = primitive.extension_value(draco::EXTENSION).is_some();
+    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let uv1: Option<Vec<[f32; 2]>> = reader
+        .read_tex_coords(1)
+        .filter(|_| !draco)
+        .map(|t| t.into_f32().collect());
+    let colors: Option<Vec<[f32; 4]>> = reader
+        .read_colors(0)
+        .filter(|_| !draco)
+        .map(|c| c.into_rgba_f32().collect());
+    let uv1 = uv1.filter(|t| t.len() == positions.len());
+    let colors = colors.filter(|c| c.len() == positions.len());
     let count = positions.len();
     let normals = normals.filter(|n| n.len() == count);
     let uvs = uvs.filter(|t| t.len() == count);
@@ -570,6 +531,8 @@ fn read_primitive(
                 normal: normals.as_ref().map_or([0.0; 3], |n| n[i]),
                 uv: uvs.as_ref().map_or([0.0; 2], |t| t[i]),
                 tangent: tangents.as_ref().map_or([0.0; 4], |t| t[i]),
+                uv1: uv1.as_ref().map_or([0.0; 2], |t| t[i]),
+                color: colors.as_ref().map_or([1.0; 4], |c| c[i]),
             })
             .collect(),
         indices: indices.unwrap_or_else(|| (0..count as u32).collect()),

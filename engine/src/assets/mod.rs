@@ -2,6 +2,8 @@
 
 pub mod draco;
 pub mod gltf;
+mod gltf_material;
 pub mod image_io;
 pub mod procedural;
 pub mod tangents;
+pub mod texture_io;

@@ -23,12 +23,12 @@ pub fn uv_sphere(radius: f32, sectors: u32, stacks: u32) -> MeshData {
             let phi = j as f32 * 2.0 * PI / sectors as f32;
             let (sin_p, cos_p) = phi.sin_cos();
             let normal = Vec3::new(sin_t * sin_p, cos_t, sin_t * cos_p);
-            vertices.push(Vertex {
-                position: (normal * radius).into(),
-                normal: normal.into(),
-                uv: [j as f32 / sectors as f32, i as f32 / stacks as f32],
-                tangent: [cos_p, 0.0, -sin_p, 1.0],
-            });
+            vertices.push(Vertex::new(
+                (normal * radius).into(),
+                normal.into(),
+                [j as f32 / sectors as f32, i as f32 / stacks as f32],
+                [cos_p, 0.0, -sin_p, 1.0],
+            ));
         }
     }
     let mut indices = Vec::with_capacity((6 * sectors * (stacks - 1)) as usize);
@@ -62,12 +62,12 @@ fn push_quad(
     let base = mesh.vertices.len() as u32;
     for (su, sv) in [(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
         let position = center + tangent * (su * half_u) + bitangent * (sv * half_v);
-        mesh.vertices.push(Vertex {
-            position: position.into(),
-            normal: normal.into(),
-            uv: [(su + 1.0) * 0.5, (1.0 - sv) * 0.5],
-            tangent: tangent.extend(1.0).into(),
-        });
+        mesh.vertices.push(Vertex::new(
+            position.into(),
+            normal.into(),
+            [(su + 1.0) * 0.5, (1.0 - sv) * 0.5],
+            tangent.extend(1.0).into(),
+        ));
     }
     mesh.indices
         .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);

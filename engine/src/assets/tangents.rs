@@ -1,5 +1,10 @@
 //! Tangents for meshes that lack them: MikkTSpace (Mikkelsen 2008, the tangent space glTF
 //! and the common bakers assume), through the `bevy_mikktspace` crate.
+//!
+//! glTF's texture coordinates start at the image's top-left (v grows downwards) while a
+//! normal map's +Y points up the image, so glTF's bitangent, cross(normal, tangent) × w,
+//! must point towards decreasing v. MikkTSpace's bitangent follows increasing v, so it
+//! is given v' = 1 − v, as the exporters do from their bottom-left coordinates.
 
 use crate::scene::MeshData;
 use bevy_mikktspace::{Geometry, TangentSpace, generate_tangents};
@@ -34,7 +39,8 @@ impl Geometry for Faces<'_> {
     }
 
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.mesh.vertices[self.vertex(face, vert)].uv
+        let [u, v] = self.mesh.vertices[self.vertex(face, vert)].uv;
+        [u, 1.0 - v]
     }
 
     fn set_tangent(&mut self, tangent_space: Option<TangentSpace>, face: usize, vert: usize) {
@@ -82,11 +88,13 @@ mod tests {
         MeshData {
             vertices: corners
                 .iter()
-                .map(|&[x, y]| Vertex {
-                    position: [x, y, 0.0],
-                    normal: [0.0, 0.0, 1.0],
-                    uv: [x, if v_dir > 0.0 { y } else { 1.0 - y }],
-                    tangent: [0.0; 4],
+                .map(|&[x, y]| {
+                    Vertex::new(
+                        [x, y, 0.0],
+                        [0.0, 0.0, 1.0],
+                        [x, if v_dir > 0.0 { y } else { 1.0 - y }],
+                        [0.0; 4],
+                    )
                 })
                 .collect(),
             indices: vec![0, 1, 2, 0, 2, 3],
@@ -94,8 +102,9 @@ mod tests {
     }
 
     #[test]
-    fn tangents_follow_u_and_handedness_follows_v() {
-        for (v_dir, w) in [(1.0, 1.0), (-1.0, -1.0)] {
+    fn tangents_follow_u_and_bitangents_point_up_the_image() {
+        // v along +y: the image's top (small v) is at −y, where glTF's bitangent points.
+        for (v_dir, w) in [(1.0, -1.0), (-1.0, 1.0)] {
             let mut mesh = quad(v_dir);
             assert_eq!(generate_mikktspace(&mut mesh), 0);
             for v in &mesh.vertices {

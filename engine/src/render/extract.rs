@@ -59,6 +59,11 @@ pub struct ExtractedCamera {
 pub struct Batch {
     /// The mesh.
     pub mesh: MeshHandle,
+    /// Index into [`ExtractedFrame::material_maps`] of the batch's textures (`None`:
+    /// factors only).
+    pub maps: Option<u32>,
+    /// Back faces drawn too.
+    pub double_sided: bool,
     /// Index of the first instance in [`ExtractedFrame::instances`].
     pub first_instance: u32,
     /// Number of instances.
@@ -138,6 +143,8 @@ pub struct ExtractedFrame {
     pub instances: Vec<GpuInstance>,
     /// Draw batches over `instances`.
     pub batches: Vec<Batch>,
+    /// The distinct material maps of this frame's instances.
+    pub material_maps: Vec<crate::scene::MaterialMaps>,
     /// Lights: directional, then point, then spot.
     pub lights: Vec<GpuLight>,
     /// How many of each kind.
@@ -258,6 +265,7 @@ type Drawable = (
     &'static GlobalTransform,
     Has<NotShadowCaster>,
     Has<NotShadowReceiver>,
+    Option<&'static crate::scene::MaterialMaps>,
 );
 
 /// Extracts the frame from the World (a system of the render schedule).
@@ -342,12 +350,15 @@ pub fn extract_frame(
     // instanced draw.
     struct Item {
         mesh: MeshHandle,
+        maps: Option<u32>,
+        double_sided: bool,
         casts: bool,
         sphere: Option<(Vec3, f32)>,
         instance: GpuInstance,
     }
     let mut items: Vec<Item> = Vec::new();
-    for (mesh, material, transform, not_caster, not_receiver) in &drawables {
+    frame.material_maps.clear();
+    for (mesh, material, transform, not_caster, not_receiver, maps) in &drawables {
         if meshes.get(mesh.0).is_none() {
             log::warn!(
                 "an entity refers to mesh {} which does not exist; skipped",
@@ -361,8 +372,20 @@ pub fn extract_frame(
             continue;
         };
         let base = material.base_color;
+        let maps = maps.map(|m| {
+            let index = match frame.material_maps.iter().position(|x| x == m) {
+                Some(i) => i,
+                None => {
+                    frame.material_maps.push(m.clone());
+                    frame.material_maps.len() - 1
+                }
+            };
+            index as u32
+        });
         items.push(Item {
             mesh: mesh.0,
+            maps,
+            double_sided: material.double_sided,
             casts: !not_caster,
             sphere: bounding_sphere(&meshes, mesh.0, &m),
             instance: GpuInstance {
@@ -387,7 +410,7 @@ pub fn extract_frame(
             },
         });
     }
-    items.sort_by_key(|item| (item.mesh, !item.casts));
+    items.sort_by_key(|item| (item.mesh, item.maps, item.double_sided, !item.casts));
     frame.instances.clear();
     frame.batches.clear();
     frame.casters.clear();
@@ -397,9 +420,17 @@ pub fn extract_frame(
     for item in items {
         let index = frame.instances.len() as u32;
         match frame.batches.last_mut() {
-            Some(b) if b.mesh == item.mesh => b.count += 1,
+            Some(b)
+                if b.mesh == item.mesh
+                    && b.maps == item.maps
+                    && b.double_sided == item.double_sided =>
+            {
+                b.count += 1
+            }
             _ => frame.batches.push(Batch {
                 mesh: item.mesh,
+                maps: item.maps,
+                double_sided: item.double_sided,
                 first_instance: index,
                 count: 1,
             }),

@@ -3,15 +3,17 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
-use crate::render::frame::FrameEncoder;
+use crate::render::extract::{Batch, ExtractedFrame};
+use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::GpuInstance;
+use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, compose};
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
+use std::collections::HashMap;
 
 /// The depth attachment of the G-buffer pass, cleared to 0 (the far plane in reversed Z).
 fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
@@ -25,17 +27,31 @@ fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttach
     }
 }
 
-/// The G-buffer pass's pipeline and bindings.
+/// Which G-buffer pipeline draws a batch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct GBufferVariant {
+    /// Material maps (textures, vertex colours, alpha mask): `vs_textured`/`fs_textured`
+    /// with the maps' bind group as group 1.
+    pub textured: bool,
+    /// Back faces drawn (no culling).
+    pub double_sided: bool,
+}
+
+/// The G-buffer pass's pipelines (the plain one compiled up front, the others when a
+/// frame first needs them) and bindings.
 #[derive(Resource)]
 pub struct GBufferPass {
-    pipeline: wgpu::RenderPipeline,
+    module: wgpu::ShaderModule,
     layout: wgpu::BindGroupLayout,
+    plain_layout: wgpu::PipelineLayout,
+    textured_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<GBufferVariant, wgpu::RenderPipeline>,
     bind_group: Option<(u64, wgpu::BindGroup)>,
 }
 
 impl GBufferPass {
-    /// Compiles the pass.
-    pub fn new(gpu: &Gpu) -> Result<Self> {
+    /// Compiles the pass's plain variant.
+    pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
         let source = compose(
             &[],
             &[
@@ -54,15 +70,46 @@ impl GBufferPass {
                 label: Some("gbuffer"),
                 entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX)],
             });
-        let pipeline_layout = gpu
+        let plain_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("gbuffer"),
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
+        let textured_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("gbuffer (textured)"),
+                bind_group_layouts: &[Some(&layout), Some(&maps.layout)],
+                immediate_size: 0,
+            });
+        let mut pass = GBufferPass {
+            module,
+            layout,
+            plain_layout,
+            textured_layout,
+            pipelines: HashMap::new(),
+            bind_group: None,
+        };
+        pass.ensure(
+            gpu,
+            GBufferVariant {
+                textured: false,
+                double_sided: false,
+            },
+        )?;
+        Ok(pass)
+    }
+
+    /// Compiles `variant` unless it exists.
+    pub fn ensure(&mut self, gpu: &Gpu, variant: GBufferVariant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
         let attributes = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4,
+            14 => Float32x2, 15 => Float32x4
         ];
         // The instance buffer read as per-instance vertex attributes: on lavapipe vertex
         // fetch is cheaper than a storage-buffer read per vertex.
@@ -78,13 +125,19 @@ impl GBufferPass {
                 write_mask: wgpu::ColorWrites::ALL,
             })
         };
+        let (layout, vs, fs) = if variant.textured {
+            (&self.textured_layout, "vs_textured", "fs_textured")
+        } else {
+            (&self.plain_layout, "vs_main", "fs_main")
+        };
+        let module = &self.module;
         let pipeline = gpu.checked("gbuffer pipeline", |device| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("gbuffer"),
-                layout: Some(&pipeline_layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
+                    module,
+                    entry_point: Some(vs),
                     compilation_options: Default::default(),
                     buffers: &[
                         Some(wgpu::VertexBufferLayout {
@@ -102,7 +155,11 @@ impl GBufferPass {
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
                     front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: Some(wgpu::Face::Back),
+                    cull_mode: if variant.double_sided {
+                        None
+                    } else {
+                        Some(wgpu::Face::Back)
+                    },
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
@@ -114,8 +171,8 @@ impl GBufferPass {
                 }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_main"),
+                    module,
+                    entry_point: Some(fs),
                     compilation_options: Default::default(),
                     targets: &[
                         target(targets::GBUFFER0_FORMAT),
@@ -127,16 +184,34 @@ impl GBufferPass {
                 cache: None,
             })
         })?;
-        Ok(GBufferPass {
-            pipeline,
-            layout,
-            bind_group: None,
-        })
+        self.pipelines.insert(variant, pipeline);
+        Ok(())
     }
 }
 
-/// Rebuilds the pass's bind group when the scene buffers were recreated.
-pub fn prepare_gbuffer(gpu: Res<Gpu>, buffers: Res<SceneBuffers>, mut pass: ResMut<GBufferPass>) {
+/// The variant that draws `batch`.
+fn variant(batch: &Batch) -> GBufferVariant {
+    GBufferVariant {
+        textured: batch.maps.is_some(),
+        double_sided: batch.double_sided,
+    }
+}
+
+/// Compiles the variants this frame's batches need and rebuilds the pass's bind group
+/// when the scene buffers were recreated.
+pub fn prepare_gbuffer(
+    gpu: Res<Gpu>,
+    buffers: Res<SceneBuffers>,
+    frame: Res<ExtractedFrame>,
+    mut pass: ResMut<GBufferPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    for batch in &frame.batches {
+        if let Err(e) = pass.ensure(&gpu, variant(batch)) {
+            errors.0.push(e);
+            return;
+        }
+    }
     if pass
         .bind_group
         .as_ref()
@@ -158,6 +233,7 @@ pub fn prepare_gbuffer(gpu: Res<Gpu>, buffers: Res<SceneBuffers>, mut pass: ResM
 /// Records the G-buffer pass.
 pub fn gbuffer_pass(
     pass: Res<GBufferPass>,
+    maps: Res<GpuMaterialMaps>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
     frame: Res<ExtractedFrame>,
@@ -196,13 +272,27 @@ pub fn gbuffer_pass(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_pipeline(&pass.pipeline);
         rp.set_bind_group(0, bind_group, &[]);
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
+        let mut current = None;
         for batch in &frame.batches {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
+            let v = variant(batch);
+            let Some(pipeline) = pass.pipelines.get(&v) else {
+                continue;
+            };
+            if let Some(m) = batch.maps {
+                let Some(group) = maps.group(m) else {
+                    continue;
+                };
+                rp.set_bind_group(1, group, &[]);
+            }
+            if current != Some(v) {
+                rp.set_pipeline(pipeline);
+                current = Some(v);
+            }
             rp.set_vertex_buffer(0, mesh.vertices.slice(..));
             rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             rp.draw_indexed(

@@ -17,6 +17,7 @@ pub mod gpu_types;
 pub mod ibl;
 pub mod light_culling;
 pub mod lighting;
+pub mod material_maps;
 pub mod pipelines;
 pub mod plan;
 pub mod readback;
@@ -67,7 +68,10 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 /// Inserts the renderer's resources into `world` and adds the extract and render
 /// schedules. Compiles the passes that do not depend on the scene.
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
-    world.insert_resource(gbuffer::GBufferPass::new(&gpu)?);
+    let maps = material_maps::GpuMaterialMaps::new(&gpu);
+    world.insert_resource(gbuffer::GBufferPass::new(&gpu, &maps)?);
+    world.insert_resource(maps);
+    world.init_resource::<crate::scene::Textures>();
     world.insert_resource(lighting::LightingPass::new(&gpu));
     world.insert_resource(light_culling::LightCullingPass::new(&gpu));
     world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
@@ -100,6 +104,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
                 plan::plan_frame,
                 prepare_targets,
                 scene_buffers::prepare_scene_buffers,
+                material_maps::prepare_material_maps,
                 shadow::pass::prepare_shadows,
                 ibl::prepare_ibl,
                 gbuffer::prepare_gbuffer,

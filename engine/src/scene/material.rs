@@ -23,6 +23,9 @@ pub struct Material {
     /// Ambient occlusion factor, 0 (fully occluded) .. 1 (open). It scales ambient and
     /// image-based light only, never direct light (PBR-REFERENCE §4).
     pub occlusion: f32,
+    /// Draw back faces too, lit with the normal flipped towards the viewer (glTF's
+    /// `doubleSided`); off, back faces are culled.
+    pub double_sided: bool,
 }
 
 impl Default for Material {
@@ -34,6 +37,7 @@ impl Default for Material {
             specular_level: 0.5,
             emissive: Vec3::ZERO,
             occlusion: 1.0,
+            double_sided: false,
         }
     }
 }

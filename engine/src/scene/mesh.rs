@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use std::sync::Arc;
 
-/// One vertex as the G-buffer pass reads it (48 bytes, interleaved).
+/// One vertex as the G-buffer pass reads it (72 bytes, interleaved).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
@@ -17,6 +17,25 @@ pub struct Vertex {
     pub uv: [f32; 2],
     /// Object-space unit tangent (xyz) and bitangent sign (w = ±1), as in glTF.
     pub tangent: [f32; 4],
+    /// Texture coordinate set 1.
+    pub uv1: [f32; 2],
+    /// Linear RGBA vertex colour, multiplying the base colour (white when the mesh has
+    /// none). Used only by entities with [`crate::scene::MaterialMaps`].
+    pub color: [f32; 4],
+}
+
+impl Vertex {
+    /// A vertex with no second texture coordinate set and a white colour.
+    pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2], tangent: [f32; 4]) -> Self {
+        Vertex {
+            position,
+            normal,
+            uv,
+            tangent,
+            uv1: [0.0; 2],
+            color: [1.0; 4],
+        }
+    }
 }
 
 /// Axis-aligned bounding box in metres.

@@ -10,6 +10,7 @@ pub mod light;
 pub mod material;
 pub mod mesh;
 pub mod shadow;
+pub mod texture;
 pub mod transform;
 
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
@@ -18,4 +19,8 @@ pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, Spo
 pub use material::Material;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
+pub use texture::{
+    ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot, Textures,
+    UvTransform, Wrap,
+};
 pub use transform::{GlobalTransform, Transform, propagate_transforms};

@@ -12,6 +12,7 @@ pub const PLANE_MATERIAL: Material = Material {
     specular_level: 0.5,
     emissive: Vec3::ZERO,
     occlusion: 1.0,
+    double_sided: false,
 };
 
 /// Illuminance of the light in lux.

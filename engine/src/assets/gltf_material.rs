@@ -1,0 +1,432 @@
+//! glTF materials and their textures → [`Material`] + [`MaterialMaps`].
+//!
+//! - Colour slots (base colour, emissive, spec/gloss diffuse and specular) are sRGB, data
+//!   slots (metallic-roughness, normal, occlusion) linear.
+//! - Images are decoded with `image` (PNG, JPEG) from a buffer view, a data URI or a file
+//!   next to the glTF. One that cannot be read becomes a magenta checker with a warning.
+//! - A texture larger than the budget (the smaller of [`Quality::max_texture_size`] and
+//!   the device's limit) is downscaled with a warning.
+//! - `KHR_materials_pbrSpecularGlossiness` textures are converted texel by texel to a
+//!   base-colour and a metallic-roughness texture ([`crate::workflow`]).
+
+use super::texture_io;
+use crate::brdf::f0_from_ior;
+use crate::scene::{
+    ColorSpace, Filter, Material, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot,
+    Textures, UvTransform, Wrap,
+};
+use crate::workflow;
+use glam::{Vec2, Vec3, Vec4};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// Reads a file's images once per colour space and hands out texture handles.
+pub(super) struct TextureLoader<'a> {
+    pub base: &'a Path,
+    pub buffers: &'a [gltf::buffer::Data],
+    pub views: &'a [gltf::buffer::View<'a>],
+    pub max_size: u32,
+    pub cache: HashMap<(usize, ColorSpace), TextureHandle>,
+    pub warnings: Vec<String>,
+}
+
+impl TextureLoader<'_> {
+    /// The decoded image of `texture` (RGBA8, within the budget), or the missing-texture
+    /// checker with a warning.
+    fn decode(&mut self, texture: &gltf::Texture, color_space: ColorSpace) -> TextureData {
+        let image = texture.source();
+        let what = format!("image {}", image.index());
+        let bytes: Result<Vec<u8>, String> = match image.source() {
+            gltf::image::Source::View { view, .. } => self
+                .views
+                .get(view.index())
+                .and_then(|v| super::gltf::view_bytes(v, self.buffers))
+                .map(<[u8]>::to_vec)
+                .ok_or(format!(
+                    "{what}: buffer view {} is out of range",
+                    view.index()
+                )),
+            gltf::image::Source::Uri { uri, .. } => texture_io::read_uri(self.base, uri),
+        };
+        let decoded = bytes.and_then(|b| {
+            texture_io::decode(&b, color_space, self.max_size, &mut self.warnings, &what)
+        });
+        match decoded {
+            Ok(data) => data,
+            Err(e) => {
+                self.warnings
+                    .push(format!("{what}: {e}; drawn as a magenta checker"));
+                TextureData::missing(color_space)
+            }
+        }
+    }
+
+    /// The handle of `texture` in `color_space`, decoding it on first use.
+    fn handle(
+        &mut self,
+        store: &mut Textures,
+        texture: &gltf::Texture,
+        color_space: ColorSpace,
+    ) -> Option<TextureHandle> {
+        let key = (texture.source().index(), color_space);
+        if let Some(h) = self.cache.get(&key) {
+            return Some(*h);
+        }
+        let data = self.decode(texture, color_space);
+        match store.add(data) {
+            Ok(h) => {
+                self.cache.insert(key, h);
+                Some(h)
+            }
+            Err(e) => {
+                self.warnings.push(format!("image {}: {e}", key.0));
+                None
+            }
+        }
+    }
+
+    /// A slot for `texture` read with `tex_coord` and an optional transform.
+    fn slot(
+        &mut self,
+        store: &mut Textures,
+        texture: &gltf::Texture,
+        tex_coord: u32,
+        transform: Option<&gltf::json::Value>,
+        color_space: ColorSpace,
+    ) -> Option<TextureSlot> {
+        let handle = self.handle(store, texture, color_space)?;
+        let (transform, set) = transform.map_or((UvTransform::default(), None), uv_transform);
+        let uv_set = set.unwrap_or(tex_coord);
+        if uv_set > 1 {
+            self.warnings.push(format!(
+                "texture {}: coordinate set {uv_set} is not supported; set 0 is used",
+                texture.index()
+            ));
+        }
+        Some(TextureSlot {
+            texture: handle,
+            sampler: sampler(&texture.sampler()),
+            uv_set: if uv_set <= 1 { uv_set } else { 0 },
+            transform,
+        })
+    }
+}
+
+/// `KHR_texture_transform` from its JSON object: the transform and the coordinate set it
+/// overrides, if any.
+fn uv_transform(value: &gltf::json::Value) -> (UvTransform, Option<u32>) {
+    let pair = |key: &str, default: Vec2| {
+        value
+            .get(key)
+            .and_then(|v| v.as_array())
+            .and_then(|a| {
+                Some(Vec2::new(
+                    a.first()?.as_f64()? as f32,
+                    a.get(1)?.as_f64()? as f32,
+                ))
+            })
+            .filter(|v| v.is_finite())
+            .unwrap_or(default)
+    };
+    let rotation = value
+        .get("rotation")
+        .and_then(|v| v.as_f64())
+        .map(|r| r as f32)
+        .filter(|r| r.is_finite())
+        .unwrap_or(0.0);
+    let set = value
+        .get("texCoord")
+        .and_then(|v| v.as_u64())
+        .map(|v| v.min(u64::from(u32::MAX)) as u32);
+    (
+        UvTransform {
+            offset: pair("offset", Vec2::ZERO),
+            rotation_rad: rotation,
+            scale: pair("scale", Vec2::ONE),
+        },
+        set,
+    )
+}
+
+fn sampler(s: &gltf::texture::Sampler) -> Sampler {
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let wrap = |w| match w {
+        WrappingMode::ClampToEdge => Wrap::ClampToEdge,
+        WrappingMode::MirroredRepeat => Wrap::MirroredRepeat,
+        WrappingMode::Repeat => Wrap::Repeat,
+    };
+    let (min, mipmap) = match s.min_filter() {
+        Some(MinFilter::Nearest) | Some(MinFilter::NearestMipmapNearest) => {
+            (Filter::Nearest, Filter::Nearest)
+        }
+        Some(MinFilter::Linear) | Some(MinFilter::LinearMipmapNearest) => {
+            (Filter::Linear, Filter::Nearest)
+        }
+        Some(MinFilter::NearestMipmapLinear) => (Filter::Nearest, Filter::Linear),
+        Some(MinFilter::LinearMipmapLinear) | None => (Filter::Linear, Filter::Linear),
+    };
+    Sampler {
+        wrap_u: wrap(s.wrap_s()),
+        wrap_v: wrap(s.wrap_t()),
+        mag: match s.mag_filter() {
+            Some(MagFilter::Nearest) => Filter::Nearest,
+            _ => Filter::Linear,
+        },
+        min,
+        mipmap,
+    }
+}
+
+/// The JSON of an `Info`'s `KHR_texture_transform`, if any.
+fn info_transform<'a>(info: &'a gltf::texture::Info) -> Option<&'a gltf::json::Value> {
+    info.extension_value("KHR_texture_transform")
+}
+
+/// The material of a primitive and its maps (`None` when it has no texture and the
+/// mesh no vertex colour), or `None` when the primitive is not drawn (alpha mode
+/// `BLEND`, or `MASK` with a constant alpha below the cutoff).
+pub(super) fn material(
+    m: &gltf::Material,
+    what: &str,
+    has_vertex_colors: bool,
+    loader: &mut TextureLoader,
+    store: &mut Textures,
+) -> Option<(Material, Option<MaterialMaps>)> {
+    let pbr = m.pbr_metallic_roughness();
+    let mut maps = MaterialMaps::default();
+    let (base, metallic, roughness) = match m.pbr_specular_glossiness() {
+        Some(sg) => {
+            let diffuse = Vec4::from(sg.diffuse_factor());
+            let converted = workflow::to_metal_rough(workflow::SpecGloss {
+                diffuse: diffuse.truncate(),
+                specular: Vec3::from(sg.specular_factor()),
+                glossiness: sg.glossiness_factor(),
+            });
+            if sg.diffuse_texture().is_some() || sg.specular_glossiness_texture().is_some() {
+                spec_gloss_textures(&sg, loader, store, &mut maps);
+                // The converted textures carry the colour; the factors are folded in.
+                (Vec4::new(1.0, 1.0, 1.0, diffuse.w), 1.0, 1.0)
+            } else {
+                (
+                    converted.base_color.extend(diffuse.w),
+                    converted.metallic,
+                    converted.roughness,
+                )
+            }
+        }
+        None => {
+            maps.base_color = pbr.base_color_texture().and_then(|i| {
+                loader.slot(
+                    store,
+                    &i.texture(),
+                    i.tex_coord(),
+                    info_transform(&i),
+                    ColorSpace::Srgb,
+                )
+            });
+            maps.metallic_roughness = pbr.metallic_roughness_texture().and_then(|i| {
+                loader.slot(
+                    store,
+                    &i.texture(),
+                    i.tex_coord(),
+                    info_transform(&i),
+                    ColorSpace::Linear,
+                )
+            });
+            (
+                Vec4::from(pbr.base_color_factor()),
+                pbr.metallic_factor(),
+                pbr.roughness_factor(),
+            )
+        }
+    };
+    if let Some(n) = m.normal_texture() {
+        maps.normal = loader.slot(
+            store,
+            &n.texture(),
+            n.tex_coord(),
+            n.extension_value("KHR_texture_transform"),
+            ColorSpace::Linear,
+        );
+        maps.normal_scale = if n.scale().is_finite() {
+            n.scale()
+        } else {
+            1.0
+        };
+    }
+    if let Some(o) = m.occlusion_texture() {
+        maps.occlusion = loader.slot(
+            store,
+            &o.texture(),
+            o.tex_coord(),
+            o.extension_value("KHR_texture_transform"),
+            ColorSpace::Linear,
+        );
+        maps.occlusion_strength = if o.strength().is_finite() {
+            o.strength().clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+    }
+    maps.emissive = m.emissive_texture().and_then(|i| {
+        loader.slot(
+            store,
+            &i.texture(),
+            i.tex_coord(),
+            info_transform(&i),
+            ColorSpace::Srgb,
+        )
+    });
+
+    let alpha = if base.w.is_nan() { 1.0 } else { base.w };
+    let alpha_textured = maps.base_color.is_some() || has_vertex_colors;
+    match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => {}
+        gltf::material::AlphaMode::Mask => {
+            let cutoff = m.alpha_cutoff().unwrap_or(0.5);
+            if alpha_textured {
+                maps.alpha_cutoff = Some(if cutoff.is_finite() { cutoff } else { 0.5 });
+            } else if alpha < cutoff {
+                loader.warnings.push(format!(
+                    "{what}: alpha {alpha} is below the mask cutoff: not drawn"
+                ));
+                return None;
+            }
+        }
+        gltf::material::AlphaMode::Blend => {
+            if alpha < 1.0 || alpha_textured {
+                loader.warnings.push(format!(
+                    "{what}: alpha blending is not drawn yet: primitive skipped"
+                ));
+                return None;
+            }
+        }
+    }
+    let strength = m.emissive_strength().unwrap_or(1.0);
+    let material = Material {
+        base_color: base,
+        metallic,
+        perceptual_roughness: roughness,
+        specular_level: specular_level(m, what, &mut loader.warnings),
+        // glTF emissive is a colour factor × strength in nits (cd/m²) per
+        // KHR_materials_emissive_strength's reference of 1 = 1 nit.
+        emissive: Vec3::from(m.emissive_factor()) * strength,
+        occlusion: 1.0,
+        double_sided: m.double_sided(),
+    };
+    let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
+    Some((material, textured.then_some(maps)))
+}
+
+/// Converts spec/gloss textures (and their factors) texel by texel into a base-colour and
+/// a metallic-roughness texture, at the diffuse texture's size (or the specular one's).
+fn spec_gloss_textures(
+    sg: &gltf::material::PbrSpecularGlossiness,
+    loader: &mut TextureLoader,
+    store: &mut Textures,
+    maps: &mut MaterialMaps,
+) {
+    let diffuse = sg
+        .diffuse_texture()
+        .map(|i| (loader.decode(&i.texture(), ColorSpace::Srgb), i));
+    let specular = sg
+        .specular_glossiness_texture()
+        .map(|i| (loader.decode(&i.texture(), ColorSpace::Srgb), i));
+    let Some((w, h)) = diffuse
+        .as_ref()
+        .or(specular.as_ref())
+        .map(|(t, _)| (t.width, t.height))
+    else {
+        return;
+    };
+    let diffuse_factor = Vec4::from(sg.diffuse_factor());
+    let specular_factor = Vec3::from(sg.specular_factor());
+    let gloss_factor = sg.glossiness_factor();
+    // Texel (x, y) of `t` at the converted texture's (x, y), nearest.
+    let texel = |t: &TextureData, x: u32, y: u32| {
+        let tx = (u64::from(x) * u64::from(t.width) / u64::from(w)) as usize;
+        let ty = (u64::from(y) * u64::from(t.height) / u64::from(h)) as usize;
+        let i = (ty * t.width as usize + tx) * 4;
+        t.rgba8
+            .get(i..i + 4)
+            .map_or([255; 4], |p| [p[0], p[1], p[2], p[3]])
+    };
+    let srgb = |c: u8| crate::color::srgb_decode(f32::from(c) / 255.0);
+    let mut base = Vec::with_capacity((w * h * 4) as usize);
+    let mut mr = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let d = diffuse.as_ref().map_or([255; 4], |(t, _)| texel(t, x, y));
+            let s = specular.as_ref().map_or([255; 4], |(t, _)| texel(t, x, y));
+            let converted = workflow::to_metal_rough(workflow::SpecGloss {
+                diffuse: Vec3::new(srgb(d[0]), srgb(d[1]), srgb(d[2])) * diffuse_factor.truncate(),
+                specular: Vec3::new(srgb(s[0]), srgb(s[1]), srgb(s[2])) * specular_factor,
+                glossiness: f32::from(s[3]) / 255.0 * gloss_factor,
+            });
+            let enc = |v: f32| (crate::color::srgb_encode(v) * 255.0).round() as u8;
+            let c = converted.base_color;
+            base.extend([enc(c.x), enc(c.y), enc(c.z), d[3]]);
+            let unorm = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+            mr.extend([
+                0,
+                unorm(converted.roughness),
+                unorm(converted.metallic),
+                255,
+            ]);
+        }
+    }
+    let set = diffuse
+        .as_ref()
+        .or(specular.as_ref())
+        .map_or(0, |(_, i)| i.tex_coord().min(1));
+    let transform = diffuse
+        .as_ref()
+        .or(specular.as_ref())
+        .and_then(|(_, i)| info_transform(i).map(|v| uv_transform(v).0))
+        .unwrap_or_default();
+    let sampler = diffuse
+        .as_ref()
+        .or(specular.as_ref())
+        .map_or(Sampler::default(), |(_, i)| sampler(&i.texture().sampler()));
+    let add = |store: &mut Textures, rgba8, color_space| {
+        store
+            .add(TextureData {
+                width: w,
+                height: h,
+                rgba8,
+                color_space,
+            })
+            .ok()
+            .map(|texture| TextureSlot {
+                texture,
+                sampler,
+                uv_set: set,
+                transform,
+            })
+    };
+    maps.base_color = add(store, base, ColorSpace::Srgb);
+    maps.metallic_roughness = add(store, mr, ColorSpace::Linear);
+}
+
+/// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):
+/// `KHR_materials_ior` gives F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular`
+/// scales it by its factor and the largest channel of its colour (a tinted dielectric
+/// specular is not modelled: a warning says so).
+fn specular_level(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> f32 {
+    let mut f0 = f0_from_ior(m.ior().unwrap_or(1.5));
+    if let Some(spec) = m.specular() {
+        let colour = Vec3::from(spec.specular_color_factor());
+        if colour.max_element() - colour.min_element() > 1e-3 {
+            warnings.push(format!(
+                "{what}: tinted KHR_materials_specular colour is drawn untinted"
+            ));
+        }
+        f0 *= spec.specular_factor() * colour.max_element();
+    }
+    let level = f0 / 0.08;
+    if level.is_nan() {
+        0.5
+    } else {
+        level.clamp(0.0, 1.0)
+    }
+}

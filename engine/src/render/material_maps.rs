@@ -1,0 +1,402 @@
+//! Textured materials on the GPU: every [`TextureData`] a frame's [`MaterialMaps`] use is
+//! uploaded once with a full mip chain (built on the CPU with a 2 × 2 box filter, in
+//! linear light for sRGB textures), samplers are shared, and each distinct
+//! `MaterialMaps` gets one bind group (group 1 of the G-buffer's textured variant).
+//! Nothing here is built for a scene without `MaterialMaps`.
+
+use crate::color::{srgb_decode, srgb_encode};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::pipelines::uniform_entry;
+use crate::scene::{
+    ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, Textures, Wrap,
+};
+use bevy_ecs::prelude::*;
+use bytemuck::{Pod, Zeroable};
+use std::collections::HashMap;
+
+/// `Maps` in `gbuffer.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+struct GpuMaps {
+    transforms: [[f32; 4]; 10],
+    uv_sets: [u32; 4],
+    extra: [u32; 4],
+    params: [f32; 4],
+}
+
+impl GpuMaps {
+    fn new(maps: &MaterialMaps) -> Self {
+        let mut out = GpuMaps::default();
+        for (k, slot) in maps.slots().iter().enumerate() {
+            let m = slot.map_or(glam::Mat3::IDENTITY, |s| s.transform.matrix());
+            let m = if m.is_finite() {
+                m
+            } else {
+                glam::Mat3::IDENTITY
+            };
+            // Rows of the 2 × 3 part acting on (u, v, 1).
+            out.transforms[2 * k] = [m.x_axis.x, m.y_axis.x, m.z_axis.x, 0.0];
+            out.transforms[2 * k + 1] = [m.x_axis.y, m.y_axis.y, m.z_axis.y, 0.0];
+        }
+        let set = |k: usize| maps.slots()[k].map_or(0, |s| s.uv_set.min(1));
+        out.uv_sets = [set(0), set(1), set(2), set(3)];
+        out.extra = [set(4), u32::from(maps.normal.is_some()), 0, 0];
+        let finite = |x: f32, d: f32| if x.is_finite() { x } else { d };
+        out.params = [
+            finite(maps.normal_scale, 1.0),
+            finite(maps.occlusion_strength, 1.0).clamp(0.0, 1.0),
+            maps.alpha_cutoff.map_or(-1.0, |c| finite(c, 0.5)),
+            0.0,
+        ];
+        out
+    }
+}
+
+/// The levels of a texture's mip chain, level 0 first, each RGBA8 (`width × height × 4`
+/// bytes). Each level averages 2 × 2 texels of the one above (edge texels repeat for odd
+/// sizes); sRGB colour channels are averaged in linear light, alpha and linear textures
+/// as stored.
+pub fn mip_chain(texture: &TextureData) -> Vec<(u32, u32, Vec<u8>)> {
+    let srgb = texture.color_space == ColorSpace::Srgb;
+    let decode: Vec<f32> = (0..256u32)
+        .map(|c| {
+            let x = c as f32 / 255.0;
+            if srgb { srgb_decode(x) } else { x }
+        })
+        .collect();
+    let encode = |v: f32, channel: usize| {
+        let v = if srgb && channel < 3 {
+            srgb_encode(v)
+        } else {
+            v
+        };
+        (v.clamp(0.0, 1.0) * 255.0).round() as u8
+    };
+    let mut levels = vec![(texture.width, texture.height, texture.rgba8.clone())];
+    while let Some((w, h, above)) = levels.last() {
+        let (w, h) = (*w, *h);
+        if w <= 1 && h <= 1 {
+            break;
+        }
+        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+        let mut next = Vec::with_capacity((nw * nh * 4) as usize);
+        for y in 0..nh {
+            for x in 0..nw {
+                for c in 0..4 {
+                    let mut sum = 0.0;
+                    for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let sx = (2 * x + dx).min(w - 1);
+                        let sy = (2 * y + dy).min(h - 1);
+                        let byte = above[((sy * w + sx) * 4) as usize + c];
+                        sum += if c < 3 {
+                            decode[byte as usize]
+                        } else {
+                            f32::from(byte) / 255.0
+                        };
+                    }
+                    next.push(encode(sum * 0.25, c));
+                }
+            }
+        }
+        levels.push((nw, nh, next));
+    }
+    levels
+}
+
+fn address(w: Wrap) -> wgpu::AddressMode {
+    match w {
+        Wrap::Repeat => wgpu::AddressMode::Repeat,
+        Wrap::MirroredRepeat => wgpu::AddressMode::MirrorRepeat,
+        Wrap::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+    }
+}
+
+fn filter(f: Filter) -> wgpu::FilterMode {
+    match f {
+        Filter::Nearest => wgpu::FilterMode::Nearest,
+        Filter::Linear => wgpu::FilterMode::Linear,
+    }
+}
+
+fn mipmap_filter(f: Filter) -> wgpu::MipmapFilterMode {
+    match f {
+        Filter::Nearest => wgpu::MipmapFilterMode::Nearest,
+        Filter::Linear => wgpu::MipmapFilterMode::Linear,
+    }
+}
+
+/// The GPU side of textured materials.
+#[derive(Resource)]
+pub struct GpuMaterialMaps {
+    /// Layout of group 1 of the textured G-buffer variant.
+    pub layout: wgpu::BindGroupLayout,
+    textures: HashMap<TextureHandle, (wgpu::Texture, wgpu::TextureView)>,
+    samplers: HashMap<Sampler, wgpu::Sampler>,
+    /// 1 × 1 white, for slots without a texture (sRGB and linear).
+    white: Option<[(wgpu::Texture, wgpu::TextureView); 2]>,
+    groups: Vec<(MaterialMaps, wgpu::BindGroup)>,
+    /// For each entry of [`ExtractedFrame::material_maps`], its index in `groups`.
+    frame_groups: Vec<usize>,
+    anisotropy: u16,
+}
+
+impl GpuMaterialMaps {
+    /// The bind group layout; nothing is uploaded until a frame uses textures.
+    pub fn new(gpu: &Gpu) -> Self {
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let mut entries = vec![uniform_entry(0, fragment)];
+        for k in 0..5 {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 1 + k,
+                visibility: fragment,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            });
+        }
+        for k in 0..5 {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 6 + k,
+                visibility: fragment,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            });
+        }
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("material maps"),
+                entries: &entries,
+            });
+        let anisotropic = gpu
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::ANISOTROPIC_FILTERING);
+        GpuMaterialMaps {
+            layout,
+            textures: HashMap::new(),
+            samplers: HashMap::new(),
+            white: None,
+            groups: Vec::new(),
+            frame_groups: Vec::new(),
+            anisotropy: if anisotropic { 16 } else { 1 },
+        }
+    }
+
+    /// The bind group of entry `index` of this frame's material maps.
+    pub fn group(&self, index: u32) -> Option<&wgpu::BindGroup> {
+        let g = *self.frame_groups.get(index as usize)?;
+        self.groups.get(g).map(|(_, group)| group)
+    }
+}
+
+fn upload(gpu: &Gpu, data: &TextureData) -> (wgpu::Texture, wgpu::TextureView) {
+    let levels = mip_chain(data);
+    let format = match data.color_space {
+        ColorSpace::Srgb => wgpu::TextureFormat::Rgba8UnormSrgb,
+        ColorSpace::Linear => wgpu::TextureFormat::Rgba8Unorm,
+    };
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("material texture"),
+        size: wgpu::Extent3d {
+            width: data.width,
+            height: data.height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: levels.len() as u32,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for (level, (w, h, bytes)) in levels.iter().enumerate() {
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: level as u32,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(*h),
+            },
+            wgpu::Extent3d {
+                width: *w,
+                height: *h,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    (texture, view)
+}
+
+/// Uploads the textures and builds the bind groups this frame's material maps need.
+pub fn prepare_material_maps(
+    gpu: Res<Gpu>,
+    frame: Res<ExtractedFrame>,
+    store: Res<Textures>,
+    mut maps: ResMut<GpuMaterialMaps>,
+) {
+    let maps = &mut *maps;
+    maps.frame_groups.clear();
+    if frame.material_maps.is_empty() {
+        return;
+    }
+    if maps.white.is_none() {
+        maps.white = Some(
+            [ColorSpace::Srgb, ColorSpace::Linear]
+                .map(|cs| upload(&gpu, &TextureData::solid([255; 4], cs))),
+        );
+    }
+    // Animated maps would add a group per frame: start over past a generous bound.
+    if maps.groups.len() > 4096 {
+        maps.groups.clear();
+    }
+    for m in &frame.material_maps {
+        if let Some(i) = maps.groups.iter().position(|(k, _)| k == m) {
+            maps.frame_groups.push(i);
+            continue;
+        }
+        for slot in m.slots().into_iter().flatten() {
+            if !maps.textures.contains_key(&slot.texture)
+                && let Some(data) = store.get(slot.texture)
+            {
+                let uploaded = upload(&gpu, data);
+                maps.textures.insert(slot.texture, uploaded);
+            }
+            let anisotropy = maps.anisotropy;
+            maps.samplers.entry(slot.sampler).or_insert_with(|| {
+                let s = slot.sampler;
+                let all_linear = s.mag == Filter::Linear
+                    && s.min == Filter::Linear
+                    && s.mipmap == Filter::Linear;
+                gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("material sampler"),
+                    address_mode_u: address(s.wrap_u),
+                    address_mode_v: address(s.wrap_v),
+                    mag_filter: filter(s.mag),
+                    min_filter: filter(s.min),
+                    mipmap_filter: mipmap_filter(s.mipmap),
+                    anisotropy_clamp: if all_linear { anisotropy } else { 1 },
+                    ..Default::default()
+                })
+            });
+        }
+        let default_sampler = maps
+            .samplers
+            .entry(Sampler::default())
+            .or_insert_with(|| {
+                gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("material sampler"),
+                    ..Default::default()
+                })
+            })
+            .clone();
+        let Some(white) = maps.white.as_ref() else {
+            return;
+        };
+        // Colour slots (base colour, emissive) default to sRGB white, data slots to
+        // linear white; every default multiplies its factor by 1.
+        let srgb_slot = [true, false, false, false, true];
+        let views: Vec<&wgpu::TextureView> = m
+            .slots()
+            .iter()
+            .enumerate()
+            .map(|(k, slot)| {
+                slot.and_then(|s| maps.textures.get(&s.texture))
+                    .map_or(&white[usize::from(!srgb_slot[k])].1, |(_, v)| v)
+            })
+            .collect();
+        let samplers: Vec<&wgpu::Sampler> = m
+            .slots()
+            .iter()
+            .map(|slot| {
+                slot.and_then(|s| maps.samplers.get(&s.sampler))
+                    .unwrap_or(&default_sampler)
+            })
+            .collect();
+        use wgpu::util::DeviceExt;
+        let uniform = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("material maps"),
+                contents: bytemuck::bytes_of(&GpuMaps::new(m)),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: uniform.as_entire_binding(),
+        }];
+        for (k, view) in views.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 1 + k as u32,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        }
+        for (k, sampler) in samplers.iter().enumerate() {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 6 + k as u32,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            });
+        }
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("material maps"),
+            layout: &maps.layout,
+            entries: &entries,
+        });
+        maps.groups.push((m.clone(), group));
+        maps.frame_groups.push(maps.groups.len() - 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mips_average_in_linear_light() {
+        // A black and a white texel: their linear mean 0.5 is sRGB code 188, not 128.
+        let t = TextureData {
+            width: 2,
+            height: 1,
+            rgba8: vec![0, 0, 0, 0, 255, 255, 255, 255],
+            color_space: ColorSpace::Srgb,
+        };
+        let chain = mip_chain(&t);
+        assert_eq!(chain.len(), 2);
+        assert_eq!((chain[1].0, chain[1].1), (1, 1));
+        assert_eq!(chain[1].2, vec![188, 188, 188, 128]);
+        let linear = TextureData {
+            color_space: ColorSpace::Linear,
+            ..t
+        };
+        assert_eq!(mip_chain(&linear)[1].2, vec![128, 128, 128, 128]);
+    }
+
+    #[test]
+    fn odd_sizes_reach_one_texel() {
+        let t = TextureData {
+            width: 5,
+            height: 3,
+            rgba8: vec![200; 5 * 3 * 4],
+            color_space: ColorSpace::Linear,
+        };
+        let sizes: Vec<(u32, u32)> = mip_chain(&t).iter().map(|(w, h, _)| (*w, *h)).collect();
+        assert_eq!(sizes, vec![(5, 3), (2, 1), (1, 1)]);
+        assert!(
+            mip_chain(&t)
+                .iter()
+                .all(|(w, h, d)| d.len() == (w * h * 4) as usize)
+        );
+    }
+}
