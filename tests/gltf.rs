@@ -32,6 +32,18 @@ fn asset(name: &str) -> PathBuf {
 /// z = 3 looking down −z, a KHR_lights_punctual sun shining down −z, and `material`.
 /// Writes `quad.gltf` and `quad.bin` into `dir` and returns the .gltf path.
 fn write_quad(dir: &Path, material: serde_json::Value, extensions: &[&str]) -> PathBuf {
+    write_quad_with(dir, material, extensions, json!({}), [0.0, 0.0, 0.0, 1.0])
+}
+
+/// [`write_quad`] with `extra` merged into the document's root (images, textures,
+/// samplers) and the sun's node rotated by the quaternion `sun_rotation` (x, y, z, w).
+fn write_quad_with(
+    dir: &Path,
+    material: serde_json::Value,
+    extensions: &[&str],
+    extra: serde_json::Value,
+    sun_rotation: [f32; 4],
+) -> PathBuf {
     let positions: [[f32; 3]; 4] = [
         [-2.0, -2.0, 0.0],
         [2.0, -2.0, 0.0],
@@ -56,7 +68,7 @@ fn write_quad(dir: &Path, material: serde_json::Value, extensions: &[&str]) -> P
         "nodes": [
             {"mesh": 0},
             {"camera": 0, "translation": [0.0, 0.0, 3.0]},
-            {"extensions": {"KHR_lights_punctual": {"light": 0}}}
+            {"rotation": sun_rotation, "extensions": {"KHR_lights_punctual": {"light": 0}}}
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 100.0}}],
         "materials": [material],
@@ -74,6 +86,12 @@ fn write_quad(dir: &Path, material: serde_json::Value, extensions: &[&str]) -> P
             {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
         ]
     });
+    let mut doc = doc;
+    if let (Some(root), Some(more)) = (doc.as_object_mut(), extra.as_object()) {
+        for (k, v) in more {
+            root.insert(k.clone(), v.clone());
+        }
+    }
     let path = dir.join("quad.gltf");
     std::fs::write(&path, serde_json::to_vec_pretty(&doc).expect("json")).expect("write gltf");
     path
@@ -316,4 +334,265 @@ fn broken_files_are_one_line_errors_naming_the_file() {
     let summary = load_gltf(&mut app, &data("zero_area.gltf")).expect("loads");
     assert_eq!(summary.triangles, 1);
     assert!(summary.warnings.iter().any(|w| w.contains("2 zero-area")));
+}
+
+/// Writes an RGBA8 PNG of `w × h` texels given row by row, top first.
+fn write_png(path: &Path, w: u32, h: u32, texels: &[[u8; 4]]) {
+    let img = image::RgbaImage::from_fn(w, h, |x, y| image::Rgba(texels[(y * w + x) as usize]));
+    img.save(path).expect("png");
+}
+
+/// Images, textures and a sampler for `files` (one texture per file, in order).
+fn texture_json(files: &[&str], nearest: bool) -> serde_json::Value {
+    json!({
+        "images": files.iter().map(|f| json!({"uri": f})).collect::<Vec<_>>(),
+        "samplers": [if nearest { json!({"magFilter": 9728, "minFilter": 9728}) } else { json!({}) }],
+        "textures": (0..files.len()).map(|i| json!({"source": i, "sampler": 0})).collect::<Vec<_>>()
+    })
+}
+
+/// Loads and renders `path` (64², no energy compensation), with `tweak` applied to the
+/// world first, and returns the HDR image.
+fn render_image(path: &Path, tweak: impl FnOnce(&mut World)) -> image::Rgba32FImage {
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, path).expect("loads");
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .energy_compensation = false;
+    tweak(app.world_mut());
+    app.render_headless(SIZE).expect("frame");
+    app.read_hdr_image().expect("readback")
+}
+
+fn centre(img: &image::Rgba32FImage) -> Vec3 {
+    let p = img.get_pixel(SIZE.0 / 2, SIZE.1 / 2).0;
+    Vec3::new(p[0], p[1], p[2])
+}
+
+#[test]
+fn a_mid_grey_texel_reads_as_srgb_or_linear_by_slot() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    write_png(
+        &dir.path().join("grey.png"),
+        4,
+        4,
+        &[[128, 128, 128, 255]; 16],
+    );
+    let textures = texture_json(&["grey.png"], false);
+    let srgb = lumen::color::srgb_decode(128.0 / 255.0);
+    let linear = 128.0 / 255.0;
+    let slot = json!({"index": 0});
+    // (slot material, equivalent factor-only material, what to change in the reference)
+    let cases = [
+        (
+            "base colour (sRGB)",
+            json!({"pbrMetallicRoughness": {"baseColorTexture": slot, "metallicFactor": 0.0, "roughnessFactor": 0.6}}),
+            json!({"pbrMetallicRoughness": {"baseColorFactor": [srgb, srgb, srgb, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}),
+        ),
+        (
+            "metallic-roughness (linear)",
+            json!({"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.5, 0.3, 1.0], "metallicRoughnessTexture": slot}}),
+            json!({"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.5, 0.3, 1.0], "metallicFactor": linear, "roughnessFactor": linear}}),
+        ),
+        (
+            "emissive (sRGB)",
+            json!({"emissiveTexture": slot, "emissiveFactor": [1.0, 1.0, 1.0],
+                   "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 300.0}},
+                   "pbrMetallicRoughness": {"metallicFactor": 0.0}}),
+            json!({"emissiveFactor": [srgb, srgb, srgb],
+                   "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 300.0}},
+                   "pbrMetallicRoughness": {"metallicFactor": 0.0}}),
+        ),
+    ];
+    for (name, textured, reference) in cases {
+        let extensions = ["KHR_materials_emissive_strength"];
+        let a = centre(&render_image(
+            &write_quad_with(
+                dir.path(),
+                textured,
+                &extensions,
+                textures.clone(),
+                [0.0, 0.0, 0.0, 1.0],
+            ),
+            |_| {},
+        ));
+        let b = centre(&render_image(
+            &write_quad(dir.path(), reference, &extensions),
+            |_| {},
+        ));
+        let err = relative_error(a, b);
+        println!("{name}: textured {a}, factors {b} ({err:.4})");
+        assert!(err < 0.01, "{name}: {a} vs {b}");
+    }
+    // Occlusion (linear) scales only ambient light: under a uniform sky, the texel 128
+    // equals a material occlusion of 128/255.
+    let sky = |world: &mut World| {
+        world.spawn(Environment::uniform(Vec3::splat(2000.0)));
+    };
+    let occluded = json!({"occlusionTexture": slot, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.9}});
+    let plain = json!({"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.9}});
+    let a = centre(&render_image(
+        &write_quad_with(
+            dir.path(),
+            occluded,
+            &[],
+            textures.clone(),
+            [0.0, 0.0, 0.0, 1.0],
+        ),
+        sky,
+    ));
+    let b = centre(&render_image(
+        &write_quad(dir.path(), plain.clone(), &[]),
+        |world| {
+            sky(world);
+            for mut m in world.query::<&mut Material>().iter_mut(world) {
+                m.occlusion = linear;
+            }
+        },
+    ));
+    let open = centre(&render_image(&write_quad(dir.path(), plain, &[]), sky));
+    let err = relative_error(a, b);
+    println!("occlusion (linear): textured {a}, factor {b}, none {open} ({err:.4})");
+    assert!(err < 0.01, "occlusion: {a} vs {b}");
+    assert!(
+        open.x > a.x * 1.1,
+        "the occlusion map darkens: {open} vs {a}"
+    );
+}
+
+#[test]
+fn a_normal_map_bump_lit_from_above_is_bright_on_top() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Green > 128 tilts the normal up the image (glTF: +Y up); the top texel of the bump
+    // faces up, the bottom one down.
+    let up = [128, 218, 180, 255];
+    let down = [128, 38, 180, 255];
+    write_png(&dir.path().join("bump.png"), 1, 2, &[up, down]);
+    write_png(
+        &dir.path().join("flat.png"),
+        1,
+        2,
+        &[[128, 128, 255, 255]; 2],
+    );
+    // The sun comes from above and in front: its direction −Z turned 45° down.
+    let from_above = [-0.382_683_4, 0.0, 0.0, 0.923_879_5];
+    let halves = |file: &str| {
+        let material = json!({"normalTexture": {"index": 0},
+                              "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.8}});
+        let img = render_image(
+            &write_quad_with(
+                dir.path(),
+                material,
+                &[],
+                texture_json(&[file], true),
+                from_above,
+            ),
+            |_| {},
+        );
+        let mean = |rows: std::ops::Range<u32>| {
+            let n = rows.len() as f32 * SIZE.0 as f32;
+            rows.flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
+                .map(|(x, y)| common::lum(img.get_pixel(x, y)))
+                .sum::<f32>()
+                / n
+        };
+        (mean(4..28), mean(36..60))
+    };
+    let (top, bottom) = halves("bump.png");
+    let (flat_top, flat_bottom) = halves("flat.png");
+    println!("bump: top {top}, bottom {bottom}; flat: {flat_top}, {flat_bottom}");
+    assert!(top > 1.5 * bottom, "top {top} bottom {bottom}");
+    assert!(
+        (flat_top - flat_bottom).abs() < 0.02 * flat_top,
+        "{flat_top} {flat_bottom}"
+    );
+    assert!(top > flat_top && bottom < flat_bottom);
+}
+
+#[test]
+fn image_problems_fall_back_or_downscale_with_warnings() {
+    for (file, needle) in [
+        ("missing_image.gltf", "magenta checker"),
+        ("corrupt_image.gltf", "magenta checker"),
+        ("huge_texture.gltf", "downscaled to 4096×4096"),
+    ] {
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &data(file)).expect(file);
+        assert!(
+            summary.warnings.iter().any(|w| w.contains(needle)),
+            "{file}: {:?}",
+            summary.warnings
+        );
+        app.render_headless((32, 32)).expect("frame");
+        let img = app.read_hdr_image().expect("readback");
+        assert!(
+            img.pixels().all(|p| p.0.iter().all(|c| c.is_finite())),
+            "{file}"
+        );
+    }
+    // The texture budget is a quality knob: 64 texels keeps the huge image tiny.
+    let mut app = App::headless().expect("a GPU adapter");
+    app.world_mut().resource_mut::<Quality>().max_texture_size = 64;
+    let summary = load_gltf(&mut app, &data("huge_texture.gltf")).expect("loads");
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("downscaled to 64×64"))
+    );
+    // A 1×1 texture is a valid texture: the quad shows its colour (200, 100, 50).
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &data("tiny_texture.gltf")).expect("loads");
+    assert_eq!(summary.textures, 1);
+    assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
+    app.render_headless((32, 32)).expect("frame");
+    let img = app.read_hdr_image().expect("readback");
+    let p = img.get_pixel(16, 16).0;
+    // Red > green > blue as the texel, whatever the light.
+    assert!(p[0] > p[1] && p[1] > p[2] && p[2] > 0.0, "{p:?}");
+}
+
+#[test]
+fn texture_transforms_and_coordinate_sets_move_the_texture() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Left texel black, right texel white, sampled nearest.
+    write_png(
+        &dir.path().join("halves.png"),
+        2,
+        1,
+        &[[0, 0, 0, 255], [255, 255, 255, 255]],
+    );
+    let textures = texture_json(&["halves.png"], true);
+    let right_quarter = |info: serde_json::Value| {
+        let material =
+            json!({"pbrMetallicRoughness": {"baseColorTexture": info, "metallicFactor": 0.0}});
+        let img = render_image(
+            &write_quad_with(
+                dir.path(),
+                material,
+                &["KHR_texture_transform"],
+                textures.clone(),
+                [0.0, 0.0, 0.0, 1.0],
+            ),
+            |_| {},
+        );
+        common::lum(img.get_pixel(SIZE.0 * 3 / 4, SIZE.1 / 2))
+    };
+    let plain = right_quarter(json!({"index": 0}));
+    // u' = 0.5 u: the whole quad samples the left (black) texel.
+    let scaled = right_quarter(
+        json!({"index": 0, "extensions": {"KHR_texture_transform": {"scale": [0.5, 1.0]}}}),
+    );
+    // u' = u + 0.5 (repeat): the right quarter now samples the left texel too.
+    let offset = right_quarter(
+        json!({"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.0]}}}),
+    );
+    // Set 1 does not exist in this mesh: its coordinates are (0, 0), the black texel.
+    let set1 = right_quarter(json!({"index": 0, "texCoord": 1}));
+    println!("right quarter: plain {plain}, scaled {scaled}, offset {offset}, set 1 {set1}");
+    assert!(plain > 0.05, "{plain}");
+    // Black keeps only its 4 % specular reflection (1 % of the white texel here).
+    for (name, v) in [("scale", scaled), ("offset", offset), ("texCoord 1", set1)] {
+        assert!(v < 0.05 * plain, "{name}: {v} vs {plain}");
+    }
 }

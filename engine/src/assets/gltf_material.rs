@@ -91,11 +91,11 @@ impl TextureLoader<'_> {
         store: &mut Textures,
         texture: &gltf::Texture,
         tex_coord: u32,
-        transform: Option<&gltf::json::Value>,
+        transform: Option<(UvTransform, Option<u32>)>,
         color_space: ColorSpace,
     ) -> Option<TextureSlot> {
         let handle = self.handle(store, texture, color_space)?;
-        let (transform, set) = transform.map_or((UvTransform::default(), None), uv_transform);
+        let (transform, set) = transform.unwrap_or((UvTransform::default(), None));
         let uv_set = set.unwrap_or(tex_coord);
         if uv_set > 1 {
             self.warnings.push(format!(
@@ -177,9 +177,30 @@ fn sampler(s: &gltf::texture::Sampler) -> Sampler {
     }
 }
 
-/// The JSON of an `Info`'s `KHR_texture_transform`, if any.
-fn info_transform<'a>(info: &'a gltf::texture::Info) -> Option<&'a gltf::json::Value> {
-    info.extension_value("KHR_texture_transform")
+/// An `Info`'s `KHR_texture_transform` (parsed by the gltf crate) and the coordinate set
+/// it overrides.
+fn info_transform(info: &gltf::texture::Info) -> Option<(UvTransform, Option<u32>)> {
+    info.texture_transform().map(|t| {
+        let finite2 = |v: [f32; 2], d: Vec2| {
+            let v = Vec2::from(v);
+            if v.is_finite() { v } else { d }
+        };
+        let rotation = t.rotation();
+        (
+            UvTransform {
+                offset: finite2(t.offset(), Vec2::ZERO),
+                rotation_rad: if rotation.is_finite() { rotation } else { 0.0 },
+                scale: finite2(t.scale(), Vec2::ONE),
+            },
+            t.tex_coord(),
+        )
+    })
+}
+
+/// The `KHR_texture_transform` JSON of a normal or occlusion texture, which the gltf
+/// crate leaves unparsed.
+fn json_transform(value: Option<&gltf::json::Value>) -> Option<(UvTransform, Option<u32>)> {
+    value.map(uv_transform)
 }
 
 /// The material of a primitive and its maps (`None` when it has no texture and the
@@ -245,7 +266,7 @@ pub(super) fn material(
             store,
             &n.texture(),
             n.tex_coord(),
-            n.extension_value("KHR_texture_transform"),
+            json_transform(n.extension_value("KHR_texture_transform")),
             ColorSpace::Linear,
         );
         maps.normal_scale = if n.scale().is_finite() {
@@ -259,7 +280,7 @@ pub(super) fn material(
             store,
             &o.texture(),
             o.tex_coord(),
-            o.extension_value("KHR_texture_transform"),
+            json_transform(o.extension_value("KHR_texture_transform")),
             ColorSpace::Linear,
         );
         maps.occlusion_strength = if o.strength().is_finite() {
@@ -382,7 +403,7 @@ fn spec_gloss_textures(
     let transform = diffuse
         .as_ref()
         .or(specular.as_ref())
-        .and_then(|(_, i)| info_transform(i).map(|v| uv_transform(v).0))
+        .and_then(|(_, i)| info_transform(i).map(|(t, _)| t))
         .unwrap_or_default();
     let sampler = diffuse
         .as_ref()
