@@ -149,6 +149,23 @@ impl GpuRequest {
     }
 }
 
+/// One headless instance per backend set for the whole process. NVIDIA's Vulkan driver
+/// (580.159.04, measured on an H100) stops listing its GPU after 29 instances have been
+/// created in one process, even when every earlier one was dropped; reusing the instance,
+/// 80 devices in a row were created without trouble.
+fn shared_instance(desc: wgpu::InstanceDescriptor) -> wgpu::Instance {
+    static INSTANCES: std::sync::Mutex<Vec<(wgpu::Backends, wgpu::Instance)>> =
+        std::sync::Mutex::new(Vec::new());
+    let mut instances = INSTANCES.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((_, instance)) = instances.iter().find(|(b, _)| *b == desc.backends) {
+        return instance.clone();
+    }
+    let backends = desc.backends;
+    let instance = wgpu::Instance::new(desc);
+    instances.push((backends, instance.clone()));
+    instance
+}
+
 impl Gpu {
     /// Picks an adapter for headless rendering (Vulkan, then GL, overridden by the
     /// environment) and creates the device.
@@ -179,7 +196,10 @@ impl Gpu {
             desc.flags = (wgpu::InstanceFlags::from_build_config()
                 - wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL)
                 .with_env();
-            let instance = wgpu::Instance::new(desc);
+            let instance = match display {
+                Some(_) => wgpu::Instance::new(desc),
+                None => shared_instance(desc),
+            };
             let surface = match surface {
                 Some(make) => match make(&instance) {
                     Ok(s) => Some(s),
