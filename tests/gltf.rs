@@ -596,3 +596,172 @@ fn texture_transforms_and_coordinate_sets_move_the_texture() {
         assert!(v < 0.05 * plain, "{name}: {v} vs {plain}");
     }
 }
+
+/// The quad's geometry arrays (as `write_quad` writes them) plus a COLOR_0 accessor (3)
+/// reading `colors.bin` (buffer 1), for documents that replace `meshes`.
+fn geometry_with_colours(dir: &Path, colour: [f32; 4]) -> serde_json::Value {
+    let bytes: Vec<u8> = (0..4)
+        .flat_map(|_| colour)
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    std::fs::write(dir.join("colors.bin"), &bytes).expect("write colours");
+    json!({
+        "buffers": [{"byteLength": 92, "uri": "quad.bin"}, {"byteLength": 64, "uri": "colors.bin"}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 80, "byteLength": 12},
+            {"buffer": 1, "byteOffset": 0, "byteLength": 64}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-2.0, -2.0, 0.0], "max": [2.0, 2.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC4"}
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "COLOR_0": 3},
+                                    "indices": 2, "material": 0}]}]
+    })
+}
+
+#[test]
+fn vertex_colours_alpha_masks_and_double_sided_faces() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let identity = [0.0, 0.0, 0.0, 1.0];
+    // Vertex colours multiply the base colour: like the same colour as a factor.
+    let tint = [1.0, 0.5, 0.25, 1.0];
+    let dielectric =
+        json!({"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.7}});
+    let coloured = centre(&render_image(
+        &write_quad_with(
+            dir.path(),
+            dielectric.clone(),
+            &[],
+            geometry_with_colours(dir.path(), tint),
+            identity,
+        ),
+        |_| {},
+    ));
+    let factor = centre(&render_image(
+        &write_quad(
+            dir.path(),
+            json!({"pbrMetallicRoughness": {"baseColorFactor": tint, "metallicFactor": 0.0, "roughnessFactor": 0.7}}),
+            &[],
+        ),
+        |_| {},
+    ));
+    let err = relative_error(coloured, factor);
+    println!("vertex colour {coloured}, factor {factor} ({err:.4})");
+    assert!(err < 0.01, "{coloured} vs {factor}");
+
+    // MASK with a textured alpha: the transparent left half is discarded.
+    write_png(
+        &dir.path().join("mask.png"),
+        2,
+        1,
+        &[[255, 255, 255, 0], [255, 255, 255, 255]],
+    );
+    let masked = json!({"alphaMode": "MASK", "alphaCutoff": 0.5,
+                        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}});
+    let img = render_image(
+        &write_quad_with(
+            dir.path(),
+            masked,
+            &[],
+            texture_json(&["mask.png"], true),
+            identity,
+        ),
+        |_| {},
+    );
+    let left = common::lum(img.get_pixel(SIZE.0 / 4, SIZE.1 / 2));
+    let right = common::lum(img.get_pixel(SIZE.0 * 3 / 4, SIZE.1 / 2));
+    println!("mask: left {left}, right {right}");
+    assert!(left == 0.0 && right > 0.05, "left {left} right {right}");
+
+    // Turned away from the camera (and the light), the quad shows its back face: culled
+    // unless double-sided, and then lit with the normal flipped towards the viewer.
+    let turned = json!({"nodes": [
+        {"mesh": 0, "rotation": [0.0, 1.0, 0.0, 0.0]},
+        {"camera": 0, "translation": [0.0, 0.0, 3.0]},
+        {"extensions": {"KHR_lights_punctual": {"light": 0}}}
+    ]});
+    let back = |double_sided: bool| {
+        let material =
+            json!({"doubleSided": double_sided, "pbrMetallicRoughness": {"metallicFactor": 0.0}});
+        common::lum(&image::Rgba(
+            centre(&render_image(
+                &write_quad_with(dir.path(), material, &[], turned.clone(), identity),
+                |_| {},
+            ))
+            .extend(1.0)
+            .to_array(),
+        ))
+    };
+    let (single, double) = (back(false), back(true));
+    println!("back face: single-sided {single}, double-sided {double}");
+    assert_eq!(single, 0.0);
+    assert!(double > 0.05, "{double}");
+}
+
+#[test]
+fn spec_gloss_textures_convert_texel_by_texel() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Metal/rough: base 0.5 (linear), dielectric, roughness 0.6. Its spec/gloss twin as
+    // 8-bit textures: diffuse 0.5 / 0.96 (sRGB), specular 0.04 (sRGB), gloss 0.4 (alpha).
+    let enc = |v: f32| (lumen::color::srgb_encode(v) * 255.0).round() as u8;
+    let d = enc(0.5 / 0.96);
+    let s = enc(0.04);
+    let g = (0.4f32 * 255.0).round() as u8;
+    write_png(&dir.path().join("diffuse.png"), 2, 2, &[[d, d, d, 255]; 4]);
+    write_png(&dir.path().join("specgloss.png"), 2, 2, &[[s, s, s, g]; 4]);
+    let material = json!({"extensions": {"KHR_materials_pbrSpecularGlossiness": {
+        "diffuseTexture": {"index": 0}, "specularGlossinessTexture": {"index": 1}
+    }}});
+    let textured = centre(&render_image(
+        &write_quad_with(
+            dir.path(),
+            material,
+            &["KHR_materials_pbrSpecularGlossiness"],
+            texture_json(&["diffuse.png", "specgloss.png"], false),
+            [0.0, 0.0, 0.0, 1.0],
+        ),
+        |_| {},
+    ));
+    let twin = centre(&render_image(
+        &write_quad(
+            dir.path(),
+            json!({"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0],
+                                            "metallicFactor": 0.0, "roughnessFactor": 0.6}}),
+            &[],
+        ),
+        |_| {},
+    ));
+    let err = relative_error(textured, twin);
+    println!("spec/gloss textures {textured}, metal/rough {twin} ({err:.4})");
+    // 8-bit texels on both sides of the conversion.
+    assert!(err < 0.03, "{textured} vs {twin}");
+}
+
+#[test]
+fn a_files_tangents_keep_their_handedness() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // The same quad with TANGENT (1, 0, 0, −1): MikkTSpace would give w = +1 here.
+    let mut extra = geometry_with_colours(dir.path(), [1.0; 4]);
+    let tangents: Vec<u8> = (0..4)
+        .flat_map(|_| [1.0f32, 0.0, 0.0, -1.0])
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    std::fs::write(dir.path().join("colors.bin"), &tangents).expect("write tangents");
+    extra["meshes"] = json!([{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TANGENT": 3},
+                                             "indices": 2, "material": 0}]}]);
+    let path = write_quad_with(dir.path(), json!({}), &[], extra, [0.0, 0.0, 0.0, 1.0]);
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let handles: Vec<MeshHandle> = world.query::<&Mesh3d>().iter(world).map(|m| m.0).collect();
+    let meshes = world.resource::<lumen::scene::Meshes>();
+    for v in &meshes.get(handles[0]).expect("mesh").vertices {
+        assert_eq!(v.tangent, [1.0, 0.0, 0.0, -1.0]);
+    }
+}
