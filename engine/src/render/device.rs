@@ -149,21 +149,18 @@ impl GpuRequest {
     }
 }
 
-/// One headless instance per backend set for the whole process. NVIDIA's Vulkan driver
-/// (580.159.04, measured on an H100) stops listing its GPU after 29 instances have been
-/// created in one process, even when every earlier one was dropped; reusing the instance,
-/// 80 devices in a row were created without trouble.
-fn shared_instance(desc: wgpu::InstanceDescriptor) -> wgpu::Instance {
-    static INSTANCES: std::sync::Mutex<Vec<(wgpu::Backends, wgpu::Instance)>> =
-        std::sync::Mutex::new(Vec::new());
-    let mut instances = INSTANCES.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some((_, instance)) = instances.iter().find(|(b, _)| *b == desc.backends) {
-        return instance.clone();
-    }
-    let backends = desc.backends;
-    let instance = wgpu::Instance::new(desc);
-    instances.push((backends, instance.clone()));
-    instance
+/// One Vulkan instance for the whole process. NVIDIA's Vulkan driver (580.159.04,
+/// measured on an H100) stops listing its GPU after 29 instances have been created in one
+/// process, even when every earlier one was dropped; reusing the instance, 80 devices in a
+/// row were created without trouble. GL instances are not shared: devices of one EGL
+/// display used from several threads at once fail with `BadAccess` (measured on
+/// llvmpipe), so each GL app keeps its own.
+fn shared_vulkan_instance(desc: wgpu::InstanceDescriptor) -> wgpu::Instance {
+    static INSTANCE: std::sync::Mutex<Option<wgpu::Instance>> = std::sync::Mutex::new(None);
+    let mut shared = INSTANCE.lock().unwrap_or_else(|e| e.into_inner());
+    shared
+        .get_or_insert_with(|| wgpu::Instance::new(desc))
+        .clone()
 }
 
 impl Gpu {
@@ -196,9 +193,10 @@ impl Gpu {
             desc.flags = (wgpu::InstanceFlags::from_build_config()
                 - wgpu::InstanceFlags::VALIDATION_INDIRECT_CALL)
                 .with_env();
-            let instance = match display {
-                Some(_) => wgpu::Instance::new(desc),
-                None => shared_instance(desc),
+            let instance = if display.is_none() && backends == wgpu::Backends::VULKAN {
+                shared_vulkan_instance(desc)
+            } else {
+                wgpu::Instance::new(desc)
             };
             let surface = match surface {
                 Some(make) => match make(&instance) {
