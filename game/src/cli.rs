@@ -25,6 +25,9 @@ pub enum Command {
     View(ViewArgs),
     /// Measure frame times: per pass (GPU) and per stage (CPU), with statistics.
     Bench(BenchArgs),
+    /// Path-trace the ground truth of a scene on the CPU (linear EXR, comparable with
+    /// `render --out F.exr`).
+    Reference(ReferenceArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -190,6 +193,30 @@ pub struct RenderArgs {
     /// Print which passes and shader features run, and why, on stderr.
     #[arg(long)]
     pub explain: bool,
+}
+
+/// Arguments of `lumen reference`.
+#[derive(Args, Debug, Clone)]
+pub struct ReferenceArgs {
+    /// Scene and exposure.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Paths per pixel (1..=1048576).
+    #[arg(long, value_name = "N", default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
+    pub spp: u32,
+    /// Surface interactions per path (1 = direct light only; 1..=64).
+    #[arg(long, value_name = "N", default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub max_bounces: u32,
+    /// Random seed: the same seed gives the same image.
+    #[arg(long, value_name = "S", default_value_t = 0)]
+    pub seed: u64,
+    /// Output file: .exr (linear exposed radiance) or .png (tone mapped with the camera's
+    /// tone mapper). Default: out/<scene>-reference.exr.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// Arguments of `lumen view`.

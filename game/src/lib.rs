@@ -5,6 +5,7 @@ pub mod bench;
 pub mod cli;
 pub mod output;
 pub mod progress;
+pub mod reference_cmd;
 pub mod render_cmd;
 pub mod scenes;
 pub mod setup;

@@ -60,6 +60,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             args.scene.resolve_builtin();
             lumen_game::bench::run(&args)
         }
+        Some(Command::Reference(mut args)) => {
+            args.scene.resolve_builtin();
+            lumen_game::reference_cmd::run(&args).map(|_| ())
+        }
         Some(Command::Scenes) => {
             let text: String = scenes::SCENES
                 .iter()

@@ -1,6 +1,7 @@
 //! Ground truths that the real-time passes are measured against, and the metric they are
 //! measured with.
 
+pub mod path;
 pub mod thin_lens;
 
 /// Relative mean absolute luminance error of `image` against `reference`:

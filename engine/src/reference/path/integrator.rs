@@ -1,0 +1,453 @@
+//! Unidirectional path tracing with next-event estimation (Pharr, Jakob & Humphreys,
+//! "Physically Based Rendering", 4th ed., ch. 13):
+//!
+//! - every punctual light is sampled at every hit (delta lights: exact direction), with a
+//!   shadow ray, using the rasterizer's attenuation functions (`punctual.rs`);
+//! - the environment is sampled in proportion to luminance × sin θ (an image) or cosine
+//!   weighted (uniform), and combined with BSDF sampling by the power heuristic (Veach
+//!   1997);
+//! - the BSDF is `brdf.rs`'s Cook-Torrance with the scene's visibility term, sampled as a
+//!   mixture of a cosine lobe and GGX visible normals (Heitz 2018);
+//! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
+//!
+//! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
+//! approximations (shadow maps, split-sum IBL, prefiltered environment).
+
+use super::scene::{TraceEnvironment, TraceMaterial, TraceScene};
+use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
+use crate::punctual::{distance_attenuation, spot_attenuation};
+use glam::{Mat3, Vec2, Vec3, Vec4};
+use std::f32::consts::PI;
+
+/// A small, fast generator (PCG-RXS-M-XS 32, O'Neill 2014) seeded per pixel and sample so
+/// that images are deterministic whatever the thread schedule.
+pub struct Rng(u32);
+
+impl Rng {
+    /// A generator for sample `sample` of pixel `pixel` under `seed`: the three are mixed
+    /// with the SplitMix64 finalizer (Steele et al. 2014), so neighbouring pixels and
+    /// samples start from unrelated states.
+    pub fn new(seed: u64, pixel: u32, sample: u32) -> Rng {
+        let mut z = seed
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            .wrapping_add((u64::from(pixel) << 32) | u64::from(sample));
+        for _ in 0..2 {
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^= z >> 31;
+        }
+        let mut rng = Rng((z ^ (z >> 32)) as u32);
+        rng.next_u32();
+        rng
+    }
+
+    /// A uniform u32.
+    pub fn next_u32(&mut self) -> u32 {
+        let state = self.0;
+        self.0 = state.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+        let word = ((state >> ((state >> 28) + 4)) ^ state).wrapping_mul(277_803_737);
+        (word >> 22) ^ word
+    }
+
+    /// A uniform f32 in [0, 1).
+    pub fn uniform(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 / (1u32 << 24) as f32
+    }
+
+    /// Two uniform numbers.
+    pub fn pair(&mut self) -> Vec2 {
+        Vec2::new(self.uniform(), self.uniform())
+    }
+}
+
+/// An orthonormal basis with `n` as its third column (Duff et al. 2017).
+fn basis(n: Vec3) -> Mat3 {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    Mat3::from_cols(
+        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
+        Vec3::new(b, sign + n.y * n.y * a, -n.y),
+        n,
+    )
+}
+
+/// Concentric map of the unit square onto the unit disk (Shirley & Chiu 1997).
+fn concentric_disk(xi: Vec2) -> Vec2 {
+    let p = xi * 2.0 - Vec2::ONE;
+    if p == Vec2::ZERO {
+        return Vec2::ZERO;
+    }
+    let (r, theta) = if p.x.abs() > p.y.abs() {
+        (p.x, PI / 4.0 * (p.y / p.x))
+    } else {
+        (p.y, PI / 2.0 - PI / 4.0 * (p.x / p.y))
+    };
+    Vec2::new(r * theta.cos(), r * theta.sin())
+}
+
+/// Smith's masking for GGX (the exact separable form).
+fn g1_ggx(n_dot_x: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    2.0 * n_dot_x / (n_dot_x + (a2 + (1.0 - a2) * n_dot_x * n_dot_x).sqrt())
+}
+
+/// A GGX visible normal for `v` in the local frame (z = normal), Heitz 2018.
+fn sample_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
+    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if len2 > 0.0 {
+        Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+    } else {
+        Vec3::X
+    };
+    let t2 = vh.cross(t1);
+    let r = xi.x.sqrt();
+    let phi = 2.0 * PI * xi.y;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
+}
+
+/// The BSDF at a hit, in a local frame around the shading normal.
+struct Bsdf {
+    frame: Mat3,
+    surface: Surface,
+    alpha: f32,
+    /// Probability of sampling the specular lobe.
+    p_specular: f32,
+    model: crate::brdf::VisibilityModel,
+}
+
+impl Bsdf {
+    fn new(n: Vec3, v: Vec3, m: &TraceMaterial, model: crate::brdf::VisibilityModel) -> Bsdf {
+        let surface = Surface {
+            base_color: m.base_color,
+            metallic: m.metallic,
+            perceptual_roughness: m.roughness,
+            specular_level: m.specular_level,
+        };
+        let f0 = crate::brdf::compute_f0(m.base_color, m.metallic, m.specular_level);
+        let f = crate::brdf::f_schlick(f0, n.dot(v).clamp(0.0, 1.0));
+        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let spec = lum(f);
+        let diff = lum(m.base_color) * (1.0 - m.metallic);
+        let p_specular = if spec + diff > 0.0 {
+            (spec / (spec + diff)).clamp(0.1, 0.9)
+        } else {
+            0.5
+        };
+        Bsdf {
+            frame: basis(n),
+            surface,
+            alpha: m.roughness * m.roughness,
+            p_specular,
+            model,
+        }
+    }
+
+    fn n(&self) -> Vec3 {
+        self.frame.z_axis
+    }
+
+    /// f_r(v, l) · (n·l).
+    fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
+        let n = self.n();
+        let lobes = surface_brdf_lobes(n, v, l, &self.surface, self.model);
+        (lobes.diffuse + lobes.specular) * n.dot(l).max(0.0)
+    }
+
+    /// Solid-angle density of [`Bsdf::sample`] choosing `l`.
+    fn pdf(&self, v: Vec3, l: Vec3) -> f32 {
+        let n = self.n();
+        let n_dot_l = n.dot(l);
+        let n_dot_v = n.dot(v);
+        if n_dot_l <= 0.0 || n_dot_v <= 0.0 {
+            return 0.0;
+        }
+        let diffuse = n_dot_l / PI;
+        let h = (v + l).normalize_or(n);
+        let n_dot_h = n.dot(h).clamp(0.0, 1.0);
+        let d = d_ggx(self.alpha, n_dot_h, n.cross(h).length_squared());
+        let specular = g1_ggx(n_dot_v, self.alpha) * d / (4.0 * n_dot_v);
+        self.p_specular * specular + (1.0 - self.p_specular) * diffuse
+    }
+
+    /// A direction drawn from the mixture, with f·cos/pdf and the pdf.
+    fn sample(&self, v: Vec3, rng: &mut Rng) -> Option<(Vec3, Vec3, f32)> {
+        let local_v = self.frame.transpose() * v;
+        if local_v.z <= 0.0 {
+            return None;
+        }
+        let choose = rng.uniform();
+        let xi = rng.pair();
+        let local_l = if choose < self.p_specular {
+            let h = sample_vndf(local_v, self.alpha, xi);
+            2.0 * local_v.dot(h) * h - local_v
+        } else {
+            let d = concentric_disk(xi);
+            Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
+        };
+        if local_l.z <= 0.0 {
+            return None;
+        }
+        let l = (self.frame * local_l).normalize();
+        let pdf = self.pdf(v, l);
+        if pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        let weight = self.eval(v, l) / pdf;
+        weight.is_finite().then_some((l, weight, pdf))
+    }
+}
+
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+}
+
+impl TraceScene {
+    /// Radiance leaving the environment towards the scene along `-dir`.
+    fn environment_radiance(&self, dir: Vec3) -> Vec3 {
+        match &self.environment {
+            TraceEnvironment::None => Vec3::ZERO,
+            TraceEnvironment::Uniform(c) => *c,
+            TraceEnvironment::Image(img) => img.radiance(dir),
+        }
+    }
+
+    /// Density with which next-event estimation picks `dir` at a surface of normal `n`.
+    fn environment_pdf(&self, dir: Vec3, n: Vec3) -> f32 {
+        match &self.environment {
+            TraceEnvironment::None => 0.0,
+            TraceEnvironment::Uniform(_) => n.dot(dir).max(0.0) / PI,
+            TraceEnvironment::Image(img) => img.pdf(dir),
+        }
+    }
+
+    /// A next-event direction towards the environment: direction, radiance, density.
+    fn sample_environment(&self, n: Vec3, rng: &mut Rng) -> Option<(Vec3, Vec3, f32)> {
+        match &self.environment {
+            TraceEnvironment::None => None,
+            TraceEnvironment::Uniform(c) => {
+                let d = concentric_disk(rng.pair());
+                let l = basis(n) * Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt());
+                let pdf = n.dot(l).max(0.0) / PI;
+                (pdf > 0.0).then_some((l, *c, pdf))
+            }
+            TraceEnvironment::Image(img) => img.sample(rng.pair()),
+        }
+    }
+
+    /// Light from every punctual light and the environment reaching `p` and reflected
+    /// towards `v`.
+    fn direct(&self, p: Vec3, offset: Vec3, v: Vec3, bsdf: &Bsdf, rng: &mut Rng) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        let [directional, point, _] = self.light_counts;
+        for (i, light) in self.lights.iter().enumerate() {
+            let color = Vec3::from_slice(&light.color_inv_range2[..3]);
+            let (l, e, distance) = if i < directional {
+                (
+                    Vec3::from_slice(&light.direction[..3]).normalize_or(Vec3::Y),
+                    color,
+                    f32::MAX,
+                )
+            } else {
+                let to_light = Vec3::from_slice(&light.position[..3]) - p;
+                let d2 = to_light.length_squared();
+                let l = to_light.normalize_or(bsdf.n());
+                let mut e = color * distance_attenuation(d2, light.color_inv_range2[3]);
+                if i >= directional + point {
+                    let axis = Vec3::from_slice(&light.direction[..3]);
+                    e *= spot_attenuation((-l).dot(axis), light.spot[0], light.spot[1]);
+                }
+                (l, e, d2.sqrt())
+            };
+            if e == Vec3::ZERO || bsdf.n().dot(l) <= 0.0 {
+                continue;
+            }
+            let f = bsdf.eval(v, l);
+            if f == Vec3::ZERO
+                || self
+                    .bvh
+                    .occluded(p + offset, l, 0.0, distance * (1.0 - 1e-4))
+            {
+                continue;
+            }
+            sum += f * e;
+        }
+        if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
+            let f = bsdf.eval(v, l);
+            if f != Vec3::ZERO && !self.bvh.occluded(p + offset, l, 0.0, f32::MAX) {
+                let w = power_heuristic(pdf, bsdf.pdf(v, l));
+                sum += f * radiance * (w / pdf);
+            }
+        }
+        sum
+    }
+
+    /// The camera ray through image position `pixel` (pixels from the top-left) of an
+    /// image `size`, with lens sample `lens`.
+    pub fn camera_ray(&self, pixel: Vec2, size: Vec2, lens: Vec2) -> (Vec3, Vec3) {
+        let c = &self.camera;
+        let ndc = Vec2::new(pixel.x / size.x * 2.0 - 1.0, 1.0 - pixel.y / size.y * 2.0);
+        let near = c.world_from_clip * Vec4::new(ndc.x, ndc.y, 1.0, 1.0);
+        let dir = (near.truncate() / near.w - c.position).normalize_or(c.basis.z_axis);
+        match c.lens {
+            Some((radius, focus)) if radius > 0.0 => {
+                let d = concentric_disk(lens) * radius;
+                let origin = c.position + c.basis.x_axis * d.x + c.basis.y_axis * d.y;
+                if focus.is_finite() {
+                    let target = c.position + dir * (focus / dir.dot(c.basis.z_axis).max(1e-6));
+                    (origin, (target - origin).normalize_or(dir))
+                } else {
+                    (origin, dir)
+                }
+            }
+            _ => (c.position, dir),
+        }
+    }
+
+    /// One path's radiance (pre-exposed) along a camera ray.
+    pub fn radiance(&self, origin: Vec3, dir: Vec3, max_bounces: u32, rng: &mut Rng) -> Vec3 {
+        let Some(mut hit) = self.bvh.closest(origin, dir, 0.0, f32::MAX) else {
+            return self
+                .background
+                .unwrap_or_else(|| self.environment_radiance(dir));
+        };
+        let mut ray_origin = origin;
+        let mut ray_dir = dir;
+        let mut throughput = Vec3::ONE;
+        let mut radiance = Vec3::ZERO;
+        for bounce in 0..max_bounces {
+            let t = hit.triangle as usize;
+            let p = ray_origin + ray_dir * hit.t;
+            let tri = self.bvh.triangles()[t];
+            let ng = (tri.p[1] - tri.p[0])
+                .cross(tri.p[2] - tri.p[0])
+                .normalize_or(Vec3::Z);
+            let [n0, n1, n2] = self.normals[t];
+            let mut n = (n0 * (1.0 - hit.u - hit.v) + n1 * hit.u + n2 * hit.v).normalize_or(ng);
+            let v = -ray_dir;
+            // Face the viewer: both normals on the side the ray came from.
+            let facing = if ng.dot(v) < 0.0 { -ng } else { ng };
+            if n.dot(facing) < 0.0 {
+                n = -n;
+            }
+            let material = &self.materials[self.material[t] as usize];
+            if bounce == 0 {
+                radiance += material.emissive;
+            }
+            let bsdf = Bsdf::new(n, v, material, self.visibility);
+            let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
+            radiance += throughput * self.direct(p, offset, v, &bsdf, rng);
+            let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
+                break;
+            };
+            if l.dot(facing) <= 0.0 {
+                break;
+            }
+            throughput *= weight;
+            ray_origin = p + offset;
+            ray_dir = l;
+            match self.bvh.closest(ray_origin, ray_dir, 0.0, f32::MAX) {
+                None => {
+                    let w = power_heuristic(pdf, self.environment_pdf(l, n));
+                    radiance += throughput * self.environment_radiance(l) * w;
+                    break;
+                }
+                Some(next) => {
+                    let m = &self.materials[self.material[next.triangle as usize] as usize];
+                    radiance += throughput * m.emissive;
+                    hit = next;
+                }
+            }
+            if bounce >= 3 {
+                let q = throughput.max_element().min(0.95);
+                if rng.uniform() >= q {
+                    break;
+                }
+                throughput /= q;
+            }
+        }
+        if radiance.is_finite() {
+            radiance
+        } else {
+            Vec3::ZERO
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vndf_directions_are_reflections_above_the_surface() {
+        let mut rng = Rng::new(1, 2, 3);
+        let v = Vec3::new(0.6, 0.0, 0.8);
+        for alpha in [0.01f32, 0.25, 1.0] {
+            for _ in 0..1000 {
+                let h = sample_vndf(v, alpha, rng.pair());
+                assert!(h.is_normalized() && h.z >= 0.0, "{h}");
+                assert!(v.dot(h) >= -1e-5, "visible normals face v");
+            }
+        }
+    }
+
+    #[test]
+    fn sampled_albedo_matches_quadrature() {
+        // ∫ f cos dω two ways: the mean of the sampler's weights f·cos/pdf, and stratified
+        // quadrature. They agree only if the pdf is the density the sampler draws from.
+        let n = Vec3::Z;
+        let v = Vec3::new(0.5, 0.0, 0.866).normalize();
+        for (metallic, roughness) in [(0.0, 0.5), (1.0, 0.3), (0.5, 0.9), (1.0, 0.2)] {
+            let m = TraceMaterial {
+                base_color: Vec3::splat(0.7),
+                metallic,
+                roughness,
+                specular_level: 0.5,
+                emissive: Vec3::ZERO,
+            };
+            let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default());
+            let steps = 600;
+            let mut quadrature = 0.0;
+            for i in 0..steps {
+                for j in 0..steps {
+                    let cos_t = (i as f32 + 0.5) / steps as f32;
+                    let phi = (j as f32 + 0.5) / steps as f32 * 2.0 * PI;
+                    let s = (1.0 - cos_t * cos_t).sqrt();
+                    let l = Vec3::new(s * phi.cos(), s * phi.sin(), cos_t);
+                    quadrature += bsdf.eval(v, l).x * (2.0 * PI / (steps * steps) as f32);
+                }
+            }
+            let mut rng = Rng::new(3, 5, 7);
+            let count = 200_000;
+            let sampled: f32 = (0..count)
+                .filter_map(|_| bsdf.sample(v, &mut rng))
+                .map(|(_, w, _)| w.x)
+                .sum::<f32>()
+                / count as f32;
+            let err = (sampled - quadrature).abs() / quadrature;
+            assert!(
+                err < 0.02,
+                "metallic {metallic} roughness {roughness}: {sampled} vs {quadrature}"
+            );
+        }
+    }
+
+    #[test]
+    fn generators_are_deterministic_and_uniform() {
+        let a: Vec<u32> = (0..4).map(|_| Rng::new(7, 11, 13).next_u32()).collect();
+        assert!(a.windows(2).all(|w| w[0] == w[1]));
+        let mut rng = Rng::new(7, 11, 13);
+        let mean = (0..100_000).map(|_| rng.uniform()).sum::<f32>() / 100_000.0;
+        assert!((mean - 0.5).abs() < 0.01, "{mean}");
+        assert_ne!(
+            Rng::new(7, 11, 13).next_u32(),
+            Rng::new(7, 12, 13).next_u32()
+        );
+    }
+}

@@ -1,0 +1,98 @@
+//! The ground-truth renderer: a CPU path tracer of the same ECS scene the rasterizer
+//! draws (`lumen reference`).
+//!
+//! It renders what the rasterizer's extraction produced for the same frame: the same
+//! instances, factors, lights (pre-exposed, same units and attenuation), environment and
+//! camera, so its linear output is directly comparable with `lumen render --out F.exr`.
+//! Material textures are not read yet: surfaces use their factors.
+
+pub mod bvh;
+pub mod integrator;
+pub mod scene;
+
+use crate::app::App;
+use crate::error::{Error, Result};
+use glam::Vec2;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+pub use integrator::Rng;
+pub use scene::TraceScene;
+
+/// What `render` is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReferenceOptions {
+    /// Image size in pixels.
+    pub size: (u32, u32),
+    /// Paths per pixel.
+    pub samples_per_pixel: u32,
+    /// Surface interactions per path (1 = direct light only).
+    pub max_bounces: u32,
+    /// Seed: the same seed gives the same image.
+    pub seed: u64,
+}
+
+impl Default for ReferenceOptions {
+    fn default() -> Self {
+        ReferenceOptions {
+            size: (256, 256),
+            samples_per_pixel: 64,
+            max_bounces: 8,
+            seed: 0,
+        }
+    }
+}
+
+/// Builds the trace scene of `app`'s current World: one rasterized frame at `size` runs
+/// first, so that extraction (camera, exposure, instances, lights) is the rasterizer's.
+pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
+    app.render_headless(size)?;
+    let world = app.world_mut();
+    let environment = world
+        .query::<&crate::scene::Environment>()
+        .iter(world)
+        .next()
+        .cloned();
+    let frame = world.resource::<crate::render::extract::ExtractedFrame>();
+    let meshes = world.resource::<crate::scene::Meshes>();
+    let visibility = world.resource::<crate::quality::Quality>().visibility;
+    TraceScene::new(frame, meshes, environment.as_ref(), visibility).map_err(Error::Scene)
+}
+
+/// Path-traces `scene`: linear, pre-exposed radiance per pixel (alpha 1), the mean of
+/// `samples_per_pixel` paths with the pixel position jittered uniformly (box filter).
+/// Rows run in parallel; `progress` is called with the number of rows done so far.
+pub fn render(
+    scene: &TraceScene,
+    options: &ReferenceOptions,
+    progress: &(dyn Fn(u32) + Sync),
+) -> image::Rgba32FImage {
+    let (w, h) = (options.size.0.max(1), options.size.1.max(1));
+    let spp = options.samples_per_pixel.max(1);
+    let size = Vec2::new(w as f32, h as f32);
+    let done = AtomicU32::new(0);
+    let rows: Vec<Vec<f32>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let mut row = Vec::with_capacity(w as usize * 4);
+            for x in 0..w {
+                let pixel = y * w + x;
+                let mut sum = glam::Vec3::ZERO;
+                for s in 0..spp {
+                    let mut rng = Rng::new(options.seed, pixel, s);
+                    let jitter = rng.pair();
+                    let lens = rng.pair();
+                    let (origin, dir) =
+                        scene.camera_ray(Vec2::new(x as f32, y as f32) + jitter, size, lens);
+                    sum += scene.radiance(origin, dir, options.max_bounces.max(1), &mut rng);
+                }
+                let c = sum / spp as f32;
+                row.extend([c.x, c.y, c.z, 1.0]);
+            }
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            row
+        })
+        .collect();
+    image::Rgba32FImage::from_raw(w, h, rows.concat())
+        .unwrap_or_else(|| image::Rgba32FImage::new(w, h))
+}

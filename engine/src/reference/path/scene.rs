@@ -1,0 +1,293 @@
+//! The scene as the path tracer sees it, built from the rasterizer's own extracted frame
+//! (so both use the same instances, materials, lights, exposure and camera): world-space
+//! triangles in a BVH, per-triangle material, the lights, and the environment with an
+//! importance-sampling table.
+
+use super::bvh::{Bvh, Triangle};
+use crate::brdf::VisibilityModel;
+use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
+use crate::render::extract::ExtractedFrame;
+use crate::render::gpu_types::GpuLight;
+use crate::scene::{Environment, EnvironmentSource, Meshes};
+use glam::{Mat3, Mat4, Vec2, Vec3};
+use std::f32::consts::PI;
+
+/// A surface's material, pre-exposed like the rasterizer's instance data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceMaterial {
+    /// Linear base colour.
+    pub base_color: Vec3,
+    /// Metallic 0..1.
+    pub metallic: f32,
+    /// Perceptual roughness.
+    pub roughness: f32,
+    /// Dielectric specular level (F0 = 0.08 × level).
+    pub specular_level: f32,
+    /// Emitted luminance × exposure.
+    pub emissive: Vec3,
+}
+
+/// The environment, pre-exposed.
+#[derive(Clone, Debug)]
+pub enum TraceEnvironment {
+    /// No environment: nothing arrives from the sky.
+    None,
+    /// The same radiance from every direction.
+    Uniform(Vec3),
+    /// An equirectangular image with its sampling table.
+    Image(EnvironmentImage),
+}
+
+/// An equirectangular environment and the tables that sample it in proportion to
+/// luminance × sin θ.
+#[derive(Clone, Debug)]
+pub struct EnvironmentImage {
+    width: usize,
+    height: usize,
+    texels: Vec<Vec3>,
+    rotation: f32,
+    /// Cumulative row weights (height + 1 entries, last = 1).
+    rows: Vec<f32>,
+    /// Per row, cumulative texel weights (width + 1 entries each, last = 1).
+    columns: Vec<f32>,
+    /// Sum of all weights before normalisation.
+    total: f32,
+}
+
+fn luminance(c: Vec3) -> f32 {
+    c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// Index `i` with `cdf[i] ≤ u < cdf[i + 1]` in a cumulative table starting at 0.
+fn find(cdf: &[f32], u: f32) -> usize {
+    cdf.partition_point(|&c| c <= u)
+        .saturating_sub(1)
+        .min(cdf.len().saturating_sub(2))
+}
+
+impl EnvironmentImage {
+    fn new(width: usize, height: usize, texels: Vec<Vec3>, rotation: f32) -> Self {
+        let mut columns = Vec::with_capacity(height * (width + 1));
+        let mut row_sums = Vec::with_capacity(height);
+        for y in 0..height {
+            let sin_theta = ((y as f32 + 0.5) / height as f32 * PI).sin();
+            let start = columns.len();
+            columns.push(0.0);
+            let mut sum = 0.0;
+            for x in 0..width {
+                sum += luminance(texels[y * width + x]).max(0.0) * sin_theta;
+                columns.push(sum);
+            }
+            for c in &mut columns[start..] {
+                *c = if sum > 0.0 { *c / sum } else { 0.0 };
+            }
+            if sum <= 0.0 {
+                // A black row: uniform within the row, never chosen by the row table.
+                for (k, c) in columns[start..].iter_mut().enumerate() {
+                    *c = k as f32 / width as f32;
+                }
+            }
+            row_sums.push(sum);
+        }
+        let total: f32 = row_sums.iter().sum();
+        let mut rows = vec![0.0];
+        let mut acc = 0.0;
+        for s in &row_sums {
+            acc += s;
+            rows.push(if total > 0.0 { acc / total } else { 0.0 });
+        }
+        EnvironmentImage {
+            width,
+            height,
+            texels,
+            rotation,
+            rows,
+            columns,
+            total,
+        }
+    }
+
+    fn texel_index(&self, dir: Vec3) -> usize {
+        let uv = equirect_uv(rotate_y(dir, -self.rotation));
+        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+        y * self.width + x
+    }
+
+    /// Radiance arriving from direction `dir` (pointing away from the scene).
+    pub fn radiance(&self, dir: Vec3) -> Vec3 {
+        self.texels[self.texel_index(dir)]
+    }
+
+    /// Solid-angle density of [`EnvironmentImage::sample`] choosing `dir`.
+    pub fn pdf(&self, dir: Vec3) -> f32 {
+        if self.total.is_nan() || self.total <= 0.0 {
+            return 0.0;
+        }
+        let i = self.texel_index(dir);
+        let y = i / self.width;
+        let sin_theta = ((y as f32 + 0.5) / self.height as f32 * PI).sin();
+        let weight = luminance(self.texels[i]).max(0.0) * sin_theta / self.total;
+        let texels = (self.width * self.height) as f32;
+        // Density over the unit square (texels × weight), then over solid angle.
+        weight * texels / (2.0 * PI * PI * sin_theta.max(1e-6))
+    }
+
+    /// A direction drawn in proportion to luminance × sin θ, its radiance and density.
+    pub fn sample(&self, xi: Vec2) -> Option<(Vec3, Vec3, f32)> {
+        if self.total.is_nan() || self.total <= 0.0 {
+            return None;
+        }
+        let y = find(&self.rows, xi.y);
+        let row = &self.columns[y * (self.width + 1)..(y + 1) * (self.width + 1)];
+        let x = find(row, xi.x);
+        // A uniform point inside the chosen texel.
+        let fx = (xi.x - row[x]) / (row[x + 1] - row[x]).max(1e-12);
+        let fy = (xi.y - self.rows[y]) / (self.rows[y + 1] - self.rows[y]).max(1e-12);
+        let uv = Vec2::new(
+            (x as f32 + fx.clamp(0.0, 1.0)) / self.width as f32,
+            (y as f32 + fy.clamp(0.0, 1.0)) / self.height as f32,
+        );
+        let dir = rotate_y(equirect_direction(uv), self.rotation);
+        let pdf = self.pdf(dir);
+        (pdf > 0.0).then(|| (dir, self.radiance(dir), pdf))
+    }
+}
+
+/// The camera: pixel rays from the rasterizer's own matrices, plus the thin lens.
+#[derive(Clone, Copy, Debug)]
+pub struct TraceCamera {
+    /// World from clip (reversed Z).
+    pub world_from_clip: Mat4,
+    /// Eye position (m).
+    pub position: Vec3,
+    /// Right, up and forward unit vectors.
+    pub basis: Mat3,
+    /// Thin lens: aperture radius (m) and focus distance along the view axis (m).
+    pub lens: Option<(f32, f32)>,
+}
+
+/// Everything the integrator needs.
+pub struct TraceScene {
+    /// Triangles.
+    pub bvh: Bvh,
+    /// Per triangle: shading normals at the corners (world space).
+    pub normals: Vec<[Vec3; 3]>,
+    /// Per triangle: index into `materials`.
+    pub material: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<TraceMaterial>,
+    /// Lights as the lighting pass reads them (pre-exposed).
+    pub lights: Vec<GpuLight>,
+    /// Directional, point and spot light counts (in that order in `lights`).
+    pub light_counts: [usize; 3],
+    /// The environment.
+    pub environment: TraceEnvironment,
+    /// What a primary ray that misses shows (pre-exposed): the environment or this colour.
+    pub background: Option<Vec3>,
+    /// The camera.
+    pub camera: TraceCamera,
+    /// The specular visibility term.
+    pub visibility: VisibilityModel,
+}
+
+impl TraceScene {
+    /// Builds the scene from an extracted frame.
+    pub fn new(
+        frame: &ExtractedFrame,
+        meshes: &Meshes,
+        environment: Option<&Environment>,
+        visibility: VisibilityModel,
+    ) -> Result<TraceScene, String> {
+        let camera = frame.camera.as_ref().ok_or("the scene has no camera")?;
+        let exposure = camera.exposure;
+        let mut triangles = Vec::new();
+        let mut normals = Vec::new();
+        let mut material = Vec::new();
+        let mut materials = Vec::new();
+        for batch in &frame.batches {
+            let Some(mesh) = meshes.get(batch.mesh) else {
+                continue;
+            };
+            let range =
+                batch.first_instance as usize..(batch.first_instance + batch.count) as usize;
+            for inst in frame.instances.get(range).into_iter().flatten() {
+                let m = Mat4::from_cols_array_2d(&inst.world_from_local);
+                let n = Mat3::from_cols(
+                    Vec3::from_slice(&inst.normal_matrix[0][..3]),
+                    Vec3::from_slice(&inst.normal_matrix[1][..3]),
+                    Vec3::from_slice(&inst.normal_matrix[2][..3]),
+                );
+                let index = materials.len() as u32;
+                let [r, g, b, _] = inst.base_color;
+                let [er, eg, eb, _] = inst.emissive_occlusion;
+                materials.push(TraceMaterial {
+                    base_color: Vec3::new(r, g, b).clamp(Vec3::ZERO, Vec3::ONE),
+                    metallic: inst.params[0].clamp(0.0, 1.0),
+                    roughness: crate::brdf::clamp_perceptual_roughness(inst.params[1]),
+                    specular_level: inst.params[2].clamp(0.0, 1.0),
+                    emissive: Vec3::new(er, eg, eb),
+                });
+                for t in mesh.indices.chunks_exact(3) {
+                    let v = [0, 1, 2].map(|k| mesh.vertices[t[k] as usize]);
+                    triangles.push(Triangle {
+                        p: v.map(|v| m.transform_point3(Vec3::from(v.position))),
+                    });
+                    normals.push(v.map(|v| (n * Vec3::from(v.normal)).normalize_or(Vec3::Z)));
+                    material.push(index);
+                }
+            }
+        }
+        let env = match environment {
+            None => TraceEnvironment::None,
+            Some(e) => {
+                let scale = e.intensity.max(0.0) * exposure;
+                match &e.source {
+                    EnvironmentSource::Uniform(c) => TraceEnvironment::Uniform(*c * scale),
+                    EnvironmentSource::Image(img) => {
+                        TraceEnvironment::Image(EnvironmentImage::new(
+                            img.width as usize,
+                            img.height as usize,
+                            img.texels.iter().map(|t| Vec3::from(*t) * scale).collect(),
+                            e.rotation_y_rad,
+                        ))
+                    }
+                }
+            }
+        };
+        let show_env = environment
+            .is_some_and(|e| matches!(e.background, crate::scene::Background::Environment { .. }));
+        let [br, bg, bb, _] = frame.view.background;
+        let view = camera.view_from_world;
+        let world_from_view = view.inverse();
+        let lens = camera.depth_of_field.map(|_| {
+            let radius = camera.focal_length_m / camera.lens.aperture_f_stops * 0.5;
+            (radius, camera.lens.focus_distance_m)
+        });
+        Ok(TraceScene {
+            bvh: Bvh::build(triangles),
+            normals,
+            material,
+            materials,
+            lights: frame.lights.clone(),
+            light_counts: [
+                frame.light_counts.directional as usize,
+                frame.light_counts.point as usize,
+                frame.light_counts.spot as usize,
+            ],
+            environment: env,
+            background: (!show_env).then_some(Vec3::new(br, bg, bb)),
+            camera: TraceCamera {
+                world_from_clip: Mat4::from_cols_array_2d(&frame.view.world_from_clip),
+                position: camera.position,
+                basis: Mat3::from_cols(
+                    world_from_view.x_axis.truncate().normalize(),
+                    world_from_view.y_axis.truncate().normalize(),
+                    -world_from_view.z_axis.truncate().normalize(),
+                ),
+                lens,
+            },
+            visibility,
+        })
+    }
+}

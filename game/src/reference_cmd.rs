@@ -1,0 +1,86 @@
+//! `lumen reference`: the CPU path-traced ground truth of a scene, with a progress bar.
+
+use crate::cli::ReferenceArgs;
+use crate::setup::{build_scene, check_scene_args};
+use anyhow::Result;
+use lumen::App;
+use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
+use lumen::reference::path::{ReferenceOptions, render, trace_scene};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+/// Builds the scene, path-traces it and writes the image. Returns the path written.
+pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
+    check_scene_args(&args.scene)?;
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/{}-reference.exr", args.scene.label())));
+    let format = OutputFormat::from_path(&out)?;
+    let mut app = App::headless()?;
+    crate::progress::show_ibl_progress(&mut app);
+    build_scene(&mut app, &args.scene)?;
+    let scene = trace_scene(&mut app, args.size)?;
+    let options = ReferenceOptions {
+        size: args.size,
+        samples_per_pixel: args.spp,
+        max_bounces: args.max_bounces,
+        seed: args.seed,
+    };
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(u64::from(args.size.1));
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "path tracing {bar:30} {pos}/{len} rows ({elapsed}, ETA {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let start = std::time::Instant::now();
+    let image = render(&scene, &options, &|rows| {
+        if let Some(b) = &bar {
+            b.set_position(u64::from(rows));
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)?;
+    }
+    match format {
+        OutputFormat::Exr => save_exr(&out, &image)?,
+        OutputFormat::Png => {
+            let tonemapper = app
+                .world_mut()
+                .resource::<lumen::render::extract::ExtractedFrame>()
+                .camera
+                .as_ref()
+                .map(|c| c.tonemapper)
+                .unwrap_or_default();
+            let display = image::RgbaImage::from_fn(image.width(), image.height(), |x, y| {
+                let [r, g, b, _] = image.get_pixel(x, y).0;
+                let c = tonemapper.apply(glam::Vec3::new(r, g, b));
+                let e =
+                    |v: f32| (lumen::color::srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+                image::Rgba([e(c.x), e(c.y), e(c.z), 255])
+            });
+            save_png(&out, &display)?;
+        }
+    }
+    crate::output::print(&format!(
+        "path-traced {} at {}x{}, {} spp, {} bounce(s), seed {}: {:.1} s ({} threads)\nwrote {}\n",
+        args.scene.label(),
+        args.size.0,
+        args.size.1,
+        args.spp,
+        args.max_bounces,
+        args.seed,
+        seconds,
+        rayon::current_num_threads(),
+        out.display()
+    ));
+    Ok(out)
+}

@@ -1,0 +1,222 @@
+//! The path-traced reference: finite, deterministic, converging as 1/√spp, agreeing with
+//! the rasterizer where both compute the same thing (direct light on a sphere), and
+//! conserving energy in the white furnace where the BRDF does.
+
+mod common;
+
+use lumen::App;
+use lumen::prelude::*;
+use lumen::reference::path::{ReferenceOptions, TraceScene, render, trace_scene};
+
+fn options(size: (u32, u32), spp: u32, max_bounces: u32, seed: u64) -> ReferenceOptions {
+    ReferenceOptions {
+        size,
+        samples_per_pixel: spp,
+        max_bounces,
+        seed,
+    }
+}
+
+fn scene_of(name: &str, size: (u32, u32)) -> (App, TraceScene) {
+    let mut app = common::app_with(name);
+    let scene = trace_scene(&mut app, size).expect("trace scene");
+    (app, scene)
+}
+
+fn rmse(a: &image::Rgba32FImage, b: &image::Rgba32FImage) -> f64 {
+    let sum: f64 = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| {
+            (0..3)
+                .map(|c| f64::from(p.0[c] - q.0[c]).powi(2))
+                .sum::<f64>()
+        })
+        .sum();
+    (sum / (3 * a.width() * a.height()) as f64).sqrt()
+}
+
+#[test]
+fn one_sample_per_pixel_is_finite_and_seeds_are_deterministic() {
+    for name in ["spheres", "extremes", "dof", "shadows"] {
+        let (_app, scene) = scene_of(name, (24, 16));
+        let img = render(&scene, &options((24, 16), 1, 4, 7), &|_| {});
+        let bad = img
+            .pixels()
+            .filter(|p| p.0.iter().any(|c| !c.is_finite() || *c < 0.0))
+            .count();
+        assert_eq!(bad, 0, "{name}");
+        let again = render(&scene, &options((24, 16), 1, 4, 7), &|_| {});
+        assert_eq!(img, again, "{name}: same seed, same image");
+    }
+    let (_app, scene) = scene_of("spheres", (24, 16));
+    let a = render(&scene, &options((24, 16), 2, 4, 1), &|_| {});
+    let b = render(&scene, &options((24, 16), 2, 4, 2), &|_| {});
+    assert_ne!(a, b, "another seed, other noise");
+}
+
+#[test]
+fn error_falls_as_one_over_root_spp() {
+    // A simple scene where every pixel is noisy: `plane` under a uniform sky (sampled by
+    // next-event estimation and the BSDF), direct light only.
+    let size = (48, 27);
+    let mut app = common::app_with("plane");
+    app.world_mut()
+        .spawn(Environment::uniform(Vec3::splat(2000.0)));
+    let scene = trace_scene(&mut app, size).expect("trace scene");
+    let truth = render(&scene, &options(size, 8192, 1, 99), &|_| {});
+    let spps = [4u32, 16, 64, 256];
+    let errors: Vec<f64> = spps
+        .iter()
+        .map(|&spp| rmse(&render(&scene, &options(size, spp, 1, 5), &|_| {}), &truth))
+        .collect();
+    // Least-squares slope of log(error) against log(spp): −0.5 for 1/√spp.
+    let xs: Vec<f64> = spps.iter().map(|&s| f64::from(s).ln()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.ln()).collect();
+    let (mx, my) = (xs.iter().sum::<f64>() / 4.0, ys.iter().sum::<f64>() / 4.0);
+    let slope = xs
+        .iter()
+        .zip(&ys)
+        .map(|(x, y)| (x - mx) * (y - my))
+        .sum::<f64>()
+        / xs.iter().map(|x| (x - mx).powi(2)).sum::<f64>();
+    println!("RMSE at {spps:?} spp: {errors:?}; log-log slope {slope:.3}");
+    assert!((-0.6..-0.4).contains(&slope), "{slope}");
+}
+
+#[test]
+fn direct_light_on_a_sphere_matches_the_rasterizer() {
+    let size = (96, 96);
+    let mut app = App::headless().expect("a GPU adapter");
+    let sphere = app
+        .add_mesh(lumen::assets::procedural::uv_sphere(1.0, 128, 64))
+        .expect("mesh");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(sphere),
+        Material::new(Vec3::new(0.8, 0.5, 0.3), 0.0, 0.5),
+        Transform::IDENTITY,
+    ));
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 1000.0,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(1.0, 1.0, 2.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1e-3),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 0.0, 4.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.resource_mut::<Quality>().energy_compensation = false;
+    app.render_headless(size).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let scene = trace_scene(&mut app, size).expect("trace scene");
+    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {});
+    let err = lumen::reference::relative_luminance_error(&raster, &reference).expect("error");
+    println!(
+        "direct light, rasterizer against reference: {:.2} %",
+        100.0 * err
+    );
+    // Pixel-filter differences at the silhouette, the 8-bit base colour and 64 spp of
+    // anti-aliasing noise; a wrong unit, light direction or BRDF term is far above this.
+    assert!(err < 0.03, "{err}");
+}
+
+#[test]
+fn the_furnace_keeps_the_energy_its_brdf_keeps() {
+    // The white furnace at exposure 1: the background is exactly 1, and a mirror metal
+    // (roughness 0, F0 = 1) returns all the light it receives, so it converges to 1.
+    // Rougher metals lose the energy single-scattering GGX loses (what energy
+    // compensation restores in the rasterizer).
+    // Height-correlated Smith: a true masking function, so a mirror's G is 1 (the seeds'
+    // Schlick-GGX with k = (r + 1)²/8 darkens even a mirror away from normal incidence).
+    let size = (220, 50);
+    let mut app = common::app_with("furnace");
+    app.world_mut().resource_mut::<Quality>().visibility = VisibilityModel::SmithGgxCorrelated;
+    let scene = trace_scene(&mut app, size).expect("trace scene");
+    let img = render(&scene, &options(size, 256, 32, 11), &|_| {});
+    let lum = |x: u32, y: u32| common::lum(img.get_pixel(x, y));
+    let background = lum(2, 2);
+    assert!((background - 1.0).abs() < 1e-4, "{background}");
+    let centre = |i: u32, row: u32| {
+        let c = lumen_game::scenes::furnace_center(i, row);
+        // The camera at z = 18 looks at the origin with a 20° field of view.
+        let half_h = 18.0 * (10f32.to_radians()).tan();
+        let half_w = half_h * size.0 as f32 / size.1 as f32;
+        let x = ((c.x / half_w) * 0.5 + 0.5) * size.0 as f32;
+        let y = (0.5 - (c.y / half_h) * 0.5) * size.1 as f32;
+        let mut sum = 0.0;
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                sum += lum((x as i32 + dx) as u32, (y as i32 + dy) as u32);
+            }
+        }
+        sum / 9.0
+    };
+    let metals: Vec<f32> = (0..11).map(|i| centre(i, 0)).collect();
+    let dielectrics: Vec<f32> = (0..11).map(|i| centre(i, 1)).collect();
+    println!("furnace metals {metals:?}\nfurnace dielectrics {dielectrics:?}");
+    assert!((metals[0] - 1.0).abs() < 0.02, "mirror metal {}", metals[0]);
+    // Energy loss grows with roughness and never turns into a gain (beyond 256-spp noise).
+    assert!(metals.iter().all(|m| *m <= 1.03), "{metals:?}");
+    assert!(metals[10] < metals[0], "{metals:?}");
+}
+
+#[test]
+fn the_reference_command_writes_a_comparable_exr() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("lumen runs")
+    };
+    let out = run(&[
+        "reference",
+        "plane",
+        "--size",
+        "16x8",
+        "--spp",
+        "2",
+        "--out",
+        "r.exr",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = lumen::assets::image_io::load_rgba32f(&dir.path().join("r.exr")).expect("EXR");
+    assert_eq!(img.dimensions(), (16, 8));
+    assert!(
+        img.pixels()
+            .all(|p| p.0.iter().all(|c| c.is_finite() && *c >= 0.0))
+    );
+    assert!(
+        img.pixels().any(|p| common::lum(p) > 0.0),
+        "the plane is lit"
+    );
+    for (args, needle) in [
+        (vec!["reference", "plane", "--spp", "0"], "--spp"),
+        (
+            vec!["reference", "plane", "--max-bounces", "0"],
+            "--max-bounces",
+        ),
+        (vec!["reference", "nosuchscene"], "nosuchscene"),
+        (
+            vec!["reference", "plane", "--size", "8x8", "--out", "x.jpg"],
+            "x.jpg",
+        ),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
