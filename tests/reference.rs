@@ -127,43 +127,54 @@ fn direct_light_on_a_sphere_matches_the_rasterizer() {
 }
 
 #[test]
-fn the_furnace_keeps_the_energy_its_brdf_keeps() {
-    // The white furnace at exposure 1: the background is exactly 1, and a mirror metal
-    // (roughness 0, F0 = 1) returns all the light it receives, so it converges to 1.
-    // Rougher metals lose the energy single-scattering GGX loses (what energy
-    // compensation restores in the rasterizer).
-    // Height-correlated Smith: a true masking function, so a mirror's G is 1 (the seeds'
-    // Schlick-GGX with k = (r + 1)²/8 darkens even a mirror away from normal incidence).
+fn the_furnace_converges_to_one() {
+    // The white furnace at exposure 1 (uniform sky of radiance 1): with energy
+    // compensation every sphere returns the light it receives. What remains is 256-spp
+    // noise, the 32² albedo table's interpolation, and the kD = (1 − F) split of white
+    // dielectrics (README, "Known limitations"); measured worst 2.6 %.
     let size = (220, 50);
-    let mut app = common::app_with("furnace");
-    app.world_mut().resource_mut::<Quality>().visibility = VisibilityModel::SmithGgxCorrelated;
-    let scene = trace_scene(&mut app, size).expect("trace scene");
-    let img = render(&scene, &options(size, 256, 32, 11), &|_| {});
-    let lum = |x: u32, y: u32| common::lum(img.get_pixel(x, y));
-    let background = lum(2, 2);
-    assert!((background - 1.0).abs() < 1e-4, "{background}");
-    let centre = |i: u32, row: u32| {
-        let c = lumen_game::scenes::furnace_center(i, row);
-        // The camera at z = 18 looks at the origin with a 20° field of view.
-        let half_h = 18.0 * (10f32.to_radians()).tan();
-        let half_w = half_h * size.0 as f32 / size.1 as f32;
-        let x = ((c.x / half_w) * 0.5 + 0.5) * size.0 as f32;
-        let y = (0.5 - (c.y / half_h) * 0.5) * size.1 as f32;
-        let mut sum = 0.0;
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                sum += lum((x as i32 + dx) as u32, (y as i32 + dy) as u32);
+    for (model, bound) in [
+        (VisibilityModel::SchlickGgx, 0.04),
+        (VisibilityModel::SmithGgxCorrelated, 0.04),
+    ] {
+        let mut app = common::app_with("furnace");
+        app.world_mut().resource_mut::<Quality>().visibility = model;
+        let scene = trace_scene(&mut app, size).expect("trace scene");
+        let img = render(&scene, &options(size, 256, 32, 11), &|_| {});
+        let lum = |x: u32, y: u32| common::lum(img.get_pixel(x, y));
+        let background = lum(2, 2);
+        assert!((background - 1.0).abs() < 1e-4, "{background}");
+        let centre = |i: u32, row: u32| {
+            let c = lumen_game::scenes::furnace_center(i, row);
+            // The camera at z = 18 looks at the origin with a 20° field of view.
+            let half_h = 18.0 * (10f32.to_radians()).tan();
+            let half_w = half_h * size.0 as f32 / size.1 as f32;
+            let x = ((c.x / half_w) * 0.5 + 0.5) * size.0 as f32;
+            let y = (0.5 - (c.y / half_h) * 0.5) * size.1 as f32;
+            let mut sum = 0.0;
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    sum += lum((x as i32 + dx) as u32, (y as i32 + dy) as u32);
+                }
             }
-        }
-        sum / 9.0
-    };
-    let metals: Vec<f32> = (0..11).map(|i| centre(i, 0)).collect();
-    let dielectrics: Vec<f32> = (0..11).map(|i| centre(i, 1)).collect();
-    println!("furnace metals {metals:?}\nfurnace dielectrics {dielectrics:?}");
-    assert!((metals[0] - 1.0).abs() < 0.02, "mirror metal {}", metals[0]);
-    // Energy loss grows with roughness and never turns into a gain (beyond 256-spp noise).
-    assert!(metals.iter().all(|m| *m <= 1.03), "{metals:?}");
-    assert!(metals[10] < metals[0], "{metals:?}");
+            sum / 9.0
+        };
+        let spheres: Vec<f32> = (0..2)
+            .flat_map(|row| (0..11).map(move |i| (i, row)))
+            .map(|(i, row)| centre(i, row))
+            .collect();
+        let worst = spheres
+            .iter()
+            .map(|v| (v - 1.0).abs())
+            .fold(0.0f32, f32::max);
+        println!(
+            "furnace, {}: metals {:?}\n  dielectrics {:?}\n  worst |L − 1| {worst:.4}",
+            model.name(),
+            &spheres[..11],
+            &spheres[11..]
+        );
+        assert!(worst < bound, "{}: {spheres:?}", model.name());
+    }
 }
 
 #[test]

@@ -6,8 +6,9 @@
 //! - the environment is sampled in proportion to luminance × sin θ (an image) or cosine
 //!   weighted (uniform), and combined with BSDF sampling by the power heuristic (Veach
 //!   1997);
-//! - the BSDF is `brdf.rs`'s Cook-Torrance with the scene's visibility term, sampled as a
-//!   mixture of a cosine lobe and GGX visible normals (Heitz 2018);
+//! - the BSDF is `brdf.rs`'s Cook-Torrance with the scene's visibility term (and the
+//!   rasterizer's energy compensation when it is on), sampled as a mixture of a cosine
+//!   lobe and GGX visible normals (Heitz 2018);
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
 //!
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
@@ -115,6 +116,8 @@ fn sample_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
 struct Bsdf {
     frame: Mat3,
     surface: Surface,
+    /// Multiplies the specular lobe (energy compensation; 1 when off).
+    specular_scale: Vec3,
     alpha: f32,
     /// Probability of sampling the specular lobe.
     p_specular: f32,
@@ -122,7 +125,13 @@ struct Bsdf {
 }
 
 impl Bsdf {
-    fn new(n: Vec3, v: Vec3, m: &TraceMaterial, model: crate::brdf::VisibilityModel) -> Bsdf {
+    fn new(
+        n: Vec3,
+        v: Vec3,
+        m: &TraceMaterial,
+        model: crate::brdf::VisibilityModel,
+        compensation: Option<&super::scene::AlbedoTable>,
+    ) -> Bsdf {
         let surface = Surface {
             base_color: m.base_color,
             metallic: m.metallic,
@@ -139,9 +148,13 @@ impl Bsdf {
         } else {
             0.5
         };
+        let specular_scale = compensation.map_or(Vec3::ONE, |table| {
+            table.compensation(f0, n.dot(v), m.roughness)
+        });
         Bsdf {
             frame: basis(n),
             surface,
+            specular_scale,
             alpha: m.roughness * m.roughness,
             p_specular,
             model,
@@ -156,7 +169,7 @@ impl Bsdf {
     fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
         let lobes = surface_brdf_lobes(n, v, l, &self.surface, self.model);
-        (lobes.diffuse + lobes.specular) * n.dot(l).max(0.0)
+        (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0)
     }
 
     /// Solid-angle density of [`Bsdf::sample`] choosing `l`.
@@ -340,7 +353,13 @@ impl TraceScene {
             if bounce == 0 {
                 radiance += material.emissive;
             }
-            let bsdf = Bsdf::new(n, v, material, self.visibility);
+            let bsdf = Bsdf::new(
+                n,
+                v,
+                material,
+                self.visibility,
+                self.energy_compensation.as_ref(),
+            );
             let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
             radiance += throughput * self.direct(p, offset, v, &bsdf, rng);
             let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
@@ -411,7 +430,7 @@ mod tests {
                 specular_level: 0.5,
                 emissive: Vec3::ZERO,
             };
-            let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default());
+            let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
             let steps = 600;
             let mut quadrature = 0.0;
             for i in 0..steps {

@@ -4,7 +4,10 @@
 //! It renders what the rasterizer's extraction produced for the same frame: the same
 //! instances, factors, lights (pre-exposed, same units and attenuation), environment and
 //! camera, so its linear output is directly comparable with `lumen render --out F.exr`.
-//! Material textures are not read yet: surfaces use their factors.
+//! It evaluates the same BRDF, with the same visibility term and, when the quality has
+//! it on, the same multiple-scattering energy compensation: it is the ground truth for
+//! light transport (visibility, shadows, indirect and environment light), not for the
+//! microfacet model. Material textures are not read yet: surfaces use their factors.
 
 pub mod bvh;
 pub mod integrator;
@@ -55,8 +58,8 @@ pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
         .cloned();
     let frame = world.resource::<crate::render::extract::ExtractedFrame>();
     let meshes = world.resource::<crate::scene::Meshes>();
-    let visibility = world.resource::<crate::quality::Quality>().visibility;
-    TraceScene::new(frame, meshes, environment.as_ref(), visibility).map_err(Error::Scene)
+    let quality = world.resource::<crate::quality::Quality>();
+    TraceScene::new(frame, meshes, environment.as_ref(), quality).map_err(Error::Scene)
 }
 
 /// Path-traces `scene`: linear, pre-exposed radiance per pixel (alpha 1), the mean of

@@ -154,6 +154,69 @@ impl EnvironmentImage {
     }
 }
 
+/// The directional albedo E₁(n·v, r) of the specular lobe for F0 = 1 with the scene's
+/// visibility term, tabulated for the multiple-scattering energy compensation
+/// `1 + F0 (1/E₁ − 1)` (Kulla & Conty 2017). The rasterizer takes E₁ from its split-sum
+/// table; here it is integrated for the exact BRDF the path tracer evaluates, so that a
+/// white metal returns exactly the light it receives.
+#[derive(Clone, Debug)]
+pub struct AlbedoTable {
+    size: usize,
+    values: Vec<f32>,
+}
+
+impl AlbedoTable {
+    /// A `size` × `size` table, `samples` GGX importance samples per entry.
+    pub fn new(size: usize, samples: u32, model: VisibilityModel) -> Self {
+        use crate::ibl::{hammersley, importance_sample_ggx};
+        let size = size.max(2);
+        let mut values = Vec::with_capacity(size * size);
+        for j in 0..size {
+            let r = crate::brdf::clamp_perceptual_roughness(j as f32 / (size - 1) as f32);
+            let alpha = r * r;
+            for i in 0..size {
+                let n_dot_v = (i as f32 / (size - 1) as f32).max(1e-3);
+                let v = Vec3::new((1.0 - n_dot_v * n_dot_v).max(0.0).sqrt(), 0.0, n_dot_v);
+                let mut sum = 0.0;
+                for k in 0..samples {
+                    let h = importance_sample_ggx(hammersley(k, samples), alpha);
+                    let v_dot_h = v.dot(h);
+                    let l = 2.0 * v_dot_h * h - v;
+                    if l.z > 0.0 && v_dot_h > 0.0 {
+                        // D·V·(n·l) / (D (n·h) / (4 v·h)).
+                        let vis = crate::brdf::visibility(model, n_dot_v, l.z, r);
+                        sum += vis * l.z * 4.0 * v_dot_h / h.z.max(1e-6);
+                    }
+                }
+                values.push((sum / samples as f32).clamp(1e-3, 1.0));
+            }
+        }
+        AlbedoTable { size, values }
+    }
+
+    /// Bilinear lookup at (n·v, perceptual roughness), both clamped to [0, 1].
+    pub fn lookup(&self, n_dot_v: f32, roughness: f32) -> f32 {
+        let scale = (self.size - 1) as f32;
+        let x = n_dot_v.clamp(0.0, 1.0) * scale;
+        let y = roughness.clamp(0.0, 1.0) * scale;
+        let (x0, y0) = (x.floor() as usize, y.floor() as usize);
+        let (x1, y1) = ((x0 + 1).min(self.size - 1), (y0 + 1).min(self.size - 1));
+        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+        let at = |i: usize, j: usize| self.values[j * self.size + i];
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        lerp(
+            lerp(at(x0, y0), at(x1, y0), fx),
+            lerp(at(x0, y1), at(x1, y1), fx),
+            fy,
+        )
+    }
+
+    /// `1 + F0 (1/E₁ − 1)` at (n·v, roughness).
+    pub fn compensation(&self, f0: Vec3, n_dot_v: f32, roughness: f32) -> Vec3 {
+        Vec3::ONE + f0 * (1.0 / self.lookup(n_dot_v, roughness) - 1.0)
+    }
+}
+
 /// The camera: pixel rays from the rasterizer's own matrices, plus the thin lens.
 #[derive(Clone, Copy, Debug)]
 pub struct TraceCamera {
@@ -189,6 +252,8 @@ pub struct TraceScene {
     pub camera: TraceCamera,
     /// The specular visibility term.
     pub visibility: VisibilityModel,
+    /// Energy compensation of the specular lobe, as the rasterizer's `Quality` sets it.
+    pub energy_compensation: Option<AlbedoTable>,
 }
 
 impl TraceScene {
@@ -197,7 +262,7 @@ impl TraceScene {
         frame: &ExtractedFrame,
         meshes: &Meshes,
         environment: Option<&Environment>,
-        visibility: VisibilityModel,
+        quality: &crate::quality::Quality,
     ) -> Result<TraceScene, String> {
         let camera = frame.camera.as_ref().ok_or("the scene has no camera")?;
         let exposure = camera.exposure;
@@ -287,7 +352,10 @@ impl TraceScene {
                 ),
                 lens,
             },
-            visibility,
+            visibility: quality.visibility,
+            energy_compensation: quality
+                .energy_compensation
+                .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
         })
     }
 }
