@@ -28,6 +28,9 @@ pub enum Command {
     /// Path-trace the ground truth of a scene on the CPU (linear EXR, comparable with
     /// `render --out F.exr`).
     Reference(ReferenceArgs),
+    /// Time every preset and every quality knob, and measure each image's error against
+    /// the path-traced reference.
+    Tradeoff(TradeoffArgs),
     /// List the built-in scenes.
     Scenes,
 }
@@ -217,6 +220,32 @@ pub struct ReferenceArgs {
     /// tone mapper). Default: out/<scene>-reference.exr.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+}
+
+/// Arguments of `lumen tradeoff`.
+#[derive(Args, Debug, Clone)]
+pub struct TradeoffArgs {
+    /// Scene and exposure (quality options are what the rows vary).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "320x180", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Paths per pixel of the reference (cached in out/reference-cache/).
+    #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
+    pub spp: u32,
+    /// Measured frames per row (after 3 warm-up frames).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub frames: u32,
+    /// Write the rows as JSON (schema lumen-tradeoff/1) to this file ("-": standard output).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write the table as Markdown to this file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Draw time against error, with the Pareto front, into this PNG.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Arguments of `lumen view`.

@@ -9,4 +9,5 @@ pub mod reference_cmd;
 pub mod render_cmd;
 pub mod scenes;
 pub mod setup;
+pub mod tradeoff;
 pub mod view;

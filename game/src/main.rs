@@ -64,6 +64,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             args.scene.resolve_builtin();
             lumen_game::reference_cmd::run(&args).map(|_| ())
         }
+        Some(Command::Tradeoff(mut args)) => {
+            args.scene.resolve_builtin();
+            lumen_game::tradeoff::run(&args)
+        }
         Some(Command::Scenes) => {
             let text: String = scenes::SCENES
                 .iter()

@@ -110,14 +110,30 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
-    let mut samples = Vec::with_capacity(args.frames as usize);
-    for i in 0..args.warmup + args.frames {
+    let samples = measure(&mut app, args.size, args.warmup, args.frames, &|done| {
+        bar.set_position(u64::from(done))
+    })?;
+    Ok((samples, app))
+}
+
+/// Renders `warmup + frames` offscreen frames of `app` at `size` and returns the measured
+/// ones (the machinery of `lumen bench` and `lumen tradeoff`). `progress` gets the number
+/// of frames rendered so far.
+pub fn measure(
+    app: &mut App,
+    size: (u32, u32),
+    warmup: u32,
+    frames: u32,
+    progress: &dyn Fn(u32),
+) -> Result<Vec<FrameSample>> {
+    let mut samples = Vec::with_capacity(frames as usize);
+    for i in 0..warmup + frames {
         let start = Instant::now();
         app.update();
         let update_ms = start.elapsed().as_secs_f64() * 1e3;
-        let report = app.render_headless(args.size)?;
+        let report = app.render_headless(size)?;
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        if i >= args.warmup {
+        if i >= warmup {
             let mut stages = vec![("update", update_ms)];
             stages.extend(report.stages);
             samples.push(FrameSample {
@@ -126,9 +142,9 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
                 passes: report.passes,
             });
         }
-        bar.set_position(u64::from(i + 1));
+        progress(i + 1);
     }
-    Ok((samples, app))
+    Ok(samples)
 }
 
 fn scene_stats(app: &App) -> [usize; 4] {

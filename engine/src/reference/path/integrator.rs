@@ -1,8 +1,9 @@
 //! Unidirectional path tracing with next-event estimation (Pharr, Jakob & Humphreys,
 //! "Physically Based Rendering", 4th ed., ch. 13):
 //!
-//! - every punctual light is sampled at every hit (delta lights: exact direction), with a
-//!   shadow ray, using the rasterizer's attenuation functions (`punctual.rs`);
+//! - every light is sampled at every hit with a shadow ray, using the rasterizer's
+//!   attenuation functions (`punctual.rs`); point and spot lights are points, a shadowed
+//!   sun is its disc (the angular size PCSS uses);
 //! - the environment is sampled in proportion to luminance × sin θ (an image) or cosine
 //!   weighted (uniform), and combined with BSDF sampling by the power heuristic (Veach
 //!   1997);
@@ -262,11 +263,22 @@ impl TraceScene {
         for (i, light) in self.lights.iter().enumerate() {
             let color = Vec3::from_slice(&light.color_inv_range2[..3]);
             let (l, e, distance) = if i < directional {
-                (
-                    Vec3::from_slice(&light.direction[..3]).normalize_or(Vec3::Y),
-                    color,
-                    f32::MAX,
-                )
+                let axis = Vec3::from_slice(&light.direction[..3]).normalize_or(Vec3::Y);
+                // A shadowed sun has its disc (tan of the angular radius): sample it
+                // uniformly, so its shadows get their true penumbrae. E stays the
+                // illuminance of the whole disc.
+                let tan_radius = light.shadow[2];
+                let l = if tan_radius > 0.0 && tan_radius.is_finite() {
+                    let cos_max = 1.0 / (1.0 + tan_radius * tan_radius).sqrt();
+                    let xi = rng.pair();
+                    let cos_t = 1.0 - xi.x * (1.0 - cos_max);
+                    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                    let phi = 2.0 * PI * xi.y;
+                    basis(axis) * Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+                } else {
+                    axis
+                };
+                (l, color, f32::MAX)
             } else {
                 let to_light = Vec3::from_slice(&light.position[..3]) - p;
                 let d2 = to_light.length_squared();

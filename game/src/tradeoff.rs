@@ -1,0 +1,379 @@
+//! `lumen tradeoff`: every preset, and every quality knob varied alone from `high`, timed
+//! with the benchmark's machinery and compared with the path-traced reference (FLIP on
+//! the tone-mapped images, relative MSE and PSNR on the linear HDR ones).
+
+use crate::bench::{measure, stats::Summary};
+use crate::cli::{SceneArgs, TradeoffArgs};
+use crate::setup::{build_scene, check_scene_args};
+use anyhow::{Context, Result, anyhow};
+use lumen::App;
+use lumen::brdf::VisibilityModel;
+use lumen::color::Tonemapper;
+use lumen::quality::{HdrPrecision, QualityPreset, ShadowFilter};
+use lumen::reference::path::{ReferenceOptions, render, trace_scene};
+use plotters::prelude::*;
+use serde_json::json;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Bounces of the reference's paths.
+const REFERENCE_BOUNCES: u32 = 8;
+
+/// One configuration and what it measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// `preset` or the knob's option name.
+    pub kind: String,
+    /// The preset or the knob's value.
+    pub setting: String,
+    /// Median wall time per frame (ms).
+    pub frame_ms: f64,
+    /// Median GPU time per frame (ms), where the adapter has timestamps.
+    pub gpu_ms: Option<f64>,
+    /// Mean FLIP error of the tone-mapped image against the tone-mapped reference (0..1).
+    pub flip_mean: f64,
+    /// PSNR of the linear image against the reference (dB), both clipped to [0, 1] (the
+    /// exposed radiance of display white) and with a peak of 1. Unclipped, the few
+    /// pixels of the sun's glint on smooth metals (exposed values of 10⁴ and more) decide
+    /// it alone.
+    pub psnr_db: f64,
+    /// Relative MSE of the linear HDR image (Rousselle et al. 2011): the mean over pixels
+    /// and channels of (image − reference)² / (reference² + 0.01).
+    pub relative_mse: f64,
+}
+
+impl Row {
+    /// `kind=setting`, or the preset's name.
+    pub fn label(&self) -> String {
+        if self.kind == "preset" || self.kind.is_empty() {
+            self.setting.clone()
+        } else if self.setting.is_empty() {
+            self.kind.clone()
+        } else {
+            format!("{} {}", self.kind, self.setting)
+        }
+    }
+}
+
+/// Every row: the four presets, then each knob varied alone from `high`.
+fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
+    let mut out = Vec::new();
+    for preset in QualityPreset::ALL {
+        let mut a = base.clone();
+        a.quality = Some(preset);
+        out.push(("preset".into(), preset.name().into(), a));
+    }
+    let mut knob = |kind: &str, setting: String, change: &dyn Fn(&mut SceneArgs)| {
+        let mut a = base.clone();
+        a.quality = Some(QualityPreset::High);
+        change(&mut a);
+        out.push((kind.into(), setting, a));
+    };
+    for f in [ShadowFilter::Hardware2x2, ShadowFilter::Pcss] {
+        knob("--shadow-filter", f.name().into(), &|a| {
+            a.shadow_filter = Some(f)
+        });
+    }
+    for x in [0.5f32, 2.0] {
+        knob("--shadow-resolution-scale", x.to_string(), &|a| {
+            a.shadow_resolution_scale = Some(x)
+        });
+    }
+    for n in [1u32, 2] {
+        knob("--cascades", n.to_string(), &|a| a.cascades = Some(n));
+    }
+    for v in [
+        VisibilityModel::SmithGgxCorrelated,
+        VisibilityModel::SmithGgxCorrelatedFast,
+    ] {
+        knob("--visibility", v.name().into(), &|a| a.visibility = Some(v));
+    }
+    knob("--no-energy-compensation", String::new(), &|a| {
+        a.no_energy_compensation = true
+    });
+    for n in [16u32, 256] {
+        knob("--ibl-samples", n.to_string(), &|a| a.ibl_samples = Some(n));
+    }
+    knob("--brdf-lut-size", "32".into(), &|a| {
+        a.brdf_lut_size = Some(32)
+    });
+    knob("--hdr", "f32".into(), &|a| a.hdr = Some(HdrPrecision::Full));
+    out
+}
+
+/// The reference of `scene` at `size` and `spp`: from the cache when it holds it, else
+/// path-traced (Smith height-correlated visibility and energy compensation: Lumen's most
+/// accurate BRDF) and cached.
+fn reference(
+    scene: &SceneArgs,
+    size: (u32, u32),
+    spp: u32,
+) -> Result<(image::Rgba32FImage, Tonemapper, bool)> {
+    let cache = PathBuf::from("out/reference-cache").join(format!(
+        "{}-{}x{}-{}spp-{}b.exr",
+        scene.label(),
+        size.0,
+        size.1,
+        spp,
+        REFERENCE_BOUNCES
+    ));
+    let mut app = App::headless()?;
+    build_scene(&mut app, scene)?;
+    {
+        let mut q = app.world_mut().resource_mut::<lumen::prelude::Quality>();
+        q.visibility = VisibilityModel::SmithGgxCorrelated;
+        q.energy_compensation = true;
+    }
+    let traced = trace_scene(&mut app, size)?;
+    let tonemapper = app
+        .world()
+        .resource::<lumen::render::extract::ExtractedFrame>()
+        .camera
+        .as_ref()
+        .map(|c| c.tonemapper)
+        .unwrap_or_default();
+    if let Ok(img) = lumen::assets::image_io::load_rgba32f(&cache)
+        && img.dimensions() == size
+    {
+        return Ok((img, tonemapper, true));
+    }
+    let bar = bar(u64::from(size.1), "reference");
+    let img = render(
+        &traced,
+        &ReferenceOptions {
+            size,
+            samples_per_pixel: spp,
+            max_bounces: REFERENCE_BOUNCES,
+            seed: 0,
+        },
+        &|rows| bar.set_position(u64::from(rows)),
+    );
+    bar.finish_and_clear();
+    if let Some(dir) = cache.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    lumen::assets::image_io::save_exr(&cache, &img)?;
+    Ok((img, tonemapper, false))
+}
+
+fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::new(len);
+    b.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{what} {{bar:30}} {{pos}}/{{len}} ({{elapsed}}, ETA {{eta}}) {{msg}}"
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    b
+}
+
+/// The display image as 8-bit sRGB bytes (RGB), tone mapped with `tonemapper`.
+fn display_rgb8(img: &image::Rgba32FImage, tonemapper: Tonemapper) -> Vec<u8> {
+    img.pixels()
+        .flat_map(|p| {
+            let c = tonemapper.apply(glam::Vec3::new(p.0[0], p.0[1], p.0[2]));
+            [c.x, c.y, c.z]
+                .map(|v| (lumen::color::srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8)
+        })
+        .collect()
+}
+
+/// FLIP mean, PSNR (dB) and relative MSE of `img` against `reference`.
+pub fn errors(
+    img: &image::Rgba32FImage,
+    reference: &image::Rgba32FImage,
+    tonemapper: Tonemapper,
+) -> Result<(f64, f64, f64)> {
+    if img.dimensions() != reference.dimensions() {
+        return Err(anyhow!("the image and the reference differ in size"));
+    }
+    let (w, h) = img.dimensions();
+    let flip = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &display_rgb8(reference, tonemapper)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &display_rgb8(img, tonemapper)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    );
+    let flip_mean = f64::from(nv_flip::FlipPool::from_image(&flip).mean());
+    let (mut se, mut relative) = (0.0f64, 0.0f64);
+    for (a, b) in img.pixels().zip(reference.pixels()) {
+        for c in 0..3 {
+            let (x, y) = (f64::from(a.0[c]), f64::from(b.0[c]));
+            let clipped = x.clamp(0.0, 1.0) - y.clamp(0.0, 1.0);
+            se += clipped * clipped;
+            relative += (x - y) * (x - y) / (y * y + 0.01);
+        }
+    }
+    let n = f64::from(3 * w * h);
+    let psnr = 10.0 * (1.0 / (se / n).max(1e-30)).log10();
+    Ok((flip_mean, psnr, relative / n))
+}
+
+/// Runs every configuration and writes the reports.
+pub fn run(args: &TradeoffArgs) -> Result<()> {
+    check_scene_args(&args.scene)?;
+    if let Some(p) = &args.plot
+        && !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(anyhow!("{}: expected a .png file", p.display()));
+    }
+    let (reference_image, tonemapper, cached) =
+        reference(&args.scene, args.size, args.spp).context("the reference")?;
+    let configs = configurations(&args.scene);
+    let progress = bar(configs.len() as u64, "configurations");
+    let mut rows = Vec::new();
+    let mut adapter = None;
+    for (kind, setting, scene) in &configs {
+        progress.set_message(format!("{kind} {setting}"));
+        let mut app = App::headless()?;
+        build_scene(&mut app, scene)?;
+        let samples = measure(&mut app, args.size, 3, args.frames, &|_| {})?;
+        let img = app.read_hdr_image()?;
+        let frame: Vec<f64> = samples.iter().map(|s| s.frame_ms).collect();
+        let gpu: Option<Vec<f64>> = samples.iter().map(|s| s.gpu_ms()).collect();
+        let (flip_mean, psnr_db, relative_mse) = errors(&img, &reference_image, tonemapper)?;
+        adapter = app.adapter().cloned();
+        rows.push(Row {
+            kind: kind.clone(),
+            setting: setting.clone(),
+            frame_ms: Summary::of(&frame).map_or(f64::NAN, |s| s.median),
+            gpu_ms: gpu.and_then(|g| Summary::of(&g)).map(|s| s.median),
+            flip_mean,
+            psnr_db,
+            relative_mse,
+        });
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    let adapter = adapter.context("no adapter")?;
+    let title = format!(
+        "{} {}x{}, reference {} spp, {} on {} ({})",
+        args.scene.label(),
+        args.size.0,
+        args.size.1,
+        args.spp,
+        if cached { "cached" } else { "traced" },
+        adapter.name,
+        adapter.backend
+    );
+    let table = markdown(&title, &rows);
+    crate::output::print(&table);
+    if let Some(path) = &args.out {
+        std::fs::write(path, &table).with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &args.json {
+        let doc = json!({
+            "schema": "lumen-tradeoff/1",
+            "scene": args.scene.label(),
+            "size": format!("{}x{}", args.size.0, args.size.1),
+            "adapter": {"name": adapter.name, "backend": adapter.backend, "driver": adapter.driver},
+            "frames": args.frames,
+            "reference": {"spp": args.spp, "max_bounces": REFERENCE_BOUNCES, "cached": cached,
+                          "visibility": "smith-correlated", "energy_compensation": true},
+            "rows": rows.iter().map(|r| json!({
+                "kind": r.kind, "setting": r.setting, "frame_ms": r.frame_ms, "gpu_ms": r.gpu_ms,
+                "flip_mean": r.flip_mean, "psnr_db": r.psnr_db, "relative_mse": r.relative_mse,
+            })).collect::<Vec<_>>(),
+        });
+        let text = serde_json::to_string_pretty(&doc)?;
+        if path.as_os_str() == "-" {
+            crate::output::print(&format!("{text}\n"));
+        } else {
+            std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+        }
+    }
+    if let Some(path) = &args.plot {
+        plot(path, &title, &rows)?;
+    }
+    Ok(())
+}
+
+/// The table: one row per configuration.
+pub fn markdown(title: &str, rows: &[Row]) -> String {
+    let mut s = format!(
+        "{title}\n\n| setting | ms/frame | GPU ms | FLIP mean | PSNR (dB) | relative MSE |\n| --- | --- | --- | --- | --- | --- |\n"
+    );
+    for r in rows {
+        s += &format!(
+            "| {} | {:.2} | {} | {:.4} | {:.2} | {:.2e} |\n",
+            r.label(),
+            r.frame_ms,
+            r.gpu_ms.map_or("—".into(), |g| format!("{g:.2}")),
+            r.flip_mean,
+            r.psnr_db,
+            r.relative_mse
+        );
+    }
+    s
+}
+
+/// Indices of the rows no other row beats in both time and FLIP error, fastest first.
+pub fn pareto_front(rows: &[Row]) -> Vec<usize> {
+    let mut front: Vec<usize> = (0..rows.len())
+        .filter(|&i| {
+            !rows.iter().any(|o| {
+                o.frame_ms <= rows[i].frame_ms
+                    && o.flip_mean <= rows[i].flip_mean
+                    && (o.frame_ms < rows[i].frame_ms || o.flip_mean < rows[i].flip_mean)
+            })
+        })
+        .collect();
+    front.sort_by(|&a, &b| rows[a].frame_ms.total_cmp(&rows[b].frame_ms));
+    front
+}
+
+fn plot(path: &Path, title: &str, rows: &[Row]) -> Result<()> {
+    plotters::style::register_font("sans-serif", FontStyle::Normal, crate::bench::plot::FONT)
+        .map_err(|_| anyhow!("the bundled chart font does not load"))?;
+    let draw = |e: &dyn std::fmt::Display| anyhow!("drawing {}: {e}", path.display());
+    let x_max = rows.iter().map(|r| r.frame_ms).fold(0.0, f64::max) * 1.15;
+    let y_max = rows.iter().map(|r| r.flip_mean).fold(0.0, f64::max) * 1.15;
+    let root = BitMapBackend::new(path, (1200, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| draw(&e))?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0.0..x_max.max(1e-3), 0.0..y_max.max(1e-4))
+        .map_err(|e| draw(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc("ms per frame")
+        .y_desc("FLIP mean against the reference")
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| draw(&e))?;
+    let front = pareto_front(rows);
+    chart
+        .draw_series(LineSeries::new(
+            front.iter().map(|&i| (rows[i].frame_ms, rows[i].flip_mean)),
+            RGBColor(214, 39, 40).stroke_width(2),
+        ))
+        .map_err(|e| draw(&e))?;
+    for (i, r) in rows.iter().enumerate() {
+        let color = if front.contains(&i) {
+            RGBColor(214, 39, 40)
+        } else {
+            RGBColor(31, 119, 180)
+        };
+        chart
+            .draw_series(std::iter::once(Circle::new(
+                (r.frame_ms, r.flip_mean),
+                5,
+                color.filled(),
+            )))
+            .map_err(|e| draw(&e))?;
+        chart
+            .draw_series(std::iter::once(Text::new(
+                r.label(),
+                (r.frame_ms, r.flip_mean),
+                ("sans-serif", 12),
+            )))
+            .map_err(|e| draw(&e))?;
+    }
+    root.present().map_err(|e| draw(&e))?;
+    Ok(())
+}

@@ -1,0 +1,81 @@
+//! `lumen tradeoff`: one row per preset and knob, each timed and compared with the
+//! reference; ultra is closer to the reference than low.
+
+use lumen_game::tradeoff::{Row, pareto_front};
+use std::process::Command;
+
+#[test]
+fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args([
+            "tradeoff", "spheres", "--size", "64x36", "--spp", "16", "--frames", "1", "--json",
+            "t.json", "--out", "t.md", "--plot", "t.png",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("lumen runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("t.json")).expect("json"))
+            .expect("valid JSON");
+    assert_eq!(doc["schema"], "lumen-tradeoff/1");
+    let rows = doc["rows"].as_array().expect("rows");
+    // 4 presets and 13 single knobs.
+    assert_eq!(rows.len(), 17, "{rows:?}");
+    for r in rows {
+        for k in ["kind", "setting"] {
+            assert!(r[k].is_string(), "{r}");
+        }
+        for k in ["frame_ms", "flip_mean", "psnr_db", "relative_mse"] {
+            let v = r[k].as_f64().unwrap_or(f64::NAN);
+            assert!(v.is_finite() && v >= 0.0, "{k} in {r}");
+        }
+        let flip = r["flip_mean"].as_f64().unwrap_or(2.0);
+        assert!(flip <= 1.0, "{r}");
+    }
+    let flip = |preset: &str| {
+        rows.iter()
+            .find(|r| r["kind"] == "preset" && r["setting"] == preset)
+            .and_then(|r| r["flip_mean"].as_f64())
+            .expect(preset)
+    };
+    println!("FLIP low {}, ultra {}", flip("low"), flip("ultra"));
+    assert!(flip("ultra") < flip("low"));
+    // The reference was cached for the next run.
+    assert!(
+        dir.path()
+            .join("out/reference-cache/spheres-64x36-16spp-8b.exr")
+            .is_file()
+    );
+    let table = std::fs::read_to_string(dir.path().join("t.md")).expect("markdown");
+    // Header, separator and 17 rows.
+    assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 19);
+    let chart = image::open(dir.path().join("t.png")).expect("chart");
+    assert_eq!((chart.width(), chart.height()), (1200, 600));
+}
+
+#[test]
+fn the_pareto_front_keeps_only_undominated_rows() {
+    let row = |ms: f64, flip: f64| Row {
+        kind: "preset".into(),
+        setting: format!("{ms}"),
+        frame_ms: ms,
+        gpu_ms: None,
+        flip_mean: flip,
+        psnr_db: 0.0,
+        relative_mse: 0.0,
+    };
+    let rows = [
+        row(10.0, 0.3),
+        row(20.0, 0.2),
+        row(15.0, 0.35),
+        row(30.0, 0.1),
+        row(25.0, 0.25),
+    ];
+    assert_eq!(pareto_front(&rows), vec![0, 1, 3]);
+}
