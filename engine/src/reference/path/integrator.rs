@@ -15,7 +15,7 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
-use super::scene::{TraceEnvironment, TraceMaterial, TraceScene};
+use super::scene::{SurfacePoint, TraceEnvironment, TraceMaterial, TraceScene};
 use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
 use crate::punctual::{distance_attenuation, spot_attenuation};
 use glam::{Mat3, Vec2, Vec3, Vec4};
@@ -335,9 +335,28 @@ impl TraceScene {
         }
     }
 
+    /// The closest surface along the ray that its alpha mask keeps: masked-out texels are
+    /// passed through (up to 64 of them), as the G-buffer discards them. Returns the hit
+    /// distance from `origin`, the triangle and the surface there.
+    fn trace(&self, origin: Vec3, dir: Vec3) -> Option<(f32, usize, SurfacePoint)> {
+        let mut start = 0.0;
+        for _ in 0..64 {
+            let hit = self.bvh.closest(origin, dir, start, f32::MAX)?;
+            let t = hit.triangle as usize;
+            let surface = self.surface(t, hit.u, hit.v);
+            match surface.alpha_cutoff {
+                Some(cutoff) if surface.alpha < cutoff => {
+                    start = hit.t * (1.0 + 1e-5) + 1e-5;
+                }
+                _ => return Some((hit.t, t, surface)),
+            }
+        }
+        None
+    }
+
     /// One path's radiance (pre-exposed) along a camera ray.
     pub fn radiance(&self, origin: Vec3, dir: Vec3, max_bounces: u32, rng: &mut Rng) -> Vec3 {
-        let Some(mut hit) = self.bvh.closest(origin, dir, 0.0, f32::MAX) else {
+        let Some(mut hit) = self.trace(origin, dir) else {
             return self
                 .background
                 .unwrap_or_else(|| self.environment_radiance(dir));
@@ -345,30 +364,25 @@ impl TraceScene {
         let mut ray_origin = origin;
         let mut ray_dir = dir;
         let mut throughput = Vec3::ONE;
-        let mut radiance = Vec3::ZERO;
+        let mut radiance = hit.2.material.emissive;
         for bounce in 0..max_bounces {
-            let t = hit.triangle as usize;
-            let p = ray_origin + ray_dir * hit.t;
+            let (distance, t, surface) = hit;
+            let p = ray_origin + ray_dir * distance;
             let tri = self.bvh.triangles()[t];
             let ng = (tri.p[1] - tri.p[0])
                 .cross(tri.p[2] - tri.p[0])
                 .normalize_or(Vec3::Z);
-            let [n0, n1, n2] = self.normals[t];
-            let mut n = (n0 * (1.0 - hit.u - hit.v) + n1 * hit.u + n2 * hit.v).normalize_or(ng);
             let v = -ray_dir;
             // Face the viewer: both normals on the side the ray came from.
             let facing = if ng.dot(v) < 0.0 { -ng } else { ng };
+            let mut n = surface.normal;
             if n.dot(facing) < 0.0 {
                 n = -n;
-            }
-            let material = &self.materials[self.material[t] as usize];
-            if bounce == 0 {
-                radiance += material.emissive;
             }
             let bsdf = Bsdf::new(
                 n,
                 v,
-                material,
+                &surface.material,
                 self.visibility,
                 self.energy_compensation.as_ref(),
             );
@@ -383,15 +397,14 @@ impl TraceScene {
             throughput *= weight;
             ray_origin = p + offset;
             ray_dir = l;
-            match self.bvh.closest(ray_origin, ray_dir, 0.0, f32::MAX) {
+            match self.trace(ray_origin, ray_dir) {
                 None => {
                     let w = power_heuristic(pdf, self.environment_pdf(l, n));
                     radiance += throughput * self.environment_radiance(l) * w;
                     break;
                 }
                 Some(next) => {
-                    let m = &self.materials[self.material[next.triangle as usize] as usize];
-                    radiance += throughput * m.emissive;
+                    radiance += throughput * next.2.material.emissive;
                     hit = next;
                 }
             }
@@ -441,6 +454,7 @@ mod tests {
                 roughness,
                 specular_level: 0.5,
                 emissive: Vec3::ZERO,
+                maps: None,
             };
             let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
             let steps = 600;

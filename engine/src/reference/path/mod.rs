@@ -7,11 +7,13 @@
 //! It evaluates the same BRDF, with the same visibility term and, when the quality has
 //! it on, the same multiple-scattering energy compensation: it is the ground truth for
 //! light transport (visibility, shadows, indirect and environment light), not for the
-//! microfacet model. Material textures are not read yet: surfaces use their factors.
+//! microfacet model. Material maps (textures, vertex colours, normal maps, alpha masks)
+//! are sampled as the G-buffer's textured variant samples them.
 
 pub mod bvh;
 pub mod integrator;
 pub mod scene;
+pub mod textures;
 
 use crate::app::App;
 use crate::error::{Error, Result};
@@ -58,8 +60,9 @@ pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
         .cloned();
     let frame = world.resource::<crate::render::extract::ExtractedFrame>();
     let meshes = world.resource::<crate::scene::Meshes>();
+    let textures = world.resource::<crate::scene::Textures>();
     let quality = world.resource::<crate::quality::Quality>();
-    TraceScene::new(frame, meshes, environment.as_ref(), quality).map_err(Error::Scene)
+    TraceScene::new(frame, meshes, textures, environment.as_ref(), quality).map_err(Error::Scene)
 }
 
 /// Path-traces `scene`: linear, pre-exposed radiance per pixel (alpha 1), the mean of

@@ -9,7 +9,7 @@ use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
 use crate::render::extract::ExtractedFrame;
 use crate::render::gpu_types::GpuLight;
 use crate::scene::{Environment, EnvironmentSource, Meshes};
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
 /// A surface's material, pre-exposed like the rasterizer's instance data.
@@ -25,6 +25,21 @@ pub struct TraceMaterial {
     pub specular_level: f32,
     /// Emitted luminance × exposure.
     pub emissive: Vec3,
+    /// Index into [`TraceScene::maps`] of its textures, if any.
+    pub maps: Option<u32>,
+}
+
+/// A triangle corner's shading attributes (world space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Corner {
+    /// Unit normal.
+    pub normal: Vec3,
+    /// Tangent (xyz) and handedness (w).
+    pub tangent: Vec4,
+    /// Texture coordinates, sets 0 and 1.
+    pub uv: [Vec2; 2],
+    /// Vertex colour (linear RGBA).
+    pub color: Vec4,
 }
 
 /// The environment, pre-exposed.
@@ -234,8 +249,10 @@ pub struct TraceCamera {
 pub struct TraceScene {
     /// Triangles.
     pub bvh: Bvh,
-    /// Per triangle: shading normals at the corners (world space).
-    pub normals: Vec<[Vec3; 3]>,
+    /// Per triangle: shading attributes at the corners.
+    pub corners: Vec<[Corner; 3]>,
+    /// The material maps of textured materials.
+    pub maps: Vec<super::textures::TraceMaps>,
     /// Per triangle: index into `materials`.
     pub material: Vec<u32>,
     /// Materials.
@@ -261,15 +278,21 @@ impl TraceScene {
     pub fn new(
         frame: &ExtractedFrame,
         meshes: &Meshes,
+        textures: &crate::scene::Textures,
         environment: Option<&Environment>,
         quality: &crate::quality::Quality,
     ) -> Result<TraceScene, String> {
         let camera = frame.camera.as_ref().ok_or("the scene has no camera")?;
         let exposure = camera.exposure;
         let mut triangles = Vec::new();
-        let mut normals = Vec::new();
+        let mut corners = Vec::new();
         let mut material = Vec::new();
         let mut materials = Vec::new();
+        let maps: Vec<super::textures::TraceMaps> = frame
+            .material_maps
+            .iter()
+            .map(|m| super::textures::TraceMaps::new(m, textures))
+            .collect();
         for batch in &frame.batches {
             let Some(mesh) = meshes.get(batch.mesh) else {
                 continue;
@@ -292,13 +315,24 @@ impl TraceScene {
                     roughness: crate::brdf::clamp_perceptual_roughness(inst.params[1]),
                     specular_level: inst.params[2].clamp(0.0, 1.0),
                     emissive: Vec3::new(er, eg, eb),
+                    maps: batch.maps,
                 });
                 for t in mesh.indices.chunks_exact(3) {
                     let v = [0, 1, 2].map(|k| mesh.vertices[t[k] as usize]);
                     triangles.push(Triangle {
                         p: v.map(|v| m.transform_point3(Vec3::from(v.position))),
                     });
-                    normals.push(v.map(|v| (n * Vec3::from(v.normal)).normalize_or(Vec3::Z)));
+                    corners.push(v.map(|v| {
+                        Corner {
+                            normal: (n * Vec3::from(v.normal)).normalize_or(Vec3::Z),
+                            tangent: m
+                                .transform_vector3(Vec3::from_slice(&v.tangent[..3]))
+                                .normalize_or(Vec3::X)
+                                .extend(if v.tangent[3] < 0.0 { -1.0 } else { 1.0 }),
+                            uv: [Vec2::from(v.uv), Vec2::from(v.uv1)],
+                            color: Vec4::from(v.color),
+                        }
+                    }));
                     material.push(index);
                 }
             }
@@ -331,7 +365,8 @@ impl TraceScene {
         });
         Ok(TraceScene {
             bvh: Bvh::build(triangles),
-            normals,
+            corners,
+            maps,
             material,
             materials,
             lights: frame.lights.clone(),
@@ -357,5 +392,62 @@ impl TraceScene {
                 .energy_compensation
                 .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
         })
+    }
+}
+
+/// The surface at a hit: the material with its textures applied, the shading normal
+/// (normal-mapped), and the alpha.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfacePoint {
+    /// The material at this point.
+    pub material: TraceMaterial,
+    /// Shading normal (unit, not yet turned towards the viewer).
+    pub normal: Vec3,
+    /// Base-colour alpha (1 without maps).
+    pub alpha: f32,
+    /// The material's alpha cutoff, if it is masked.
+    pub alpha_cutoff: Option<f32>,
+}
+
+impl TraceScene {
+    /// The surface of triangle `t` at barycentrics (u, v), as the G-buffer's textured
+    /// variant would shade it (`shaders/gbuffer.wgsl`, `fs_textured`).
+    pub fn surface(&self, t: usize, u: f32, v: f32) -> SurfacePoint {
+        let [c0, c1, c2] = self.corners[t];
+        let w = 1.0 - u - v;
+        let normal = (c0.normal * w + c1.normal * u + c2.normal * v).normalize_or(Vec3::Z);
+        let mut material = self.materials[self.material[t] as usize];
+        let Some(maps) = material.maps.and_then(|m| self.maps.get(m as usize)) else {
+            return SurfacePoint {
+                material,
+                normal,
+                alpha: 1.0,
+                alpha_cutoff: None,
+            };
+        };
+        let uv0 = c0.uv[0] * w + c1.uv[0] * u + c2.uv[0] * v;
+        let uv1 = c0.uv[1] * w + c1.uv[1] * u + c2.uv[1] * v;
+        let color = c0.color * w + c1.color * u + c2.color * v;
+        let base = maps.sample(0, uv0, uv1) * color;
+        material.base_color = (material.base_color * base.truncate()).clamp(Vec3::ZERO, Vec3::ONE);
+        let mr = maps.sample(1, uv0, uv1);
+        material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
+        material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
+        material.emissive *= maps.sample(4, uv0, uv1).truncate();
+        let mut n = normal;
+        if maps.slots[2].is_some() {
+            let tangent = c0.tangent * w + c1.tangent * u + c2.tangent * v;
+            let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or(Vec3::X);
+            let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
+            let texel = maps.sample(2, uv0, uv1).truncate() * 2.0 - Vec3::ONE;
+            let tn = texel * Vec3::new(maps.normal_scale, maps.normal_scale, 1.0);
+            n = (t * tn.x + b * tn.y + n * tn.z).normalize_or(normal);
+        }
+        SurfacePoint {
+            material,
+            normal: n,
+            alpha: base.w,
+            alpha_cutoff: maps.alpha_cutoff,
+        }
     }
 }
