@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod cli;
+pub mod examples;
 pub mod output;
 pub mod progress;
 pub mod reference_cmd;

@@ -1,0 +1,32 @@
+//! A headless animation: the camera orbits the `spheres` scene and every frame is written
+//! as a numbered PNG, `out/examples/sequence/frame_0000.png` … (12 frames).
+//! `cargo run --release --example png_sequence [WxH]`.
+
+use lumen::prelude::*;
+
+/// Puts every camera on a circle around the origin, a step further each frame.
+fn orbit_camera(mut frame: Local<u32>, mut cameras: Query<&mut Transform, With<Camera>>) {
+    let angle = *frame as f32 * 0.15;
+    *frame += 1;
+    for mut t in &mut cameras {
+        *t = Transform::from_xyz(9.0 * angle.sin(), 3.0, 9.0 * angle.cos())
+            .looking_at(Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
+    }
+}
+
+fn main() -> lumen::Result<()> {
+    let size = lumen_game::examples::start((320, 180));
+    let mut app = App::headless()?;
+    let scene = lumen_game::scenes::find("spheres").map_err(lumen::Error::Scene)?;
+    (scene.build)(&mut app)?;
+    app.add_systems(orbit_camera);
+    for k in 0..12 {
+        app.update();
+        app.render_headless(size)?;
+        lumen_game::examples::save(
+            &app.read_display_image()?,
+            &format!("sequence/frame_{k:04}.png"),
+        )?;
+    }
+    Ok(())
+}

@@ -1,0 +1,79 @@
+//! The examples in `game/examples/` (built by `cargo test`) run at a tiny size and
+//! produce the images they claim.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_BIN_EXE_lumen"))
+        .parent()
+        .expect("target dir")
+        .join("examples")
+        .join(name)
+}
+
+fn run(name: &str, dir: &Path) -> String {
+    let out = Command::new(example(name))
+        .arg("48x27")
+        .current_dir(dir)
+        .output()
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+    assert!(
+        out.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn lit_pixels(path: &Path) -> usize {
+    let img = image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgb8();
+    assert_eq!(img.dimensions(), (48, 27), "{}", path.display());
+    img.pixels().filter(|p| p.0.iter().any(|&c| c > 20)).count()
+}
+
+#[test]
+fn image_examples_write_their_images() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (name, file) in [
+        ("sphere_grid", "sphere_grid.png"),
+        ("animated_lights", "animated_lights.png"),
+        ("gltf_model", "gltf_model.png"),
+    ] {
+        let stdout = run(name, dir.path());
+        assert!(stdout.contains(file), "{name}: {stdout}");
+        let lit = lit_pixels(&dir.path().join("out/examples").join(file));
+        assert!(lit > 48 * 27 / 20, "{name}: {lit} lit pixels");
+    }
+}
+
+#[test]
+fn the_png_sequence_has_twelve_moving_frames() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    run("png_sequence", dir.path());
+    let frames: Vec<PathBuf> = (0..12)
+        .map(|k| {
+            dir.path()
+                .join(format!("out/examples/sequence/frame_{k:04}.png"))
+        })
+        .collect();
+    for f in &frames {
+        assert!(lit_pixels(f) > 0, "{}", f.display());
+    }
+    let first = image::open(&frames[0]).expect("frame 0").to_rgb8();
+    let last = image::open(&frames[11]).expect("frame 11").to_rgb8();
+    assert_ne!(first, last, "the camera moves");
+}
+
+#[test]
+fn frame_timing_reports_the_passes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let stdout = run("frame_timing", dir.path());
+    assert!(
+        stdout.contains("frame: median") && stdout.contains("over 30 frames"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("lighting"), "{stdout}");
+}
