@@ -457,69 +457,78 @@ fn read_primitive(
     what: &str,
 ) -> std::result::Result<MeshData, String> {
     let buffers = source.buffers;
-    let (positions, normals, uvs, indices) = match primitive.extension_value(draco::EXTENSION) {
-        Some(extension) => {
-            let decoded = draco::decode_primitive(extension, |i| {
-                source.views.get(i).and_then(|v| view_bytes(v, buffers))
-            })?;
-            (
-                decoded.positions,
-                decoded.normals,
-                decoded.uvs,
-                Some(decoded.indices),
-            )
-        }
-        None => {
-            for (_, accessor) in primitive.attributes() {
-                check_accessor(&accessor, buffers)?;
+    // Per vertex: positions, normals, texture sets 0 and 1, colours, tangents; indices.
+    type Attributes = (
+        Vec<[f32; 3]>,
+        Option<Vec<[f32; 3]>>,
+        Option<Vec<[f32; 2]>>,
+        Option<Vec<[f32; 2]>>,
+        Option<Vec<[f32; 4]>>,
+        Option<Vec<[f32; 4]>>,
+        Option<Vec<u32>>,
+    );
+    let (positions, normals, uvs, uv1, colors, tangents, indices): Attributes =
+        match primitive.extension_value(draco::EXTENSION) {
+            Some(extension) => {
+                let decoded = draco::decode_primitive(extension, |i| {
+                    source.views.get(i).and_then(|v| view_bytes(v, buffers))
+                })?;
+                for (semantic, _) in primitive.attributes() {
+                    if matches!(
+                        semantic,
+                        gltf::Semantic::Colors(_)
+                            | gltf::Semantic::TexCoords(1..)
+                            | gltf::Semantic::Tangents
+                    ) {
+                        warnings.push(format!(
+                            "{what}: {semantic:?} is not decoded from Draco streams"
+                        ));
+                    }
+                }
+                (
+                    decoded.positions,
+                    decoded.normals,
+                    decoded.uvs,
+                    None,
+                    None,
+                    None,
+                    Some(decoded.indices),
+                )
             }
-            if let Some(accessor) = primitive.indices() {
-                check_accessor(&accessor, buffers)?;
+            None => {
+                for (_, accessor) in primitive.attributes() {
+                    check_accessor(&accessor, buffers)?;
+                }
+                if let Some(accessor) = primitive.indices() {
+                    check_accessor(&accessor, buffers)?;
+                }
+                let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+                (
+                    reader
+                        .read_positions()
+                        .ok_or("has no POSITION attribute")?
+                        .collect(),
+                    reader.read_normals().map(|n| n.collect()),
+                    reader.read_tex_coords(0).map(|t| t.into_f32().collect()),
+                    reader.read_tex_coords(1).map(|t| t.into_f32().collect()),
+                    reader.read_colors(0).map(|c| c.into_rgba_f32().collect()),
+                    reader.read_tangents().map(|t| t.collect()),
+                    reader.read_indices().map(|i| i.into_u32().collect()),
+                )
             }
-            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let positions: Vec<[f32; 3]> = reader
-                .read_positions()
-                .ok_or("has no POSITION attribute")?
-                .collect();
-            let normals = reader.read_normals().map(|n| n.collect::<Vec<_>>());
-            let uvs = reader
-                .read_tex_coords(0)
-                .map(|t| t.into_f32().collect::<Vec<_>>());
-            let indices = reader.read_indices().map(|i| i.into_u32().collect());
-            (positions, normals, uvs, indices)
-        }
-    };
-    let draco = primitive.extension_value(draco::EXTENSION).is_some();
-    let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-    let uv1: Option<Vec<[f32; 2]>> = reader
-        .read_tex_coords(1)
-        .filter(|_| !draco)
-        .map(|t| t.into_f32().collect());
-    let colors: Option<Vec<[f32; 4]>> = reader
-        .read_colors(0)
-        .filter(|_| !draco)
-        .map(|c| c.into_rgba_f32().collect());
-    let uv1 = uv1.filter(|t| t.len() == positions.len());
-    let colors = colors.filter(|c| c.len() == positions.len());
+        };
     let count = positions.len();
     let normals = normals.filter(|n| n.len() == count);
     let uvs = uvs.filter(|t| t.len() == count);
-    let tangents: Option<Vec<[f32; 4]>> = primitive
-        .get(&gltf::Semantic::Tangents)
-        .filter(|_| primitive.extension_value(draco::EXTENSION).is_none())
-        .and_then(|_| {
-            primitive
-                .reader(|b| buffers.get(b.index()).map(|d| &d.0[..]))
-                .read_tangents()
-                .map(|t| t.collect::<Vec<_>>())
-        })
-        .filter(|t| t.len() == count);
+    let uv1 = uv1.filter(|t| t.len() == count);
+    let colors = colors.filter(|c| c.len() == count);
+    let tangents = tangents.filter(|t| t.len() == count);
     for (semantic, _) in primitive.attributes() {
         if matches!(
             semantic,
-            gltf::Semantic::Colors(_) | gltf::Semantic::TexCoords(1..)
+            gltf::Semantic::Colors(1..) | gltf::Semantic::TexCoords(2..)
         ) {
-            warnings.push(format!("{what}: {semantic:?} is not drawn yet"));
+            warnings.push(format!("{what}: {semantic:?} is not used"));
         }
     }
     let mut mesh = MeshData {
