@@ -9,6 +9,15 @@ use lumen::reference::path::{ReferenceOptions, render, trace_scene};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 
+/// The tone mapper of the camera the last rendered frame used.
+pub fn frame_tonemapper(app: &App) -> lumen::color::Tonemapper {
+    app.world()
+        .get_resource::<lumen::render::extract::ExtractedFrame>()
+        .and_then(|f| f.camera.as_ref())
+        .map(|c| c.tonemapper)
+        .unwrap_or_default()
+}
+
 /// Builds the scene, path-traces it and writes the image. Returns the path written.
 pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     check_scene_args(&args.scene)?;
@@ -53,13 +62,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     match format {
         OutputFormat::Exr => save_exr(&out, &image)?,
         OutputFormat::Png => {
-            let tonemapper = app
-                .world_mut()
-                .resource::<lumen::render::extract::ExtractedFrame>()
-                .camera
-                .as_ref()
-                .map(|c| c.tonemapper)
-                .unwrap_or_default();
+            let tonemapper = frame_tonemapper(&app);
             let display = image::RgbaImage::from_fn(image.width(), image.height(), |x, y| {
                 let [r, g, b, _] = image.get_pixel(x, y).0;
                 let c = tonemapper.apply(glam::Vec3::new(r, g, b));

@@ -124,19 +124,15 @@ fn reference(
         q.visibility = VisibilityModel::SmithGgxCorrelated;
         q.energy_compensation = true;
     }
-    let traced = trace_scene(&mut app, size)?;
-    let tonemapper = app
-        .world()
-        .resource::<lumen::render::extract::ExtractedFrame>()
-        .camera
-        .as_ref()
-        .map(|c| c.tonemapper)
-        .unwrap_or_default();
     if let Ok(img) = lumen::assets::image_io::load_rgba32f(&cache)
         && img.dimensions() == size
     {
-        return Ok((img, tonemapper, true));
+        // One frame for the camera's tone mapper; no scene to trace.
+        app.render_headless(size)?;
+        return Ok((img, crate::reference_cmd::frame_tonemapper(&app), true));
     }
+    let traced = trace_scene(&mut app, size)?;
+    let tonemapper = crate::reference_cmd::frame_tonemapper(&app);
     let bar = bar(u64::from(size.1), "reference");
     let img = render(
         &traced,
