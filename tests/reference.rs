@@ -84,6 +84,40 @@ fn error_falls_as_one_over_root_spp() {
     assert!((-0.6..-0.4).contains(&slope), "{slope}");
 }
 
+/// Spawns a 1000 lx sun at `sun` and a camera at `eye` (exposure 1e-3), both looking at
+/// the origin with `up`, turns energy compensation off, and returns the rasterized HDR
+/// image, the direct-only reference (64 spp) and their relative luminance error.
+fn raster_against_direct_reference(
+    app: &mut App,
+    size: (u32, u32),
+    sun: Vec3,
+    eye: Vec3,
+    up: Vec3,
+) -> (image::Rgba32FImage, image::Rgba32FImage, f64) {
+    let world = app.world_mut();
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 1000.0,
+            ..DirectionalLight::default()
+        },
+        Transform::from_translation(sun).looking_at(Vec3::ZERO, up),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1e-3),
+            ..Camera::default()
+        },
+        Transform::from_translation(eye).looking_at(Vec3::ZERO, up),
+    ));
+    world.resource_mut::<Quality>().energy_compensation = false;
+    app.render_headless(size).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let scene = trace_scene(app, size).expect("trace scene");
+    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {});
+    let err = lumen::reference::relative_luminance_error(&raster, &reference).expect("error");
+    (raster, reference, err)
+}
+
 #[test]
 fn direct_light_on_a_sphere_matches_the_rasterizer() {
     let size = (96, 96);
@@ -91,32 +125,18 @@ fn direct_light_on_a_sphere_matches_the_rasterizer() {
     let sphere = app
         .add_mesh(lumen::assets::procedural::uv_sphere(1.0, 128, 64))
         .expect("mesh");
-    let world = app.world_mut();
-    world.spawn((
+    app.world_mut().spawn((
         Mesh3d(sphere),
         Material::new(Vec3::new(0.8, 0.5, 0.3), 0.0, 0.5),
         Transform::IDENTITY,
     ));
-    world.spawn((
-        DirectionalLight {
-            illuminance_lux: 1000.0,
-            ..DirectionalLight::default()
-        },
-        Transform::from_xyz(1.0, 1.0, 2.0).looking_at(Vec3::ZERO, Vec3::Y),
-    ));
-    world.spawn((
-        Camera {
-            exposure: Exposure::Linear(1e-3),
-            ..Camera::default()
-        },
-        Transform::from_xyz(0.0, 0.0, 4.0).looking_at(Vec3::ZERO, Vec3::Y),
-    ));
-    world.resource_mut::<Quality>().energy_compensation = false;
-    app.render_headless(size).expect("frame");
-    let raster = app.read_hdr_image().expect("readback");
-    let scene = trace_scene(&mut app, size).expect("trace scene");
-    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {});
-    let err = lumen::reference::relative_luminance_error(&raster, &reference).expect("error");
+    let (_, _, err) = raster_against_direct_reference(
+        &mut app,
+        size,
+        Vec3::new(1.0, 1.0, 2.0),
+        Vec3::new(0.0, 0.0, 4.0),
+        Vec3::Y,
+    );
     println!(
         "direct light, rasterizer against reference: {:.2} %",
         100.0 * err
@@ -286,26 +306,14 @@ fn textured_materials_match_the_rasterizer() {
         },
         Transform::IDENTITY,
     ));
-    world.spawn((
-        DirectionalLight {
-            illuminance_lux: 1000.0,
-            ..DirectionalLight::default()
-        },
-        Transform::from_xyz(0.5, 2.0, 0.3).looking_at(Vec3::ZERO, Vec3::Z),
-    ));
-    world.spawn((
-        Camera {
-            exposure: Exposure::Linear(1e-3),
-            ..Camera::default()
-        },
-        Transform::from_xyz(0.0, 3.0, 0.0).looking_at(Vec3::ZERO, Vec3::NEG_Z),
-    ));
-    world.resource_mut::<Quality>().energy_compensation = false;
-    app.render_headless(size).expect("frame");
-    let raster = app.read_hdr_image().expect("readback");
-    let scene = trace_scene(&mut app, size).expect("trace scene");
-    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {});
-    let err = lumen::reference::relative_luminance_error(&raster, &reference).expect("error");
+    // Sun and camera above the plane, −Z up on screen.
+    let (_, reference, err) = raster_against_direct_reference(
+        &mut app,
+        size,
+        Vec3::new(0.5, 2.0, 0.3),
+        Vec3::new(0.0, 3.0, 0.0),
+        Vec3::NEG_Z,
+    );
     println!(
         "textured plane, rasterizer against reference: {:.2} %",
         100.0 * err
