@@ -31,6 +31,14 @@ struct InstanceInput {
     @location(13) params: vec4<f32>,
 }
 
+fn instance_world_from_local(inst: InstanceInput) -> mat4x4<f32> {
+    return mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
+}
+
+fn instance_normal_matrix(inst: InstanceInput) -> mat3x3<f32> {
+    return mat3x3<f32>(inst.normal_matrix_0.xyz, inst.normal_matrix_1.xyz, inst.normal_matrix_2.xyz);
+}
+
 // The material is resolved once per vertex and passed flat, not read from the instance
 // buffer per fragment: 34 → 23 ms for `spheres` at 1280×720 on lavapipe.
 struct VertexOutput {
@@ -43,13 +51,9 @@ struct VertexOutput {
 
 @vertex
 fn vs_main(in: VertexInput, inst: InstanceInput) -> VertexOutput {
-    let world_from_local = mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
+    let world_from_local = instance_world_from_local(inst);
     let world = world_from_local * vec4<f32>(in.position, 1.0);
-    let normal_matrix = mat3x3<f32>(
-        inst.normal_matrix_0.xyz,
-        inst.normal_matrix_1.xyz,
-        inst.normal_matrix_2.xyz,
-    );
+    let normal_matrix = instance_normal_matrix(inst);
     var out: VertexOutput;
     out.clip = view.clip_from_world * world;
     out.world_normal = normal_matrix * in.normal;
@@ -130,13 +134,9 @@ struct TexturedOutput {
 
 @vertex
 fn vs_textured(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
-    let world_from_local = mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
+    let world_from_local = instance_world_from_local(inst);
     let world = world_from_local * vec4<f32>(in.position, 1.0);
-    let normal_matrix = mat3x3<f32>(
-        inst.normal_matrix_0.xyz,
-        inst.normal_matrix_1.xyz,
-        inst.normal_matrix_2.xyz,
-    );
+    let normal_matrix = instance_normal_matrix(inst);
     var out: TexturedOutput;
     out.clip = view.clip_from_world * world;
     out.world_normal = normal_matrix * in.normal;
