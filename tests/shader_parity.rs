@@ -239,13 +239,13 @@ fn wgsl_functions_match_their_rust_twins() {
     let source = compose(
         &[],
         &[
-            shaders::COMMON,
-            shaders::BRDF,
-            shaders::PUNCTUAL,
-            shaders::COLOR,
-            shaders::ENCODING,
-            shaders::IBL,
-            shaders::CAMERA,
+            shaders::COMMON.builtin,
+            shaders::BRDF.builtin,
+            shaders::PUNCTUAL.builtin,
+            shaders::COLOR.builtin,
+            shaders::ENCODING.builtin,
+            shaders::IBL.builtin,
+            shaders::CAMERA.builtin,
             kernel,
         ],
     );

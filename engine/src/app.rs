@@ -9,6 +9,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::plan::FramePlan;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
+use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::targets::{RenderTargets, Target};
 use crate::render::timing::PassTiming;
 use crate::render::{self, ExtractSchedule, RenderSchedule};
@@ -16,6 +17,7 @@ use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleLabel};
 use bevy_ecs::system::ScheduleSystem;
+use std::path::Path;
 use std::time::Instant;
 
 /// Your systems: animation, input, spawning. Runs at the start of [`App::update`].
@@ -92,6 +94,8 @@ pub struct App {
     offscreen: Option<Target>,
     fixed_delta: Option<f32>,
     last_frame: Option<Instant>,
+    /// The shader sources before the last reload, until a frame renders with the new ones.
+    shader_fallback: Option<ShaderOverrides>,
 }
 
 impl Default for App {
@@ -116,6 +120,7 @@ impl App {
             offscreen: None,
             fixed_delta: None,
             last_frame: None,
+            shader_fallback: None,
         }
     }
 
@@ -210,7 +215,64 @@ impl App {
 
     /// Renders one frame into `view` (e.g. a window's surface texture) of `format` and
     /// `size`, waiting for the GPU to finish.
+    ///
+    /// After [`App::reload_shaders`], a frame that fails puts the previous shaders back
+    /// (the next frame renders with them) and returns the error.
     pub fn render_to_view(
+        &mut self,
+        view: Option<wgpu::TextureView>,
+        format: wgpu::TextureFormat,
+        size: (u32, u32),
+    ) -> Result<FrameReport> {
+        let result = self.render_frame(view, format, size);
+        match (result, self.shader_fallback.take()) {
+            (Err(e), Some(previous)) => {
+                let gpu = self.gpu()?.clone();
+                self.restore_shaders(&gpu, previous)?;
+                Err(Error::Gpu(format!(
+                    "{e}\n(the reloaded shaders failed: the previous ones are back)"
+                )))
+            }
+            (result, _) => result,
+        }
+    }
+
+    /// Reads the WGSL modules in `dir` (e.g. the repository's `shaders/`) and rebuilds
+    /// every pass from them; a file that is missing keeps the built-in source. Returns
+    /// the files whose source changed (empty: nothing to do).
+    ///
+    /// A module that does not compile is an error naming it, and the previous shaders stay
+    /// in use; so does a frame that fails with the new shaders (see
+    /// [`App::render_to_view`]). Nothing panics on a broken shader.
+    pub fn reload_shaders(&mut self, dir: &Path) -> Result<Vec<&'static str>> {
+        let gpu = self.gpu()?.clone();
+        let new = shaders::read_overrides(dir)?;
+        let old = gpu.shaders.overrides();
+        let changed: Vec<&'static str> = shaders::ALL
+            .iter()
+            .filter(|s| new.get(s.file) != old.get(s.file))
+            .map(|s| s.file)
+            .collect();
+        if changed.is_empty() {
+            return Ok(changed);
+        }
+        gpu.shaders.set_overrides(new);
+        if let Err(e) = render::insert_passes(&mut self.world, &gpu) {
+            self.restore_shaders(&gpu, old)?;
+            return Err(Error::Gpu(format!(
+                "{e}\n(the reloaded shaders failed: the previous ones are back)"
+            )));
+        }
+        self.shader_fallback = Some(old);
+        Ok(changed)
+    }
+
+    fn restore_shaders(&mut self, gpu: &Gpu, previous: ShaderOverrides) -> Result<()> {
+        gpu.shaders.set_overrides(previous);
+        render::insert_passes(&mut self.world, gpu)
+    }
+
+    fn render_frame(
         &mut self,
         view: Option<wgpu::TextureView>,
         format: wgpu::TextureFormat,

@@ -37,6 +37,8 @@ pub struct Gpu {
     pub summary: AdapterSummary,
     /// Whether GPU timestamp queries are available (per-pass GPU times).
     pub timestamps: bool,
+    /// The WGSL sources the passes compile (built in, or reloaded from disk).
+    pub shaders: crate::render::shaders::ShaderLibrary,
 }
 
 /// Creates a presentation surface on an instance (used to pick an adapter that can
@@ -293,6 +295,7 @@ impl Gpu {
             device,
             queue,
             timestamps,
+            shaders: Default::default(),
         };
         gpu.check_shader_support()?;
         Ok(gpu)

@@ -8,7 +8,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, compose};
+use crate::render::shaders;
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
@@ -60,7 +60,7 @@ pub struct DofPass {
 impl DofPass {
     /// Compiles the three pipelines.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[],
             &[
                 shaders::COMMON,

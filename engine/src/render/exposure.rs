@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
-use crate::render::shaders::{self, compose};
+use crate::render::shaders;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use wgpu::util::DeviceExt;
@@ -73,7 +73,8 @@ impl ExposurePass {
         let module = shaders::create_module(
             gpu,
             "exposure",
-            compose(&[], &[shaders::COLOR, shaders::EXPOSURE]),
+            gpu.shaders
+                .compose(&[], &[shaders::COLOR, shaders::EXPOSURE]),
         )?;
         let pipeline = |entry: &str| {
             gpu.checked(&format!("{entry} pipeline"), |device| {

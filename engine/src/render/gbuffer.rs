@@ -9,7 +9,7 @@ use crate::render::gpu_types::GpuInstance;
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, compose};
+use crate::render::shaders;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
@@ -52,7 +52,7 @@ pub struct GBufferPass {
 impl GBufferPass {
     /// Compiles the pass's plain variant.
     pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[],
             &[
                 shaders::COMMON,

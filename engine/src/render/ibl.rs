@@ -18,7 +18,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameErrors;
 use crate::render::gpu_types::GpuEnvironment;
 use crate::render::pipelines::fullscreen_pipeline;
-use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::Target;
 use crate::scene::environment::EquirectImage;
 use bevy_ecs::prelude::*;
@@ -148,7 +148,7 @@ fn layer_view(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
 impl Ibl {
     /// Compiles the preprocessing pipelines.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[],
             &[
                 shaders::COMMON,
@@ -197,6 +197,11 @@ impl Ibl {
     /// Reports preprocessing progress to `progress` (e.g. a terminal progress bar).
     pub fn set_progress(&mut self, progress: Progress) {
         self.progress = Some(progress);
+    }
+
+    /// Removes and returns the progress callback (to move it to a new `Ibl`).
+    pub fn take_progress(&mut self) -> Option<Progress> {
+        self.progress.take()
     }
 
     fn report(&mut self, step: &str, done: u32, total: u32) {
@@ -460,7 +465,7 @@ impl Ibl {
             return Ok(None);
         }
         let start = Instant::now();
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[
                 ShaderDef::U32("LUT_SAMPLES", samples.max(1)),
                 ShaderDef::U32("LUT_SIZE", size),

@@ -9,7 +9,7 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -96,8 +96,8 @@ impl LightCullingPass {
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(uniform_lights: bool, uniform_capacity: u32) -> String {
-        compose(
+    pub fn source(gpu: &Gpu, uniform_lights: bool, uniform_capacity: u32) -> String {
+        gpu.shaders.compose(
             &[
                 ShaderDef::Bool("UNIFORM_LIGHTS", uniform_lights),
                 ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
@@ -116,8 +116,11 @@ impl LightCullingPass {
         if self.pipelines[slot].is_some() {
             return Ok(());
         }
-        let module =
-            shaders::create_module(gpu, "light culling", Self::source(uniform_lights, capacity))?;
+        let module = shaders::create_module(
+            gpu,
+            "light culling",
+            Self::source(gpu, uniform_lights, capacity),
+        )?;
         let pipeline = gpu.checked("light culling pipeline", |device| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("light culling"),

@@ -16,7 +16,7 @@ use crate::render::pipelines::{
 };
 use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shaders::{self, ShaderDef};
 use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
@@ -103,8 +103,8 @@ impl LightingPass {
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(variant: LightingVariant, uniform_capacity: u32) -> String {
-        compose(
+    pub fn source(gpu: &Gpu, variant: LightingVariant, uniform_capacity: u32) -> String {
+        gpu.shaders.compose(
             &[
                 ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
                 ShaderDef::Bool("HAS_POINT", variant.point),
@@ -159,7 +159,7 @@ impl LightingPass {
         let module = shaders::create_module(
             gpu,
             "lighting",
-            LightingPass::source(variant, uniform_capacity),
+            LightingPass::source(gpu, variant, uniform_capacity),
         )?;
         let pipeline = fullscreen_pipeline(
             gpu,

@@ -68,20 +68,11 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 /// Inserts the renderer's resources into `world` and adds the extract and render
 /// schedules. Compiles the passes that do not depend on the scene.
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
-    let maps = material_maps::GpuMaterialMaps::new(&gpu);
-    world.insert_resource(gbuffer::GBufferPass::new(&gpu, &maps)?);
-    world.insert_resource(maps);
+    world.insert_resource(material_maps::GpuMaterialMaps::new(&gpu));
+    insert_passes(world, &gpu)?;
     world.init_resource::<crate::scene::Textures>();
-    world.insert_resource(lighting::LightingPass::new(&gpu));
-    world.insert_resource(light_culling::LightCullingPass::new(&gpu));
-    world.insert_resource(shadow::pass::ShadowPass::new(&gpu)?);
-    world.insert_resource(ibl::Ibl::new(&gpu)?);
-    world.insert_resource(sky::SkyPass::new(&gpu));
-    world.insert_resource(exposure::ExposurePass::new(&gpu)?);
-    world.insert_resource(dof::DofPass::new(&gpu)?);
     world.init_resource::<exposure::MeteredExposure>();
     world.init_resource::<exposure::FrameDelta>();
-    world.insert_resource(tonemap::TonemapPass::new(&gpu));
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
         encoder: None,
@@ -133,5 +124,33 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
             .chain(),
     );
     world.add_schedule(render);
+    Ok(())
+}
+
+/// (Re)creates every pass from the current sources of `gpu.shaders`, compiling the
+/// pipelines that do not depend on the scene; the others compile on the next frame.
+/// Uploaded meshes, textures and targets are kept; the environment is prefiltered again.
+pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
+    let gbuffer =
+        gbuffer::GBufferPass::new(gpu, world.resource::<material_maps::GpuMaterialMaps>())?;
+    let shadow = shadow::pass::ShadowPass::new(gpu)?;
+    let mut ibl = ibl::Ibl::new(gpu)?;
+    if let Some(progress) = world
+        .get_resource_mut::<ibl::Ibl>()
+        .and_then(|mut old| old.take_progress())
+    {
+        ibl.set_progress(progress);
+    }
+    let exposure = exposure::ExposurePass::new(gpu)?;
+    let dof = dof::DofPass::new(gpu)?;
+    world.insert_resource(gbuffer);
+    world.insert_resource(shadow);
+    world.insert_resource(ibl);
+    world.insert_resource(exposure);
+    world.insert_resource(dof);
+    world.insert_resource(lighting::LightingPass::new(gpu));
+    world.insert_resource(light_culling::LightCullingPass::new(gpu));
+    world.insert_resource(sky::SkyPass::new(gpu));
+    world.insert_resource(tonemap::TonemapPass::new(gpu));
     Ok(())
 }

@@ -5,53 +5,168 @@
 //! select the features the scene needs. A feature a scene doesn't use is a `false`
 //! constant, so its code is removed when the pipeline is compiled.
 //!
-//! The sources are compiled into the binary, so `lumen` runs from any directory.
+//! The sources are compiled into the binary, so `lumen` runs from any directory. A
+//! [`ShaderLibrary`] can override them with files read from disk at run time
+//! ([`crate::App::reload_shaders`], the viewer's hot reload).
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::device::Gpu;
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::{Arc, RwLock};
+
+/// One WGSL module: its file name in `shaders/` and the source compiled into the binary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shader {
+    /// File name in `shaders/`, e.g. `tonemap.wgsl`.
+    pub file: &'static str,
+    /// The source as compiled into the binary.
+    pub builtin: &'static str,
+}
+
+macro_rules! shader {
+    ($file:literal) => {
+        Shader {
+            file: $file,
+            builtin: include_str!(concat!("../../../shaders/", $file)),
+        }
+    };
+}
 
 /// Shared constants and helpers (`safe_normalize`, `PI`).
-pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
+pub const COMMON: Shader = shader!("common.wgsl");
 /// The BRDF, twin of `brdf.rs`.
-pub const BRDF: &str = include_str!("../../../shaders/brdf.wgsl");
+pub const BRDF: Shader = shader!("brdf.wgsl");
 /// Punctual light falloff, twin of `punctual.rs`.
-pub const PUNCTUAL: &str = include_str!("../../../shaders/punctual.wgsl");
+pub const PUNCTUAL: Shader = shader!("punctual.wgsl");
 /// sRGB curve and tone mappers, twin of `color.rs`.
-pub const COLOR: &str = include_str!("../../../shaders/color.wgsl");
+pub const COLOR: Shader = shader!("color.wgsl");
 /// G-buffer encodings, twin of `encoding.rs`.
-pub const ENCODING: &str = include_str!("../../../shaders/encoding.wgsl");
+pub const ENCODING: Shader = shader!("encoding.wgsl");
 /// Uniform and storage layouts shared by the passes (view, instances, lights).
-pub const BINDINGS: &str = include_str!("../../../shaders/bindings.wgsl");
+pub const BINDINGS: Shader = shader!("bindings.wgsl");
 /// Full-screen triangle vertex shader.
-pub const FULLSCREEN: &str = include_str!("../../../shaders/fullscreen.wgsl");
+pub const FULLSCREEN: Shader = shader!("fullscreen.wgsl");
 /// G-buffer pass.
-pub const GBUFFER: &str = include_str!("../../../shaders/gbuffer.wgsl");
+pub const GBUFFER: Shader = shader!("gbuffer.wgsl");
 /// Deferred lighting pass.
-pub const LIGHTING: &str = include_str!("../../../shaders/lighting.wgsl");
+pub const LIGHTING: Shader = shader!("lighting.wgsl");
 /// Shadow pass (casters into the atlas).
-pub const SHADOW: &str = include_str!("../../../shaders/shadow.wgsl");
+pub const SHADOW: Shader = shader!("shadow.wgsl");
 /// Shadow-map sampling and filtering, used by the lighting pass.
-pub const SHADOWS: &str = include_str!("../../../shaders/shadows.wgsl");
+pub const SHADOWS: Shader = shader!("shadows.wgsl");
 /// Image-based lighting functions, twin of `ibl.rs`.
-pub const IBL: &str = include_str!("../../../shaders/ibl.wgsl");
+pub const IBL: Shader = shader!("ibl.wgsl");
 /// Environment preprocessing (compute).
-pub const IBL_PREPROCESS: &str = include_str!("../../../shaders/ibl_preprocess.wgsl");
+pub const IBL_PREPROCESS: Shader = shader!("ibl_preprocess.wgsl");
 /// The split-sum BRDF table.
-pub const BRDF_LUT: &str = include_str!("../../../shaders/brdf_lut.wgsl");
+pub const BRDF_LUT: Shader = shader!("brdf_lut.wgsl");
 /// Sky pass: the environment as background.
-pub const SKY: &str = include_str!("../../../shaders/sky.wgsl");
+pub const SKY: Shader = shader!("sky.wgsl");
 /// Camera optics (circle of confusion, vignetting), twin of `scene/camera.rs`.
-pub const CAMERA: &str = include_str!("../../../shaders/camera.wgsl");
+pub const CAMERA: Shader = shader!("camera.wgsl");
 /// Automatic exposure (compute).
-pub const EXPOSURE: &str = include_str!("../../../shaders/exposure.wgsl");
+pub const EXPOSURE: Shader = shader!("exposure.wgsl");
 /// Depth of field passes.
-pub const DOF: &str = include_str!("../../../shaders/dof.wgsl");
+pub const DOF: Shader = shader!("dof.wgsl");
 /// Tile light lists shared by light culling and lighting.
-pub const LIGHT_TILES: &str = include_str!("../../../shaders/light_tiles.wgsl");
+pub const LIGHT_TILES: Shader = shader!("light_tiles.wgsl");
 /// Tiled light culling (compute).
-pub const LIGHT_CULLING: &str = include_str!("../../../shaders/light_culling.wgsl");
+pub const LIGHT_CULLING: Shader = shader!("light_culling.wgsl");
 /// Tone mapping and output encoding pass.
-pub const TONEMAP: &str = include_str!("../../../shaders/tonemap.wgsl");
+pub const TONEMAP: Shader = shader!("tonemap.wgsl");
+
+/// Every module, for reloading from disk.
+pub const ALL: [Shader; 21] = [
+    COMMON,
+    BRDF,
+    PUNCTUAL,
+    COLOR,
+    ENCODING,
+    BINDINGS,
+    FULLSCREEN,
+    GBUFFER,
+    LIGHTING,
+    SHADOW,
+    SHADOWS,
+    IBL,
+    IBL_PREPROCESS,
+    BRDF_LUT,
+    SKY,
+    CAMERA,
+    EXPOSURE,
+    DOF,
+    LIGHT_TILES,
+    LIGHT_CULLING,
+    TONEMAP,
+];
+
+/// The WGSL sources passes compile from: the built-in ones, with overrides read from disk.
+/// Cloning shares the overrides (every clone of a [`Gpu`] sees a reload).
+#[derive(Clone, Debug, Default)]
+pub struct ShaderLibrary {
+    overrides: Arc<RwLock<HashMap<&'static str, Arc<str>>>>,
+}
+
+/// Overridden sources by file name.
+pub type ShaderOverrides = HashMap<&'static str, Arc<str>>;
+
+impl ShaderLibrary {
+    /// The current source of `shader`.
+    pub fn source(&self, shader: Shader) -> Arc<str> {
+        self.overrides()
+            .get(shader.file)
+            .cloned()
+            .unwrap_or_else(|| Arc::from(shader.builtin))
+    }
+
+    /// [`compose`] with the current sources of `modules`.
+    pub fn compose(&self, defs: &[ShaderDef], modules: &[Shader]) -> String {
+        let sources: Vec<Arc<str>> = modules.iter().map(|m| self.source(*m)).collect();
+        let refs: Vec<&str> = sources.iter().map(|s| &**s).collect();
+        compose(defs, &refs)
+    }
+
+    /// The overrides in force.
+    pub fn overrides(&self) -> ShaderOverrides {
+        match self.overrides.read() {
+            Ok(map) => map.clone(),
+            Err(poisoned) => poisoned.into_inner().clone(),
+        }
+    }
+
+    /// Replaces the overrides.
+    pub fn set_overrides(&self, overrides: ShaderOverrides) {
+        match self.overrides.write() {
+            Ok(mut map) => *map = overrides,
+            Err(poisoned) => *poisoned.into_inner() = overrides,
+        }
+    }
+}
+
+/// Reads every module of [`ALL`] that exists in `dir` and differs from the built-in
+/// source. A file that is missing keeps the built-in source; one that cannot be read
+/// is an error.
+pub fn read_overrides(dir: &Path) -> Result<ShaderOverrides> {
+    if !dir.is_dir() {
+        return Err(Error::InvalidArgument(format!(
+            "shader folder {} does not exist",
+            dir.display()
+        )));
+    }
+    let mut out = HashMap::new();
+    for shader in ALL {
+        let path = dir.join(shader.file);
+        if !path.exists() {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        if text != shader.builtin {
+            out.insert(shader.file, Arc::from(text));
+        }
+    }
+    Ok(out)
+}
 
 /// One compile-time constant of a shader variant.
 #[derive(Clone, Debug, PartialEq)]

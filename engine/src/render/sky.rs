@@ -10,7 +10,7 @@ use crate::render::pipelines::{
     filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
@@ -57,7 +57,7 @@ impl SkyPass {
         if self.pipelines.contains_key(&(env_map, format)) {
             return Ok(());
         }
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[ShaderDef::Bool("ENV_MAP", env_map)],
             &[
                 shaders::COMMON,

@@ -9,7 +9,7 @@ use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::pipelines::{
     draw_fullscreen, fullscreen_pipeline, texture_load_entry, uniform_entry,
 };
-use crate::render::shaders::{self, ShaderDef, compose};
+use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
@@ -64,7 +64,7 @@ impl TonemapPass {
             return Ok(());
         }
         let (format, tonemapper) = variant;
-        let source = compose(
+        let source = gpu.shaders.compose(
             &[
                 ShaderDef::U32("TONEMAPPER", tonemapper as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),

@@ -11,7 +11,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
-use crate::render::shaders::{self, compose};
+use crate::render::shaders;
 use crate::render::targets::Target;
 use crate::scene::{MeshHandle, Vertex};
 use bevy_ecs::prelude::*;
@@ -64,7 +64,9 @@ fn atlas_target(gpu: &Gpu, side: u32) -> Target {
 impl ShadowPass {
     /// Compiles the pass and creates an empty atlas.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = compose(&[], &[shaders::BINDINGS, shaders::SHADOW]);
+        let source = gpu
+            .shaders
+            .compose(&[], &[shaders::BINDINGS, shaders::SHADOW]);
         let module = shaders::create_module(gpu, "shadow", source)?;
         let caster_layout = gpu
             .device
