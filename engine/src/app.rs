@@ -10,6 +10,7 @@ use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::plan::FramePlan;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
+use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::{RenderTargets, Target};
 use crate::render::timing::PassTiming;
 use crate::render::{self, ExtractSchedule, RenderSchedule};
@@ -82,6 +83,9 @@ pub enum FrameTarget {
     Depth,
     /// Exposed HDR luminance (rgb) and coverage (a).
     Hdr,
+    /// The shadow map atlas's depth (r; reversed Z, 0 where nothing was drawn), square,
+    /// 1×1 when no light casts shadows.
+    ShadowAtlas,
 }
 
 /// Format of the headless display image: 8-bit RGBA; the tone mapping pass applies the
@@ -390,6 +394,28 @@ impl App {
     /// red channel.
     pub fn read_target(&self, target: FrameTarget) -> Result<image::Rgba32FImage> {
         let gpu = self.gpu()?;
+        let depth = |texture: &wgpu::Texture| -> Result<Vec<f32>> {
+            if !gpu
+                .adapter
+                .get_downlevel_capabilities()
+                .flags
+                .contains(wgpu::DownlevelFlags::DEPTH_TEXTURE_AND_BUFFER_COPIES)
+            {
+                return Err(Error::Gpu(format!(
+                    "{} ({}) cannot copy depth textures to memory: depth and shadow-atlas readback need Vulkan",
+                    gpu.summary.name, gpu.summary.backend
+                )));
+            }
+            Ok(read_texture(gpu, texture, 4)?
+                .chunks_exact(4)
+                .flat_map(|b| [f32::from_le_bytes([b[0], b[1], b[2], b[3]]), 0.0, 0.0, 1.0])
+                .collect())
+        };
+        if target == FrameTarget::ShadowAtlas {
+            let atlas = &self.world.resource::<ShadowPass>().atlas.texture;
+            return image::Rgba32FImage::from_raw(atlas.width(), atlas.height(), depth(atlas)?)
+                .ok_or_else(|| Error::Gpu("atlas readback has the wrong size".into()));
+        }
         let targets = self.world.resource::<RenderTargets>();
         let t = targets
             .current
@@ -405,10 +431,7 @@ impl App {
                 .collect(),
             FrameTarget::GBuffer1 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer1.texture, 8)?),
             FrameTarget::GBuffer2 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer2.texture, 8)?),
-            FrameTarget::Depth => read_texture(gpu, &t.depth.texture, 4)?
-                .chunks_exact(4)
-                .flat_map(|b| [f32::from_le_bytes([b[0], b[1], b[2], b[3]]), 0.0, 0.0, 1.0])
-                .collect(),
+            FrameTarget::Depth | FrameTarget::ShadowAtlas => depth(&t.depth.texture)?,
             FrameTarget::Hdr if t.hdr_format == wgpu::TextureFormat::Rgba32Float => {
                 read_texture(gpu, &t.hdr.texture, 16)?
                     .chunks_exact(4)

@@ -49,6 +49,7 @@ pub mod prelude {
     pub use crate::brdf::VisibilityModel;
     pub use crate::color::Tonemapper;
     pub use crate::quality::{Quality, ShadowFilter};
+    pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
         Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
         EquirectImage, Exposure, GlobalTransform, LightColor, LuminousIntensity, Material, Mesh3d,

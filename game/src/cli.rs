@@ -147,6 +147,10 @@ pub struct SceneArgs {
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]
     pub max_texture_size: Option<u32>,
+    /// Show one channel instead of the image: albedo, normal, metallic, roughness,
+    /// occlusion, depth, shadow-atlas or coc (README, "Debug views").
+    #[arg(long, value_name = "VIEW", value_parser = lumen::render::debug_view::DebugView::parse)]
+    pub debug_view: Option<lumen::render::debug_view::DebugView>,
 }
 
 impl SceneArgs {
@@ -263,6 +267,32 @@ pub struct ViewArgs {
     /// Save a screenshot (PNG or EXR) when the viewer quits.
     #[arg(long, value_name = "FILE")]
     pub screenshot: Option<PathBuf>,
+    /// Open a glTF model (replacing the scene) or an HDR/EXR environment once the window
+    /// is up; repeatable. Dropping a file on the window does the same.
+    #[arg(long, value_name = "FILE")]
+    pub open: Vec<PathBuf>,
+    /// No on-screen panel.
+    #[arg(long)]
+    pub no_panel: bool,
+    /// Folder of WGSL files to watch and reload when they change (default: `shaders/`
+    /// of the working directory, else of the source tree the binary was built from).
+    #[arg(long, value_name = "DIR")]
+    pub shaders: Option<PathBuf>,
+}
+
+impl ViewArgs {
+    /// `scene` in a window of `size`, with the defaults of the other options.
+    pub fn new(scene: SceneArgs, size: (u32, u32)) -> ViewArgs {
+        ViewArgs {
+            scene,
+            size,
+            frames: None,
+            screenshot: None,
+            open: Vec::new(),
+            no_panel: false,
+            shaders: None,
+        }
+    }
 }
 
 /// Arguments of `lumen bench`.

@@ -82,12 +82,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ..SceneArgs::default()
             };
             if !cli.headless && view::display_available() {
-                match view::run(ViewArgs {
-                    scene: scene.clone(),
-                    size: (1280, 720),
-                    frames: None,
-                    screenshot: None,
-                }) {
+                match view::run(ViewArgs::new(scene.clone(), (1280, 720))) {
                     Ok(()) => return Ok(()),
                     Err(e) => eprintln!("lumen: no window ({e:#}); rendering headless instead"),
                 }

@@ -34,6 +34,9 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         }
     }
     apply_environment(app, args)?;
+    if let Some(view) = args.debug_view {
+        app.world_mut().insert_resource(view);
+    }
     let world = app.world_mut();
     let mut cameras = world.query::<&mut Camera>();
     for mut camera in cameras.iter_mut(world) {
@@ -145,28 +148,35 @@ fn apply_camera(camera: &mut Camera, args: &SceneArgs) {
 /// to two thousand cd/m², on the scale of the built-in scenes' lights.
 pub const DEFAULT_ENV_IMAGE_INTENSITY: f32 = 1000.0;
 
+/// Removes every `Environment` and spawns `env`.
+pub fn replace_environment(world: &mut World, env: Environment) {
+    let old: Vec<Entity> = world
+        .query_filtered::<Entity, With<Environment>>()
+        .iter(world)
+        .collect();
+    for e in old {
+        world.entity_mut(e).remove::<Environment>();
+    }
+    world.spawn(env);
+}
+
+/// Loads an equirectangular HDR or EXR as the scene's environment, at
+/// [`DEFAULT_ENV_IMAGE_INTENSITY`].
+pub fn open_environment(app: &mut App, path: &std::path::Path) -> Result<()> {
+    let image = EquirectImage::load(path)?;
+    let env = Environment::image(std::sync::Arc::new(image), DEFAULT_ENV_IMAGE_INTENSITY);
+    replace_environment(app.world_mut(), env);
+    Ok(())
+}
+
 /// Replaces (or adjusts) the scene's environment as `--env*` and `--background-blur` say.
 fn apply_environment(app: &mut App, args: &SceneArgs) -> Result<()> {
-    let new = if let Some(path) = &args.env {
-        let image = EquirectImage::load(path)?;
-        Some(Environment::image(
-            std::sync::Arc::new(image),
-            DEFAULT_ENV_IMAGE_INTENSITY,
-        ))
-    } else {
-        args.env_color.map(Environment::uniform)
-    };
-    let world = app.world_mut();
-    if let Some(env) = new {
-        let old: Vec<Entity> = world
-            .query_filtered::<Entity, With<Environment>>()
-            .iter(world)
-            .collect();
-        for e in old {
-            world.entity_mut(e).remove::<Environment>();
-        }
-        world.spawn(env);
+    if let Some(path) = &args.env {
+        open_environment(app, path)?;
+    } else if let Some(env) = args.env_color.map(Environment::uniform) {
+        replace_environment(app.world_mut(), env);
     }
+    let world = app.world_mut();
     for mut env in world.query::<&mut Environment>().iter_mut(world) {
         if let Some(i) = args.env_intensity {
             env.intensity = i;

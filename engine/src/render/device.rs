@@ -39,6 +39,8 @@ pub struct Gpu {
     pub timestamps: bool,
     /// The WGSL sources the passes compile (built in, or reloaded from disk).
     pub shaders: crate::render::shaders::ShaderLibrary,
+    /// Set by the device-lost callback: why the device was lost.
+    lost: Arc<std::sync::Mutex<Option<String>>>,
 }
 
 /// Creates a presentation surface on an instance (used to pick an adapter that can
@@ -275,8 +277,13 @@ impl Gpu {
         device.on_uncaptured_error(Arc::new(|e| {
             log::error!("uncaught GPU error: {e}");
         }));
-        device.set_device_lost_callback(|reason, message| {
+        let lost = Arc::new(std::sync::Mutex::new(None));
+        let lost_flag = lost.clone();
+        device.set_device_lost_callback(move |reason, message| {
             log::error!("GPU device lost ({reason:?}): {message}");
+            if let Ok(mut l) = lost_flag.lock() {
+                *l = Some(format!("{reason:?}: {message}"));
+            }
         });
         let driver = [info.driver.as_str(), info.driver_info.as_str()]
             .iter()
@@ -296,6 +303,7 @@ impl Gpu {
             queue,
             timestamps,
             shaders: Default::default(),
+            lost,
         };
         gpu.check_shader_support()?;
         Ok(gpu)
@@ -345,6 +353,11 @@ impl Gpu {
     /// Largest 2D texture side the device accepts.
     pub fn max_texture_size(&self) -> u32 {
         self.device.limits().max_texture_dimension_2d
+    }
+
+    /// Why the device was lost, if it was: nothing more can be rendered on it.
+    pub fn lost(&self) -> Option<String> {
+        self.lost.lock().ok().and_then(|l| l.clone())
     }
 
     /// Runs `f` inside error scopes for every kind of GPU error (validation, internal —

@@ -4,9 +4,10 @@
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
 //! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
 //! pipelines), then the passes in order — shadow, G-buffer, lighting, sky, exposure,
-//! depth of field, tone mapping — each
+//! depth of field, tone mapping (or a debug view) — each
 //! recording into the frame's command encoder with its own timing.
 
+pub mod debug_view;
 pub mod device;
 pub mod dof;
 pub mod exposure;
@@ -83,6 +84,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.init_resource::<extract::ExtractedFrame>();
     world.init_resource::<FramePlan>();
     world.init_resource::<FrameErrors>();
+    world.init_resource::<debug_view::DebugView>();
 
     let mut extract = Schedule::new(ExtractSchedule);
     extract.add_systems(extract::extract_frame);
@@ -104,7 +106,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
                 sky::prepare_sky,
                 exposure::prepare_exposure,
                 dof::prepare_dof,
-                tonemap::prepare_tonemap,
+                tonemap::prepare_tonemap.run_if(pass_runs(PassId::Tonemap)),
+                debug_view::prepare_debug_view.run_if(pass_runs(PassId::DebugView)),
             )
                 .chain(),
             (
@@ -118,6 +121,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
                 exposure::exposure_pass.run_if(pass_runs(PassId::Exposure)),
                 dof::dof_pass.run_if(pass_runs(PassId::Dof)),
                 tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
+                debug_view::debug_view_pass.run_if(pass_runs(PassId::DebugView)),
             )
                 .chain(),
         )
@@ -152,5 +156,6 @@ pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
     world.insert_resource(light_culling::LightCullingPass::new(gpu));
     world.insert_resource(sky::SkyPass::new(gpu));
     world.insert_resource(tonemap::TonemapPass::new(gpu));
+    world.insert_resource(debug_view::DebugViewPass::new(gpu));
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 use crate::brdf::VisibilityModel;
 use crate::quality::{Quality, ShadowFilter};
+use crate::render::debug_view::DebugView;
 use crate::render::extract::ExtractedFrame;
 use bevy_ecs::prelude::*;
 
@@ -25,6 +26,8 @@ pub enum PassId {
     Dof,
     /// Tone mapping and output encoding.
     Tonemap,
+    /// A debug view of one channel, instead of tone mapping.
+    DebugView,
 }
 
 impl PassId {
@@ -47,6 +50,7 @@ impl PassId {
             PassId::Exposure => "exposure",
             PassId::Dof => "dof",
             PassId::Tonemap => "tonemap",
+            PassId::DebugView => "debug view",
         }
     }
 }
@@ -169,6 +173,7 @@ pub fn plan_frame(
     frame: Res<ExtractedFrame>,
     quality: Res<Quality>,
     buffers: Res<crate::render::scene_buffers::SceneBuffers>,
+    debug: Res<DebugView>,
     mut plan: ResMut<FramePlan>,
 ) {
     let instances = frame.instances.len();
@@ -282,10 +287,24 @@ pub fn plan_frame(
             None => "depth of field is off".into(),
         },
     );
+    let debug_view = *debug != DebugView::Off;
     let tonemap = decision(
         PassId::Tonemap.name(),
-        true,
-        "turns exposed HDR luminance into the display image".into(),
+        !debug_view,
+        if debug_view {
+            format!("the {} debug view replaces it", debug.name())
+        } else {
+            "turns exposed HDR luminance into the display image".into()
+        },
+    );
+    let debug_pass = decision(
+        PassId::DebugView.name(),
+        debug_view,
+        if debug_view {
+            format!("shows the {} channel", debug.name())
+        } else {
+            "no debug view chosen".into()
+        },
     );
     let kind = |name: &'static str, n: u32| {
         decision(
@@ -361,6 +380,7 @@ pub fn plan_frame(
         (PassId::Exposure, exposure),
         (PassId::Dof, dof),
         (PassId::Tonemap, tonemap),
+        (PassId::DebugView, debug_pass),
     ];
     plan.features = features;
 }

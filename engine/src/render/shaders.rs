@@ -73,11 +73,13 @@ pub const DOF: Shader = shader!("dof.wgsl");
 pub const LIGHT_TILES: Shader = shader!("light_tiles.wgsl");
 /// Tiled light culling (compute).
 pub const LIGHT_CULLING: Shader = shader!("light_culling.wgsl");
+/// Debug views of the frame's channels.
+pub const DEBUG_VIEW: Shader = shader!("debug_view.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: Shader = shader!("tonemap.wgsl");
 
 /// Every module, for reloading from disk.
-pub const ALL: [Shader; 21] = [
+pub const ALL: [Shader; 22] = [
     COMMON,
     BRDF,
     PUNCTUAL,
@@ -99,6 +101,7 @@ pub const ALL: [Shader; 21] = [
     LIGHT_TILES,
     LIGHT_CULLING,
     TONEMAP,
+    DEBUG_VIEW,
 ];
 
 /// The WGSL sources passes compile from: the built-in ones, with overrides read from disk.

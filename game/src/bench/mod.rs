@@ -39,12 +39,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .map_or(0, |d| d.as_secs());
     let (samples, app, mode) = if args.window {
         let b = bar.clone();
-        let view = ViewArgs {
-            scene: args.scene.clone(),
-            size: args.size,
-            frames: None,
-            screenshot: None,
-        };
+        let view = ViewArgs::new(args.scene.clone(), args.size);
         let (samples, app) = crate::view::run_measured(
             view,
             args.warmup,

@@ -1,0 +1,315 @@
+//! Debug views: one channel of the frame shown instead of the tone-mapped image
+//! (`shaders/debug_view.wgsl`). The pass, and its pipeline, exist only while a view is
+//! chosen; it replaces the tone mapping pass.
+//!
+//! What each view shows, as display values (8-bit value = shown value × 255):
+//!
+//! | view | shown |
+//! | --- | --- |
+//! | albedo | the base colour as stored (sRGB-encoded) |
+//! | normal | world-space normal `n · 0.5 + 0.5`; black background |
+//! | metallic, roughness | the stored value as grey |
+//! | occlusion | ambient occlusion as grey; black background |
+//! | depth | [`depth_grey`] of the view depth; black background |
+//! | shadow atlas | stored shadow depth (reversed Z: 1 near the light, 0 cleared) of the square atlas, which fills the frame's height from the left edge |
+//! | CoC | thin-lens CoC radius ÷ the largest radius, red in front of the focus plane, green behind it (the lens's settings even when depth of field is off) |
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::pipelines::{
+    draw_fullscreen, fullscreen_pipeline, texture_load_entry, uniform_entry,
+};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{self, ShaderDef};
+use crate::render::shadow::pass::ShadowPass;
+use crate::render::targets::RenderTargets;
+use bevy_ecs::prelude::*;
+use std::collections::HashMap;
+
+/// Which channel the frame shows: a resource; [`DebugView::Off`] is the normal image.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DebugView {
+    /// The tone-mapped image.
+    #[default]
+    Off = 0,
+    /// Base colour.
+    Albedo = 1,
+    /// World-space normal.
+    Normal = 2,
+    /// Metallic.
+    Metallic = 3,
+    /// Perceptual roughness.
+    Roughness = 4,
+    /// Ambient occlusion.
+    Occlusion = 5,
+    /// View depth, logarithmic.
+    Depth = 6,
+    /// The shadow map atlas.
+    ShadowAtlas = 7,
+    /// The thin-lens circle of confusion.
+    CircleOfConfusion = 8,
+}
+
+impl DebugView {
+    /// Every view, `Off` first.
+    pub const ALL: [DebugView; 9] = [
+        DebugView::Off,
+        DebugView::Albedo,
+        DebugView::Normal,
+        DebugView::Metallic,
+        DebugView::Roughness,
+        DebugView::Occlusion,
+        DebugView::Depth,
+        DebugView::ShadowAtlas,
+        DebugView::CircleOfConfusion,
+    ];
+
+    /// Name used on the command line and in the viewer.
+    pub fn name(self) -> &'static str {
+        match self {
+            DebugView::Off => "off",
+            DebugView::Albedo => "albedo",
+            DebugView::Normal => "normal",
+            DebugView::Metallic => "metallic",
+            DebugView::Roughness => "roughness",
+            DebugView::Occlusion => "occlusion",
+            DebugView::Depth => "depth",
+            DebugView::ShadowAtlas => "shadow-atlas",
+            DebugView::CircleOfConfusion => "coc",
+        }
+    }
+
+    /// The view called `name` (see [`DebugView::name`]).
+    pub fn parse(name: &str) -> std::result::Result<DebugView, String> {
+        DebugView::ALL
+            .into_iter()
+            .find(|v| v.name().eq_ignore_ascii_case(name.trim()))
+            .ok_or_else(|| {
+                let names: Vec<&str> = DebugView::ALL.iter().map(|v| v.name()).collect();
+                format!(
+                    "unknown debug view '{name}': expected one of {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+/// View depth (m) as the depth view's grey level: 1 at 0.1 m, 0 at 100 m and beyond,
+/// logarithmic between (a decade every third of the range). Twin of `depth_grey` in
+/// `shaders/debug_view.wgsl`.
+pub fn depth_grey(depth_m: f32) -> f32 {
+    (1.0 - (depth_m.max(1e-6) / 0.1).log2() / 1000f32.log2()).clamp(0.0, 1.0)
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    focus_m: f32,
+    focal_length_m: f32,
+    aperture_diameter_m: f32,
+    pixels_per_m: f32,
+    max_radius_px: f32,
+    atlas_side: f32,
+    pad: [f32; 2],
+}
+
+type Variant = (wgpu::TextureFormat, DebugView);
+
+/// The debug view pass's pipelines and bindings.
+#[derive(Resource)]
+pub struct DebugViewPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<Variant, wgpu::RenderPipeline>,
+    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
+    params: wgpu::Buffer,
+}
+
+impl DebugViewPass {
+    /// Creates the bind group layout; pipelines compile per view on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("debug view"),
+                entries: &[
+                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
+                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
+                    texture_load_entry(2),
+                    texture_load_entry(3),
+                    texture_load_entry(4),
+                    texture_load_entry(5),
+                ],
+            });
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("debug view"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        DebugViewPass {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            bind_group: None,
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("debug view params"),
+                size: std::mem::size_of::<Params>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    fn pipeline(&mut self, gpu: &Gpu, variant: Variant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let (format, view) = variant;
+        let source = gpu.shaders.compose(
+            &[
+                ShaderDef::U32("DEBUG_VIEW", view as u32),
+                ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
+            ],
+            &[
+                shaders::COMMON,
+                shaders::COLOR,
+                shaders::CAMERA,
+                shaders::ENCODING,
+                shaders::BINDINGS,
+                shaders::FULLSCREEN,
+                shaders::DEBUG_VIEW,
+            ],
+        );
+        let module = shaders::create_module(gpu, "debug view", source)?;
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "debug view",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            &[format],
+            None,
+        )?;
+        self.pipelines.insert(variant, pipeline);
+        Ok(())
+    }
+}
+
+/// Compiles the chosen view's pipeline, writes its parameters and binds the targets.
+#[allow(clippy::too_many_arguments)]
+pub fn prepare_debug_view(
+    gpu: Res<Gpu>,
+    view: Res<DebugView>,
+    output: Res<FrameOutput>,
+    frame: Res<ExtractedFrame>,
+    targets: Res<RenderTargets>,
+    buffers: Res<SceneBuffers>,
+    shadows: Res<ShadowPass>,
+    mut pass: ResMut<DebugViewPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    if let Err(e) = pass.pipeline(&gpu, (output.format, *view)) {
+        errors.0.push(e);
+        return;
+    }
+    let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
+        return;
+    };
+    let lens = camera.lens;
+    let dof = camera.depth_of_field.unwrap_or_default();
+    let params = Params {
+        // Infinity as the largest float: the shader tests `> 3e38`.
+        focus_m: lens.focus_distance_m.min(f32::MAX),
+        focal_length_m: camera.focal_length_m,
+        aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
+        pixels_per_m: t.size.1 as f32 / (lens.sensor_height_mm * 1e-3),
+        max_radius_px: dof.max_coc_px * 0.5,
+        atlas_side: shadows.atlas.texture.width() as f32,
+        pad: [0.0; 2],
+    };
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    let key = (t.generation, buffers.generation, shadows.generation);
+    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    fn texture(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+        wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        }
+    }
+    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("debug view"),
+        layout: &pass.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffers.view.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: pass.params.as_entire_binding(),
+            },
+            texture(2, &t.gbuffer0.view),
+            texture(3, &t.gbuffer1.view),
+            texture(4, &t.depth.view),
+            texture(5, &shadows.atlas.view),
+        ],
+    });
+    pass.bind_group = Some((key, group));
+}
+
+/// Records the debug view into the frame's output view.
+pub fn debug_view_pass(
+    pass: Res<DebugViewPass>,
+    view: Res<DebugView>,
+    output: Res<FrameOutput>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(target), Some((_, bind_group)), Some(pipeline)) = (
+        encoder.as_mut(),
+        output.view.as_ref(),
+        pass.bind_group.as_ref(),
+        pass.pipelines.get(&(output.format, *view)),
+    ) else {
+        return;
+    };
+    draw_fullscreen(
+        encoder,
+        timer,
+        "debug view",
+        &[target],
+        pipeline,
+        bind_group,
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_errors() {
+        for v in DebugView::ALL {
+            assert_eq!(DebugView::parse(v.name()), Ok(v));
+        }
+        let err = DebugView::parse("albedoo").expect_err("unknown");
+        assert!(err.contains("shadow-atlas"), "{err}");
+    }
+
+    #[test]
+    fn depth_grey_spans_three_decades() {
+        assert_eq!(depth_grey(0.1), 1.0);
+        assert!((depth_grey(1.0) - 2.0 / 3.0).abs() < 1e-6);
+        assert!((depth_grey(10.0) - 1.0 / 3.0).abs() < 1e-6);
+        assert_eq!(depth_grey(100.0), 0.0);
+        assert_eq!(depth_grey(1e9), 0.0);
+        assert_eq!(depth_grey(0.0), 1.0);
+    }
+}

@@ -1,0 +1,753 @@
+//! Windows: `lumen view`, and [`show`] for scripts that want their scene in a window.
+//!
+//! The viewer has orbit and fly cameras ([`controls`]), an egui panel ([`panel`]) with
+//! the frame time, per-pass timings, debug views, quality knobs, exposure, depth of field
+//! and lights, screenshots (PNG and EXR), glTF and HDR files opened by drag and drop or
+//! `--open`, and WGSL reloaded from `shaders/` when a file changes ([`watch`]).
+//!
+//! Resizing (down to a minimised 0×0 window) and lost or outdated surfaces are handled.
+//! A frame that fails (a shader that does not compile, a file that does not load) is
+//! shown as an error in the panel and the viewer goes on; a lost GPU device ends the
+//! viewer with a message, since wgpu cannot bring a lost device back. Nothing panics.
+
+pub mod controls;
+pub mod gui;
+pub mod panel;
+pub mod watch;
+
+use crate::bench::report::FrameSample;
+use crate::cli::ViewArgs;
+use crate::setup::{build_scene, check_scene_args, open_environment};
+use anyhow::{Context, Result, anyhow};
+use controls::CameraControls;
+use gui::Gui;
+use lumen::App;
+use lumen::assets::image_io::{save_exr, save_png};
+use lumen::prelude::*;
+use lumen::render::device::{Gpu, GpuRequest};
+use lumen::wgpu;
+use panel::{Action, Panel};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use watch::ShaderWatcher;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+/// Whether a windowing system seems to be available.
+pub fn display_available() -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|v| std::env::var_os(v).is_some_and(|s| !s.is_empty()))
+}
+
+/// How [`show`] presents an app.
+#[derive(Clone, Debug)]
+pub struct WindowOptions {
+    /// Window title.
+    pub title: String,
+    /// Initial size in pixels.
+    pub size: (u32, u32),
+    /// Show the egui panel (`Tab` toggles it).
+    pub panel: bool,
+    /// Folder of WGSL files to reload when they change; `None`: no hot reload.
+    pub shader_dir: Option<PathBuf>,
+    /// Close after this many frames.
+    pub frames: Option<u64>,
+    /// Save a screenshot (PNG or EXR by extension) when the window closes.
+    pub screenshot: Option<PathBuf>,
+}
+
+impl Default for WindowOptions {
+    /// 1280×720, panel on, hot reload from [`default_shader_dir`].
+    fn default() -> Self {
+        WindowOptions {
+            title: "lumen".into(),
+            size: (1280, 720),
+            panel: true,
+            shader_dir: default_shader_dir(),
+            frames: None,
+            screenshot: None,
+        }
+    }
+}
+
+/// `shaders/` of the working directory if it holds Lumen's WGSL, else that of the
+/// source tree this binary was built from, if it still exists.
+pub fn default_shader_dir() -> Option<PathBuf> {
+    let here = PathBuf::from("shaders");
+    let built = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders");
+    [here, built]
+        .into_iter()
+        .find(|d| d.join("tonemap.wgsl").is_file())
+}
+
+/// Opens a window on `app` and runs it until the window closes: every frame runs the
+/// app's [`Update`] systems, renders, and draws the panel. `app` must not have a GPU yet
+/// (make it with [`App::new`]): the window picks an adapter that can present to it.
+pub fn show(app: App, options: WindowOptions) -> Result<()> {
+    if app.adapter().is_some() {
+        return Err(anyhow!(
+            "lumen_game::view::show needs an App without a GPU (App::new()), not App::headless()"
+        ));
+    }
+    run_viewer(Scene::Ready(Box::new(app)), options, None).map(|_| ())
+}
+
+/// Opens the viewer on the scene `args` describe and runs until the window closes.
+pub fn run(args: ViewArgs) -> Result<()> {
+    check_scene_args(&args.scene)?;
+    let options = WindowOptions {
+        title: "lumen".into(),
+        size: args.size,
+        panel: !args.no_panel,
+        shader_dir: args.shaders.clone().or_else(default_shader_dir),
+        frames: args.frames,
+        screenshot: args.screenshot.clone(),
+    };
+    if let Some(dir) = &options.shader_dir
+        && !dir.is_dir()
+    {
+        return Err(anyhow!("shader folder {} does not exist", dir.display()));
+    }
+    run_viewer(Scene::Args(Box::new(args)), options, None).map(|_| ())
+}
+
+/// Renders `warmup + frames` frames into a window without vsync or panel and returns
+/// the measured frames and the app. A frame's time is the wall time from its start to
+/// the next frame's start (update, record, submit, GPU, present). `progress(done)` is
+/// called after every frame.
+pub fn run_measured(
+    args: ViewArgs,
+    warmup: u32,
+    frames: u32,
+    progress: Box<dyn FnMut(u32)>,
+) -> Result<(Vec<FrameSample>, App)> {
+    check_scene_args(&args.scene)?;
+    let options = WindowOptions {
+        size: args.size,
+        panel: false,
+        shader_dir: None,
+        ..WindowOptions::default()
+    };
+    let measure = Measure {
+        warmup,
+        frames,
+        samples: Vec::new(),
+        seen: 0,
+        last_start: None,
+        pending: None,
+        progress,
+    };
+    let (samples, app) = run_viewer(Scene::Args(Box::new(args)), options, Some(measure))?;
+    let app = app.ok_or_else(|| anyhow!("the window never opened"))?;
+    if samples.len() < frames as usize {
+        return Err(anyhow!(
+            "the window closed after {} of {frames} measured frames",
+            samples.len()
+        ));
+    }
+    Ok((samples, app))
+}
+
+fn run_viewer(
+    scene: Scene,
+    options: WindowOptions,
+    measure: Option<Measure>,
+) -> Result<(Vec<FrameSample>, Option<App>)> {
+    let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
+    let mut viewer = Viewer {
+        scene: Some(scene),
+        options,
+        running: None,
+        error: None,
+        measure,
+    };
+    event_loop
+        .run_app(&mut viewer)
+        .context("window event loop")?;
+    if let Some(e) = viewer.error {
+        return Err(e);
+    }
+    let samples = viewer.measure.map(|m| m.samples).unwrap_or_default();
+    Ok((samples, viewer.running.map(|r| r.app)))
+}
+
+/// Where the window's scene comes from.
+enum Scene {
+    /// Built from the command line once the GPU exists.
+    Args(Box<ViewArgs>),
+    /// A script's app, GPU attached by the window.
+    Ready(Box<App>),
+}
+
+struct Running {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    app: App,
+    camera: Entity,
+    controls: CameraControls,
+    gui: Option<Gui>,
+    panel: Panel,
+    watcher: Option<ShaderWatcher>,
+    dragging: bool,
+    cursor: Option<(f64, f64)>,
+    frames: u64,
+    screenshots: u32,
+    last_title: Instant,
+    last_frame: Instant,
+    /// The last error printed without a panel (printed once, not every frame).
+    last_error: Option<String>,
+}
+
+/// A measured run in the window (`lumen bench --window`).
+struct Measure {
+    warmup: u32,
+    frames: u32,
+    samples: Vec<FrameSample>,
+    seen: u32,
+    last_start: Option<Instant>,
+    pending: Option<FrameSample>,
+    progress: Box<dyn FnMut(u32)>,
+}
+
+struct Viewer {
+    scene: Option<Scene>,
+    options: WindowOptions,
+    running: Option<Running>,
+    error: Option<anyhow::Error>,
+    measure: Option<Measure>,
+}
+
+fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
+    // A non-sRGB 8-bit format lets the tone mapping pass apply the exact sRGB curve.
+    let preferred = [
+        wgpu::TextureFormat::Bgra8Unorm,
+        wgpu::TextureFormat::Rgba8Unorm,
+    ];
+    preferred
+        .iter()
+        .find(|f| caps.formats.contains(f))
+        .copied()
+        .or_else(|| caps.formats.first().copied())
+}
+
+/// The active camera with the lowest entity id, and controls that start at it, orbiting
+/// the point it looks at (at the distance of the origin).
+fn find_camera(app: &mut App) -> Result<(Entity, CameraControls)> {
+    let world = app.world_mut();
+    let mut cams = world.query::<(Entity, &Camera, &Transform)>();
+    let (camera, transform) = cams
+        .iter(world)
+        .filter(|(_, c, _)| c.active)
+        .min_by_key(|(e, _, _)| *e)
+        .map(|(e, _, t)| (e, *t))
+        .ok_or_else(|| anyhow!("the scene has no active camera"))?;
+    let distance = transform.translation.length().max(1.0);
+    Ok((camera, CameraControls::new(&transform, distance)))
+}
+
+impl Viewer {
+    fn start(&mut self, event_loop: &ActiveEventLoop) -> Result<Running> {
+        let (w, h) = self.options.size;
+        let window = Arc::new(
+            event_loop
+                .create_window(
+                    Window::default_attributes()
+                        .with_title(self.options.title.clone())
+                        .with_inner_size(PhysicalSize::new(w, h)),
+                )
+                .context("cannot create a window")?,
+        );
+        let display = event_loop.owned_display_handle();
+        let surface_window = window.clone();
+        let (gpu, surface) = Gpu::new(
+            &GpuRequest::from_env()?,
+            Some(&move |instance: &wgpu::Instance| {
+                instance
+                    .create_surface(surface_window.clone())
+                    .map_err(|e| e.to_string())
+            }),
+            Some(&move || Box::new(display.clone())),
+        )?;
+        let surface = surface.ok_or_else(|| anyhow!("no window surface"))?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        let format =
+            pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
+        let size = window.inner_size();
+        let config = wgpu::SurfaceConfiguration {
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            format,
+            width: size.width.max(1),
+            height: size.height.max(1),
+            present_mode: if self.measure.is_some() {
+                wgpu::PresentMode::AutoNoVsync
+            } else {
+                wgpu::PresentMode::AutoVsync
+            },
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+            color_space: wgpu::SurfaceColorSpace::Auto,
+        };
+        surface.configure(&gpu.device, &config);
+        let adapter = format!(
+            "{} ({}, {})",
+            gpu.summary.name, gpu.summary.backend, gpu.summary.device_type
+        );
+        eprintln!("lumen view: {adapter}");
+        let gui = self
+            .options
+            .panel
+            .then(|| Gui::new(&window, &gpu.device, format));
+
+        let mut panel = Panel::new(adapter);
+        let (mut app, open) = match self.scene.take() {
+            Some(Scene::Ready(app)) => (*app, Vec::new()),
+            Some(Scene::Args(args)) => {
+                let mut app = App::new();
+                app.attach_gpu(gpu.clone())?;
+                build_scene(&mut app, &args.scene)?;
+                (app, args.open.clone())
+            }
+            None => return Err(anyhow!("the window was started twice")),
+        };
+        if app.adapter().is_none() {
+            app.attach_gpu(gpu)?;
+        }
+        crate::progress::show_ibl_progress(&mut app);
+        for path in &open {
+            let line = open_file(&mut app, path)?;
+            panel.message(line);
+        }
+        let (camera, controls) = find_camera(&mut app)?;
+        let watcher = self
+            .options
+            .shader_dir
+            .clone()
+            .map(|d| ShaderWatcher::new(d, Duration::from_millis(500)));
+        if let Some(w) = &watcher {
+            // Files already edited before the start count too.
+            reload_shaders(&mut app, &mut panel, w.dir());
+        }
+        Ok(Running {
+            window,
+            surface,
+            config,
+            app,
+            camera,
+            controls,
+            gui,
+            panel,
+            watcher,
+            dragging: false,
+            cursor: None,
+            frames: 0,
+            screenshots: 0,
+            last_title: Instant::now(),
+            last_frame: Instant::now(),
+            last_error: None,
+        })
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: anyhow::Error) {
+        self.error = Some(e);
+        event_loop.exit();
+    }
+}
+
+/// Opens a dropped or `--open`ed file: a glTF model replaces the scene (lights and camera
+/// of the file, or the loader's defaults); an HDR or EXR image becomes the environment.
+/// Returns a line for the log.
+fn open_file(app: &mut App, path: &Path) -> Result<String> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    match ext.as_str() {
+        "gltf" | "glb" => {
+            // A file that fails to load leaves the scene as it was.
+            let world = app.world_mut();
+            let before: std::collections::HashSet<Entity> =
+                world.query::<Entity>().iter(world).collect();
+            let loaded = lumen::assets::gltf::load_gltf(app, path);
+            let world = app.world_mut();
+            let remove: Vec<Entity> = world
+                .query::<Entity>()
+                .iter(world)
+                .filter(|e| before.contains(e) != loaded.is_ok())
+                .collect();
+            for e in remove {
+                if let Ok(entity) = world.get_entity_mut(e) {
+                    entity.despawn();
+                }
+            }
+            let summary = loaded?;
+            for w in &summary.warnings {
+                log::warn!("{}: {w}", path.display());
+            }
+            Ok(format!(
+                "opened {}: {} primitives, {} triangles, {} lights",
+                path.display(),
+                summary.primitives,
+                summary.triangles,
+                summary.lights
+            ))
+        }
+        "hdr" | "exr" => {
+            open_environment(app, path)?;
+            Ok(format!("environment {}", path.display()))
+        }
+        _ => Err(anyhow!(
+            "{}: cannot open this file type (expected .gltf, .glb, .hdr or .exr)",
+            path.display()
+        )),
+    }
+}
+
+/// Reloads the WGSL in `dir`, reporting the result in the panel.
+fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
+    match app.reload_shaders(dir) {
+        Ok(changed) if changed.is_empty() => {}
+        Ok(changed) => {
+            panel.error = None;
+            panel.message(format!("reloaded {}", changed.join(", ")));
+        }
+        Err(e) => panel.error = Some(format!("shader reload: {e}")),
+    }
+}
+
+/// Saves the current view as `out/screenshot-N.png` and `.exr`, rendered at the
+/// window's size. Returns the log line.
+fn screenshot(r: &mut Running, path: Option<&Path>) -> Result<String> {
+    let size = (r.config.width.max(1), r.config.height.max(1));
+    r.app.render_headless(size)?;
+    let paths: Vec<PathBuf> = match path {
+        Some(p) => vec![p.to_path_buf()],
+        None => {
+            r.screenshots += 1;
+            let base = PathBuf::from(format!("out/screenshot-{}", r.screenshots));
+            vec![base.with_extension("png"), base.with_extension("exr")]
+        }
+    };
+    for p in &paths {
+        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        }
+        match lumen::assets::image_io::OutputFormat::from_path(p)? {
+            lumen::assets::image_io::OutputFormat::Png => save_png(p, &r.app.read_display_image()?)?,
+            lumen::assets::image_io::OutputFormat::Exr => save_exr(p, &r.app.read_hdr_image()?)?,
+        }
+    }
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    Ok(format!("saved {}", names.join(" and ")))
+}
+
+/// Clears `view` to black: the frame under the panel when the scene could not render.
+fn clear(gpu: &Gpu, view: &wgpu::TextureView) {
+    let mut encoder = gpu
+        .device
+        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("clear"),
+        });
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("clear"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    gpu.queue.submit([encoder.finish()]);
+}
+
+/// Draws one frame; returns its report and the ECS update time (ms), or `None` when no
+/// frame was drawn (minimised, surface lost, or the scene failed: then the panel shows
+/// the error).
+fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
+    if r.config.width == 0 || r.config.height == 0 {
+        return Ok(None);
+    }
+    let dt = r.last_frame.elapsed().as_secs_f32();
+    r.last_frame = Instant::now();
+    if let Some(w) = r.watcher.as_mut()
+        && w.changed()
+    {
+        let dir = w.dir().to_path_buf();
+        reload_shaders(&mut r.app, &mut r.panel, &dir);
+    }
+    r.controls.advance(dt);
+    if let Some(t) = r.controls.take_transform()
+        && let Some(mut camera) = r.app.world_mut().get_mut::<Transform>(r.camera)
+    {
+        *camera = t;
+    }
+
+    let mut actions = Vec::new();
+    let ui_output = match r.gui.as_mut() {
+        Some(gui) => {
+            let (panel, app, controls, camera) =
+                (&mut r.panel, &mut r.app, &mut r.controls, r.camera);
+            Some(gui.run(&r.window, |ui| {
+                panel.ui(ui, app, camera, controls, &mut actions)
+            }))
+        }
+        None => None,
+    };
+
+    let update = Instant::now();
+    r.app.update();
+    let update_ms = update.elapsed().as_secs_f64() * 1e3;
+    let frame = match r.surface.get_current_texture() {
+        wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+        wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+            return Ok(None);
+        }
+        wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+            let gpu = r.app.world().resource::<Gpu>().clone();
+            r.surface.configure(&gpu.device, &r.config);
+            return Ok(None);
+        }
+        wgpu::CurrentSurfaceTexture::Validation => {
+            return Err(anyhow!("the window surface reported a validation error"));
+        }
+    };
+    let view = frame
+        .texture
+        .create_view(&wgpu::TextureViewDescriptor::default());
+    let size = (r.config.width, r.config.height);
+    let gpu = r.app.world().resource::<Gpu>().clone();
+    let result = r.app.render_to_view(Some(view.clone()), r.config.format, size);
+    if let Some(reason) = gpu.lost() {
+        return Err(anyhow!(
+            "the GPU device was lost ({reason}); wgpu cannot restore it: restart the viewer"
+        ));
+    }
+    let report = match result {
+        Ok(report) => {
+            r.last_error = None;
+            Some(report)
+        }
+        Err(e) => {
+            let message = format!("{e:#}");
+            if r.gui.is_none() && r.last_error.as_deref() != Some(message.as_str()) {
+                eprintln!("lumen view: {message}");
+            }
+            r.last_error = Some(message.clone());
+            r.panel.error = Some(message);
+            clear(&gpu, &view);
+            None
+        }
+    };
+    if let (Some(gui), Some(output)) = (r.gui.as_mut(), ui_output) {
+        gui.paint(&r.window, &gpu.device, &gpu.queue, &view, size, output);
+    }
+    r.window.pre_present_notify();
+    gpu.queue.present(frame);
+    r.frames += 1;
+
+    for action in actions {
+        match action {
+            Action::Screenshot => match screenshot(r, None) {
+                Ok(line) => r.panel.message(line),
+                Err(e) => r.panel.error = Some(format!("screenshot: {e:#}")),
+            },
+            Action::ReloadShaders => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
+                Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
+                None => r.panel.error = Some("no shader folder is watched (--shaders DIR)".into()),
+            },
+        }
+    }
+    let Some(report) = report else {
+        return Ok(None);
+    };
+    r.panel.frame(report.clone(), f64::from(dt) * 1e3);
+    if r.last_title.elapsed().as_secs_f32() > 0.5 {
+        r.window
+            .set_title(&format!("lumen — {:.1} ms/frame", report.frame_ms));
+        r.last_title = Instant::now();
+    }
+    Ok(Some((report, update_ms)))
+}
+
+impl Measure {
+    /// Records a frame that started at `start`; the previous frame's time ends here.
+    /// Returns true once every measured frame is in.
+    fn frame(&mut self, start: Instant, report: lumen::FrameReport, update_ms: f64) -> bool {
+        if let (Some(last), Some(mut sample)) = (self.last_start, self.pending.take()) {
+            sample.frame_ms = start.duration_since(last).as_secs_f64() * 1e3;
+            self.samples.push(sample);
+        }
+        self.seen += 1;
+        (self.progress)(self.seen);
+        self.last_start = Some(start);
+        if self.seen > self.warmup {
+            let mut stages = vec![("update", update_ms)];
+            stages.extend(report.stages);
+            self.pending = Some(FrameSample {
+                frame_ms: 0.0,
+                stages,
+                passes: report.passes,
+            });
+        }
+        // One frame more than measured closes the last measured frame's interval.
+        self.samples.len() >= self.frames as usize
+    }
+}
+
+/// Keyboard input outside the panel. Returns true when the viewer should close.
+fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
+    let k = &mut r.controls.keys;
+    match code {
+        KeyCode::KeyW => k.forward = pressed,
+        KeyCode::KeyS => k.back = pressed,
+        KeyCode::KeyA => k.left = pressed,
+        KeyCode::KeyD => k.right = pressed,
+        KeyCode::KeyE => k.up = pressed,
+        KeyCode::KeyQ => k.down = pressed,
+        KeyCode::ShiftLeft | KeyCode::ShiftRight => k.fast = pressed,
+        _ if !pressed => {}
+        KeyCode::Escape => return true,
+        KeyCode::KeyF => r.controls.toggle_mode(),
+        KeyCode::Tab => r.panel.visible = !r.panel.visible,
+        KeyCode::KeyP | KeyCode::F12 => match screenshot(r, None) {
+            Ok(line) => r.panel.message(line),
+            Err(e) => r.panel.error = Some(format!("screenshot: {e:#}")),
+        },
+        KeyCode::KeyR => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
+            Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
+            None => r.panel.error = Some("no shader folder is watched (--shaders DIR)".into()),
+        },
+        _ => {}
+    }
+    false
+}
+
+impl ApplicationHandler for Viewer {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.running.is_some() {
+            return;
+        }
+        match self.start(event_loop) {
+            Ok(r) => {
+                r.window.request_redraw();
+                self.running = Some(r);
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(r) = self.running.as_mut() else {
+            return;
+        };
+        let used_by_panel = match r.gui.as_mut() {
+            Some(gui) if r.panel.visible => gui.on_event(&r.window, &event),
+            _ => false,
+        };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                r.config.width = size.width;
+                r.config.height = size.height;
+                if size.width > 0 && size.height > 0 {
+                    let gpu = r.app.world().resource::<Gpu>().clone();
+                    r.surface.configure(&gpu.device, &r.config);
+                }
+            }
+            WindowEvent::DroppedFile(path) => match open_file(&mut r.app, &path) {
+                Ok(line) => {
+                    r.panel.message(line);
+                    match find_camera(&mut r.app) {
+                        Ok((camera, controls)) => (r.camera, r.controls) = (camera, controls),
+                        Err(e) => r.panel.error = Some(format!("{e:#}")),
+                    }
+                }
+                Err(e) => r.panel.error = Some(format!("{e:#}")),
+            },
+            WindowEvent::KeyboardInput { event, .. } if !used_by_panel => {
+                if let PhysicalKey::Code(code) = event.physical_key
+                    && key(r, code, event.state == ElementState::Pressed)
+                {
+                    event_loop.exit();
+                }
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => r.dragging = state == ElementState::Pressed && !used_by_panel,
+            WindowEvent::CursorMoved { position, .. } => {
+                if let (true, Some((x, y))) = (r.dragging, r.cursor) {
+                    r.controls
+                        .drag((position.x - x) as f32, (position.y - y) as f32);
+                }
+                r.cursor = Some((position.x, position.y));
+            }
+            WindowEvent::MouseWheel { delta, .. } if !used_by_panel => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                r.controls.scroll(steps);
+            }
+            WindowEvent::RedrawRequested => {
+                let start = Instant::now();
+                match redraw(r) {
+                    Err(e) => {
+                        self.fail(event_loop, e);
+                        return;
+                    }
+                    Ok(Some((report, update_ms))) => {
+                        if let Some(m) = self.measure.as_mut()
+                            && m.frame(start, report, update_ms)
+                        {
+                            event_loop.exit();
+                        }
+                    }
+                    Ok(None) => {}
+                }
+                if self.options.frames.is_some_and(|n| r.frames >= n) {
+                    event_loop.exit();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(r) = &self.running {
+            r.window.request_redraw();
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        if self.error.is_none()
+            && let Some(path) = self.options.screenshot.clone()
+            && let Some(r) = self.running.as_mut()
+        {
+            match screenshot(r, Some(&path)) {
+                Ok(line) => eprintln!("{line}"),
+                Err(e) => self.error = Some(e),
+            }
+        }
+    }
+}
