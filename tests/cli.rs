@@ -1,5 +1,8 @@
 //! The `lumen` command end to end: every command on a tiny size, and bad input.
 
+mod common;
+
+use common::Xvfb;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -246,53 +249,36 @@ fn gl_backend_renders() {
     assert_eq!(report["backend"], "gl");
 }
 
-/// An Xvfb server on a free display, stopped when dropped.
-struct Xvfb {
-    child: std::process::Child,
-    display: String,
+/// Runs `lumen view ARGS` in `dir` on the Xvfb display with `backend`, failing after
+/// 120 s; returns its exit status and stderr.
+fn run_view(x: &Xvfb, dir: &Path, backend: &str, args: &[&str]) -> (bool, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .arg("view")
+        .args(args)
+        .current_dir(dir)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("WGPU_BACKEND", backend)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("lumen view runs");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
+    while child.try_wait().ok().flatten().is_none() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    if child.try_wait().ok().flatten().is_none() {
+        let _ = child.kill();
+        panic!("{backend}: lumen view {args:?} did not finish in 120 s");
+    }
+    let out = child.wait_with_output().expect("output");
+    (out.status.success(), text(&out.stderr))
 }
 
-impl Xvfb {
-    fn start() -> Xvfb {
-        let n = (60..120)
-            .find(|n| {
-                !Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-                    && !Path::new(&format!("/tmp/.X{n}-lock")).exists()
-            })
-            .expect("a free X display number");
-        let child = Command::new("Xvfb")
-            .args([
-                format!(":{n}").as_str(),
-                "-screen",
-                "0",
-                "640x480x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("Xvfb (apt-get install xvfb) for the window test");
-        let socket = format!("/tmp/.X11-unix/X{n}");
-        for _ in 0..100 {
-            if Path::new(&socket).exists() {
-                break;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        }
-        assert!(Path::new(&socket).exists(), "Xvfb did not start on :{n}");
-        Xvfb {
-            child,
-            display: format!(":{n}"),
-        }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+fn lit_pixels(path: &Path, size: (u32, u32)) -> usize {
+    let img = image::open(path).expect("screenshot").to_rgba8();
+    assert_eq!((img.width(), img.height()), size);
+    img.pixels().filter(|p| p.0[0] > 20).count()
 }
 
 #[test]
@@ -301,52 +287,77 @@ fn view_presents_frames_in_a_window() {
     let dir = tmp();
     for backend in ["vulkan", "gl"] {
         let shot = format!("shot-{backend}.png");
-        // `--frames 3` exits only after three frames were presented to the window.
-        let mut child = Command::new(env!("CARGO_BIN_EXE_lumen"))
-            .args([
-                "view",
-                "--scene",
-                "spheres",
-                "--size",
-                "96x64",
-                "--frames",
-                "3",
-                "--screenshot",
-                &shot,
-            ])
-            .current_dir(dir.path())
-            .env("DISPLAY", &x.display)
-            .env_remove("WAYLAND_DISPLAY")
-            .env("WGPU_BACKEND", backend)
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("lumen view runs");
-        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
-        while child.try_wait().ok().flatten().is_none() && std::time::Instant::now() < deadline {
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        }
-        if child.try_wait().ok().flatten().is_none() {
-            let _ = child.kill();
-            panic!("{backend}: lumen view did not finish 3 frames in 120 s");
-        }
-        let out = child.wait_with_output().expect("output");
-        let err = text(&out.stderr);
-        assert!(out.status.success(), "{backend}: {err}");
+        // `--frames 3` exits only after three frames were presented to the window (with
+        // the panel drawn over them).
+        let args = [
+            "--scene",
+            "spheres",
+            "--size",
+            "96x64",
+            "--frames",
+            "3",
+            "--screenshot",
+            &shot,
+        ];
+        let (ok, err) = run_view(&x, dir.path(), backend, &args);
+        assert!(ok, "{backend}: {err}");
         assert!(
             err.contains(&format!("({backend}, ")),
             "{backend}: adapter line missing: {err}"
         );
-        let img = image::open(dir.path().join(&shot))
-            .expect("screenshot")
-            .to_rgba8();
-        assert_eq!((img.width(), img.height()), (96, 64));
-        let lit = img.pixels().filter(|p| p.0[0] > 20).count();
+        let lit = lit_pixels(&dir.path().join(&shot), (96, 64));
         assert!(
             lit > 96 * 64 / 10,
             "{backend}: screenshot nearly black ({lit} lit pixels)"
         );
     }
+}
+
+#[test]
+fn view_shows_a_broken_shader_and_keeps_running_on_the_previous_one() {
+    let x = Xvfb::start();
+    let dir = tmp();
+    let shaders = dir.path().join("shaders");
+    std::fs::create_dir(&shaders).expect("mkdir");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders");
+    for entry in std::fs::read_dir(&source).expect("shaders/") {
+        let path = entry.expect("entry").path();
+        std::fs::copy(&path, shaders.join(path.file_name().expect("name"))).expect("copy");
+    }
+    let tonemap = shaders.join("tonemap.wgsl");
+    let text_before = std::fs::read_to_string(&tonemap).expect("read");
+    std::fs::write(
+        &tonemap,
+        text_before.replacen("fn fs_main(", "fn fs_main(((", 1),
+    )
+    .expect("write");
+    let args = [
+        "--scene",
+        "spheres",
+        "--size",
+        "96x64",
+        "--frames",
+        "4",
+        "--shaders",
+        "shaders",
+        "--screenshot",
+        "shot.png",
+    ];
+    let (ok, err) = run_view(&x, dir.path(), "vulkan", &args);
+    assert!(ok, "the viewer goes on: {err}");
+    assert!(err.contains("tonemap"), "the error names the shader: {err}");
+    assert!(err.contains("previous ones are back"), "{err}");
+    let lit = lit_pixels(&dir.path().join("shot.png"), (96, 64));
+    assert!(
+        lit > 96 * 64 / 10,
+        "the previous shaders render ({lit} lit pixels)"
+    );
+    // A missing shader folder is a one-line error before any window opens.
+    let (ok, err) = run_view(&x, dir.path(), "vulkan", &["--shaders", "nowhere"]);
+    assert!(
+        !ok && err.contains("shader folder nowhere does not exist"),
+        "{err}"
+    );
 }
 
 #[test]

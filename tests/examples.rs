@@ -1,6 +1,8 @@
 //! The examples in `game/examples/` (built by `cargo test`) run at a tiny size and
 //! produce the images they claim.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -76,4 +78,33 @@ fn frame_timing_reports_the_passes() {
         "{stdout}"
     );
     assert!(stdout.contains("lighting"), "{stdout}");
+}
+
+#[test]
+fn an_example_runs_in_a_window_with_its_systems() {
+    let x = common::Xvfb::start();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = Command::new(example("animated_lights"))
+        .args(["96x64", "--window", "--frames", "3"])
+        .current_dir(dir.path())
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("animated_lights runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("lumen view: "),
+        "the window's adapter line: {err}"
+    );
+    assert!(
+        !dir.path().join("out/examples/animated_lights.png").exists(),
+        "a window, not an image"
+    );
+    let bad = Command::new(example("sphere_grid"))
+        .arg("--frames")
+        .output()
+        .expect("sphere_grid runs");
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--frames needs a number"));
 }

@@ -2,6 +2,7 @@
 //! the encoding `lumen::render::debug_view` documents, for a scene whose every value is
 //! known. Tolerance: 1.5 of 255 per channel (8-bit rounding of the display image).
 
+use lumen::FrameTarget;
 use lumen::assets::procedural::plane;
 use lumen::color::srgb_encode;
 use lumen::prelude::*;
@@ -9,7 +10,6 @@ use lumen::render::debug_view::depth_grey;
 use lumen::render::extract::ExtractedFrame;
 use lumen::render::plan::PassId;
 use lumen::scene::camera::circle_of_confusion;
-use lumen::FrameTarget;
 use lumen::scene::{DepthOfField, Lens};
 
 const SIZE: (u32, u32) = (64, 48);
@@ -96,11 +96,27 @@ fn each_gbuffer_view_shows_its_channel() {
     let up = bytes(Vec3::new(0.5, 1.0, 0.5));
     let occlusion_near = (0.5f32 * 127.0).round() / 127.0;
     let cases = [
-        (DebugView::Albedo, bytes(encode(NEAR_COLOR)), bytes(encode(FAR_COLOR))),
+        (
+            DebugView::Albedo,
+            bytes(encode(NEAR_COLOR)),
+            bytes(encode(FAR_COLOR)),
+        ),
         (DebugView::Normal, up, up),
-        (DebugView::Metallic, bytes(Vec3::splat(0.25)), bytes(Vec3::ONE)),
-        (DebugView::Roughness, bytes(Vec3::splat(0.75)), bytes(Vec3::splat(0.25))),
-        (DebugView::Occlusion, bytes(Vec3::splat(occlusion_near)), bytes(Vec3::ONE)),
+        (
+            DebugView::Metallic,
+            bytes(Vec3::splat(0.25)),
+            bytes(Vec3::ONE),
+        ),
+        (
+            DebugView::Roughness,
+            bytes(Vec3::splat(0.75)),
+            bytes(Vec3::splat(0.25)),
+        ),
+        (
+            DebugView::Occlusion,
+            bytes(Vec3::splat(occlusion_near)),
+            bytes(Vec3::ONE),
+        ),
         (
             DebugView::Depth,
             bytes(Vec3::splat(depth_grey(1.0))),
@@ -156,7 +172,12 @@ fn the_coc_view_matches_the_thin_lens() {
     let (got_near, got_far) = near_far(&image);
     let grey = (near.abs() / max_radius).min(1.0) * 255.0;
     assert!(grey > 20.0, "a visible CoC: {grey}");
-    assert_close(DebugView::CircleOfConfusion, "near", got_near, [grey, 0.0, 0.0]);
+    assert_close(
+        DebugView::CircleOfConfusion,
+        "near",
+        got_near,
+        [grey, 0.0, 0.0],
+    );
     // The floor is in focus.
     assert_close(DebugView::CircleOfConfusion, "far", got_far, [0.0; 3]);
 }
@@ -199,5 +220,60 @@ fn the_shadow_view_shows_the_atlas() {
         covered += usize::from(depth > 0.0);
     }
     assert!(compared == (SIZE.1 * SIZE.1) as usize, "{compared} pixels");
-    assert!(covered > compared / 10, "casters drawn: {covered} of {compared}");
+    assert!(
+        covered > compared / 10,
+        "casters drawn: {covered} of {compared}"
+    );
+}
+
+/// What the scene holds: meshes, active cameras, directional lights, environments.
+fn census(app: &mut App) -> (usize, usize, usize, usize) {
+    let world = app.world_mut();
+    (
+        world.query::<&Mesh3d>().iter(world).count(),
+        world
+            .query::<&Camera>()
+            .iter(world)
+            .filter(|c| c.active)
+            .count(),
+        world.query::<&DirectionalLight>().iter(world).count(),
+        world.query::<&Environment>().iter(world).count(),
+    )
+}
+
+#[test]
+fn opening_files_replaces_the_model_keeps_the_environment_and_survives_bad_files() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut app = scene();
+    let open = lumen_game::view::open_file;
+    let hdr = root.join("assets/hdri/sunset.exr");
+    let line = open(&mut app, &hdr).expect("an EXR environment");
+    assert!(line.contains("sunset.exr"), "{line}");
+    assert_eq!(census(&mut app), (2, 1, 1, 1));
+
+    // A broken model, an unknown type and a missing file leave the scene as it was.
+    for bad in [
+        root.join("tests/data/gltf/nan_position.gltf"),
+        root.join("tests/data/gltf/missing_bin.gltf"),
+        root.join("README.md"),
+        root.join("no-such-model.glb"),
+    ] {
+        let err = open(&mut app, &bad).expect_err("a bad file");
+        let name = bad.file_name().and_then(|n| n.to_str()).expect("name");
+        assert!(format!("{err:#}").contains(name), "{err:#}");
+        assert_eq!(census(&mut app), (2, 1, 1, 1), "after {name}");
+    }
+
+    // The bunny replaces the plates, its default camera and sun replace the scene's,
+    // and the environment stays (the loader adds no sky).
+    let line = open(&mut app, &root.join("assets/models/bunny.glb")).expect("bunny");
+    assert!(line.contains("5648 triangles"), "{line}");
+    assert_eq!(census(&mut app), (1, 1, 1, 1));
+    // The new camera frames the bunny: it covers a good part of the frame.
+    app.world_mut().insert_resource(DebugView::Depth);
+    app.render_headless(SIZE).expect("frame");
+    let image = app.read_display_image().expect("image");
+    let covered = image.pixels().filter(|p| p.0[0] > 0).count();
+    let share = covered as f32 / (SIZE.0 * SIZE.1) as f32;
+    assert!((0.05..0.9).contains(&share), "bunny covers {share}");
 }

@@ -1,7 +1,8 @@
 //! Coloured point lights (colour temperatures from 2000 K to 9000 K) circling over a
 //! ground plane, moved by an ordinary `bevy_ecs` system. Renders a few frames headless
-//! and writes the last to `out/examples/animated_lights.png`.
-//! `cargo run --release --example animated_lights [WxH]`.
+//! and writes the last to `out/examples/animated_lights.png`, or, with `-- --window`,
+//! keeps them circling in the viewer.
+//! `cargo run --release --example animated_lights [WxH] [--window]`.
 
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
@@ -25,9 +26,9 @@ fn orbit(mut lights: Query<(&mut Orbit, &mut Transform)>) {
     }
 }
 
-fn main() -> lumen::Result<()> {
-    let size = lumen_game::examples::start((640, 360));
-    let mut app = App::headless()?;
+fn main() -> anyhow::Result<()> {
+    let args = lumen_game::examples::start((640, 360));
+    let mut app = args.app()?;
     let ground = app.add_mesh(plane(12.0, 12.0))?;
     let ball = app.add_mesh(uv_sphere(0.6, 48, 24))?;
     let world = app.world_mut();
@@ -66,9 +67,5 @@ fn main() -> lumen::Result<()> {
         eye,
     ));
     app.add_systems(orbit);
-    for _ in 0..5 {
-        app.update();
-        app.render_headless(size)?;
-    }
-    lumen_game::examples::save(&app.read_display_image()?, "animated_lights.png")
+    args.finish(app, "animated_lights.png", 5)
 }

@@ -6,7 +6,7 @@ use lumen::prelude::*;
 use lumen_game::bench::{measure, stats::Summary};
 
 fn main() -> anyhow::Result<()> {
-    let size = lumen_game::examples::start((1280, 720));
+    let size = lumen_game::examples::start((1280, 720)).size;
     let mut app = App::headless()?;
     let scene = lumen_game::scenes::find("spheres").map_err(anyhow::Error::msg)?;
     (scene.build)(&mut app)?;

@@ -1,15 +1,15 @@
 //! A glTF model under an HDR environment, seen through a physical camera (f/4, 1/250 s,
 //! ISO 100: EV100 12, with depth of field focused on the model). Writes `out/examples/gltf_model.png`.
-//! `cargo run --release --example gltf_model [WxH]`.
+//! `cargo run --release --example gltf_model [WxH]`; `-- --window` shows it in the viewer.
 
 use lumen::prelude::*;
 use lumen::scene::{DepthOfField, Lens};
 use std::sync::Arc;
 
-fn main() -> lumen::Result<()> {
-    let size = lumen_game::examples::start((640, 360));
+fn main() -> anyhow::Result<()> {
+    let args = lumen_game::examples::start((640, 360));
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut app = App::headless()?;
+    let mut app = args.app()?;
     let summary = lumen::assets::gltf::load_gltf(&mut app, &root.join("assets/models/suzi.glb"))?;
     let sky = EquirectImage::load(&root.join("assets/hdri/studio.exr"))?;
     let world = app.world_mut();
@@ -28,6 +28,5 @@ fn main() -> lumen::Result<()> {
         camera.exposure = Exposure::Physical;
         camera.depth_of_field = Some(DepthOfField::default());
     }
-    app.render_headless(size)?;
-    lumen_game::examples::save(&app.read_display_image()?, "gltf_model.png")
+    args.finish(app, "gltf_model.png", 1)
 }

@@ -15,7 +15,7 @@ fn orbit_camera(mut frame: Local<u32>, mut cameras: Query<&mut Transform, With<C
 }
 
 fn main() -> lumen::Result<()> {
-    let size = lumen_game::examples::start((320, 180));
+    let size = lumen_game::examples::start((320, 180)).size;
     let mut app = App::headless()?;
     let scene = lumen_game::scenes::find("spheres").map_err(lumen::Error::Scene)?;
     (scene.build)(&mut app)?;

@@ -1,13 +1,13 @@
 //! The seeds' sphere grid: metallic rising up the rows, roughness along the columns, under
 //! one sun. `cargo run --release --example sphere_grid [WxH]` writes
-//! `out/examples/sphere_grid.png`.
+//! `out/examples/sphere_grid.png`; `-- --window` shows it in the viewer instead.
 
 use lumen::assets::procedural::uv_sphere;
 use lumen::prelude::*;
 
-fn main() -> lumen::Result<()> {
-    let size = lumen_game::examples::start((640, 360));
-    let mut app = App::headless()?;
+fn main() -> anyhow::Result<()> {
+    let args = lumen_game::examples::start((640, 360));
+    let mut app = args.app()?;
     let sphere = app.add_mesh(uv_sphere(0.4, 48, 24))?;
     let world = app.world_mut();
     for (i, j) in (0..7).flat_map(|i| (0..5).map(move |j| (i, j))) {
@@ -25,6 +25,5 @@ fn main() -> lumen::Result<()> {
         },
         eye,
     ));
-    app.render_headless(size)?;
-    lumen_game::examples::save(&app.read_display_image()?, "sphere_grid.png")
+    args.finish(app, "sphere_grid.png", 1)
 }

@@ -58,3 +58,53 @@ pub fn run_compute(
 pub fn lum(p: &image::Rgba<f32>) -> f32 {
     0.2126 * p.0[0] + 0.7152 * p.0[1] + 0.0722 * p.0[2]
 }
+
+/// An Xvfb server on a free display, stopped when dropped.
+pub struct Xvfb {
+    child: std::process::Child,
+    /// `:N`, for `DISPLAY`.
+    pub display: String,
+}
+
+impl Xvfb {
+    /// Starts Xvfb (`apt-get install xvfb`) on a display it picks itself (`-displayfd`),
+    /// so that tests running at the same time never collide.
+    pub fn start() -> Xvfb {
+        use std::io::BufRead;
+        let mut child = std::process::Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("Xvfb (apt-get install xvfb) for the window tests");
+        let mut line = String::new();
+        if let Some(out) = child.stdout.take() {
+            std::io::BufReader::new(out)
+                .read_line(&mut line)
+                .expect("Xvfb prints its display number");
+        }
+        let n: u32 = line.trim().parse().unwrap_or_else(|_| {
+            let _ = child.kill();
+            panic!("Xvfb did not start (it printed {line:?})")
+        });
+        Xvfb {
+            child,
+            display: format!(":{n}"),
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}

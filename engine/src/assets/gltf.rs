@@ -151,6 +151,7 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         .ok_or_else(|| bad(path, "the file has no scene"))?;
     let world = app.world_mut();
     let root = world.spawn(Transform::IDENTITY).id();
+    let mut drawn = Vec::new();
     let mut stack: Vec<(gltf::Node, Entity, usize)> = scene.nodes().map(|n| (n, root, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
@@ -181,6 +182,7 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
                 if let Some(maps) = maps {
                     e.insert(maps.clone());
                 }
+                drawn.push(e.id());
             }
         }
         if let (Some(camera), false) = (node.camera(), summary.has_camera) {
@@ -208,13 +210,13 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
         stack.extend(node.children().map(|c| (c, entity, depth + 1)));
     }
 
-    // Bounds of the geometry in world space, for framing.
+    // Bounds of the file's geometry in world space, for framing.
     let mut schedule = Schedule::default();
     schedule.add_systems(crate::scene::propagate_transforms);
     schedule.run(world);
     let mut query = world.query::<(&Mesh3d, &GlobalTransform)>();
     let meshes_store = world.resource::<crate::scene::Meshes>();
-    for (mesh, global) in query.iter(world) {
+    for (mesh, global) in drawn.iter().filter_map(|e| query.get(world, *e).ok()) {
         if let Some(b) = meshes_store
             .get(mesh.0)
             .and_then(|m| m.bounds())

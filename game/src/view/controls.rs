@@ -74,7 +74,11 @@ impl CameraControls {
             distance_m,
             position: transform.translation,
             yaw: (-forward.x).atan2(-forward.z),
-            pitch: forward.y.clamp(-1.0, 1.0).asin().clamp(-MAX_PITCH, MAX_PITCH),
+            pitch: forward
+                .y
+                .clamp(-1.0, 1.0)
+                .asin()
+                .clamp(-MAX_PITCH, MAX_PITCH),
             speed_m_s: (distance_m * 0.5).clamp(0.1, 100.0),
             keys: FlyKeys::default(),
             dirty: false,
@@ -130,7 +134,9 @@ impl CameraControls {
                 self.place_orbit();
                 self.dirty = true;
             }
-            CameraMode::Fly => self.speed_m_s = (self.speed_m_s * 1.2f32.powf(steps)).clamp(0.01, 1e3),
+            CameraMode::Fly => {
+                self.speed_m_s = (self.speed_m_s * 1.2f32.powf(steps)).clamp(0.01, 1e3)
+            }
         }
     }
 
@@ -207,17 +213,32 @@ mod tests {
         c.speed_m_s = 2.0;
         c.keys.forward = true;
         c.advance(0.5);
-        assert!(close(c.position, Vec3::new(0.0, 1.0, 3.0)), "{}", c.position);
-        c.keys = FlyKeys { right: true, up: true, ..FlyKeys::default() };
+        assert!(
+            close(c.position, Vec3::new(0.0, 1.0, 3.0)),
+            "{}",
+            c.position
+        );
+        c.keys = FlyKeys {
+            right: true,
+            up: true,
+            ..FlyKeys::default()
+        };
         c.advance(0.5);
         let d = std::f32::consts::FRAC_1_SQRT_2;
-        assert!(close(c.position, Vec3::new(d, 1.0 + d, 3.0)), "{}", c.position);
+        assert!(
+            close(c.position, Vec3::new(d, 1.0 + d, 3.0)),
+            "{}",
+            c.position
+        );
         let before = c.transform();
         c.toggle_mode();
         assert_eq!(c.mode, CameraMode::Orbit);
         let after = c.transform();
         assert!(close(before.translation, after.translation));
-        assert!(close(before.rotation * Vec3::NEG_Z, after.rotation * Vec3::NEG_Z));
+        assert!(close(
+            before.rotation * Vec3::NEG_Z,
+            after.rotation * Vec3::NEG_Z
+        ));
     }
 
     #[test]

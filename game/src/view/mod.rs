@@ -201,8 +201,6 @@ struct Running {
     screenshots: u32,
     last_title: Instant,
     last_frame: Instant,
-    /// The last error printed without a panel (printed once, not every frame).
-    last_error: Option<String>,
 }
 
 /// A measured run in the window (`lumen bench --window`).
@@ -355,7 +353,6 @@ impl Viewer {
             screenshots: 0,
             last_title: Instant::now(),
             last_frame: Instant::now(),
-            last_error: None,
         })
     }
 
@@ -365,10 +362,18 @@ impl Viewer {
     }
 }
 
+/// The scene's root entities (transforms and environments without a parent).
+fn scene_roots(world: &mut World) -> std::collections::HashSet<Entity> {
+    world
+        .query_filtered::<Entity, (Or<(With<Transform>, With<Environment>)>, Without<ChildOf>)>()
+        .iter(world)
+        .collect()
+}
+
 /// Opens a dropped or `--open`ed file: a glTF model replaces the scene (lights and camera
 /// of the file, or the loader's defaults); an HDR or EXR image becomes the environment.
 /// Returns a line for the log.
-fn open_file(app: &mut App, path: &Path) -> Result<String> {
+pub fn open_file(app: &mut App, path: &Path) -> Result<String> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -376,17 +381,19 @@ fn open_file(app: &mut App, path: &Path) -> Result<String> {
         .unwrap_or_default();
     match ext.as_str() {
         "gltf" | "glb" => {
-            // A file that fails to load leaves the scene as it was.
-            let world = app.world_mut();
-            let before: std::collections::HashSet<Entity> =
-                world.query::<Entity>().iter(world).collect();
+            // The model replaces the scene but not its environment; a file that fails
+            // to load leaves the scene as it was. Scene roots only: despawning a root
+            // despawns its children, and resources are entities too.
+            let before = scene_roots(app.world_mut());
             let loaded = lumen::assets::gltf::load_gltf(app, path);
             let world = app.world_mut();
-            let remove: Vec<Entity> = world
-                .query::<Entity>()
-                .iter(world)
-                .filter(|e| before.contains(e) != loaded.is_ok())
-                .collect();
+            let remove: Vec<Entity> = match &loaded {
+                Ok(_) => before
+                    .into_iter()
+                    .filter(|e| world.get::<Environment>(*e).is_none())
+                    .collect(),
+                Err(_) => scene_roots(world).difference(&before).copied().collect(),
+            };
             for e in remove {
                 if let Ok(entity) = world.get_entity_mut(e) {
                     entity.despawn();
@@ -420,10 +427,10 @@ fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
     match app.reload_shaders(dir) {
         Ok(changed) if changed.is_empty() => {}
         Ok(changed) => {
-            panel.error = None;
+            panel.clear_error();
             panel.message(format!("reloaded {}", changed.join(", ")));
         }
-        Err(e) => panel.error = Some(format!("shader reload: {e}")),
+        Err(e) => panel.set_error(format!("shader reload: {e}")),
     }
 }
 
@@ -445,7 +452,9 @@ fn screenshot(r: &mut Running, path: Option<&Path>) -> Result<String> {
             std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         }
         match lumen::assets::image_io::OutputFormat::from_path(p)? {
-            lumen::assets::image_io::OutputFormat::Png => save_png(p, &r.app.read_display_image()?)?,
+            lumen::assets::image_io::OutputFormat::Png => {
+                save_png(p, &r.app.read_display_image()?)?
+            }
             lumen::assets::image_io::OutputFormat::Exr => save_exr(p, &r.app.read_hdr_image()?)?,
         }
     }
@@ -535,24 +544,18 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
         .create_view(&wgpu::TextureViewDescriptor::default());
     let size = (r.config.width, r.config.height);
     let gpu = r.app.world().resource::<Gpu>().clone();
-    let result = r.app.render_to_view(Some(view.clone()), r.config.format, size);
+    let result = r
+        .app
+        .render_to_view(Some(view.clone()), r.config.format, size);
     if let Some(reason) = gpu.lost() {
         return Err(anyhow!(
             "the GPU device was lost ({reason}); wgpu cannot restore it: restart the viewer"
         ));
     }
     let report = match result {
-        Ok(report) => {
-            r.last_error = None;
-            Some(report)
-        }
+        Ok(report) => Some(report),
         Err(e) => {
-            let message = format!("{e:#}");
-            if r.gui.is_none() && r.last_error.as_deref() != Some(message.as_str()) {
-                eprintln!("lumen view: {message}");
-            }
-            r.last_error = Some(message.clone());
-            r.panel.error = Some(message);
+            r.panel.set_error(format!("{e:#}"));
             clear(&gpu, &view);
             None
         }
@@ -568,11 +571,13 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
         match action {
             Action::Screenshot => match screenshot(r, None) {
                 Ok(line) => r.panel.message(line),
-                Err(e) => r.panel.error = Some(format!("screenshot: {e:#}")),
+                Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
             },
             Action::ReloadShaders => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
                 Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
-                None => r.panel.error = Some("no shader folder is watched (--shaders DIR)".into()),
+                None => r
+                    .panel
+                    .set_error("no shader folder is watched (--shaders DIR)".into()),
             },
         }
     }
@@ -630,11 +635,13 @@ fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
         KeyCode::Tab => r.panel.visible = !r.panel.visible,
         KeyCode::KeyP | KeyCode::F12 => match screenshot(r, None) {
             Ok(line) => r.panel.message(line),
-            Err(e) => r.panel.error = Some(format!("screenshot: {e:#}")),
+            Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
         },
         KeyCode::KeyR => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
             Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
-            None => r.panel.error = Some("no shader folder is watched (--shaders DIR)".into()),
+            None => r
+                .panel
+                .set_error("no shader folder is watched (--shaders DIR)".into()),
         },
         _ => {}
     }
@@ -678,10 +685,10 @@ impl ApplicationHandler for Viewer {
                     r.panel.message(line);
                     match find_camera(&mut r.app) {
                         Ok((camera, controls)) => (r.camera, r.controls) = (camera, controls),
-                        Err(e) => r.panel.error = Some(format!("{e:#}")),
+                        Err(e) => r.panel.set_error(format!("{e:#}")),
                     }
                 }
-                Err(e) => r.panel.error = Some(format!("{e:#}")),
+                Err(e) => r.panel.set_error(format!("{e:#}")),
             },
             WindowEvent::KeyboardInput { event, .. } if !used_by_panel => {
                 if let PhysicalKey::Code(code) = event.physical_key

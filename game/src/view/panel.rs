@@ -30,8 +30,8 @@ pub struct Panel {
     pub visible: bool,
     history: VecDeque<f32>,
     last: Option<FrameReport>,
-    /// The error to show (a failed frame, a shader that does not compile, a bad file).
-    pub error: Option<String>,
+    /// The error shown (a failed frame, a shader that does not compile, a bad file).
+    error: Option<String>,
     log: VecDeque<String>,
     adapter: String,
 }
@@ -56,6 +56,19 @@ impl Panel {
         }
         self.history.push_back(wall_ms as f32);
         self.last = Some(report);
+    }
+
+    /// Shows `message` as the current error; printed on stderr when it is new.
+    pub fn set_error(&mut self, message: String) {
+        if self.error.as_deref() != Some(message.as_str()) {
+            eprintln!("lumen view: {message}");
+        }
+        self.error = Some(message);
+    }
+
+    /// Clears the current error.
+    pub fn clear_error(&mut self) {
+        self.error = None;
     }
 
     /// Adds a line to the message log (also printed on stderr).
@@ -234,7 +247,7 @@ fn view_ui(
         }
     });
     ui.horizontal(|ui| {
-        if ui.button("screenshot (S)").clicked() {
+        if ui.button("screenshot (P)").clicked() {
             actions.push(Action::Screenshot);
         }
         if ui.button("reload shaders (R)").clicked() {
@@ -242,7 +255,7 @@ fn view_ui(
         }
     });
     ui.small(
-        "drag: orbit/look · scroll: zoom/speed · F: orbit↔fly · WASD QE Shift: fly · \
+        "drag: orbit/look · scroll: zoom/speed · F: orbit or fly · WASD QE Shift: fly · \
          Tab: panel · drop a .gltf/.glb/.hdr/.exr to open it",
     );
 }
@@ -274,9 +287,21 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
         }
     });
     let mut v = *q;
-    combo(ui, "visibility", &mut v.visibility, &VisibilityModel::ALL, |m| m.name());
+    combo(
+        ui,
+        "visibility",
+        &mut v.visibility,
+        &VisibilityModel::ALL,
+        |m| m.name(),
+    );
     ui.checkbox(&mut v.shadows, "shadows");
-    combo(ui, "shadow filter", &mut v.shadow_filter, &lumen::quality::ShadowFilter::ALL, |f| f.name());
+    combo(
+        ui,
+        "shadow filter",
+        &mut v.shadow_filter,
+        &lumen::quality::ShadowFilter::ALL,
+        |f| f.name(),
+    );
     ui.add(
         egui::Slider::new(&mut v.shadow_resolution_scale, 0.125..=4.0)
             .logarithmic(true)
@@ -328,7 +353,7 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
 
 /// Exposure, tone mapping, depth of field and vignetting of the camera.
 fn camera_ui(ui: &mut egui::Ui, camera: &mut Camera, metered_ev100: Option<f32>) {
-    let mut c = camera.clone();
+    let mut c = *camera;
     let modes = ["EV100", "physical", "auto", "linear"];
     let mut mode = match c.exposure {
         Exposure::Ev100(_) => 0,
@@ -386,8 +411,16 @@ fn camera_ui(ui: &mut egui::Ui, camera: &mut Camera, metered_ev100: Option<f32>)
             .logarithmic(true)
             .text("ISO"),
     );
-    ui.add(egui::Slider::new(&mut c.exposure_compensation, -5.0..=5.0).text("compensation (stops)"));
-    combo(ui, "tone mapper", &mut c.tonemapper, &Tonemapper::ALL, |t| t.name());
+    ui.add(
+        egui::Slider::new(&mut c.exposure_compensation, -5.0..=5.0).text("compensation (stops)"),
+    );
+    combo(
+        ui,
+        "tone mapper",
+        &mut c.tonemapper,
+        &Tonemapper::ALL,
+        |t| t.name(),
+    );
     let mut dof = c.depth_of_field.is_some();
     ui.checkbox(&mut dof, "depth of field");
     let mut d = c.depth_of_field.unwrap_or_default();
@@ -447,8 +480,10 @@ fn lights_ui(ui: &mut egui::Ui, world: &mut World) {
             if (elevation, azimuth) != e0 {
                 let (el, az) = (elevation.to_radians(), azimuth.to_radians());
                 let dir = Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
-                *t = Transform::from_translation(t.translation)
-                    .looking_at(t.translation - dir, if el.cos() < 1e-3 { Vec3::Z } else { Vec3::Y });
+                *t = Transform::from_translation(t.translation).looking_at(
+                    t.translation - dir,
+                    if el.cos() < 1e-3 { Vec3::Z } else { Vec3::Y },
+                );
             }
         });
     }
