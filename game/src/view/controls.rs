@@ -210,9 +210,9 @@ mod tests {
         let mut c = CameraControls::new(&t, 4.0);
         c.toggle_mode();
         assert_eq!(c.mode, CameraMode::Fly);
-        c.speed_m_s = 2.0;
+        c.speed_m_s = 4.0;
         c.keys.forward = true;
-        c.advance(0.5);
+        c.advance(0.25);
         assert!(
             close(c.position, Vec3::new(0.0, 1.0, 3.0)),
             "{}",
@@ -223,7 +223,7 @@ mod tests {
             up: true,
             ..FlyKeys::default()
         };
-        c.advance(0.5);
+        c.advance(0.25);
         let d = std::f32::consts::FRAC_1_SQRT_2;
         assert!(
             close(c.position, Vec3::new(d, 1.0 + d, 3.0)),
