@@ -166,3 +166,30 @@ fn a_syntax_error_in_a_precompiled_shader_fails_the_reload() {
         "a missing folder is an error"
     );
 }
+
+/// Spawns one more sphere per update, to the right of the last.
+fn spawn_sphere(mut commands: Commands, spheres: Query<&Mesh3d>, mut n: Local<u32>) {
+    let Some(mesh) = spheres.iter().next().copied() else {
+        return;
+    };
+    *n += 1;
+    commands.spawn((
+        mesh,
+        Material::new(Vec3::splat(0.5), 0.0, 0.5),
+        Transform::from_xyz(*n as f32 * 0.7, 0.0, -1.0).with_scale(Vec3::splat(0.3)),
+    ));
+}
+
+#[test]
+fn a_system_that_spawns_objects_adds_them_to_the_next_frames() {
+    let mut app = lit_sphere();
+    app.add_systems(spawn_sphere);
+    let mut seen = Vec::new();
+    for _ in 0..3 {
+        app.update();
+        let report = app.render_headless(SIZE).expect("frame");
+        seen.push((report.stats.instances, report.stats.draws));
+    }
+    // One more instance per frame, all in one instanced draw (the same mesh).
+    assert_eq!(seen, vec![(2, 1), (3, 1), (4, 1)]);
+}

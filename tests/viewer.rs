@@ -277,3 +277,66 @@ fn opening_files_replaces_the_model_keeps_the_environment_and_survives_bad_files
     let share = covered as f32 / (SIZE.0 * SIZE.1) as f32;
     assert!((0.05..0.9).contains(&share), "bunny covers {share}");
 }
+
+#[test]
+fn a_screenshot_is_the_display_image_and_the_linear_hdr() {
+    let mut app = scene();
+    let dir = tempfile::tempdir().expect("temp dir");
+    let base = dir.path().join("shots/screenshot-1");
+    let [png, exr] = lumen_game::view::save_screenshot(&mut app, SIZE, &base).expect("saved");
+    assert_eq!(png, dir.path().join("shots/screenshot-1.png"));
+    let display = image::open(&png).expect("PNG").to_rgba8();
+    assert_eq!(display, app.read_display_image().expect("display image"));
+    let hdr = image::open(&exr).expect("EXR").to_rgba32f();
+    let live = app.read_hdr_image().expect("HDR");
+    assert_eq!(hdr.dimensions(), live.dimensions());
+    let (a, b) = (hdr.get_pixel(16, 24).0, live.get_pixel(16, 24).0);
+    assert!(a[0] > 0.0, "lit: {a:?}");
+    for c in 0..3 {
+        assert!((a[c] - b[c]).abs() <= 1e-3 * b[c].abs(), "{a:?} vs {b:?}");
+    }
+}
+
+#[test]
+fn render_takes_a_debug_view_on_the_command_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |view: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args([
+                "render",
+                "--scene",
+                "plane",
+                "--size",
+                "32x24",
+                "--debug-view",
+                view,
+            ])
+            .args(["--out", "n.png"])
+            .current_dir(dir.path())
+            .env_remove("DISPLAY")
+            .output()
+            .expect("lumen runs")
+    };
+    let out = run("normal");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let image = image::open(dir.path().join("n.png"))
+        .expect("PNG")
+        .to_rgba8();
+    // `plane` faces +Y: (0.5, 1, 0.5) in the middle of the frame.
+    let p = image.get_pixel(16, 12).0;
+    assert!(
+        p[0].abs_diff(128) <= 1 && p[1] >= 254 && p[2].abs_diff(128) <= 1,
+        "{p:?}"
+    );
+    let out = run("albedoo");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("unknown debug view 'albedoo'") && err.contains("shadow-atlas"),
+        "{err}"
+    );
+}

@@ -434,31 +434,48 @@ fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
     }
 }
 
-/// Saves the current view as `out/screenshot-N.png` and `.exr`, rendered at the
-/// window's size. Returns the log line.
+/// Renders `app` headless at `size` and saves `<base>.png` (the display image) and
+/// `<base>.exr` (exposed linear HDR, before tone mapping), creating folders; returns the
+/// two paths. What the `P` key does.
+pub fn save_screenshot(app: &mut App, size: (u32, u32), base: &Path) -> Result<[PathBuf; 2]> {
+    app.render_headless(size)?;
+    let paths = [base.with_extension("png"), base.with_extension("exr")];
+    if let Some(dir) = base.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    save_png(&paths[0], &app.read_display_image()?)?;
+    save_exr(&paths[1], &app.read_hdr_image()?)?;
+    Ok(paths)
+}
+
+/// Saves the current view at the window's size: as `path` (PNG or EXR by extension), or
+/// as the next `out/screenshot-N.png` and `.exr`. Returns the log line.
 fn screenshot(r: &mut Running, path: Option<&Path>) -> Result<String> {
     let size = (r.config.width.max(1), r.config.height.max(1));
-    r.app.render_headless(size)?;
-    let paths: Vec<PathBuf> = match path {
-        Some(p) => vec![p.to_path_buf()],
+    let written: Vec<PathBuf> = match path {
+        Some(p) => {
+            r.app.render_headless(size)?;
+            if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("creating {}", dir.display()))?;
+            }
+            match lumen::assets::image_io::OutputFormat::from_path(p)? {
+                lumen::assets::image_io::OutputFormat::Png => {
+                    save_png(p, &r.app.read_display_image()?)?
+                }
+                lumen::assets::image_io::OutputFormat::Exr => {
+                    save_exr(p, &r.app.read_hdr_image()?)?
+                }
+            }
+            vec![p.to_path_buf()]
+        }
         None => {
             r.screenshots += 1;
             let base = PathBuf::from(format!("out/screenshot-{}", r.screenshots));
-            vec![base.with_extension("png"), base.with_extension("exr")]
+            save_screenshot(&mut r.app, size, &base)?.to_vec()
         }
     };
-    for p in &paths {
-        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        }
-        match lumen::assets::image_io::OutputFormat::from_path(p)? {
-            lumen::assets::image_io::OutputFormat::Png => {
-                save_png(p, &r.app.read_display_image()?)?
-            }
-            lumen::assets::image_io::OutputFormat::Exr => save_exr(p, &r.app.read_hdr_image()?)?,
-        }
-    }
-    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     Ok(format!("saved {}", names.join(" and ")))
 }
 
