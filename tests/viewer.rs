@@ -326,10 +326,10 @@ fn render_takes_a_debug_view_on_the_command_line() {
     let image = image::open(dir.path().join("n.png"))
         .expect("PNG")
         .to_rgba8();
-    // `plane` faces +Y: (0.5, 1, 0.5) in the middle of the frame.
+    // `plane`'s quad faces the camera along +Z: (0.5, 0.5, 1) in the middle of the frame.
     let p = image.get_pixel(16, 12).0;
     assert!(
-        p[0].abs_diff(128) <= 1 && p[1] >= 254 && p[2].abs_diff(128) <= 1,
+        p[0].abs_diff(128) <= 1 && p[1].abs_diff(128) <= 1 && p[2] >= 254,
         "{p:?}"
     );
     let out = run("albedoo");
