@@ -649,7 +649,6 @@ fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
         _ if !pressed => {}
         KeyCode::Escape => return true,
         KeyCode::KeyF => r.controls.toggle_mode(),
-        KeyCode::Tab => r.panel.visible = !r.panel.visible,
         KeyCode::KeyP | KeyCode::F12 => match screenshot(r, None) {
             Ok(line) => r.panel.message(line),
             Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
@@ -683,6 +682,16 @@ impl ApplicationHandler for Viewer {
         let Some(r) = self.running.as_mut() else {
             return;
         };
+        // Tab shows and hides the panel whatever has the keyboard (egui would take it
+        // for focus navigation).
+        if let WindowEvent::KeyboardInput { event: k, .. } = &event
+            && k.physical_key == PhysicalKey::Code(KeyCode::Tab)
+        {
+            if k.state == ElementState::Pressed && !k.repeat {
+                r.panel.visible = !r.panel.visible;
+            }
+            return;
+        }
         let used_by_panel = match r.gui.as_mut() {
             Some(gui) if r.panel.visible => gui.on_event(&r.window, &event),
             _ => false,
