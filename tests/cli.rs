@@ -314,6 +314,37 @@ fn view_presents_frames_in_a_window() {
 }
 
 #[test]
+fn view_recovers_from_a_lost_device() {
+    let x = Xvfb::start();
+    let dir = tmp();
+    for backend in ["vulkan", "gl"] {
+        let shot = format!("lost-{backend}.png");
+        // The hidden test hook destroys the device after two frames.
+        let args = [
+            "--scene",
+            "spheres",
+            "--size",
+            "96x64",
+            "--frames",
+            "5",
+            "--lose-device-after",
+            "2",
+            "--screenshot",
+            &shot,
+        ];
+        let (ok, err) = run_view(&x, dir.path(), backend, &args);
+        assert!(ok, "{backend}: {err}");
+        assert!(err.contains("the GPU device was lost"), "{backend}: {err}");
+        assert!(err.contains("recreated it on"), "{backend}: {err}");
+        let lit = lit_pixels(&dir.path().join(&shot), (96, 64));
+        assert!(
+            lit > 96 * 64 / 10,
+            "{backend}: the new device renders ({lit} lit)"
+        );
+    }
+}
+
+#[test]
 fn view_shows_a_broken_shader_and_keeps_running_on_the_previous_one() {
     let x = Xvfb::start();
     let dir = tmp();

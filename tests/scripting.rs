@@ -1,5 +1,6 @@
 //! The scripting API: a user system changes the picture between frames, and WGSL reloaded
-//! from disk takes effect, while a broken shader is an error and never fatal.
+//! from disk takes effect, while a broken shader is an error and never fatal; a lost
+//! device is an error, and a new one renders the same scene.
 
 mod common;
 
@@ -192,4 +193,22 @@ fn a_system_that_spawns_objects_adds_them_to_the_next_frames() {
     }
     // One more instance per frame, all in one instanced draw (the same mesh).
     assert_eq!(seen, vec![(2, 1), (3, 1), (4, 1)]);
+}
+
+#[test]
+fn a_lost_device_is_an_error_and_a_new_gpu_renders_the_same_scene() {
+    let mut app = lit_sphere();
+    app.render_headless(SIZE).expect("frame");
+    let before = app.read_display_image().expect("image");
+    let gpu = app.world().resource::<lumen::render::device::Gpu>().clone();
+    gpu.device.destroy();
+    let err = app
+        .render_headless(SIZE)
+        .expect_err("no frame on a lost device");
+    assert!(format!("{err}").contains("device was lost"), "{err}");
+    assert!(app.gpu_lost().is_some());
+    app.attach_gpu(common::gpu()).expect("a new device");
+    assert_eq!(app.gpu_lost(), None);
+    app.render_headless(SIZE).expect("frame on the new device");
+    assert_eq!(app.read_display_image().expect("image"), before);
 }

@@ -140,9 +140,21 @@ impl App {
         Ok(app)
     }
 
-    /// Attaches a GPU and installs the renderer.
+    /// Attaches a GPU and installs the renderer. On an app that has one already (say,
+    /// a lost device: [`App::gpu_lost`]), it replaces it: every GPU resource is created
+    /// again on the new device, and reloaded shaders carry over.
     pub fn attach_gpu(&mut self, gpu: Gpu) -> Result<()> {
+        if let Some(old) = self.world.get_resource::<Gpu>() {
+            gpu.shaders.set_overrides(old.shaders.overrides());
+        }
+        self.offscreen = None;
+        self.shader_fallback = None;
         render::install(&mut self.world, gpu)
+    }
+
+    /// Why the GPU device was lost, if it was; attach a new GPU to go on.
+    pub fn gpu_lost(&self) -> Option<String> {
+        self.world.get_resource::<Gpu>().and_then(Gpu::lost)
     }
 
     /// The adapter in use, if a GPU is attached.
@@ -228,7 +240,19 @@ impl App {
         format: wgpu::TextureFormat,
         size: (u32, u32),
     ) -> Result<FrameReport> {
+        if let Some(reason) = self.gpu_lost() {
+            return Err(Error::Gpu(format!(
+                "the GPU device was lost ({reason}): attach a new GPU (App::attach_gpu)"
+            )));
+        }
         let result = self.render_frame(view, format, size);
+        if let Err(e) = &result
+            && let Some(reason) = self.world.get_resource::<Gpu>().and_then(Gpu::poll_lost)
+        {
+            return Err(Error::Gpu(format!(
+                "{e}; the GPU device was lost ({reason})"
+            )));
+        }
         match (result, self.shader_fallback.take()) {
             (Err(e), Some(previous)) => {
                 let gpu = self.gpu()?.clone();

@@ -278,6 +278,10 @@ pub struct ViewArgs {
     /// of the working directory, else of the source tree the binary was built from).
     #[arg(long, value_name = "DIR")]
     pub shaders: Option<PathBuf>,
+    /// Test hook: destroy the GPU device after this many frames, to exercise the
+    /// recovery from a lost device.
+    #[arg(long, value_name = "N", hide = true)]
+    pub lose_device_after: Option<u64>,
 }
 
 impl ViewArgs {
@@ -291,6 +295,7 @@ impl ViewArgs {
             open: Vec::new(),
             no_panel: false,
             shaders: None,
+            lose_device_after: None,
         }
     }
 }

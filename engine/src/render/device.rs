@@ -355,9 +355,19 @@ impl Gpu {
         self.device.limits().max_texture_dimension_2d
     }
 
-    /// Why the device was lost, if it was: nothing more can be rendered on it.
+    /// Why the device was lost, if it was: nothing more can be rendered on it. wgpu
+    /// reports a loss while it maintains the device, so after a failure call
+    /// [`Gpu::poll_lost`].
     pub fn lost(&self) -> Option<String> {
         self.lost.lock().ok().and_then(|l| l.clone())
+    }
+
+    /// Lets wgpu maintain the device (a non-blocking poll, which reports a loss), then
+    /// [`Gpu::lost`].
+    pub fn poll_lost(&self) -> Option<String> {
+        // A poll of a lost device fails; the loss itself is what this asks about.
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        self.lost()
     }
 
     /// Runs `f` inside error scopes for every kind of GPU error (validation, internal —

@@ -67,7 +67,9 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 }
 
 /// Inserts the renderer's resources into `world` and adds the extract and render
-/// schedules. Compiles the passes that do not depend on the scene.
+/// schedules. Compiles the passes that do not depend on the scene. Called again with a
+/// new device (after the old one was lost), it replaces every GPU resource: meshes and
+/// textures upload again from the CPU copies the World keeps.
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(material_maps::GpuMaterialMaps::new(&gpu));
     insert_passes(world, &gpu)?;
@@ -80,8 +82,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
         timer: timing::GpuTimer::new(&gpu),
     });
     world.insert_resource(gpu);
-    world.init_resource::<targets::RenderTargets>();
-    world.init_resource::<extract::ExtractedFrame>();
+    world.insert_resource(targets::RenderTargets::default());
+    world.insert_resource(extract::ExtractedFrame::default());
     world.init_resource::<FramePlan>();
     world.init_resource::<FrameErrors>();
     world.init_resource::<debug_view::DebugView>();

@@ -7,8 +7,9 @@
 //!
 //! Resizing (down to a minimised 0×0 window) and lost or outdated surfaces are handled.
 //! A frame that fails (a shader that does not compile, a file that does not load) is
-//! shown as an error in the panel and the viewer goes on; a lost GPU device ends the
-//! viewer with a message, since wgpu cannot bring a lost device back. Nothing panics.
+//! shown as an error in the panel and the viewer goes on. When the GPU device is lost,
+//! the viewer makes a new device, surface and renderer and goes on with the same scene
+//! (if no device can be made, it ends with a message). Nothing panics.
 
 pub mod controls;
 pub mod gui;
@@ -60,6 +61,8 @@ pub struct WindowOptions {
     pub frames: Option<u64>,
     /// Save a screenshot (PNG or EXR by extension) when the window closes.
     pub screenshot: Option<PathBuf>,
+    /// Test hook: destroy the GPU device after this many frames (the viewer recovers).
+    pub lose_device_after: Option<u64>,
 }
 
 impl Default for WindowOptions {
@@ -72,6 +75,7 @@ impl Default for WindowOptions {
             shader_dir: default_shader_dir(),
             frames: None,
             screenshot: None,
+            lose_device_after: None,
         }
     }
 }
@@ -108,6 +112,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         shader_dir: args.shaders.clone().or_else(default_shader_dir),
         frames: args.frames,
         screenshot: args.screenshot.clone(),
+        lose_device_after: args.lose_device_after,
     };
     if let Some(dir) = &options.shader_dir
         && !dir.is_dir()
@@ -186,8 +191,12 @@ enum Scene {
 }
 
 struct Running {
+    /// Test hook: destroy the device once this many frames were drawn.
+    lose_device_after: Option<u64>,
     window: Arc<Window>,
-    surface: wgpu::Surface<'static>,
+    display: winit::event_loop::OwnedDisplayHandle,
+    /// `None` only while a lost device is being replaced.
+    surface: Option<wgpu::Surface<'static>>,
     config: wgpu::SurfaceConfiguration,
     app: App,
     camera: Entity,
@@ -235,6 +244,83 @@ fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> 
         .or_else(|| caps.formats.first().copied())
 }
 
+/// A GPU that can present to `window`, its surface, and the surface configured at the
+/// window's size.
+fn window_gpu(
+    window: &Arc<Window>,
+    display: &winit::event_loop::OwnedDisplayHandle,
+    present_mode: wgpu::PresentMode,
+) -> Result<(Gpu, wgpu::Surface<'static>, wgpu::SurfaceConfiguration)> {
+    let surface_window = window.clone();
+    let display = display.clone();
+    let (gpu, surface) = Gpu::new(
+        &GpuRequest::from_env()?,
+        Some(&move |instance: &wgpu::Instance| {
+            instance
+                .create_surface(surface_window.clone())
+                .map_err(|e| e.to_string())
+        }),
+        Some(&move || Box::new(display.clone())),
+    )?;
+    let surface = surface.ok_or_else(|| anyhow!("no window surface"))?;
+    let caps = surface.get_capabilities(&gpu.adapter);
+    let format =
+        pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
+    let size = window.inner_size();
+    let config = wgpu::SurfaceConfiguration {
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        format,
+        width: size.width,
+        height: size.height,
+        present_mode,
+        desired_maximum_frame_latency: 2,
+        alpha_mode: caps
+            .alpha_modes
+            .first()
+            .copied()
+            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+        view_formats: vec![],
+        color_space: wgpu::SurfaceColorSpace::Auto,
+    };
+    configure(&gpu, &surface, &config)?;
+    Ok((gpu, surface, config))
+}
+
+/// Configures `surface` (not while minimised); a refusal is an error, since presenting
+/// from an unconfigured surface would panic in wgpu.
+fn configure(
+    gpu: &Gpu,
+    surface: &wgpu::Surface<'static>,
+    config: &wgpu::SurfaceConfiguration,
+) -> Result<()> {
+    if config.width > 0 && config.height > 0 {
+        gpu.checked("configuring the window surface", |device| {
+            surface.configure(device, config)
+        })?;
+    }
+    Ok(())
+}
+
+/// After the device was lost: a new GPU, surface and panel renderer, and the app's
+/// renderer rebuilt on them (the scene is kept). Returns the log line.
+fn recover_device(r: &mut Running, reason: &str) -> Result<String> {
+    // The old surface goes first: GL gives a window one surface at a time.
+    r.surface = None;
+    let (gpu, surface, config) = window_gpu(&r.window, &r.display, r.config.present_mode)?;
+    if r.gui.is_some() {
+        r.gui = Some(Gui::new(&r.window, &gpu.device, config.format));
+    }
+    let line = format!(
+        "the GPU device was lost ({reason}); recreated it on {} ({})",
+        gpu.summary.name, gpu.summary.backend
+    );
+    r.surface = Some(surface);
+    r.config = config;
+    r.app.attach_gpu(gpu)?;
+    crate::progress::show_ibl_progress(&mut r.app);
+    Ok(line)
+}
+
 /// The active camera with the lowest entity id, and controls that start at it, orbiting
 /// the point it looks at (at the distance of the origin).
 fn find_camera(app: &mut App) -> Result<(Entity, CameraControls)> {
@@ -263,41 +349,12 @@ impl Viewer {
                 .context("cannot create a window")?,
         );
         let display = event_loop.owned_display_handle();
-        let surface_window = window.clone();
-        let (gpu, surface) = Gpu::new(
-            &GpuRequest::from_env()?,
-            Some(&move |instance: &wgpu::Instance| {
-                instance
-                    .create_surface(surface_window.clone())
-                    .map_err(|e| e.to_string())
-            }),
-            Some(&move || Box::new(display.clone())),
-        )?;
-        let surface = surface.ok_or_else(|| anyhow!("no window surface"))?;
-        let caps = surface.get_capabilities(&gpu.adapter);
-        let format =
-            pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
-        let size = window.inner_size();
-        let config = wgpu::SurfaceConfiguration {
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-            format,
-            width: size.width.max(1),
-            height: size.height.max(1),
-            present_mode: if self.measure.is_some() {
-                wgpu::PresentMode::AutoNoVsync
-            } else {
-                wgpu::PresentMode::AutoVsync
-            },
-            desired_maximum_frame_latency: 2,
-            alpha_mode: caps
-                .alpha_modes
-                .first()
-                .copied()
-                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
-            color_space: wgpu::SurfaceColorSpace::Auto,
+        let present_mode = if self.measure.is_some() {
+            wgpu::PresentMode::AutoNoVsync
+        } else {
+            wgpu::PresentMode::AutoVsync
         };
-        surface.configure(&gpu.device, &config);
+        let (gpu, surface, config) = window_gpu(&window, &display, present_mode)?;
         let adapter = format!(
             "{} ({}, {})",
             gpu.summary.name, gpu.summary.backend, gpu.summary.device_type
@@ -306,7 +363,7 @@ impl Viewer {
         let gui = self
             .options
             .panel
-            .then(|| Gui::new(&window, &gpu.device, format));
+            .then(|| Gui::new(&window, &gpu.device, config.format));
 
         let mut panel = Panel::new(adapter);
         let (mut app, open) = match self.scene.take() {
@@ -338,8 +395,10 @@ impl Viewer {
             reload_shaders(&mut app, &mut panel, w.dir());
         }
         Ok(Running {
+            lose_device_after: self.options.lose_device_after,
             window,
-            surface,
+            display: event_loop.owned_display_handle(),
+            surface: Some(surface),
             config,
             app,
             camera,
@@ -542,14 +601,17 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
     let update = Instant::now();
     r.app.update();
     let update_ms = update.elapsed().as_secs_f64() * 1e3;
-    let frame = match r.surface.get_current_texture() {
+    let Some(surface) = r.surface.as_ref() else {
+        return Ok(None);
+    };
+    let frame = match surface.get_current_texture() {
         wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
         wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
             return Ok(None);
         }
         wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
             let gpu = r.app.world().resource::<Gpu>().clone();
-            r.surface.configure(&gpu.device, &r.config);
+            configure(&gpu, surface, &r.config)?;
             return Ok(None);
         }
         wgpu::CurrentSurfaceTexture::Validation => {
@@ -561,13 +623,27 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
         .create_view(&wgpu::TextureViewDescriptor::default());
     let size = (r.config.width, r.config.height);
     let gpu = r.app.world().resource::<Gpu>().clone();
+    if r.lose_device_after.is_some_and(|n| r.frames >= n) {
+        r.lose_device_after = None;
+        gpu.device.destroy();
+    }
     let result = r
         .app
         .render_to_view(Some(view.clone()), r.config.format, size);
-    if let Some(reason) = gpu.lost() {
-        return Err(anyhow!(
-            "the GPU device was lost ({reason}); wgpu cannot restore it: restart the viewer"
-        ));
+    if result.is_err()
+        && let Some(reason) = gpu.poll_lost()
+    {
+        drop(view);
+        drop(frame);
+        match recover_device(r, &reason) {
+            Ok(line) => r.panel.message(line),
+            Err(e) => {
+                return Err(anyhow!(
+                    "the GPU device was lost ({reason}) and a new one could not be made: {e:#}"
+                ));
+            }
+        }
+        return Ok(None);
     }
     let report = match result {
         Ok(report) => Some(report),
@@ -701,9 +777,11 @@ impl ApplicationHandler for Viewer {
             WindowEvent::Resized(size) => {
                 r.config.width = size.width;
                 r.config.height = size.height;
-                if size.width > 0 && size.height > 0 {
-                    let gpu = r.app.world().resource::<Gpu>().clone();
-                    r.surface.configure(&gpu.device, &r.config);
+                let gpu = r.app.world().resource::<Gpu>().clone();
+                if let Some(surface) = r.surface.as_ref()
+                    && let Err(e) = configure(&gpu, surface, &r.config)
+                {
+                    self.fail(event_loop, e);
                 }
             }
             WindowEvent::DroppedFile(path) => match open_file(&mut r.app, &path) {
