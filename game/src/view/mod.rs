@@ -661,18 +661,7 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
     r.frames += 1;
 
     for action in actions {
-        match action {
-            Action::Screenshot => match screenshot(r, None) {
-                Ok(line) => r.panel.message(line),
-                Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
-            },
-            Action::ReloadShaders => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
-                Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
-                None => r
-                    .panel
-                    .set_error("no shader folder is watched (--shaders DIR)".into()),
-            },
-        }
+        act(r, action);
     }
     let Some(report) = report else {
         return Ok(None);
@@ -711,6 +700,22 @@ impl Measure {
     }
 }
 
+/// Carries out a panel button or its key, reporting in the panel.
+fn act(r: &mut Running, action: Action) {
+    match action {
+        Action::Screenshot => match screenshot(r, None) {
+            Ok(line) => r.panel.message(line),
+            Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
+        },
+        Action::ReloadShaders => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
+            Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
+            None => r
+                .panel
+                .set_error("no shader folder is watched (--shaders DIR)".into()),
+        },
+    }
+}
+
 /// Keyboard input outside the panel. Returns true when the viewer should close.
 fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
     let k = &mut r.controls.keys;
@@ -725,16 +730,8 @@ fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
         _ if !pressed => {}
         KeyCode::Escape => return true,
         KeyCode::KeyF => r.controls.toggle_mode(),
-        KeyCode::KeyP | KeyCode::F12 => match screenshot(r, None) {
-            Ok(line) => r.panel.message(line),
-            Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
-        },
-        KeyCode::KeyR => match r.watcher.as_ref().map(|w| w.dir().to_path_buf()) {
-            Some(dir) => reload_shaders(&mut r.app, &mut r.panel, &dir),
-            None => r
-                .panel
-                .set_error("no shader folder is watched (--shaders DIR)".into()),
-        },
+        KeyCode::KeyP | KeyCode::F12 => act(r, Action::Screenshot),
+        KeyCode::KeyR => act(r, Action::ReloadShaders),
         _ => {}
     }
     false

@@ -487,25 +487,37 @@ fn lights_ui(ui: &mut egui::Ui, world: &mut World) {
             }
         });
     }
-    let mut points = world.query::<(Entity, &mut PointLight)>();
-    for (i, (e, mut light)) in points.iter_mut(world).take(LISTED_LIGHTS).enumerate() {
-        ui.push_id(e, |ui| {
-            let mut l = *light;
-            ui.label(format!("point {i}"));
-            intensity_ui(ui, &mut l.intensity);
-            ui.checkbox(&mut l.cast_shadows, "casts shadows");
-            if l != *light {
-                *light = l;
-            }
-        });
+    punctual_ui::<PointLight>(ui, world, "point");
+    punctual_ui::<SpotLight>(ui, world, "spot");
+}
+
+/// What the panel edits on point and spot lights.
+trait Punctual: Component<Mutability = bevy_ecs::component::Mutable> + Copy + PartialEq {
+    fn edit(&mut self) -> (&mut lumen::scene::LuminousIntensity, &mut bool);
+}
+
+impl Punctual for PointLight {
+    fn edit(&mut self) -> (&mut lumen::scene::LuminousIntensity, &mut bool) {
+        (&mut self.intensity, &mut self.cast_shadows)
     }
-    let mut spots = world.query::<(Entity, &mut SpotLight)>();
-    for (i, (e, mut light)) in spots.iter_mut(world).take(LISTED_LIGHTS).enumerate() {
+}
+
+impl Punctual for SpotLight {
+    fn edit(&mut self) -> (&mut lumen::scene::LuminousIntensity, &mut bool) {
+        (&mut self.intensity, &mut self.cast_shadows)
+    }
+}
+
+/// Intensity and shadows of the first lights of kind `L`.
+fn punctual_ui<L: Punctual>(ui: &mut egui::Ui, world: &mut World, kind: &str) {
+    let mut lights = world.query::<(Entity, &mut L)>();
+    for (i, (e, mut light)) in lights.iter_mut(world).take(LISTED_LIGHTS).enumerate() {
         ui.push_id(e, |ui| {
             let mut l = *light;
-            ui.label(format!("spot {i}"));
-            intensity_ui(ui, &mut l.intensity);
-            ui.checkbox(&mut l.cast_shadows, "casts shadows");
+            ui.label(format!("{kind} {i}"));
+            let (intensity, shadows) = l.edit();
+            intensity_ui(ui, intensity);
+            ui.checkbox(shadows, "casts shadows");
             if l != *light {
                 *light = l;
             }
