@@ -191,7 +191,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "WxH", default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Output file: .png (tone-mapped sRGB) or .exr (linear exposed radiance, f32 RGB).
-    /// Default: out/<scene>.png.
+    /// Default: `out/<scene>.png`.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Print one JSON object with the adapter, passes and timings on stdout.
@@ -221,7 +221,7 @@ pub struct ReferenceArgs {
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
     /// Output file: .exr (linear exposed radiance) or .png (tone mapped with the camera's
-    /// tone mapper). Default: out/<scene>-reference.exr.
+    /// tone mapper). Default: `out/<scene>-reference.exr`.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
