@@ -64,13 +64,44 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
     Error::bad_file(path, message)
 }
 
-/// Loads a glTF file into `app`'s World. Fails with an error naming the file and the
-/// problem; never panics on malformed input.
-pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
+/// Every material of a glTF file, named (its name, else `material N`), as the validator
+/// and converter read it ([`crate::validate::MaterialInput`]), with the problems met
+/// while decoding its images. Textures larger than `max_texture_size` are downscaled.
+pub fn material_inputs(
+    path: &Path,
+    max_texture_size: u32,
+) -> Result<(Vec<(String, crate::validate::MaterialInput)>, Vec<String>)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
-    for buffer in gltf.document.buffers() {
+    check_buffer_files(&gltf.document, base, path)?;
+    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
+        .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
+    let views: Vec<gltf::buffer::View> = gltf.document.views().collect();
+    let mut loader = TextureLoader {
+        base,
+        buffers: &buffers,
+        views: &views,
+        max_size: max_texture_size.max(1),
+        cache: HashMap::new(),
+        warnings: Vec::new(),
+    };
+    let materials = gltf
+        .document
+        .materials()
+        .map(|m| {
+            let name = m
+                .name()
+                .map(str::to_string)
+                .unwrap_or_else(|| format!("material {}", m.index().unwrap_or(0)));
+            (name, gltf_material::material_input(&m, &mut loader))
+        })
+        .collect();
+    Ok((materials, loader.warnings))
+}
+
+fn check_buffer_files(document: &gltf::Document, base: &Path, path: &Path) -> Result<()> {
+    for buffer in document.buffers() {
         if let gltf::buffer::Source::Uri(uri) = buffer.source()
             && !uri.starts_with("data:")
             && !base.join(percent_decoded(uri)).is_file()
@@ -81,6 +112,16 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
             ));
         }
     }
+    Ok(())
+}
+
+/// Loads a glTF file into `app`'s World. Fails with an error naming the file and the
+/// problem; never panics on malformed input.
+pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    check_buffer_files(&gltf.document, base, path)?;
     let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
     let document = gltf.document;

@@ -203,6 +203,66 @@ fn json_transform(value: Option<&gltf::json::Value>) -> Option<(UvTransform, Opt
     value.map(uv_transform)
 }
 
+/// The material as the validator and converter read it: factors and the decoded
+/// textures of its own workflow (texture transforms and UV sets are not applied).
+pub(super) fn material_input(
+    m: &gltf::Material,
+    loader: &mut TextureLoader,
+) -> crate::validate::MaterialInput {
+    use crate::validate::{ColorInput, MaterialInput, ScalarInput};
+    match m.pbr_specular_glossiness() {
+        Some(sg) => {
+            let diffuse = sg
+                .diffuse_texture()
+                .map(|i| loader.decode(&i.texture(), ColorSpace::Srgb));
+            // Specular rgb is sRGB, glossiness (alpha) linear: one decode serves both.
+            let spec = sg
+                .specular_glossiness_texture()
+                .map(|i| loader.decode(&i.texture(), ColorSpace::Srgb));
+            MaterialInput::SpecGloss {
+                diffuse: ColorInput {
+                    texture: diffuse,
+                    factor: Vec4::from(sg.diffuse_factor()).truncate(),
+                },
+                specular: ColorInput {
+                    texture: spec.clone(),
+                    factor: Vec3::from(sg.specular_factor()),
+                },
+                glossiness: ScalarInput {
+                    texture: spec,
+                    channel: 3,
+                    factor: sg.glossiness_factor(),
+                },
+            }
+        }
+        None => {
+            let pbr = m.pbr_metallic_roughness();
+            let base = pbr
+                .base_color_texture()
+                .map(|i| loader.decode(&i.texture(), ColorSpace::Srgb));
+            let mr = pbr
+                .metallic_roughness_texture()
+                .map(|i| loader.decode(&i.texture(), ColorSpace::Linear));
+            MaterialInput::MetalRough {
+                base_color: ColorInput {
+                    texture: base,
+                    factor: Vec4::from(pbr.base_color_factor()).truncate(),
+                },
+                metallic: ScalarInput {
+                    texture: mr.clone(),
+                    channel: 2,
+                    factor: pbr.metallic_factor(),
+                },
+                roughness: ScalarInput {
+                    texture: mr,
+                    channel: 1,
+                    factor: pbr.roughness_factor(),
+                },
+            }
+        }
+    }
+}
+
 /// The material of a primitive and its maps (`None` when it has no texture and the
 /// mesh no vertex colour), or `None` when the primitive is not drawn (alpha mode
 /// `BLEND`, or `MASK` with a constant alpha below the cutoff).
