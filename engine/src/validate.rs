@@ -146,7 +146,11 @@ fn in_range(value: u32, low: u32, high: u32) -> Verdict {
 
 /// The dark floor in force.
 pub fn dark_floor(strict: bool) -> u32 {
-    if strict { DARK_FLOOR_STRICT } else { DARK_FLOOR }
+    if strict {
+        DARK_FLOOR_STRICT
+    } else {
+        DARK_FLOOR
+    }
 }
 
 /// The four metal/roughness verdicts of a texel, in [`Rule::METAL_ROUGH`] order.
@@ -256,9 +260,21 @@ pub fn spec_gloss_verdicts(diffuse: Vec3, specular: Vec3, strict: bool) -> [Verd
 /// unchanged when it is in range.
 pub fn clamp_brightness(c: Vec3, low: u32, high: u32) -> Vec3 {
     let c = Vec3::new(
-        if c.x.is_finite() { c.x.clamp(0.0, 1.0) } else { 0.0 },
-        if c.y.is_finite() { c.y.clamp(0.0, 1.0) } else { 0.0 },
-        if c.z.is_finite() { c.z.clamp(0.0, 1.0) } else { 0.0 },
+        if c.x.is_finite() {
+            c.x.clamp(0.0, 1.0)
+        } else {
+            0.0
+        },
+        if c.y.is_finite() {
+            c.y.clamp(0.0, 1.0)
+        } else {
+            0.0
+        },
+        if c.z.is_finite() {
+            c.z.clamp(0.0, 1.0)
+        } else {
+            0.0
+        },
     );
     let b = brightness_code(c);
     if (low..=high).contains(&b) {
@@ -555,7 +571,11 @@ mod tests {
             assert_eq!(brightness_code(grey(code)), code);
         }
         let gold = Vec3::new(1.0, srgb_decode(195.0 / 255.0), srgb_decode(86.0 / 255.0));
-        assert!(brightness_code(gold) >= METAL_FLOOR, "{}", brightness_code(gold));
+        assert!(
+            brightness_code(gold) >= METAL_FLOOR,
+            "{}",
+            brightness_code(gold)
+        );
     }
 
     #[test]
@@ -575,12 +595,19 @@ mod tests {
     #[test]
     fn safe_colors_land_in_range_and_leave_valid_ones_alone() {
         for code in [0, 5, 29, 30, 120, 240, 241, 255] {
-            for tint in [Vec3::ONE, Vec3::new(1.0, 0.2, 0.05), Vec3::new(0.0, 0.0, 1.0)] {
+            for tint in [
+                Vec3::ONE,
+                Vec3::new(1.0, 0.2, 0.05),
+                Vec3::new(0.0, 0.0, 1.0),
+            ] {
                 let c = grey(code) * tint;
                 for (metallic, strict) in [(0.0, false), (0.0, true), (0.5, false), (1.0, false)] {
                     let fixed = safe_base_color(c, metallic, strict);
                     let v = metal_rough_verdicts(fixed, metallic, strict);
-                    assert!(!v.contains(&Verdict::Invalid), "{c} m {metallic}: {fixed} {v:?}");
+                    assert!(
+                        !v.contains(&Verdict::Invalid),
+                        "{c} m {metallic}: {fixed} {v:?}"
+                    );
                     if !metal_rough_verdicts(c, metallic, strict).contains(&Verdict::Invalid) {
                         assert_eq!(fixed, c, "a valid colour is kept");
                     }

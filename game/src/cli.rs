@@ -31,8 +31,131 @@ pub enum Command {
     /// Time every preset and every quality knob, and measure each image's error against
     /// the path-traced reference.
     Tradeoff(TradeoffArgs),
+    /// Check PBR textures against the measured ranges (seed 001's rules): a glTF file's
+    /// materials or texture files by role. Exit status 3 when any texel fails.
+    Validate(ValidateArgs),
+    /// Convert textures between metal/roughness and specular/glossiness (and glossiness ↔
+    /// roughness), fix base colours into range (--safe-color), or convert an IOR or a
+    /// specular level to F0.
+    Convert(ConvertArgs),
     /// List the built-in scenes.
     Scenes,
+}
+
+/// Texture files by role (`validate` and `convert`).
+#[derive(Args, Debug, Clone, Default)]
+pub struct TextureRoles {
+    /// Base colour (sRGB).
+    #[arg(long, value_name = "FILE")]
+    pub base_color: Option<PathBuf>,
+    /// Metallic (linear, first channel).
+    #[arg(long, value_name = "FILE")]
+    pub metallic: Option<PathBuf>,
+    /// Roughness (linear, first channel).
+    #[arg(long, value_name = "FILE")]
+    pub roughness: Option<PathBuf>,
+    /// Packed occlusion (red), roughness (green) and metallic (blue), as glTF packs them.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["metallic", "roughness"])]
+    pub orm: Option<PathBuf>,
+    /// Diffuse (sRGB).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["base_color", "metallic", "orm"])]
+    pub diffuse: Option<PathBuf>,
+    /// Specular (sRGB; F0 per channel).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["base_color", "metallic", "orm"])]
+    pub specular: Option<PathBuf>,
+    /// Glossiness (linear, first channel; 1 − roughness).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["roughness", "orm"])]
+    pub glossiness: Option<PathBuf>,
+}
+
+/// Arguments of `lumen validate`.
+#[derive(Args, Debug, Clone)]
+pub struct ValidateArgs {
+    /// glTF files: every material in each.
+    #[arg(value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// Or one material's texture files by role.
+    #[command(flatten)]
+    pub textures: TextureRoles,
+    /// The strict dark floor for dielectric colours: 50 sRGB instead of 30.
+    #[arg(long)]
+    pub strict: bool,
+    /// Write heat maps (red invalid, yellow borderline, green valid, grey not checked)
+    /// into this folder: one per material and one per material and rule.
+    #[arg(long, value_name = "DIR")]
+    pub heatmap: Option<PathBuf>,
+    /// Write the report as JSON (schema lumen-validate/1) to this file ("-": standard
+    /// output).
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+/// What `lumen convert` produces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConvertTarget {
+    /// base_color.png, metallic.png, roughness.png.
+    MetalRough,
+    /// diffuse.png, specular.png, glossiness.png.
+    SpecGloss,
+    /// A roughness map from a glossiness map.
+    Roughness,
+    /// A glossiness map from a roughness map.
+    Glossiness,
+}
+
+fn parse_convert_target(s: &str) -> Result<ConvertTarget, String> {
+    match s.trim().to_ascii_lowercase().as_str() {
+        "metal-rough" | "metal-roughness" => Ok(ConvertTarget::MetalRough),
+        "spec-gloss" | "specular-glossiness" => Ok(ConvertTarget::SpecGloss),
+        "roughness" => Ok(ConvertTarget::Roughness),
+        "glossiness" => Ok(ConvertTarget::Glossiness),
+        _ => Err(format!(
+            "unknown target '{s}': expected metal-rough, spec-gloss, roughness or glossiness"
+        )),
+    }
+}
+
+/// Arguments of `lumen convert`.
+#[derive(Args, Debug, Clone)]
+pub struct ConvertArgs {
+    /// A glTF file: every material is converted, into a folder per material.
+    #[arg(value_name = "FILE")]
+    pub file: Option<PathBuf>,
+    /// Or one material's texture files by role.
+    #[command(flatten)]
+    pub textures: TextureRoles,
+    /// What to write: metal-rough, spec-gloss, roughness (from --glossiness) or
+    /// glossiness (from --roughness).
+    #[arg(long, value_name = "TARGET", value_parser = parse_convert_target)]
+    pub to: Option<ConvertTarget>,
+    /// Output folder (default `out/converted`).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Clamp base (or diffuse) colours into the valid range first, and say how many
+    /// texels changed.
+    #[arg(long)]
+    pub safe_color: bool,
+    /// With --safe-color: the strict dark floor (50 sRGB).
+    #[arg(long)]
+    pub strict: bool,
+    /// Print the F0 of a dielectric of this index of refraction (1..=3).
+    #[arg(long, value_name = "N", value_parser = parse_ior)]
+    pub ior: Option<f32>,
+    /// Print the F0 of this specular level (0..=1; 0.5 gives 0.04).
+    #[arg(long, value_name = "L", value_parser = parse_unit)]
+    pub specular_level: Option<f32>,
+}
+
+fn parse_ior(s: &str) -> Result<f32, String> {
+    let v: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a number"))?;
+    if (1.0..=3.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is out of range: an IOR is 1..=3"))
+    }
 }
 
 /// What to render and how to expose it (shared by `render` and `view`).

@@ -3,7 +3,9 @@
 
 pub mod bench;
 pub mod cli;
+pub mod convert_cmd;
 pub mod examples;
+pub mod materials;
 pub mod output;
 pub mod progress;
 pub mod reference_cmd;
@@ -11,4 +13,5 @@ pub mod render_cmd;
 pub mod scenes;
 pub mod setup;
 pub mod tradeoff;
+pub mod validate_cmd;
 pub mod view;

@@ -39,6 +39,11 @@ fn main() -> ExitCode {
     };
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        // Texels that fail a rule get a status of their own, for asset pipelines.
+        Err(e) if e.is::<lumen_game::validate_cmd::ValidationFailed>() => {
+            eprintln!("lumen: {e}");
+            ExitCode::from(3)
+        }
         Err(e) => {
             eprintln!("lumen: {e:#}");
             ExitCode::FAILURE
@@ -64,6 +69,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             args.scene.resolve_builtin();
             lumen_game::reference_cmd::run(&args).map(|_| ())
         }
+        Some(Command::Convert(args)) => lumen_game::convert_cmd::run(&args),
+        Some(Command::Validate(args)) => lumen_game::validate_cmd::run(&args),
         Some(Command::Tradeoff(mut args)) => {
             args.scene.resolve_builtin();
             lumen_game::tradeoff::run(&args)
