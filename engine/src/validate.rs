@@ -235,7 +235,7 @@ pub fn spec_gloss_verdicts(diffuse: Vec3, specular: Vec3, strict: bool) -> [Verd
             Verdict::Borderline
         }
         SpecularClass::Metal => Verdict::Valid,
-        _ if f0 < F0_MIN * 1.1 || f0 > F0_GEM_MAX / 1.1 => Verdict::Borderline,
+        _ if !(F0_MIN * 1.1..=F0_GEM_MAX / 1.1).contains(&f0) => Verdict::Borderline,
         _ => Verdict::Valid,
     };
     let sum = (diffuse + specular).max_element();

@@ -64,13 +64,16 @@ fn bad(path: &Path, message: impl Into<String>) -> Error {
     Error::bad_file(path, message)
 }
 
+/// A material's name and its maps.
+pub type NamedMaterialInput = (String, crate::validate::MaterialInput);
+
 /// Every material of a glTF file, named (its name, else `material N`), as the validator
 /// and converter read it ([`crate::validate::MaterialInput`]), with the problems met
 /// while decoding its images. Textures larger than `max_texture_size` are downscaled.
 pub fn material_inputs(
     path: &Path,
     max_texture_size: u32,
-) -> Result<(Vec<(String, crate::validate::MaterialInput)>, Vec<String>)> {
+) -> Result<(Vec<NamedMaterialInput>, Vec<String>)> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
     let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
