@@ -2,7 +2,7 @@
 // (engine/src/render/debug_view.rs documents each view's encoding).
 // Header constants: DEBUG_VIEW (DebugView as u32) and ENCODE_SRGB (true when the target
 // format is not an *Srgb format). Needs common, color, camera, encoding, bindings,
-// fullscreen.
+// fullscreen, validate.
 
 struct DebugParams {
     focus_m: f32,
@@ -33,6 +33,8 @@ const VIEW_OCCLUSION: u32 = 5u;
 const VIEW_DEPTH: u32 = 6u;
 const VIEW_SHADOW_ATLAS: u32 = 7u;
 const VIEW_COC: u32 = 8u;
+const VIEW_VALIDATION: u32 = 9u;
+const VIEW_VALIDATION_STRICT: u32 = 10u;
 
 // View depth (m) as a grey level: 1 at 0.1 m, 0 at 100 m, logarithmic between.
 fn depth_grey(depth_m: f32) -> f32 {
@@ -100,6 +102,13 @@ fn debug_color(p: vec2<i32>) -> vec3<f32> {
             let r = circle_of_confusion(z, params.focus_m, params.focal_length_m, params.aperture_diameter_m) * params.pixels_per_m * 0.5;
             let v = clamp(abs(r) / params.max_radius_px, 0.0, 1.0);
             return select(vec3<f32>(0.0, v, 0.0), vec3<f32>(v, 0.0, 0.0), r < 0.0);
+        }
+        case VIEW_VALIDATION, VIEW_VALIDATION_STRICT: {
+            if background {
+                return vec3<f32>(0.0);
+            }
+            let base = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
+            return verdict_color(metal_rough_verdict(base, g1.a, DEBUG_VIEW == VIEW_VALIDATION_STRICT));
         }
         default: {
             return vec3<f32>(1.0, 0.0, 1.0);

@@ -333,3 +333,117 @@ fn wgsl_functions_match_their_rust_twins() {
         eprintln!("{:<72} worst relative error {w:.2e}", NAMES[k]);
     }
 }
+
+/// `metal_rough_verdict` and `brightness_code` of `shaders/validate.wgsl` against
+/// `lumen::validate`: every grey code under every metallic class, both floors, and
+/// coloured texels.
+#[test]
+fn the_validator_rules_match_in_wgsl_and_rust() {
+    use lumen::validate::{brightness_code, metal_rough_verdict};
+    let gpu = common::gpu();
+    let kernel = r#"
+@group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) {
+        return;
+    }
+    let c = cases[i];
+    let base = vec3<f32>(c.x, c.y, c.z);
+    let metallic = fract(c.w);
+    let strict = c.w >= 1.0;
+    results[i] = vec4<f32>(f32(metal_rough_verdict(base, metallic, strict)), f32(brightness_code(base)), 0.0, 0.0);
+}
+"#;
+    let source = compose(
+        &[],
+        &[shaders::COLOR.builtin, shaders::VALIDATE.builtin, kernel],
+    );
+    let module = shaders::create_module(&gpu, "validate parity", source).expect("compiles");
+    // w: metallic in [0, 1) plus 1 for strict.
+    let decode = |c: u32| color::srgb_decode(c as f32 / 255.0);
+    let mut cases: Vec<[f32; 4]> = Vec::new();
+    for code in 0..=255u32 {
+        for metallic in [0u32, 9, 10, 128, 234, 235, 254] {
+            for strict in [0.0, 1.0] {
+                let g = decode(code);
+                cases.push([g, g, g, metallic as f32 / 255.0 + strict]);
+            }
+        }
+    }
+    let mut rng = Rng(7);
+    for _ in 0..2048 {
+        cases.push([
+            rng.next(),
+            rng.next(),
+            rng.next(),
+            rng.next() * 0.999 + (rng.next() > 0.5) as u8 as f32,
+        ]);
+    }
+    let input = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cases"),
+            contents: bytemuck::cast_slice(&cases),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("results"),
+        size: (cases.len() * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let pipeline = gpu
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("validate parity"),
+            layout: None,
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    let results = common::run_compute(
+        &gpu,
+        &pipeline,
+        &bind_group,
+        cases.len().div_ceil(64) as u32,
+        &output,
+    );
+    let mut rounding = 0;
+    for (i, (c, r)) in cases.iter().zip(&results).enumerate() {
+        let base = Vec3::new(c[0], c[1], c[2]);
+        let (metallic, strict) = (c[3].fract(), c[3] >= 1.0);
+        let code = brightness_code(base);
+        let verdict = metal_rough_verdict(base, metallic, strict) as u32;
+        let (gpu_verdict, gpu_code) = (r[0] as u32, r[1] as u32);
+        if gpu_code != code {
+            // A luminance within float error of a half code rounds either way; only
+            // random colours may land there.
+            assert!(
+                i >= 256 * 14 && gpu_code.abs_diff(code) == 1,
+                "case {i}: code {gpu_code} vs {code}"
+            );
+            rounding += 1;
+            continue;
+        }
+        assert_eq!(gpu_verdict, verdict, "case {i}: {c:?}");
+    }
+    assert!(rounding < 20, "{rounding} half-code roundings");
+}

@@ -340,3 +340,42 @@ fn render_takes_a_debug_view_on_the_command_line() {
         "{err}"
     );
 }
+
+#[test]
+fn the_validation_views_paint_the_validators_verdicts() {
+    use lumen::validate::metal_rough_verdict;
+    let mut app = scene();
+    // The plate: a dark dielectric (45 sRGB: valid, but under the strict 50); the floor:
+    // bare metal at 200 sRGB (valid). Exact sRGB codes survive the 8-bit G-buffer.
+    let code = |c: f32| Vec3::splat(lumen::color::srgb_decode(c / 255.0));
+    let world = app.world_mut();
+    let mut materials = world.query::<&mut Material>();
+    for mut m in materials.iter_mut(world) {
+        if m.metallic < 0.5 {
+            *m = Material::new(code(45.0), 0.0, 0.5);
+        } else {
+            *m = Material::new(code(200.0), 1.0, 0.5);
+        }
+    }
+    for (view, strict) in [
+        (DebugView::Validation, false),
+        (DebugView::ValidationStrict, true),
+    ] {
+        let image = render(&mut app, view);
+        let (near, far) = near_far(&image);
+        let want_near = metal_rough_verdict(code(45.0), 0.0, strict).color();
+        let want_far = metal_rough_verdict(code(200.0), 1.0, strict).color();
+        let to_f = |c: [u8; 3]| c.map(f32::from);
+        assert_close(view, "near", near, to_f(want_near));
+        assert_close(view, "far", far, to_f(want_far));
+    }
+    // The two views differ exactly on the plate.
+    assert_eq!(
+        metal_rough_verdict(code(45.0), 0.0, false),
+        lumen::validate::Verdict::Valid
+    );
+    assert_eq!(
+        metal_rough_verdict(code(45.0), 0.0, true),
+        lumen::validate::Verdict::Invalid
+    );
+}

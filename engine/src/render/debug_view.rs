@@ -12,6 +12,7 @@
 //! | occlusion | ambient occlusion as grey; black background |
 //! | depth | [`depth_grey`] of the view depth; black background |
 //! | shadow atlas | stored shadow depth (reversed Z: 1 near the light, 0 cleared) of the square atlas, which fills the frame's height from the left edge |
+//! | validation, validation-strict | the worst verdict of `lumen::validate`'s metal/roughness rules on the G-buffer's base colour and metallic: green valid, yellow borderline, red invalid (`Verdict::color`); black background |
 //! | CoC | thin-lens CoC radius ÷ the largest radius, red in front of the focus plane, green behind it (the lens's settings even when depth of field is off) |
 
 use crate::error::Result;
@@ -50,11 +51,15 @@ pub enum DebugView {
     ShadowAtlas = 7,
     /// The thin-lens circle of confusion.
     CircleOfConfusion = 8,
+    /// The texture validator's heat map of the metal/roughness rules (tolerant).
+    Validation = 9,
+    /// The same with the strict dark floor (50 sRGB).
+    ValidationStrict = 10,
 }
 
 impl DebugView {
     /// Every view, `Off` first.
-    pub const ALL: [DebugView; 9] = [
+    pub const ALL: [DebugView; 11] = [
         DebugView::Off,
         DebugView::Albedo,
         DebugView::Normal,
@@ -64,6 +69,8 @@ impl DebugView {
         DebugView::Depth,
         DebugView::ShadowAtlas,
         DebugView::CircleOfConfusion,
+        DebugView::Validation,
+        DebugView::ValidationStrict,
     ];
 
     /// Name used on the command line and in the viewer.
@@ -78,6 +85,8 @@ impl DebugView {
             DebugView::Depth => "depth",
             DebugView::ShadowAtlas => "shadow-atlas",
             DebugView::CircleOfConfusion => "coc",
+            DebugView::Validation => "validation",
+            DebugView::ValidationStrict => "validation-strict",
         }
     }
 
@@ -181,6 +190,7 @@ impl DebugViewPass {
                 shaders::ENCODING,
                 shaders::BINDINGS,
                 shaders::FULLSCREEN,
+                shaders::VALIDATE,
                 shaders::DEBUG_VIEW,
             ],
         );

@@ -73,13 +73,15 @@ pub const DOF: Shader = shader!("dof.wgsl");
 pub const LIGHT_TILES: Shader = shader!("light_tiles.wgsl");
 /// Tiled light culling (compute).
 pub const LIGHT_CULLING: Shader = shader!("light_culling.wgsl");
+/// The validator's per-texel rules, twin of `validate.rs`.
+pub const VALIDATE: Shader = shader!("validate.wgsl");
 /// Debug views of the frame's channels.
 pub const DEBUG_VIEW: Shader = shader!("debug_view.wgsl");
 /// Tone mapping and output encoding pass.
 pub const TONEMAP: Shader = shader!("tonemap.wgsl");
 
 /// Every module, for reloading from disk.
-pub const ALL: [Shader; 22] = [
+pub const ALL: [Shader; 23] = [
     COMMON,
     BRDF,
     PUNCTUAL,
@@ -101,6 +103,7 @@ pub const ALL: [Shader; 22] = [
     LIGHT_TILES,
     LIGHT_CULLING,
     TONEMAP,
+    VALIDATE,
     DEBUG_VIEW,
 ];
 
