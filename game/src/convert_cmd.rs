@@ -247,8 +247,8 @@ fn convert(
             save(&mask, &not_invertible)?;
             text.push_str(&format!(
                 "  {lossy} texel(s) ({:.2} %) do not convert back within 1/255 (white in {}): \
-                 a dielectric base colour above 0.96 or a coloured partial metal has no exact \
-                 equivalent in the other workflow\n",
+                 spec/gloss cannot hold a dielectric base colour above 0.96, and 8-bit maps \
+                 pin a partial metal's metallic down only to a few codes\n",
                 pct(lossy),
                 mask.display()
             ));
