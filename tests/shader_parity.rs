@@ -232,6 +232,61 @@ fn coc_focus(i: usize) -> f32 {
 /// Outputs that are unit vectors (or directions' coordinates).
 const UNIT_VECTORS: [usize; 4] = [7, 11, 13, 16];
 
+/// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
+/// `outputs` vec4s per case (binding 1).
+fn run_kernel(
+    gpu: &lumen::render::device::Gpu,
+    module: &wgpu::ShaderModule,
+    cases: &[u8],
+    count: usize,
+    outputs: usize,
+) -> Vec<[f32; 4]> {
+    let input = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cases"),
+            contents: cases,
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("results"),
+        size: (count * outputs * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let pipeline = gpu
+        .device
+        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("parity"),
+            layout: None,
+            module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ],
+    });
+    common::run_compute(
+        gpu,
+        &pipeline,
+        &bind_group,
+        count.div_ceil(64) as u32,
+        &output,
+    )
+}
+
 #[test]
 fn wgsl_functions_match_their_rust_twins() {
     let gpu = common::gpu();
@@ -251,50 +306,12 @@ fn wgsl_functions_match_their_rust_twins() {
     );
     let module = shaders::create_module(&gpu, "parity", source).expect("parity kernel compiles");
     let cases = cases();
-    let input = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("cases"),
-            contents: bytemuck::cast_slice(&cases),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-    let out_size = (cases.len() * OUTPUTS * 16) as u64;
-    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("results"),
-        size: out_size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let pipeline = gpu
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("parity"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let results: Vec<[f32; 4]> = common::run_compute(
+    let results = run_kernel(
         &gpu,
-        &pipeline,
-        &bind_group,
-        cases.len().div_ceil(64) as u32,
-        &output,
+        &module,
+        bytemuck::cast_slice(&cases),
+        cases.len(),
+        OUTPUTS,
     );
     assert_eq!(results.len(), cases.len() * OUTPUTS);
 
@@ -382,50 +399,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rng.next() * 0.999 + (rng.next() > 0.5) as u8 as f32,
         ]);
     }
-    let input = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("cases"),
-            contents: bytemuck::cast_slice(&cases),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("results"),
-        size: (cases.len() * 16) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let pipeline = gpu
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("validate parity"),
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let results = common::run_compute(
-        &gpu,
-        &pipeline,
-        &bind_group,
-        cases.len().div_ceil(64) as u32,
-        &output,
-    );
+    let results = run_kernel(&gpu, &module, bytemuck::cast_slice(&cases), cases.len(), 1);
     let mut rounding = 0;
     for (i, (c, r)) in cases.iter().zip(&results).enumerate() {
         let base = Vec3::new(c[0], c[1], c[2]);
