@@ -464,18 +464,6 @@ impl MaterialInput {
     }
 }
 
-/// The verdicts of every rule of `texel`'s workflow.
-pub fn verdicts(texel: Texel, strict: bool) -> Vec<Verdict> {
-    match texel {
-        Texel::MetalRough(base, metallic, _) => {
-            metal_rough_verdicts(base, metallic, strict).to_vec()
-        }
-        Texel::SpecGloss(diffuse, specular, _) => {
-            spec_gloss_verdicts(diffuse, specular, strict).to_vec()
-        }
-    }
-}
-
 /// What one rule found in one material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RuleReport {
@@ -522,8 +510,39 @@ impl Report {
 
 /// Checks every texel of `material` against its workflow's rules.
 pub fn validate(material: &MaterialInput, strict: bool) -> Report {
+    validate_with_progress(material, strict, &|| {})
+}
+
+/// The verdicts of a texel's rules, padded to four (spec/gloss has three).
+fn padded_verdicts(texel: Texel, strict: bool) -> [Verdict; 4] {
+    match texel {
+        Texel::MetalRough(base, metallic, _) => metal_rough_verdicts(base, metallic, strict),
+        Texel::SpecGloss(diffuse, specular, _) => {
+            let [a, b, c] = spec_gloss_verdicts(diffuse, specular, strict);
+            [a, b, c, Verdict::NotApplicable]
+        }
+    }
+}
+
+/// [`validate`], rows in parallel, calling `row_done` after each row.
+pub fn validate_with_progress(
+    material: &MaterialInput,
+    strict: bool,
+    row_done: &(dyn Fn() + Sync),
+) -> Report {
+    use rayon::prelude::*;
     let (w, h) = material.size();
     let rules = material.rules();
+    let rows: Vec<Vec<[Verdict; 4]>> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let row = (0..w)
+                .map(|x| padded_verdicts(material.texel(x, y), strict))
+                .collect();
+            row_done();
+            row
+        })
+        .collect();
     let mut reports: Vec<RuleReport> = rules
         .iter()
         .map(|&rule| RuleReport {
@@ -535,11 +554,10 @@ pub fn validate(material: &MaterialInput, strict: bool) -> Report {
         })
         .collect();
     let mut worst_map = image::RgbImage::new(w, h);
-    for y in 0..h {
-        for x in 0..w {
-            let found = verdicts(material.texel(x, y), strict);
+    for (y, row) in (0u32..).zip(&rows) {
+        for (x, found) in (0u32..).zip(row) {
             let mut worst = Verdict::NotApplicable;
-            for (report, verdict) in reports.iter_mut().zip(&found) {
+            for (report, verdict) in reports.iter_mut().zip(found) {
                 report.heatmap.put_pixel(x, y, image::Rgb(verdict.color()));
                 report.checked += u64::from(*verdict != Verdict::NotApplicable);
                 report.invalid += u64::from(*verdict == Verdict::Invalid);

@@ -183,34 +183,47 @@ fn convert(
     } else {
         ["base_color.png", "metallic.png", "roughness.png", "unused"]
     };
+    let bar = crate::progress::bar(u64::from(h), "converting", "rows");
+    // Per texel: what is written, whether the safe colour changed it, whether it is lost
+    // in a round trip.
+    let rows: Vec<Vec<(Written, bool, bool)>> = {
+        use rayon::prelude::*;
+        (0..h)
+            .into_par_iter()
+            .map(|y| {
+                let row = (0..w)
+                    .map(|x| {
+                        let original = m.input.texel(x, y);
+                        let texel = if safe_color {
+                            safe_texel(original, strict)
+                        } else {
+                            original
+                        };
+                        let written = write_texel(texel, target_spec_gloss);
+                        let lost = to.is_some() && !round_trips(texel, &written, target_spec_gloss);
+                        (written, texel != original, lost)
+                    })
+                    .collect();
+                bar.inc(1);
+                row
+            })
+            .collect()
+    };
+    bar.finish_and_clear();
     let mut color_a = image::RgbImage::new(w, h);
     let mut color_b = image::RgbImage::new(w, h);
     let mut scalar_a = image::GrayImage::new(w, h);
     let mut scalar_b = image::GrayImage::new(w, h);
-    let mut fixed = 0u64;
     let mut not_invertible = image::GrayImage::new(w, h);
-    let mut lossy = 0u64;
-    for y in 0..h {
-        for x in 0..w {
-            let mut texel = m.input.texel(x, y);
-            if safe_color {
-                let before = texel;
-                texel = match texel {
-                    Texel::MetalRough(b, mt, r) => {
-                        Texel::MetalRough(safe_base_color(b, mt, strict), mt, r)
-                    }
-                    Texel::SpecGloss(d, s, g) => Texel::SpecGloss(safe_diffuse(d, s, strict), s, g),
-                };
-                fixed += u64::from(texel != before);
-            }
-            let written = write_texel(texel, target_spec_gloss);
+    let (mut fixed, mut lossy) = (0u64, 0u64);
+    for (y, row) in (0u32..).zip(&rows) {
+        for (x, (written, changed, lost)) in (0u32..).zip(row) {
             color_a.put_pixel(x, y, image::Rgb(written.colors[0]));
-            if target_spec_gloss {
-                color_b.put_pixel(x, y, image::Rgb(written.colors[1]));
-            }
+            color_b.put_pixel(x, y, image::Rgb(written.colors[1]));
             scalar_a.put_pixel(x, y, image::Luma([written.scalars[0]]));
             scalar_b.put_pixel(x, y, image::Luma([written.scalars[1]]));
-            if to.is_some() && !round_trips(texel, &written, target_spec_gloss) {
+            fixed += u64::from(*changed);
+            if *lost {
                 lossy += 1;
                 not_invertible.put_pixel(x, y, image::Luma([255]));
             }
@@ -257,6 +270,14 @@ fn convert(
         }
     }
     Ok(text)
+}
+
+/// The safe-colour fix of a texel's base or diffuse colour.
+fn safe_texel(texel: Texel, strict: bool) -> Texel {
+    match texel {
+        Texel::MetalRough(b, m, r) => Texel::MetalRough(safe_base_color(b, m, strict), m, r),
+        Texel::SpecGloss(d, s, g) => Texel::SpecGloss(safe_diffuse(d, s, strict), s, g),
+    }
 }
 
 /// The written values of `texel` in the target workflow (or the source workflow, for a

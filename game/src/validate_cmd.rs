@@ -3,7 +3,7 @@
 use crate::cli::ValidateArgs;
 use crate::materials::{NamedMaterial, file_stem, gltf_materials};
 use anyhow::{Context, Result, anyhow};
-use lumen::validate::{MaterialInput, Report, validate};
+use lumen::validate::{MaterialInput, Report, validate_with_progress};
 use std::path::Path;
 
 /// Some texel of some material fails a rule (`lumen` exits with status 3).
@@ -46,7 +46,9 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
     let mut json = Vec::new();
     let mut failing = 0;
     for (k, m) in materials.iter().enumerate() {
-        let report = validate(&m.input, args.strict);
+        let bar = crate::progress::bar(u64::from(m.input.size().1), "validating", "rows");
+        let report = validate_with_progress(&m.input, args.strict, &|| bar.inc(1));
+        bar.finish_and_clear();
         failing += usize::from(!report.passes());
         text.push_str(&summary(m, &report));
         if let Some(dir) = &args.heatmap {
