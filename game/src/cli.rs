@@ -21,7 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Render one frame to a PNG (display image) or EXR (linear HDR) file.
     Render(RenderArgs),
-    /// Open a window with an orbit camera.
+    /// Open the viewer: orbit and fly cameras, a panel with timings, knobs and debug
+    /// views, screenshots, drag and drop, and shader hot reload.
     View(ViewArgs),
     /// Measure frame times: per pass (GPU) and per stage (CPU), with statistics.
     Bench(BenchArgs),
