@@ -345,7 +345,7 @@ fn view_recovers_from_a_lost_device() {
 }
 
 #[test]
-fn view_shows_a_broken_shader_and_keeps_running_on_the_previous_one() {
+fn view_shows_a_broken_shader_or_file_and_keeps_running() {
     let x = Xvfb::start();
     let dir = tmp();
     let shaders = dir.path().join("shaders");
@@ -373,9 +373,15 @@ fn view_shows_a_broken_shader_and_keeps_running_on_the_previous_one() {
         "shaders",
         "--screenshot",
         "shot.png",
+        "--open",
+        "missing.glb",
     ];
     let (ok, err) = run_view(&x, dir.path(), "vulkan", &args);
     assert!(ok, "the viewer goes on: {err}");
+    assert!(
+        err.contains("missing.glb: No such file"),
+        "a bad --open is shown: {err}"
+    );
     assert!(err.contains("tonemap"), "the error names the shader: {err}");
     assert!(err.contains("previous ones are back"), "{err}");
     let lit = lit_pixels(&dir.path().join("shot.png"), (96, 64));

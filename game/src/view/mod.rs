@@ -381,8 +381,10 @@ impl Viewer {
         }
         crate::progress::show_ibl_progress(&mut app);
         for path in &open {
-            let line = open_file(&mut app, path)?;
-            panel.message(line);
+            match open_file(&mut app, path) {
+                Ok(line) => panel.message(line),
+                Err(e) => panel.set_error(format!("{e:#}")),
+            }
         }
         let (camera, controls) = find_camera(&mut app)?;
         let watcher = self
