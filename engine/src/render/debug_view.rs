@@ -17,10 +17,11 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
+use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::pipelines::{
-    draw_fullscreen, fullscreen_pipeline, texture_load_entry, uniform_entry,
+    draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef};
@@ -115,11 +116,7 @@ pub fn depth_grey(depth_m: f32) -> f32 {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
-    focus_m: f32,
-    focal_length_m: f32,
-    aperture_diameter_m: f32,
-    pixels_per_m: f32,
-    max_radius_px: f32,
+    lens: LensUniform,
     atlas_side: f32,
     pad: [f32; 2],
 }
@@ -178,7 +175,10 @@ impl DebugViewPass {
             return Ok(());
         }
         let (format, view) = variant;
-        let source = gpu.shaders.compose(
+        let pipeline = fullscreen_variant(
+            gpu,
+            "debug view",
+            &self.pipeline_layout,
             &[
                 ShaderDef::U32("DEBUG_VIEW", view as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
@@ -193,16 +193,7 @@ impl DebugViewPass {
                 shaders::VALIDATE,
                 shaders::DEBUG_VIEW,
             ],
-        );
-        let module = shaders::create_module(gpu, "debug view", source)?;
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "debug view",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[format],
-            None,
+            format,
         )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())
@@ -229,15 +220,8 @@ pub fn prepare_debug_view(
     let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
         return;
     };
-    let lens = camera.lens;
-    let dof = camera.depth_of_field.unwrap_or_default();
     let params = Params {
-        // Infinity as the largest float: the shader tests `> 3e38`.
-        focus_m: lens.focus_distance_m.min(f32::MAX),
-        focal_length_m: camera.focal_length_m,
-        aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
-        pixels_per_m: t.size.1 as f32 / (lens.sensor_height_mm * 1e-3),
-        max_radius_px: dof.max_coc_px * 0.5,
+        lens: LensUniform::new(camera, camera.depth_of_field.unwrap_or_default(), t.size.1),
         atlas_side: shadows.atlas.texture.width() as f32,
         pad: [0.0; 2],
     };

@@ -4,12 +4,13 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
+use crate::render::extract::{ExtractedCamera, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders;
 use crate::render::targets::{RenderTargets, Target};
+use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
@@ -21,14 +22,41 @@ const TILE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Half-resolution pixels per side of a near-field tile (`TILE` in `dof.wgsl`).
 const TILE: u32 = 8;
 
+/// The thin lens as the CoC shaders read it (the first five fields of `DofParams` in
+/// `dof.wgsl` and of `DebugParams` in `debug_view.wgsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LensUniform {
+    /// Focus distance (m); infinity as the largest float (the shaders test `> 3e38`).
+    pub focus_m: f32,
+    /// Focal length (m).
+    pub focal_length_m: f32,
+    /// Aperture diameter f/N (m).
+    pub aperture_diameter_m: f32,
+    /// Full-resolution pixels per metre on the sensor, for a target `height` pixels high.
+    pub pixels_per_m: f32,
+    /// Largest CoC radius (full-resolution pixels).
+    pub max_radius_px: f32,
+}
+
+impl LensUniform {
+    /// The lens of `camera` with `dof`'s largest CoC, for a target `height` pixels high.
+    pub fn new(camera: &ExtractedCamera, dof: DepthOfField, height: u32) -> LensUniform {
+        let lens = camera.lens;
+        LensUniform {
+            focus_m: lens.focus_distance_m.min(f32::MAX),
+            focal_length_m: camera.focal_length_m,
+            aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
+            pixels_per_m: height as f32 / (lens.sensor_height_mm * 1e-3),
+            max_radius_px: dof.max_coc_px * 0.5,
+        }
+    }
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
-    focus_m: f32,
-    focal_length_m: f32,
-    aperture_diameter_m: f32,
-    pixels_per_m: f32,
-    max_radius_px: f32,
+    lens: LensUniform,
     rings: u32,
     pad: [f32; 2],
 }
@@ -165,18 +193,12 @@ pub fn prepare_dof(
         });
         pass.bind_groups = None;
     }
-    let lens = camera.lens;
     let params = Params {
-        // Infinity as the largest float: the shader tests `> 3e38`.
-        focus_m: lens.focus_distance_m.min(f32::MAX),
-        focal_length_m: camera.focal_length_m,
-        aperture_diameter_m: camera.focal_length_m / lens.aperture_f_stops,
-        pixels_per_m: t.size.1 as f32 / (lens.sensor_height_mm * 1e-3),
-        max_radius_px: dof.max_coc_px * 0.5,
+        lens: LensUniform::new(camera, dof, t.size.1),
         rings: dof.rings,
         pad: [0.0; 2],
     };
-    if !(params.pixels_per_m.is_finite() && params.aperture_diameter_m.is_finite()) {
+    if !(params.lens.pixels_per_m.is_finite() && params.lens.aperture_diameter_m.is_finite()) {
         errors.0.push(crate::Error::Scene(
             "depth of field: the lens gives no finite aperture".into(),
         ));

@@ -3,6 +3,7 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
+use crate::render::shaders::{self, Shader, ShaderDef};
 use crate::render::timing::GpuTimer;
 
 /// A uniform buffer binding.
@@ -113,6 +114,29 @@ pub fn fullscreen_pipeline(
             cache: None,
         })
     })
+}
+
+/// Composes `modules` under `defs` and compiles the full-screen pipeline
+/// `vs_fullscreen`/`fs_main` drawing into `format` without depth: a pass's variant
+/// (tone mapping, debug views).
+pub fn fullscreen_variant(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    defs: &[ShaderDef],
+    modules: &[Shader],
+    format: wgpu::TextureFormat,
+) -> Result<wgpu::RenderPipeline> {
+    let module = shaders::create_module(gpu, label, gpu.shaders.compose(defs, modules))?;
+    fullscreen_pipeline(
+        gpu,
+        label,
+        Some(layout),
+        &module,
+        ("vs_fullscreen", "fs_main"),
+        &[format],
+        None,
+    )
 }
 
 /// Records one timed full-screen pass: `pipeline` with `bind_group` over all of `targets`.

@@ -7,7 +7,7 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::pipelines::{
-    draw_fullscreen, fullscreen_pipeline, texture_load_entry, uniform_entry,
+    draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
 use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::RenderTargets;
@@ -64,7 +64,10 @@ impl TonemapPass {
             return Ok(());
         }
         let (format, tonemapper) = variant;
-        let source = gpu.shaders.compose(
+        let pipeline = fullscreen_variant(
+            gpu,
+            "tonemap",
+            &self.pipeline_layout,
             &[
                 ShaderDef::U32("TONEMAPPER", tonemapper as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
@@ -75,16 +78,7 @@ impl TonemapPass {
                 shaders::FULLSCREEN,
                 shaders::TONEMAP,
             ],
-        );
-        let module = shaders::create_module(gpu, "tonemap", source)?;
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "tonemap",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[format],
-            None,
+            format,
         )?;
         self.pipelines.insert(variant, pipeline);
         Ok(())
