@@ -437,9 +437,9 @@ impl MaterialInput {
             .fold((1, 1), |(w, h), t| (w.max(t.width), h.max(t.height)))
     }
 
-    /// The texel at `(x, y)` of [`MaterialInput::size`].
-    pub fn texel(&self, x: u32, y: u32) -> Texel {
-        let (w, h) = self.size();
+    /// The texel at `(x, y)` of a grid of `size` texels ([`MaterialInput::size`], which
+    /// callers compute once).
+    pub fn texel(&self, x: u32, y: u32, (w, h): (u32, u32)) -> Texel {
         let (u, v) = ((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
         match self {
             MaterialInput::MetalRough {
@@ -537,7 +537,7 @@ pub fn validate_with_progress(
         .into_par_iter()
         .map(|y| {
             let row = (0..w)
-                .map(|x| padded_verdicts(material.texel(x, y), strict))
+                .map(|x| padded_verdicts(material.texel(x, y, (w, h)), strict))
                 .collect();
             row_done();
             row
