@@ -7,7 +7,7 @@ use lumen::scene::{ColorSpace, TextureData};
 use lumen::validate::{ColorInput, MaterialInput, ScalarInput};
 use std::path::{Path, PathBuf};
 
-/// The largest texture side the tools read: larger images are downscaled, with a warning.
+/// The largest texture side the tools keep: larger images are downscaled, with a warning.
 pub const MAX_TEXTURE_SIZE: u32 = 8192;
 
 /// A material and where it came from.
@@ -20,24 +20,24 @@ pub struct NamedMaterial {
     pub input: MaterialInput,
 }
 
-/// Reads an image file as RGBA8 in `color_space`.
+/// Reads an image file as RGBA8 in `color_space`, with the glTF loader's decoder: a side
+/// over [`MAX_TEXTURE_SIZE`] is downscaled, with a warning on stderr.
 pub fn read_texture(path: &Path, color_space: ColorSpace) -> Result<TextureData> {
-    let image = image::open(path)
-        .with_context(|| format!("{}: cannot read the image", path.display()))?
-        .to_rgba8();
-    let (width, height) = image.dimensions();
-    if width > MAX_TEXTURE_SIZE || height > MAX_TEXTURE_SIZE {
-        return Err(anyhow!(
-            "{}: {width}x{height} is larger than {MAX_TEXTURE_SIZE} texels a side",
-            path.display()
-        ));
-    }
-    Ok(TextureData {
-        width,
-        height,
-        rgba8: image.into_raw(),
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let mut warnings = Vec::new();
+    let what = path.display().to_string();
+    let texture = lumen::assets::texture_io::decode(
+        &bytes,
         color_space,
-    })
+        MAX_TEXTURE_SIZE,
+        &mut warnings,
+        &what,
+    )
+    .map_err(|e| anyhow!("{what}: {e}"))?;
+    for w in warnings {
+        eprintln!("lumen: {w}");
+    }
+    Ok(texture)
 }
 
 fn color(path: &Path) -> Result<ColorInput> {
