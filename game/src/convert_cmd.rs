@@ -86,20 +86,39 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     };
     for (m, dir) in &materials {
         let spec_gloss_in = matches!(m.input, MaterialInput::SpecGloss { .. });
-        let already = match args.to {
-            Some(ConvertTarget::SpecGloss) => spec_gloss_in,
-            Some(ConvertTarget::MetalRough) => !spec_gloss_in,
-            _ => false,
+        let already = args.to
+            == Some(if spec_gloss_in {
+                ConvertTarget::SpecGloss
+            } else {
+                ConvertTarget::MetalRough
+            });
+        // A material in the target workflow already: a safe-colour pass alone; skipped in
+        // a glTF file; an error for texture files.
+        let to = match (already, args.safe_color, args.file.is_some()) {
+            (false, _, _) => args.to,
+            (true, true, _) => None,
+            (true, false, true) => {
+                crate::output::print(&format!(
+                    "{} · {}: in that workflow already; skipped\n",
+                    m.source.display(),
+                    m.name
+                ));
+                continue;
+            }
+            (true, false, false) => {
+                return Err(anyhow!(
+                    "{}: {} is {} already",
+                    m.source.display(),
+                    m.name,
+                    if spec_gloss_in {
+                        "spec/gloss"
+                    } else {
+                        "metal/rough"
+                    }
+                ));
+            }
         };
-        if args.file.is_some() && already && !args.safe_color {
-            crate::output::print(&format!(
-                "{} · {}: in that workflow already; skipped\n",
-                m.source.display(),
-                m.name
-            ));
-            continue;
-        }
-        let text = convert(m, dir, args.to, args.safe_color, args.strict)?;
+        let text = convert(m, dir, to, args.safe_color, args.strict)?;
         crate::output::print(&text);
     }
     Ok(())
@@ -131,9 +150,7 @@ fn save<P: image::PixelWithColorType>(
 where
     [P::Subpixel]: image::EncodableLayout,
 {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
+    lumen::assets::image_io::ensure_parent(path)?;
     image
         .save(path)
         .with_context(|| format!("writing {}", path.display()))
@@ -145,7 +162,8 @@ struct Written {
     scalars: [u8; 2],
 }
 
-/// Converts one material into `dir`; returns the report lines.
+/// Converts one material into `dir` (to the other workflow, or with `to` = `None` only
+/// the safe-colour fix); returns the report lines.
 fn convert(
     m: &NamedMaterial,
     dir: &Path,
@@ -154,29 +172,10 @@ fn convert(
     strict: bool,
 ) -> Result<String> {
     let (w, h) = m.input.size();
-    let spec_gloss_in = matches!(m.input, MaterialInput::SpecGloss { .. });
-    let to = match to {
-        Some(ConvertTarget::SpecGloss) if spec_gloss_in && safe_color => None,
-        Some(ConvertTarget::MetalRough) if !spec_gloss_in && safe_color => None,
-        t => t,
-    };
+    // `to` is metal-rough, spec-gloss (the other workflow) or none (safe colour only).
     let target_spec_gloss = match to {
-        None => spec_gloss_in,
-        Some(ConvertTarget::SpecGloss) if spec_gloss_in => {
-            return Err(anyhow!(
-                "{}: {} is spec/gloss already",
-                m.source.display(),
-                m.name
-            ));
-        }
-        Some(ConvertTarget::MetalRough) if !spec_gloss_in => {
-            return Err(anyhow!(
-                "{}: {} is metal/rough already",
-                m.source.display(),
-                m.name
-            ));
-        }
         Some(t) => t == ConvertTarget::SpecGloss,
+        None => matches!(m.input, MaterialInput::SpecGloss { .. }),
     };
     let names = if target_spec_gloss {
         ["diffuse.png", "specular.png", "glossiness.png", "unused"]
@@ -193,7 +192,7 @@ fn convert(
             .map(|y| {
                 let row = (0..w)
                     .map(|x| {
-                        let original = m.input.texel(x, y);
+                        let original = m.input.texel(x, y, (w, h));
                         let texel = if safe_color {
                             safe_texel(original, strict)
                         } else {

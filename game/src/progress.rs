@@ -31,14 +31,15 @@ pub fn show_ibl_progress(app: &mut App) {
     }
 }
 
-/// A bar of `total` steps on stderr labelled `what` (`{pos}/{len} <unit>`), hidden when
-/// stderr is not a terminal.
+/// A bar of `total` steps on stderr labelled `what` (`{pos}/{len} <unit>`, then the bar's
+/// message), hidden when stderr is not a terminal.
 pub fn bar(total: u64, what: &str, unit: &str) -> indicatif::ProgressBar {
     if !std::io::stderr().is_terminal() {
         return indicatif::ProgressBar::hidden();
     }
     let b = indicatif::ProgressBar::new(total);
-    let template = format!("{what} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, eta {{eta}})");
+    let template =
+        format!("{what} {{bar:30}} {{pos}}/{{len}} {unit} ({{elapsed}}, ETA {{eta}}) {{msg}}");
     b.set_style(
         indicatif::ProgressStyle::with_template(&template)
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),

@@ -6,7 +6,6 @@ use anyhow::Result;
 use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
 use lumen::reference::path::{ReferenceOptions, render, trace_scene};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// The tone mapper of the camera the last rendered frame used.
@@ -36,29 +35,11 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         max_bounces: args.max_bounces,
         seed: args.seed,
     };
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(u64::from(args.size.1));
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "path tracing {bar:30} {pos}/{len} rows ({elapsed}, ETA {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
-    let image = render(&scene, &options, &|rows| {
-        if let Some(b) = &bar {
-            b.set_position(u64::from(rows));
-        }
-    });
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    let image = render(&scene, &options, &|rows| bar.set_position(u64::from(rows)));
+    bar.finish_and_clear();
     let seconds = start.elapsed().as_secs_f64();
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)?;
-    }
     match format {
         OutputFormat::Exr => save_exr(&out, &image)?,
         OutputFormat::Png => {

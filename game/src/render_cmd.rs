@@ -7,7 +7,7 @@ use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
 use lumen::prelude::Quality;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Renders, writes the image and prints the report. Returns the path written.
 pub fn run(args: &RenderArgs) -> Result<PathBuf> {
@@ -43,11 +43,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     if args.explain {
         eprint!("{}", report.plan.explain());
     }
-    match format {
-        OutputFormat::Png => save_png(&out, &app.read_display_image()?),
-        OutputFormat::Exr => save_exr(&out, &app.read_hdr_image()?),
-    }
-    .with_context(|| format!("writing {}", out.display()))?;
+    save_frame(&app, &out, format)?;
 
     let adapter = app.adapter().cloned().context("no adapter")?;
     let gpu_total: Option<f64> = report.passes.iter().map(|p| p.gpu_ms).sum();
@@ -156,4 +152,14 @@ fn report_tonemapper(app: &App) -> &'static str {
         .and_then(|f| f.camera.as_ref())
         .map(|c| c.tonemapper.name())
         .unwrap_or("none")
+}
+
+/// Saves the last headless frame of `app` as `out`: the display image for PNG, exposed
+/// linear HDR for EXR (parent folders are created).
+pub fn save_frame(app: &App, out: &Path, format: OutputFormat) -> Result<()> {
+    match format {
+        OutputFormat::Png => save_png(out, &app.read_display_image()?),
+        OutputFormat::Exr => save_exr(out, &app.read_hdr_image()?),
+    }
+    .with_context(|| format!("writing {}", out.display()))
 }

@@ -13,7 +13,6 @@ use lumen::quality::{HdrPrecision, QualityPreset, ShadowFilter};
 use lumen::reference::path::{ReferenceOptions, render, trace_scene};
 use plotters::prelude::*;
 use serde_json::json;
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// Bounces of the reference's paths.
@@ -133,7 +132,7 @@ fn reference(
     }
     let traced = trace_scene(&mut app, size)?;
     let tonemapper = crate::reference_cmd::frame_tonemapper(&app);
-    let bar = bar(u64::from(size.1), "reference");
+    let bar = crate::progress::bar(u64::from(size.1), "reference", "rows");
     let img = render(
         &traced,
         &ReferenceOptions {
@@ -145,25 +144,8 @@ fn reference(
         &|rows| bar.set_position(u64::from(rows)),
     );
     bar.finish_and_clear();
-    if let Some(dir) = cache.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
     lumen::assets::image_io::save_exr(&cache, &img)?;
     Ok((img, tonemapper, false))
-}
-
-fn bar(len: u64, what: &str) -> indicatif::ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let b = indicatif::ProgressBar::new(len);
-    b.set_style(
-        indicatif::ProgressStyle::with_template(&format!(
-            "{what} {{bar:30}} {{pos}}/{{len}} ({{elapsed}}, ETA {{eta}}) {{msg}}"
-        ))
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    b
 }
 
 /// The display image as 8-bit sRGB bytes (RGB), tone mapped with `tonemapper`.
@@ -218,7 +200,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     let (reference_image, tonemapper, cached) =
         reference(&args.scene, args.size, args.spp).context("the reference")?;
     let configs = configurations(&args.scene);
-    let progress = bar(configs.len() as u64, "configurations");
+    let progress = crate::progress::bar(configs.len() as u64, "tradeoff", "configurations");
     let mut rows = Vec::new();
     let mut adapter = None;
     for (kind, setting, scene) in &configs {

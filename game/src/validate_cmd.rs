@@ -75,7 +75,7 @@ pub fn run(args: &ValidateArgs) -> Result<()> {
             eprint!("{text}");
         }
         Some(p) => {
-            write_file(p, format!("{doc:#}\n").as_bytes())?;
+            crate::output::write_text(p, &format!("{doc:#}\n"))?;
             crate::output::print(&text);
         }
         None => crate::output::print(&text),
@@ -148,13 +148,6 @@ fn material_json(m: &NamedMaterial, report: &Report) -> serde_json::Value {
             "invalid_share": r.invalid_share(),
         })).collect::<Vec<_>>(),
     })
-}
-
-fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    std::fs::write(path, bytes).with_context(|| format!("writing {}", path.display()))
 }
 
 /// `DIR/<k>-<material>.png` (worst verdict) and `DIR/<k>-<material>-<rule>.png`.

@@ -33,7 +33,7 @@ impl OutputFormat {
 }
 
 /// Creates the parent directory of `path` if needed.
-fn ensure_parent(path: &Path) -> Result<()> {
+pub fn ensure_parent(path: &Path) -> Result<()> {
     match path.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => {
             std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))

@@ -8,12 +8,12 @@ pub mod report;
 pub mod stats;
 
 use crate::cli::{BenchArgs, ViewArgs};
+use crate::output::write_text;
 use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::prelude::Quality;
 use report::{FrameSample, RunInfo};
-use std::io::IsTerminal;
 use std::path::Path;
 use std::time::{Instant, SystemTime, UNIX_EPOCH};
 
@@ -33,7 +33,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     let total = args.warmup + args.frames;
-    let bar = progress_bar(u64::from(total));
+    let bar = crate::progress::bar(u64::from(total), "bench", "frames");
     let started_unix_s = SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
@@ -78,11 +78,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let json = report::to_json(&info, &samples);
     match args.json.as_deref() {
         Some(p) if p == Path::new("-") => crate::output::print(&format!("{json}\n")),
-        Some(p) => write(p, &format!("{json:#}\n"))?,
+        Some(p) => write_text(p, &format!("{json:#}\n"))?,
         None => {}
     }
     if let Some(p) = &args.csv {
-        write(p, &report::to_csv(&samples))?;
+        write_text(p, &report::to_csv(&samples))?;
     }
     if let Some(p) = &args.plot {
         let title = format!(
@@ -153,25 +153,4 @@ fn scene_stats(app: &App) -> [usize; 4] {
                 f.light_counts.total() as usize,
             ]
         })
-}
-
-fn progress_bar(total: u64) -> indicatif::ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "bench {bar:30} {pos}/{len} frames ({elapsed}, eta {eta})",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
-}
-
-fn write(path: &Path, text: &str) -> Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    }
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
 }

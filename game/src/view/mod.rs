@@ -18,12 +18,13 @@ pub mod watch;
 
 use crate::bench::report::FrameSample;
 use crate::cli::ViewArgs;
+use crate::render_cmd::save_frame;
 use crate::setup::{build_scene, check_scene_args, open_environment};
 use anyhow::{Context, Result, anyhow};
 use controls::CameraControls;
 use gui::Gui;
 use lumen::App;
-use lumen::assets::image_io::{save_exr, save_png};
+use lumen::assets::image_io::OutputFormat;
 use lumen::prelude::*;
 use lumen::render::device::{Gpu, GpuRequest};
 use lumen::wgpu;
@@ -501,11 +502,8 @@ fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
 pub fn save_screenshot(app: &mut App, size: (u32, u32), base: &Path) -> Result<[PathBuf; 2]> {
     app.render_headless(size)?;
     let paths = [base.with_extension("png"), base.with_extension("exr")];
-    if let Some(dir) = base.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    save_png(&paths[0], &app.read_display_image()?)?;
-    save_exr(&paths[1], &app.read_hdr_image()?)?;
+    save_frame(app, &paths[0], OutputFormat::Png)?;
+    save_frame(app, &paths[1], OutputFormat::Exr)?;
     Ok(paths)
 }
 
@@ -515,19 +513,9 @@ fn screenshot(r: &mut Running, path: Option<&Path>) -> Result<String> {
     let size = (r.config.width.max(1), r.config.height.max(1));
     let written: Vec<PathBuf> = match path {
         Some(p) => {
+            let format = OutputFormat::from_path(p)?;
             r.app.render_headless(size)?;
-            if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-                std::fs::create_dir_all(dir)
-                    .with_context(|| format!("creating {}", dir.display()))?;
-            }
-            match lumen::assets::image_io::OutputFormat::from_path(p)? {
-                lumen::assets::image_io::OutputFormat::Png => {
-                    save_png(p, &r.app.read_display_image()?)?
-                }
-                lumen::assets::image_io::OutputFormat::Exr => {
-                    save_exr(p, &r.app.read_hdr_image()?)?
-                }
-            }
+            save_frame(&r.app, p, format)?;
             vec![p.to_path_buf()]
         }
         None => {
