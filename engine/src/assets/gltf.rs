@@ -74,13 +74,9 @@ pub fn material_inputs(
     path: &Path,
     max_texture_size: u32,
 ) -> Result<(Vec<NamedMaterialInput>, Vec<String>)> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
+    let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
-    check_buffer_files(&gltf.document, base, path)?;
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
-        .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
-    let views: Vec<gltf::buffer::View> = gltf.document.views().collect();
+    let views: Vec<gltf::buffer::View> = document.views().collect();
     let mut loader = TextureLoader {
         base,
         buffers: &buffers,
@@ -89,8 +85,7 @@ pub fn material_inputs(
         cache: HashMap::new(),
         warnings: Vec::new(),
     };
-    let materials = gltf
-        .document
+    let materials = document
         .materials()
         .map(|m| {
             let name = m
@@ -103,8 +98,13 @@ pub fn material_inputs(
     Ok((materials, loader.warnings))
 }
 
-fn check_buffer_files(document: &gltf::Document, base: &Path, path: &Path) -> Result<()> {
-    for buffer in document.buffers() {
+/// Reads and parses a glTF file and loads its buffers, checking that every buffer file
+/// exists first.
+fn open(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>)> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    for buffer in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(uri) = buffer.source()
             && !uri.starts_with("data:")
             && !base.join(percent_decoded(uri)).is_file()
@@ -115,19 +115,16 @@ fn check_buffer_files(document: &gltf::Document, base: &Path, path: &Path) -> Re
             ));
         }
     }
-    Ok(())
+    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
+        .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
+    Ok((gltf.document, buffers))
 }
 
 /// Loads a glTF file into `app`'s World. Fails with an error naming the file and the
 /// problem; never panics on malformed input.
 pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
+    let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
-    check_buffer_files(&gltf.document, base, path)?;
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
-        .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
-    let document = gltf.document;
     let mut summary = GltfSummary::default();
 
     let source = Source {
