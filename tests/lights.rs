@@ -5,7 +5,8 @@ mod common;
 
 use lumen::App;
 use lumen::prelude::*;
-use lumen::render::plan::PassId;
+use lumen::render::graph::PassId;
+use lumen::render::lighting::LightingPass;
 use lumen_game::scenes::LightsSceneOptions;
 
 const SIZE: (u32, u32) = (256, 144);
@@ -152,7 +153,10 @@ fn uniform_and_storage_light_paths_agree() {
     }
     let report = large.render_headless(SIZE).expect("frame");
     assert!(
-        !report.plan.lighting.uniform_lights,
+        !report
+            .plan
+            .variant::<LightingPass>()
+            .is_some_and(|v| v.uniform_lights),
         "1400 lights must use storage"
     );
     let (storage_path, _) = render(&mut large, false);

@@ -8,7 +8,7 @@ use glam::{Quat, Vec3};
 use lumen::brdf::{Surface, VisibilityModel};
 use lumen::prelude::*;
 use lumen::render::device::GpuRequest;
-use lumen::render::plan::PassId;
+use lumen::render::graph::PassId;
 use lumen::{App, FrameTarget};
 use lumen_game::scenes::{
     PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL, SPHERE_RADIUS, sphere_center,

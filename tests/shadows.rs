@@ -8,7 +8,7 @@ use glam::Vec3;
 use lumen::App;
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::render::plan::PassId;
+use lumen::render::graph::PassId;
 use lumen_game::scenes::{
     SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,
     SHADOWS_SPOT, SHADOWS_SUN_FROM,

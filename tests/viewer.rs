@@ -8,7 +8,7 @@ use lumen::color::srgb_encode;
 use lumen::prelude::*;
 use lumen::render::debug_view::depth_grey;
 use lumen::render::extract::ExtractedFrame;
-use lumen::render::plan::PassId;
+use lumen::render::graph::PassId;
 use lumen::scene::camera::circle_of_confusion;
 use lumen::scene::{DepthOfField, Lens};
 

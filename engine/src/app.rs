@@ -4,10 +4,10 @@
 use crate::error::{Error, Result};
 use crate::quality::Quality;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
-use crate::render::exposure::{ExposurePass, FrameDelta, MeteredExposure};
+use crate::render::exposure::ExposurePass;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
-use crate::render::plan::FramePlan;
+use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
+use crate::render::graph::{FramePlan, PassId, Slot, slots};
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::shadow::pass::ShadowPass;
@@ -363,7 +363,9 @@ impl App {
             .collect(&gpu);
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
 
-        if self.world.resource::<ExposurePass>().ran {
+        if self.world.resource::<FramePlan>().runs(PassId::Exposure)
+            && self.world.resource::<ExposurePass>().ran
+        {
             let metered = self.world.resource::<ExposurePass>().read_state(&gpu)?;
             self.world.insert_resource(metered);
         }
@@ -445,24 +447,33 @@ impl App {
             .current
             .as_ref()
             .ok_or_else(|| Error::InvalidArgument("no frame was rendered".into()))?;
+        let texture = |slot: Slot| {
+            t.get(slot).map(|t| &t.texture).ok_or_else(|| {
+                Error::InvalidArgument(format!("the last frame had no {} target", slot.name))
+            })
+        };
         let data: Vec<f32> = match target {
-            FrameTarget::GBuffer0 => read_texture(gpu, &t.gbuffer0.texture, 4)?
+            FrameTarget::GBuffer0 => read_texture(gpu, texture(slots::GBUFFER_BASE_COLOR)?, 4)?
                 .chunks_exact(4)
                 .flat_map(|p| {
                     let c = |v: u8| crate::color::srgb_decode(f32::from(v) / 255.0);
                     [c(p[0]), c(p[1]), c(p[2]), f32::from(p[3]) / 255.0]
                 })
                 .collect(),
-            FrameTarget::GBuffer1 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer1.texture, 8)?),
-            FrameTarget::GBuffer2 => f16_bytes_to_f32(&read_texture(gpu, &t.gbuffer2.texture, 8)?),
-            FrameTarget::Depth | FrameTarget::ShadowAtlas => depth(&t.depth.texture)?,
+            FrameTarget::GBuffer1 => {
+                f16_bytes_to_f32(&read_texture(gpu, texture(slots::GBUFFER_NORMAL)?, 8)?)
+            }
+            FrameTarget::GBuffer2 => {
+                f16_bytes_to_f32(&read_texture(gpu, texture(slots::GBUFFER_EMISSIVE)?, 8)?)
+            }
+            FrameTarget::Depth | FrameTarget::ShadowAtlas => depth(texture(slots::DEPTH)?)?,
             FrameTarget::Hdr if t.hdr_format == wgpu::TextureFormat::Rgba32Float => {
-                read_texture(gpu, &t.hdr.texture, 16)?
+                read_texture(gpu, texture(slots::HDR)?, 16)?
                     .chunks_exact(4)
                     .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
                     .collect()
             }
-            FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, &t.hdr.texture, 8)?),
+            FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, texture(slots::HDR)?, 8)?),
         };
         image::Rgba32FImage::from_raw(t.size.0, t.size.1, data)
             .ok_or_else(|| Error::Gpu("target readback has the wrong size".into()))

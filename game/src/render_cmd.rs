@@ -25,7 +25,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     // Automatic exposure first adapts: frames at a fixed 1/30 s until the meter settles.
     let first = app.render_headless(args.size)?;
     let mut adaptation_frames = 0;
-    if first.plan.runs(lumen::render::plan::PassId::Exposure) {
+    if first.plan.runs(lumen::render::graph::PassId::Exposure) {
         app.set_fixed_delta(Some(1.0 / 30.0));
         for _ in 0..240 {
             let r = app.render_headless(args.size)?;

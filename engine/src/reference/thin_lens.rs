@@ -50,7 +50,7 @@ pub fn render_thin_lens_reference(
     }
     let world = app.world_mut();
     let metered = world
-        .resource::<crate::render::exposure::MeteredExposure>()
+        .resource::<crate::render::frame::MeteredExposure>()
         .ev100;
     let (entity, camera, transform) = world
         .query::<(Entity, &Camera, &Transform)>()

@@ -20,14 +20,18 @@ use crate::render::device::Gpu;
 use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
     draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef};
-use crate::render::shadow::pass::ShadowPass;
+use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
 /// Which channel the frame shows: a resource; [`DebugView::Off`] is the normal image.
@@ -121,14 +125,63 @@ struct Params {
     pad: [f32; 2],
 }
 
-type Variant = (wgpu::TextureFormat, DebugView);
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// A debug view of one channel, instead of tone mapping.
+    pub const DebugView: PassId = PassId::new("debug view");
+}
+
+/// The debug view shader variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct DebugViewVariant {
+    /// The display image's format (sRGB-encoded by the shader unless it is an sRGB format).
+    pub format: wgpu::TextureFormat,
+    /// The channel shown.
+    pub view: DebugView,
+}
+
+impl FramePass for DebugViewPass {
+    const ID: PassId = PassId::DebugView;
+    const READS: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH, SHADOW_ATLAS];
+    const WRITES: &'static [Slot] = &[DISPLAY];
+    type Variant = DebugViewVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(DebugViewPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<DebugViewVariant> {
+        let view = *world.resource::<DebugView>();
+        let on = view != DebugView::Off;
+        PassDecision::new(
+            on,
+            if on {
+                format!("shows the {} channel", view.name())
+            } else {
+                "no debug view chosen".into()
+            },
+            DebugViewVariant {
+                format: world.resource::<FrameOutput>().format,
+                view,
+            },
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_debug_view.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        debug_view_pass.into_configs()
+    }
+}
 
 /// The debug view pass's pipelines and bindings.
 #[derive(Resource)]
 pub struct DebugViewPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<Variant, wgpu::RenderPipeline>,
+    pipelines: HashMap<DebugViewVariant, wgpu::RenderPipeline>,
     bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
     params: wgpu::Buffer,
 }
@@ -170,11 +223,11 @@ impl DebugViewPass {
         }
     }
 
-    fn pipeline(&mut self, gpu: &Gpu, variant: Variant) -> Result<()> {
+    fn pipeline(&mut self, gpu: &Gpu, variant: DebugViewVariant) -> Result<()> {
         if self.pipelines.contains_key(&variant) {
             return Ok(());
         }
-        let (format, view) = variant;
+        let DebugViewVariant { format, view } = variant;
         let pipeline = fullscreen_variant(
             gpu,
             "debug view",
@@ -204,8 +257,7 @@ impl DebugViewPass {
 #[allow(clippy::too_many_arguments)]
 pub fn prepare_debug_view(
     gpu: Res<Gpu>,
-    view: Res<DebugView>,
-    output: Res<FrameOutput>,
+    plan: Res<FramePlan>,
     frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     buffers: Res<SceneBuffers>,
@@ -213,11 +265,21 @@ pub fn prepare_debug_view(
     mut pass: ResMut<DebugViewPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    if let Err(e) = pass.pipeline(&gpu, (output.format, *view)) {
+    let Some(&variant) = plan.variant::<DebugViewPass>() else {
+        return;
+    };
+    if let Err(e) = pass.pipeline(&gpu, variant) {
         errors.0.push(e);
         return;
     }
     let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
+        return;
+    };
+    let (Some(base_color), Some(normal), Some(depth)) = (
+        t.view(GBUFFER_BASE_COLOR),
+        t.view(GBUFFER_NORMAL),
+        t.view(DEPTH),
+    ) else {
         return;
     };
     let params = Params {
@@ -249,9 +311,9 @@ pub fn prepare_debug_view(
                 binding: 1,
                 resource: pass.params.as_entire_binding(),
             },
-            texture(2, &t.gbuffer0.view),
-            texture(3, &t.gbuffer1.view),
-            texture(4, &t.depth.view),
+            texture(2, base_color),
+            texture(3, normal),
+            texture(4, depth),
             texture(5, &shadows.atlas.view),
         ],
     });
@@ -261,7 +323,7 @@ pub fn prepare_debug_view(
 /// Records the debug view into the frame's output view.
 pub fn debug_view_pass(
     pass: Res<DebugViewPass>,
-    view: Res<DebugView>,
+    plan: Res<FramePlan>,
     output: Res<FrameOutput>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
@@ -270,14 +332,15 @@ pub fn debug_view_pass(
         encoder.as_mut(),
         output.view.as_ref(),
         pass.bind_group.as_ref(),
-        pass.pipelines.get(&(output.format, *view)),
+        plan.variant::<DebugViewPass>()
+            .and_then(|v| pass.pipelines.get(v)),
     ) else {
         return;
     };
     draw_fullscreen(
         encoder,
         timer,
-        "debug view",
+        PassId::DebugView.name(),
         &[target],
         pipeline,
         bind_group,

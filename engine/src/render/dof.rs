@@ -6,14 +6,68 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedCamera, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders;
 use crate::render::targets::{RenderTargets, Target};
 use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 use wgpu::util::DeviceExt;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Depth of field.
+    pub const Dof: PassId = PassId::new("dof");
+}
+
+/// The depth-of-field passes compile one set of pipelines (the composite per HDR format,
+/// which the targets decide).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct DofVariant;
+
+impl FramePass for DofPass {
+    const ID: PassId = PassId::Dof;
+    const READS: &'static [Slot] = &[HDR, DEPTH];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = DofVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        DofPass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<DofVariant> {
+        let camera = world.resource::<ExtractedFrame>().camera.as_ref();
+        let reason = match camera.and_then(|c| c.depth_of_field.map(|d| (c, d))) {
+            Some((c, d)) => format!(
+                "f/{:.1}, focus {:.2} m, {:.0} mm, {} rings, CoC ≤ {:.0} px",
+                c.lens.aperture_f_stops,
+                c.lens.focus_distance_m,
+                c.focal_length_m * 1e3,
+                d.rings,
+                d.max_coc_px
+            ),
+            None => "depth of field is off".into(),
+        };
+        PassDecision::new(
+            camera.is_some_and(|c| c.depth_of_field.is_some()),
+            reason,
+            DofVariant,
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_dof.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        dof_pass.into_configs()
+    }
+}
 
 /// Format of the half-resolution depth-of-field targets.
 pub const DOF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -164,7 +218,7 @@ pub fn prepare_dof(
     let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
         return;
     };
-    let Some(dof) = camera.depth_of_field else {
+    let (Some(dof), Some(depth)) = (camera.depth_of_field, t.get(DEPTH)) else {
         return;
     };
     if let Err(e) = pass.composite_pipeline(&gpu, t.hdr_format) {
@@ -238,7 +292,7 @@ pub fn prepare_dof(
     };
     let prepare = group(
         &pass.prepare,
-        &[common(0), common(1), view(2, &d.sharp), view(3, &t.depth)],
+        &[common(0), common(1), view(2, &d.sharp), view(3, depth)],
     );
     let tiles = group(&pass.tiles, &[common(1), view(4, &d.input)]);
     let blur = group(
@@ -254,7 +308,7 @@ pub fn prepare_dof(
             common(0),
             common(1),
             view(2, &d.sharp),
-            view(3, &t.depth),
+            view(3, depth),
             view(5, &d.far),
             view(6, &d.near),
             wgpu::BindGroupEntry {
@@ -282,13 +336,14 @@ pub fn dof_pass(
     ) else {
         return;
     };
-    let Some(composite_pipeline) = pass.composite.get(&t.hdr_format) else {
+    let (Some(composite_pipeline), Some(hdr)) = (pass.composite.get(&t.hdr_format), t.get(HDR))
+    else {
         return;
     };
     encoder.copy_texture_to_texture(
-        t.hdr.texture.as_image_copy(),
+        hdr.texture.as_image_copy(),
         d.sharp.texture.as_image_copy(),
-        t.hdr.texture.size(),
+        hdr.texture.size(),
     );
     draw_fullscreen(
         encoder,
@@ -318,7 +373,7 @@ pub fn dof_pass(
         encoder,
         timer,
         "dof composite",
-        &[&t.hdr.view],
+        &[&hdr.view],
         composite_pipeline,
         composite,
     );

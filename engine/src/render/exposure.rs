@@ -6,36 +6,69 @@ use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
+pub use crate::render::frame::{FrameDelta, MeteredExposure};
+use crate::render::graph::slots::HDR;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::shaders;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use wgpu::util::DeviceExt;
+
+/// The metered exposure state, read back after the frame and exposing the next one
+/// (owned by [`ExposurePass`]).
+pub const EXPOSURE_STATE: Slot = Slot::owned("exposure state");
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Automatic exposure: luminance histogram and metering.
+    pub const Exposure: PassId = PassId::new("exposure");
+}
+
+/// The exposure pass compiles the same two pipelines for every frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ExposureVariant;
+
+impl FramePass for ExposurePass {
+    const ID: PassId = PassId::Exposure;
+    const READS: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[EXPOSURE_STATE];
+    type Variant = ExposureVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        ExposurePass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<ExposureVariant> {
+        let camera = world.resource::<ExtractedFrame>().camera.as_ref();
+        let reason = match camera.and_then(|c| c.auto_exposure) {
+            Some(a) => format!(
+                "automatic exposure, EV100 {:.1}..{:.1}",
+                a.min_ev100, a.max_ev100
+            ),
+            None => "manual, physical or linear exposure: nothing to meter".into(),
+        };
+        PassDecision::new(
+            camera.is_some_and(|c| c.auto_exposure.is_some()),
+            reason,
+            ExposureVariant,
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_exposure.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        exposure_pass.into_configs()
+    }
+}
 
 /// log2 of the darkest luminance (cd/m²) the histogram resolves; darker is "black".
 pub const HISTOGRAM_MIN_LOG2: f32 = -12.0;
 /// The log2 luminance range the histogram spans (2⁻¹² … 2²⁰ cd/m²: 254 bins of 0.126 EV).
 pub const HISTOGRAM_LOG2_RANGE: f32 = 32.0;
-
-/// What the meter saw, read back after the last frame.
-#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
-pub struct MeteredExposure {
-    /// The adapted EV100 the next frame uses (automatic exposure only).
-    pub ev100: Option<f32>,
-    /// The EV100 the meter aims at (clamped to the camera's range).
-    pub target_ev100: Option<f32>,
-    /// log2 of the metered average scene luminance (cd/m²).
-    pub average_log2_luminance: Option<f32>,
-}
-
-/// Seconds between frames, for adaptation over time. The app sets it each frame.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
-pub struct FrameDelta(pub f32);
-
-impl Default for FrameDelta {
-    fn default() -> Self {
-        FrameDelta(1.0 / 60.0)
-    }
-}
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -63,7 +96,8 @@ pub struct ExposurePass {
     readback: wgpu::Buffer,
     params: wgpu::Buffer,
     bind_groups: Option<(u64, wgpu::BindGroup, wgpu::BindGroup)>,
-    /// Whether the pass recorded work this frame (so the app reads the state back).
+    /// Whether the pass recorded work in the frame it last ran in (so the app, when the
+    /// plan says it ran, reads the state back).
     pub ran: bool,
 }
 
@@ -170,7 +204,7 @@ pub fn prepare_exposure(
     let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
         return;
     };
-    let Some(auto) = camera.auto_exposure else {
+    let (Some(auto), Some(hdr)) = (camera.auto_exposure, t.view(HDR)) else {
         return;
     };
     let params = Params {
@@ -207,7 +241,7 @@ pub fn prepare_exposure(
             });
             entries.push(wgpu::BindGroupEntry {
                 binding: 1,
-                resource: wgpu::BindingResource::TextureView(&t.hdr.view),
+                resource: wgpu::BindingResource::TextureView(hdr),
             });
         }
         if with_state {
@@ -245,7 +279,7 @@ pub fn exposure_pass(
     ) else {
         return;
     };
-    let scope = timer.begin_pass("exposure");
+    let scope = timer.begin_pass(PassId::Exposure);
     {
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("exposure"),

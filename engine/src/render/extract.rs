@@ -284,7 +284,7 @@ pub fn extract_frame(
     environments: Query<(Entity, &Environment)>,
     meshes: Res<Meshes>,
     quality: Res<Quality>,
-    metered: Res<crate::render::exposure::MeteredExposure>,
+    metered: Res<crate::render::frame::MeteredExposure>,
     output: Res<FrameOutput>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,

@@ -1,5 +1,6 @@
 //! Per-frame state shared by the render systems: the output target, the command encoder,
-//! and errors raised while building the frame.
+//! errors raised while building the frame, the time step, and what automatic exposure
+//! metered.
 
 use crate::error::Error;
 use crate::render::timing::GpuTimer;
@@ -27,4 +28,25 @@ pub struct FrameEncoder {
     pub encoder: Option<wgpu::CommandEncoder>,
     /// Per-pass CPU and GPU timing.
     pub timer: GpuTimer,
+}
+
+/// What the meter saw, read back after the last frame.
+#[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeteredExposure {
+    /// The adapted EV100 the next frame uses (automatic exposure only).
+    pub ev100: Option<f32>,
+    /// The EV100 the meter aims at (clamped to the camera's range).
+    pub target_ev100: Option<f32>,
+    /// log2 of the metered average scene luminance (cd/m²).
+    pub average_log2_luminance: Option<f32>,
+}
+
+/// Seconds between frames, for adaptation over time. The app sets it each frame.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct FrameDelta(pub f32);
+
+impl Default for FrameDelta {
+    fn default() -> Self {
+        FrameDelta(1.0 / 60.0)
+    }
 }

@@ -6,6 +6,8 @@ use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::GpuInstance;
+use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
@@ -13,7 +15,66 @@ use crate::render::shaders;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Rasterises meshes into the G-buffer.
+    pub const GBuffer: PassId = PassId::new("gbuffer");
+}
+
+/// The G-buffer variants this frame's batches draw with.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct GBufferVariants {
+    /// Each distinct variant, in the order batches first need it.
+    pub variants: Vec<GBufferVariant>,
+}
+
+impl FramePass for GBufferPass {
+    const ID: PassId = PassId::GBuffer;
+    const READS: &'static [Slot] = &[];
+    const WRITES: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH];
+    type Variant = GBufferVariants;
+
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        GBufferPass::new(gpu, world.resource::<GpuMaterialMaps>())
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<GBufferVariants> {
+        let frame = world.resource::<ExtractedFrame>();
+        let instances = frame.instances.len();
+        let mut variants = GBufferVariants::default();
+        for v in frame.batches.iter().map(variant) {
+            if !variants.variants.contains(&v) {
+                variants.variants.push(v);
+            }
+        }
+        let reason = if instances > 0 {
+            format!(
+                "{instances} instance(s) of {} mesh(es), {} triangles",
+                frame.batches.len(),
+                frame.triangles
+            )
+        } else {
+            "no mesh in view: the G-buffer stays cleared".into()
+        };
+        PassDecision::new(instances > 0, reason, variants)
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_gbuffer.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        gbuffer_pass.into_configs()
+    }
+
+    fn skipped() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(clear_gbuffer.into_configs())
+    }
+}
 
 /// The depth attachment of the G-buffer pass, cleared to 0 (the far plane in reversed Z).
 fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
@@ -202,12 +263,16 @@ fn variant(batch: &Batch) -> GBufferVariant {
 pub fn prepare_gbuffer(
     gpu: Res<Gpu>,
     buffers: Res<SceneBuffers>,
-    frame: Res<ExtractedFrame>,
+    plan: Res<FramePlan>,
     mut pass: ResMut<GBufferPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    for batch in &frame.batches {
-        if let Err(e) = pass.ensure(&gpu, variant(batch)) {
+    let variants = plan
+        .variant::<GBufferPass>()
+        .map(|v| v.variants.as_slice())
+        .unwrap_or_default();
+    for &v in variants {
+        if let Err(e) = pass.ensure(&gpu, v) {
             errors.0.push(e);
             return;
         }
@@ -247,7 +312,15 @@ pub fn gbuffer_pass(
     ) else {
         return;
     };
-    let scope = timer.begin_pass("gbuffer");
+    let (Some(base_color), Some(normal), Some(emissive), Some(depth)) = (
+        t.view(GBUFFER_BASE_COLOR),
+        t.view(GBUFFER_NORMAL),
+        t.view(GBUFFER_EMISSIVE),
+        t.view(DEPTH),
+    ) else {
+        return;
+    };
+    let scope = timer.begin_pass(PassId::GBuffer);
     {
         let clear = |view| {
             Some(wgpu::RenderPassColorAttachment {
@@ -262,12 +335,8 @@ pub fn gbuffer_pass(
         };
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
-            color_attachments: &[
-                clear(&t.gbuffer0.view),
-                clear(&t.gbuffer1.view),
-                clear(&t.gbuffer2.view),
-            ],
-            depth_stencil_attachment: Some(cleared_depth(&t.depth.view)),
+            color_attachments: &[clear(base_color), clear(normal), clear(emissive)],
+            depth_stencil_attachment: Some(cleared_depth(depth)),
             timestamp_writes: timer.render_writes(&scope),
             occlusion_query_set: None,
             multiview_mask: None,
@@ -307,13 +376,16 @@ pub fn gbuffer_pass(
 
 /// When the G-buffer pass is skipped (no mesh), clears depth so lighting sees background.
 pub fn clear_gbuffer(targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncoder>) {
-    let (Some(encoder), Some(t)) = (encoder.encoder.as_mut(), targets.current.as_ref()) else {
+    let (Some(encoder), Some(depth)) = (
+        encoder.encoder.as_mut(),
+        targets.current.as_ref().and_then(|t| t.view(DEPTH)),
+    ) else {
         return;
     };
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("clear depth"),
         color_attachments: &[],
-        depth_stencil_attachment: Some(cleared_depth(&t.depth.view)),
+        depth_stencil_attachment: Some(cleared_depth(depth)),
         timestamp_writes: None,
         occlusion_query_set: None,
         multiview_mask: None,

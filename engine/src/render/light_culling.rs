@@ -6,12 +6,17 @@
 
 use crate::error::Result;
 use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::DEPTH;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 
 /// Pixels per tile side (`TILE_SIZE` in `light_tiles.wgsl`).
 pub const TILE_SIZE: u32 = 16;
@@ -23,6 +28,71 @@ const TILE_STRIDE: u32 = 2 + 2 * MAX_TILE_LIGHTS;
 /// The fewest unshadowed point and spot lights for which culling runs. Below it the
 /// culling pass costs more than it saves (README, "Light culling", measured on lavapipe).
 pub const LIGHT_CULLING_MIN_LIGHTS: u32 = 8;
+
+/// The per-tile light lists (owned by [`LightCullingPass`]).
+pub const LIGHT_TILES: Slot = Slot::owned("light tiles");
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Lists the lights that reach each screen tile.
+    pub const LightCulling: PassId = PassId::new("light culling");
+}
+
+/// The light culling shader variant.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct LightCullingVariant {
+    /// Lights are read from the uniform copy (every light fits it), not from the storage
+    /// buffer.
+    pub uniform_lights: bool,
+}
+
+impl FramePass for LightCullingPass {
+    const ID: PassId = PassId::LightCulling;
+    const READS: &'static [Slot] = &[DEPTH];
+    const WRITES: &'static [Slot] = &[LIGHT_TILES];
+    type Variant = LightCullingVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(LightCullingPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<LightCullingVariant> {
+        let frame = world.resource::<ExtractedFrame>();
+        let quality = world.resource::<crate::quality::Quality>();
+        let buffers = world.resource::<SceneBuffers>();
+        let instances = frame.instances.len();
+        let counts = frame.light_counts;
+        let unshadowed = (counts.point - frame.shadowed_counts[1].min(counts.point))
+            + (counts.spot - frame.shadowed_counts[2].min(counts.spot));
+        let min_lights = LIGHT_CULLING_MIN_LIGHTS;
+        let reason = if !quality.light_culling {
+            "off (--no-light-culling)".into()
+        } else if instances == 0 {
+            "nothing to light".into()
+        } else if unshadowed >= min_lights {
+            format!("{unshadowed} unshadowed point/spot light(s) into 16×16-pixel tiles")
+        } else {
+            format!(
+                "{unshadowed} unshadowed point/spot light(s): fewer than {min_lights}, every pixel loops over all"
+            )
+        };
+        PassDecision::new(
+            quality.light_culling && instances > 0 && unshadowed >= min_lights,
+            reason,
+            LightCullingVariant {
+                uniform_lights: buffers.lights_fit_uniform(frame),
+            },
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_light_culling.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        light_culling_pass.into_configs()
+    }
+}
 
 /// The culling pipelines (compiled on first use, one per light source: the compact
 /// uniform copy or the storage buffer), the tile buffer and its bind group.
@@ -154,19 +224,20 @@ pub fn tile_count(size: (u32, u32)) -> (u32, u32) {
 /// and rebuilds the bind group on changes.
 pub fn prepare_light_culling(
     gpu: Res<Gpu>,
-    plan: Res<crate::render::plan::FramePlan>,
+    plan: Res<FramePlan>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
     mut pass: ResMut<LightCullingPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    let Some(t) = targets.current.as_ref() else {
+    let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<LightCullingPass>())
+    else {
         return;
     };
-    if !plan.lighting.light_culling {
+    let Some(depth) = t.view(DEPTH) else {
         return;
-    }
-    let uniform_lights = plan.lighting.uniform_lights;
+    };
+    let uniform_lights = variant.uniform_lights;
     if let Err(e) = pass.ensure_pipeline(&gpu, uniform_lights, buffers.uniform_light_capacity) {
         errors.0.push(e);
         return;
@@ -197,7 +268,7 @@ pub fn prepare_light_culling(
             },
             wgpu::BindGroupEntry {
                 binding: 2,
-                resource: wgpu::BindingResource::TextureView(&t.depth.view),
+                resource: wgpu::BindingResource::TextureView(depth),
             },
             wgpu::BindGroupEntry {
                 binding: 3,
@@ -221,7 +292,7 @@ pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<Frame
     else {
         return;
     };
-    let scope = timer.begin_pass("light culling");
+    let scope = timer.begin_pass(PassId::LightCulling);
     {
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("light culling"),

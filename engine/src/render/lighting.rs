@@ -4,24 +4,183 @@
 //! The shader is compiled per [`LightingVariant`]: a light kind the scene doesn't have is
 //! not compiled in.
 
+use crate::brdf::VisibilityModel;
 use crate::error::Result;
+use crate::quality::{Quality, ShadowFilter};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{
+    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
+};
+use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
-use crate::render::light_culling::LightCullingPass;
+use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{
     filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, storage_entry,
     texture_load_entry, uniform_entry,
 };
-use crate::render::plan::{FramePlan, LightingVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef};
-use crate::render::shadow::pass::ShadowPass;
+use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
-use bevy_ecs::system::SystemParam;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Full-screen deferred lighting into the HDR target.
+    pub const Lighting: PassId = PassId::new("lighting");
+}
+
+/// The shader variant of the lighting pass: which light kinds it loops over.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LightingVariant {
+    /// Directional-light loop compiled in.
+    pub directional: bool,
+    /// Point-light loop compiled in.
+    pub point: bool,
+    /// Spot-light loop compiled in.
+    pub spot: bool,
+    /// Visibility term.
+    pub visibility: VisibilityModel,
+    /// Shadow lookups compiled in for directional, point and spot lights.
+    pub shadows: [bool; 3],
+    /// Shadow filter.
+    pub shadow_filter: ShadowFilter,
+    /// Image-based lighting compiled in.
+    pub environment: bool,
+    /// From an image (else a uniform colour).
+    pub env_map: bool,
+    /// Multiple-scattering energy compensation compiled in.
+    pub energy_compensation: bool,
+    /// Unshadowed point and spot lights come from the tile lists of the culling pass.
+    pub light_culling: bool,
+    /// Every light fits the uniform copy of the light array (read from it, not from the
+    /// storage buffer).
+    pub uniform_lights: bool,
+    /// Every shadow view fits the uniform copy of the view array.
+    pub uniform_shadow_views: bool,
+}
+
+impl FramePass for LightingPass {
+    const ID: PassId = PassId::Lighting;
+    const READS: &'static [Slot] = &[
+        GBUFFER_BASE_COLOR,
+        GBUFFER_NORMAL,
+        GBUFFER_EMISSIVE,
+        DEPTH,
+        SHADOW_ATLAS,
+        LIGHT_TILES,
+    ];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = LightingVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(LightingPass::new(gpu))
+    }
+
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<LightingVariant> {
+        let frame = world.resource::<ExtractedFrame>();
+        let quality = world.resource::<Quality>();
+        let buffers = world.resource::<SceneBuffers>();
+        let instances = frame.instances.len();
+        let counts = frame.light_counts;
+        let views = frame.shadow_views.len();
+        let reason = if instances > 0 {
+            format!(
+                "shades the G-buffer with {} light(s) and writes the background",
+                counts.total()
+            )
+        } else {
+            "writes the background".into()
+        };
+        let kind = |name: &'static str, n: u32| {
+            Decision::new(
+                name,
+                n > 0 && instances > 0,
+                match (n, instances) {
+                    (0, _) => "no light of this kind".into(),
+                    (_, 0) => "nothing to light".into(),
+                    (n, _) => format!("{n} light(s)"),
+                },
+            )
+        };
+        let directional = kind("directional lights", counts.directional);
+        let point = kind("point lights", counts.point);
+        let spot = kind("spot lights", counts.spot);
+        let visibility = Decision::new("visibility term", true, quality.visibility.name());
+        let shadow_lookups = Decision::new(
+            "shadow lookups",
+            views > 0 && instances > 0,
+            if views > 0 {
+                format!("{} filter", quality.shadow_filter.name())
+            } else {
+                "no shadow pass".into()
+            },
+        );
+        let env = frame.environment.as_ref();
+        let environment = Decision::new(
+            "environment lighting",
+            env.is_some() && instances > 0,
+            match env {
+                None => "no environment".to_string(),
+                Some(e) if e.image.is_some() => {
+                    "image: SH irradiance + GGX-prefiltered cube".into()
+                }
+                Some(_) => "uniform colour".into(),
+            },
+        );
+        let energy_compensation = Decision::new(
+            "energy compensation",
+            quality.energy_compensation && instances > 0,
+            if quality.energy_compensation {
+                "multiple scattering (Kulla-Conty)"
+            } else {
+                "off: single-scattering GGX"
+            },
+        );
+        let variant = LightingVariant {
+            directional: directional.enabled,
+            point: point.enabled,
+            spot: spot.enabled,
+            visibility: quality.visibility,
+            shadows: [0, 1, 2].map(|k| shadow_lookups.enabled && frame.shadowed_counts[k] > 0),
+            shadow_filter: quality.shadow_filter,
+            environment: environment.enabled,
+            env_map: environment.enabled && env.is_some_and(|e| e.image.is_some()),
+            energy_compensation: energy_compensation.enabled,
+            light_culling: plan.runs(PassId::LightCulling),
+            uniform_lights: buffers.lights_fit_uniform(frame),
+            uniform_shadow_views: views
+                <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
+        };
+        PassDecision {
+            runs: true,
+            reason,
+            features: vec![
+                directional,
+                point,
+                spot,
+                visibility,
+                shadow_lookups,
+                environment,
+                energy_compensation,
+            ],
+            variant,
+        }
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_lighting.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        lighting_pass.into_configs()
+    }
+}
 
 /// Generations of the targets, scene buffers, shadow atlas, environment and light tiles
 /// a bind group was built from.
@@ -209,15 +368,19 @@ pub fn prepare_lighting(
         ibl,
         culling,
     } = inputs;
-    let Some(t) = targets.current.as_ref() else {
+    let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
+    else {
         return;
     };
-    if let Err(e) = pass.pipeline(
-        &gpu,
-        plan.lighting,
-        buffers.uniform_light_capacity,
-        t.hdr_format,
-    ) {
+    let (Some(base_color), Some(normal), Some(emissive), Some(depth)) = (
+        t.view(GBUFFER_BASE_COLOR),
+        t.view(GBUFFER_NORMAL),
+        t.view(GBUFFER_EMISSIVE),
+        t.view(DEPTH),
+    ) else {
+        return;
+    };
+    if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity, t.hdr_format) {
         errors.0.push(e);
         return;
     }
@@ -245,19 +408,19 @@ pub fn prepare_lighting(
             },
             wgpu::BindGroupEntry {
                 binding: 2,
-                resource: wgpu::BindingResource::TextureView(&t.gbuffer0.view),
+                resource: wgpu::BindingResource::TextureView(base_color),
             },
             wgpu::BindGroupEntry {
                 binding: 3,
-                resource: wgpu::BindingResource::TextureView(&t.gbuffer1.view),
+                resource: wgpu::BindingResource::TextureView(normal),
             },
             wgpu::BindGroupEntry {
                 binding: 4,
-                resource: wgpu::BindingResource::TextureView(&t.gbuffer2.view),
+                resource: wgpu::BindingResource::TextureView(emissive),
             },
             wgpu::BindGroupEntry {
                 binding: 5,
-                resource: wgpu::BindingResource::TextureView(&t.depth.view),
+                resource: wgpu::BindingResource::TextureView(depth),
             },
             wgpu::BindGroupEntry {
                 binding: 6,
@@ -323,24 +486,26 @@ pub fn lighting_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some((_, bind_group)), Some(pipeline)) = (
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    let (Some(encoder), Some(hdr), Some(depth), Some((_, bind_group)), Some(pipeline)) = (
         encoder.as_mut(),
-        targets.current.as_ref(),
+        t.view(HDR),
+        t.view(DEPTH),
         pass.bind_group.as_ref(),
-        targets
-            .current
-            .as_ref()
-            .and_then(|t| pass.pipelines.get(&(plan.lighting, t.hdr_format))),
+        plan.variant::<LightingPass>()
+            .and_then(|v| pass.pipelines.get(&(*v, t.hdr_format))),
     ) else {
         return;
     };
     let [r, g, b, _] = frame.view.background;
-    let scope = timer.begin_pass("lighting");
+    let scope = timer.begin_pass(PassId::Lighting);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("lighting"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.hdr.view,
+                view: hdr,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -355,7 +520,7 @@ pub fn lighting_pass(
             })],
             depth_stencil_attachment: pass.depth_test.then_some(
                 wgpu::RenderPassDepthStencilAttachment {
-                    view: &t.depth.view,
+                    view: depth,
                     depth_ops: None,
                     stencil_ops: None,
                 },

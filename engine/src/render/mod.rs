@@ -1,11 +1,13 @@
-//! The renderer: device choice, the frame's schedule of ECS systems, and one module per
-//! pass.
+//! The renderer: device choice, the frame graph, and one module per pass.
 //!
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
-//! then the [`RenderSchedule`]: plan (which passes run), prepare (targets, buffers,
-//! pipelines), then the passes in order — shadow, G-buffer, lighting, sky, exposure,
-//! depth of field, tone mapping (or a debug view) — each
-//! recording into the frame's command encoder with its own timing.
+//! then the [`RenderSchedule`], which the [`graph::Registry`] builds from the passes'
+//! declarations: plan (every pass decides whether it runs, and why), the shared
+//! preparation (targets, scene buffers, material maps, the environment), each running
+//! pass's prepare systems, then each running pass's record systems in execution order —
+//! shadow, G-buffer, light culling, lighting, sky, exposure, depth of field, tone mapping
+//! (or a debug view) — each recording into the frame's command encoder with its own
+//! timing. The built-in passes are listed in [`passes`].
 
 pub mod debug_view;
 pub mod device;
@@ -15,12 +17,13 @@ pub mod extract;
 pub mod frame;
 pub mod gbuffer;
 pub mod gpu_types;
+pub mod graph;
 pub mod ibl;
 pub mod light_culling;
 pub mod lighting;
 pub mod material_maps;
+pub mod passes;
 pub mod pipelines;
-pub mod plan;
 pub mod readback;
 pub mod scene_buffers;
 pub mod shaders;
@@ -35,7 +38,7 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleLabel;
 use device::Gpu;
 use frame::{FrameEncoder, FrameErrors, FrameOutput};
-use plan::{FramePlan, PassId, pass_runs};
+use graph::{FramePlan, Registry};
 
 /// Reads the scene's components into [`extract::ExtractedFrame`].
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
@@ -45,14 +48,22 @@ pub struct ExtractSchedule;
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RenderSchedule;
 
-/// Makes the targets match the output size.
+/// Asks every registered pass whether it runs this frame.
+fn plan_frame(world: &mut World) {
+    let plan = world.resource::<Registry>().plan(world);
+    *world.resource_mut::<FramePlan>() = plan;
+}
+
+/// Allocates the frame targets the passes that run this frame use, at the output size.
 fn prepare_targets(
     gpu: Res<Gpu>,
     output: Res<FrameOutput>,
     quality: Res<crate::quality::Quality>,
+    plan: Res<FramePlan>,
     mut targets: ResMut<targets::RenderTargets>,
 ) {
-    targets.ensure(&gpu, output.size, quality.hdr_precision.format());
+    let slots: Vec<graph::Slot> = plan.lifetimes.iter().map(|l| l.slot).collect();
+    targets.ensure(&gpu, output.size, quality.hdr_precision.format(), &slots);
 }
 
 /// Opens the frame's command encoder.
@@ -69,77 +80,58 @@ fn begin_frame(gpu: Res<Gpu>, mut encoder: ResMut<FrameEncoder>) {
 /// Inserts the renderer's resources into `world` and adds the extract and render
 /// schedules. Compiles the passes that do not depend on the scene. Called again with a
 /// new device (after the old one was lost), it replaces every GPU resource: meshes and
-/// textures upload again from the CPU copies the World keeps.
+/// textures upload again from the CPU copies the World keeps. The passes are the built-in
+/// ones the first time, and those of the world's [`Registry`] afterwards (so passes a
+/// script added stay).
 pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
+    if !world.contains_resource::<Registry>() {
+        world.insert_resource(passes::builtin()?);
+    }
     world.insert_resource(material_maps::GpuMaterialMaps::new(&gpu));
-    insert_passes(world, &gpu)?;
     world.init_resource::<crate::scene::Textures>();
-    world.init_resource::<exposure::MeteredExposure>();
-    world.init_resource::<exposure::FrameDelta>();
+    world.init_resource::<frame::MeteredExposure>();
+    world.init_resource::<frame::FrameDelta>();
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
         encoder: None,
         timer: timing::GpuTimer::new(&gpu),
     });
-    world.insert_resource(gpu);
     world.insert_resource(targets::RenderTargets::default());
     world.insert_resource(extract::ExtractedFrame::default());
     world.init_resource::<FramePlan>();
     world.init_resource::<FrameErrors>();
     world.init_resource::<debug_view::DebugView>();
+    insert_passes(world, &gpu)?;
+    world.insert_resource(gpu);
 
     let mut extract = Schedule::new(ExtractSchedule);
     extract.add_systems(extract::extract_frame);
     world.add_schedule(extract);
+    build_render_schedule(world);
+    Ok(())
+}
 
+/// (Re)builds the [`RenderSchedule`] from the world's [`Registry`].
+pub fn build_render_schedule(world: &mut World) {
     let mut render = Schedule::new(RenderSchedule);
-    render.add_systems(
-        (
-            (
-                plan::plan_frame,
-                prepare_targets,
-                scene_buffers::prepare_scene_buffers,
-                material_maps::prepare_material_maps,
-                shadow::pass::prepare_shadows,
-                ibl::prepare_ibl,
-                gbuffer::prepare_gbuffer,
-                light_culling::prepare_light_culling,
-                lighting::prepare_lighting,
-                sky::prepare_sky,
-                exposure::prepare_exposure,
-                dof::prepare_dof,
-                tonemap::prepare_tonemap.run_if(pass_runs(PassId::Tonemap)),
-                debug_view::prepare_debug_view.run_if(pass_runs(PassId::DebugView)),
-            )
-                .chain(),
-            (
-                begin_frame,
-                shadow::pass::shadow_pass.run_if(pass_runs(PassId::Shadow)),
-                gbuffer::gbuffer_pass.run_if(pass_runs(PassId::GBuffer)),
-                gbuffer::clear_gbuffer.run_if(not(pass_runs(PassId::GBuffer))),
-                light_culling::light_culling_pass.run_if(pass_runs(PassId::LightCulling)),
-                lighting::lighting_pass.run_if(pass_runs(PassId::Lighting)),
-                sky::sky_pass.run_if(pass_runs(PassId::Sky)),
-                exposure::exposure_pass.run_if(pass_runs(PassId::Exposure)),
-                dof::dof_pass.run_if(pass_runs(PassId::Dof)),
-                tonemap::tonemap_pass.run_if(pass_runs(PassId::Tonemap)),
-                debug_view::debug_view_pass.run_if(pass_runs(PassId::DebugView)),
-            )
-                .chain(),
-        )
-            .chain(),
+    world.resource::<Registry>().add_systems(
+        &mut render,
+        vec![
+            plan_frame.into_configs(),
+            prepare_targets.into_configs(),
+            scene_buffers::prepare_scene_buffers.into_configs(),
+            material_maps::prepare_material_maps.into_configs(),
+            ibl::prepare_ibl.into_configs(),
+        ],
+        begin_frame.into_configs(),
     );
     world.add_schedule(render);
-    Ok(())
 }
 
 /// (Re)creates every pass from the current sources of `gpu.shaders`, compiling the
 /// pipelines that do not depend on the scene; the others compile on the next frame.
 /// Uploaded meshes, textures and targets are kept; the environment is prefiltered again.
 pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
-    let gbuffer =
-        gbuffer::GBufferPass::new(gpu, world.resource::<material_maps::GpuMaterialMaps>())?;
-    let shadow = shadow::pass::ShadowPass::new(gpu)?;
     let mut ibl = ibl::Ibl::new(gpu)?;
     if let Some(progress) = world
         .get_resource_mut::<ibl::Ibl>()
@@ -147,17 +139,8 @@ pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
     {
         ibl.set_progress(progress);
     }
-    let exposure = exposure::ExposurePass::new(gpu)?;
-    let dof = dof::DofPass::new(gpu)?;
-    world.insert_resource(gbuffer);
-    world.insert_resource(shadow);
+    let registry = world.resource::<Registry>().clone();
+    registry.create_passes(world, gpu)?;
     world.insert_resource(ibl);
-    world.insert_resource(exposure);
-    world.insert_resource(dof);
-    world.insert_resource(lighting::LightingPass::new(gpu));
-    world.insert_resource(light_culling::LightCullingPass::new(gpu));
-    world.insert_resource(sky::SkyPass::new(gpu));
-    world.insert_resource(tonemap::TonemapPass::new(gpu));
-    world.insert_resource(debug_view::DebugViewPass::new(gpu));
     Ok(())
 }

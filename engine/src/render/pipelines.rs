@@ -139,7 +139,8 @@ pub fn fullscreen_variant(
     )
 }
 
-/// Records one timed full-screen pass: `pipeline` with `bind_group` over all of `targets`.
+/// Records one timed full-screen pass, labelled `name` (a pass's name, or one of its
+/// steps): `pipeline` with `bind_group` over all of `targets`.
 pub fn draw_fullscreen(
     encoder: &mut wgpu::CommandEncoder,
     timer: &mut GpuTimer,
@@ -148,7 +149,7 @@ pub fn draw_fullscreen(
     pipeline: &wgpu::RenderPipeline,
     bind_group: &wgpu::BindGroup,
 ) {
-    let scope = timer.begin_pass(name);
+    let scope = timer.begin_step(name);
     {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
             .iter()

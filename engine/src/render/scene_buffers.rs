@@ -131,6 +131,15 @@ const FULL_LIGHT_SIZE: u64 = std::mem::size_of::<GpuLight>() as u64;
 /// at any useful resolution.
 pub const SHADOWED_LIGHT_CAPACITY: u32 = 128;
 
+impl SceneBuffers {
+    /// Whether every light of `frame` fits the uniform copies, so that the passes read
+    /// lights from them rather than from the storage buffer.
+    pub fn lights_fit_uniform(&self, frame: &ExtractedFrame) -> bool {
+        frame.light_counts.total() <= self.uniform_light_capacity
+            && frame.shadowed_counts.iter().sum::<u32>() <= self.shadowed_light_capacity
+    }
+}
+
 fn shadowed_light_capacity(gpu: &Gpu) -> u32 {
     let limit = gpu.device.limits().max_uniform_buffer_binding_size;
     (limit / FULL_LIGHT_SIZE).min(u64::from(SHADOWED_LIGHT_CAPACITY)) as u32

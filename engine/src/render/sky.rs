@@ -5,6 +5,8 @@ use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
 use crate::render::pipelines::{
     filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, uniform_entry,
@@ -13,7 +15,63 @@ use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// The environment as the background.
+    pub const Sky: PassId = PassId::new("sky");
+}
+
+/// The sky shader variant.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct SkyVariant {
+    /// The environment is an image (else a uniform colour).
+    pub env_map: bool,
+}
+
+impl FramePass for SkyPass {
+    const ID: PassId = PassId::Sky;
+    const READS: &'static [Slot] = &[DEPTH];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = SkyVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(SkyPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<SkyVariant> {
+        let env = world.resource::<ExtractedFrame>().environment.as_ref();
+        let reason = match env {
+            None => "no environment: the camera's background colour".into(),
+            Some(e) if !e.show_background => {
+                "the environment is hidden: the camera's background colour".into()
+            }
+            Some(e) if e.image.is_some() => format!(
+                "the environment image, blurred to roughness {:.2}",
+                e.background_blur
+            ),
+            Some(_) => "the uniform environment colour".into(),
+        };
+        PassDecision::new(
+            env.is_some_and(|e| e.show_background),
+            reason,
+            SkyVariant {
+                env_map: env.is_some_and(|e| e.image.is_some()),
+            },
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_sky.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        sky_pass.into_configs()
+    }
+}
 
 /// The sky pass's pipelines (image or uniform environment) and bindings.
 #[derive(Resource)]
@@ -95,20 +153,17 @@ impl SkyPass {
 /// Compiles the sky pipeline this frame needs and rebuilds its bind group on changes.
 pub fn prepare_sky(
     gpu: Res<Gpu>,
-    frame: Res<ExtractedFrame>,
+    plan: Res<FramePlan>,
     buffers: Res<SceneBuffers>,
     ibl: Res<Ibl>,
     targets: Res<RenderTargets>,
     mut pass: ResMut<SkyPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    let (Some(env), Some(t)) = (
-        frame.environment.as_ref().filter(|e| e.show_background),
-        targets.current.as_ref(),
-    ) else {
+    let (Some(variant), Some(t)) = (plan.variant::<SkyPass>(), targets.current.as_ref()) else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, env.image.is_some(), t.hdr_format) {
+    if let Err(e) = pass.pipeline(&gpu, variant.env_map, t.hdr_format) {
         errors.0.push(e);
         return;
     }
@@ -144,32 +199,29 @@ pub fn prepare_sky(
 /// Records the sky pass into the HDR target.
 pub fn sky_pass(
     pass: Res<SkyPass>,
-    frame: Res<ExtractedFrame>,
+    plan: Res<FramePlan>,
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let env_map = frame
-        .environment
-        .as_ref()
-        .is_some_and(|e| e.image.is_some());
-    let (Some(encoder), Some(t), Some((_, bind_group)), Some(pipeline)) = (
+    let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<SkyPass>()) else {
+        return;
+    };
+    let (Some(encoder), Some(hdr), Some(depth), Some((_, bind_group)), Some(pipeline)) = (
         encoder.as_mut(),
-        targets.current.as_ref(),
+        t.view(HDR),
+        t.view(DEPTH),
         pass.bind_group.as_ref(),
-        targets
-            .current
-            .as_ref()
-            .and_then(|t| pass.pipelines.get(&(env_map, t.hdr_format))),
+        pass.pipelines.get(&(variant.env_map, t.hdr_format)),
     ) else {
         return;
     };
-    let scope = timer.begin_pass("sky");
+    let scope = timer.begin_pass(PassId::Sky);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("sky"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.hdr.view,
+                view: hdr,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -178,7 +230,7 @@ pub fn sky_pass(
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &t.depth.view,
+                view: depth,
                 depth_ops: None,
                 stencil_ops: None,
             }),

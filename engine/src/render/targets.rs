@@ -1,19 +1,13 @@
-//! The textures a frame renders into: the G-buffer, depth and the HDR target.
+//! The textures a frame renders into (the G-buffer, depth, HDR colour, …), allocated for
+//! the slots the frame graph's running passes use.
 
 use crate::render::device::Gpu;
+use crate::render::graph::{Slot, SlotKind, TargetFormat};
 use bevy_ecs::prelude::Resource;
 
-/// G-buffer target 0: base colour and AO. The base colour is sRGB-encoded by the shader
-/// with the exact curve (`srgb_encode`) rather than by an `*Srgb` format, because
-/// drivers may approximate the hardware conversion: llvmpipe's decode is off by up to
-/// 2.5 % (measured at code 5; −0.13 % at code 231).
-pub const GBUFFER0_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-/// G-buffer target 1: octahedral normal, perceptual roughness, metallic.
-pub const GBUFFER1_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// G-buffer target 2: pre-exposed emissive and specular level.
-pub const GBUFFER2_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Depth, reversed Z.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub use crate::render::graph::slots::{
+    DEPTH_FORMAT, GBUFFER0_FORMAT, GBUFFER1_FORMAT, GBUFFER2_FORMAT,
+};
 
 /// One render target and its default view.
 pub struct Target {
@@ -48,27 +42,36 @@ impl Target {
     }
 }
 
-/// Every intermediate target of a frame, at the output's size.
+/// The frame targets the graph allocated, at the output's size: one per
+/// [`SlotKind::Target`] slot that a pass running this frame uses.
 pub struct FrameTargets {
     /// Size in pixels.
     pub size: (u32, u32),
-    /// Base colour + AO.
-    pub gbuffer0: Target,
-    /// Normal, roughness, metallic.
-    pub gbuffer1: Target,
-    /// Emissive, specular level.
-    pub gbuffer2: Target,
-    /// Depth.
-    pub depth: Target,
-    /// HDR luminance (pre-exposed) and coverage, in `hdr_format`.
-    pub hdr: Target,
-    /// Format of `hdr` ([`crate::quality::HdrPrecision`]).
+    /// Format of the HDR colour slot ([`crate::quality::HdrPrecision`]).
     pub hdr_format: wgpu::TextureFormat,
-    /// Bumped whenever the targets are recreated, so passes can rebuild bind groups.
+    /// Bumped whenever a target is created, so passes can rebuild bind groups.
     pub generation: u64,
+    targets: Vec<(Slot, Target)>,
 }
 
-/// The frame's targets, created on first use and recreated when the output size changes.
+impl FrameTargets {
+    /// The target of `slot`, if this frame has one.
+    pub fn get(&self, slot: Slot) -> Option<&Target> {
+        self.targets
+            .iter()
+            .find(|(s, _)| *s == slot)
+            .map(|(_, t)| t)
+    }
+
+    /// The view of `slot`'s target, if this frame has one.
+    pub fn view(&self, slot: Slot) -> Option<&wgpu::TextureView> {
+        self.get(slot).map(|t| &t.view)
+    }
+}
+
+/// The frame's targets, created on first use and recreated when the output size or the
+/// HDR format changes. A target no pass uses this frame is kept for the next frames that
+/// use it.
 #[derive(Resource, Default)]
 pub struct RenderTargets {
     /// Current targets, if any frame was prepared.
@@ -77,35 +80,47 @@ pub struct RenderTargets {
 }
 
 impl RenderTargets {
-    /// Makes sure the targets exist at `size` with an HDR target of `hdr_format`.
-    pub fn ensure(&mut self, gpu: &Gpu, size: (u32, u32), hdr_format: wgpu::TextureFormat) {
+    /// Makes sure a target exists at `size` for each [`SlotKind::Target`] slot of `slots`,
+    /// the HDR one in `hdr_format`.
+    pub fn ensure(
+        &mut self,
+        gpu: &Gpu,
+        size: (u32, u32),
+        hdr_format: wgpu::TextureFormat,
+        slots: &[Slot],
+    ) {
         if self
             .current
             .as_ref()
-            .is_some_and(|t| t.size == size && t.hdr_format == hdr_format)
+            .is_none_or(|t| t.size != size || t.hdr_format != hdr_format)
         {
-            return;
+            self.generation += 1;
+            self.current = Some(FrameTargets {
+                size,
+                hdr_format,
+                generation: self.generation,
+                targets: Vec::new(),
+            });
         }
-        self.generation += 1;
-        self.current = Some(FrameTargets {
-            size,
-            gbuffer0: Target::new(gpu, "gbuffer0 base colour + AO", size, GBUFFER0_FORMAT),
-            gbuffer1: Target::new(
-                gpu,
-                "gbuffer1 normal + roughness + metallic",
-                size,
-                GBUFFER1_FORMAT,
-            ),
-            gbuffer2: Target::new(
-                gpu,
-                "gbuffer2 emissive + specular level",
-                size,
-                GBUFFER2_FORMAT,
-            ),
-            depth: Target::new(gpu, "depth", size, DEPTH_FORMAT),
-            hdr: Target::new(gpu, "hdr", size, hdr_format),
-            hdr_format,
-            generation: self.generation,
-        });
+        let Some(current) = self.current.as_mut() else {
+            return;
+        };
+        for slot in slots {
+            let SlotKind::Target(format) = slot.kind else {
+                continue;
+            };
+            if current.get(*slot).is_some() {
+                continue;
+            }
+            let format = match format {
+                TargetFormat::Fixed(f) => f,
+                TargetFormat::Hdr => hdr_format,
+            };
+            self.generation += 1;
+            current.generation = self.generation;
+            current
+                .targets
+                .push((*slot, Target::new(gpu, slot.name, size, format)));
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! written at the start and end of each pass, where the adapter supports them.
 
 use crate::render::device::Gpu;
+use crate::render::graph::PassId;
 use std::time::Instant;
 
 /// Most passes one frame can time.
@@ -77,8 +78,13 @@ impl GpuTimer {
         self.passes.clear();
     }
 
-    /// Starts timing a pass.
-    pub fn begin_pass(&mut self, name: &'static str) -> PassScope {
+    /// Starts timing pass `id` (labelled with its name).
+    pub fn begin_pass(&mut self, id: PassId) -> PassScope {
+        self.begin_step(id.name())
+    }
+
+    /// Starts timing one step of a pass that records several (`dof blur`, …).
+    pub fn begin_step(&mut self, name: &'static str) -> PassScope {
         let index = self.passes.len() as u32;
         self.passes.push(PassTiming {
             name,

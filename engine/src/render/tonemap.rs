@@ -3,25 +3,84 @@
 
 use crate::color::Tonemapper;
 use crate::error::Result;
+use crate::render::debug_view::DebugView;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::graph::slots::{DISPLAY, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
     draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
 use crate::render::shaders::{self, ShaderDef};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
-type Variant = (wgpu::TextureFormat, Tonemapper);
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Tone mapping and output encoding.
+    pub const Tonemap: PassId = PassId::new("tonemap");
+}
+
+/// The tone mapping shader variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TonemapVariant {
+    /// The display image's format (sRGB-encoded by the shader unless it is an sRGB format).
+    pub format: wgpu::TextureFormat,
+    /// The tone mapper.
+    pub tonemapper: Tonemapper,
+}
+
+impl FramePass for TonemapPass {
+    const ID: PassId = PassId::Tonemap;
+    const READS: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[DISPLAY];
+    type Variant = TonemapVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(TonemapPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<TonemapVariant> {
+        let debug = *world.resource::<DebugView>();
+        let debug_view = debug != DebugView::Off;
+        PassDecision::new(
+            !debug_view,
+            if debug_view {
+                format!("the {} debug view replaces it", debug.name())
+            } else {
+                "turns exposed HDR luminance into the display image".into()
+            },
+            TonemapVariant {
+                format: world.resource::<FrameOutput>().format,
+                tonemapper: world
+                    .resource::<ExtractedFrame>()
+                    .camera
+                    .as_ref()
+                    .map(|c| c.tonemapper)
+                    .unwrap_or_default(),
+            },
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_tonemap.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        tonemap_pass.into_configs()
+    }
+}
 
 /// The tone mapping pass's pipelines and bindings.
 #[derive(Resource)]
 pub struct TonemapPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<Variant, wgpu::RenderPipeline>,
+    pipelines: HashMap<TonemapVariant, wgpu::RenderPipeline>,
     bind_group: Option<(u64, wgpu::BindGroup)>,
     params: wgpu::Buffer,
 }
@@ -59,11 +118,11 @@ impl TonemapPass {
         }
     }
 
-    fn pipeline(&mut self, gpu: &Gpu, variant: Variant) -> Result<()> {
+    fn pipeline(&mut self, gpu: &Gpu, variant: TonemapVariant) -> Result<()> {
         if self.pipelines.contains_key(&variant) {
             return Ok(());
         }
-        let (format, tonemapper) = variant;
+        let TonemapVariant { format, tonemapper } = variant;
         let pipeline = fullscreen_variant(
             gpu,
             "tonemap",
@@ -85,31 +144,27 @@ impl TonemapPass {
     }
 }
 
-fn variant(output: &FrameOutput, frame: &ExtractedFrame) -> Variant {
-    (
-        output.format,
-        frame
-            .camera
-            .as_ref()
-            .map(|c| c.tonemapper)
-            .unwrap_or_default(),
-    )
-}
-
 /// Compiles this frame's variant if needed and rebuilds the bind group on new targets.
 pub fn prepare_tonemap(
     gpu: Res<Gpu>,
-    output: Res<FrameOutput>,
+    plan: Res<FramePlan>,
     frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     mut pass: ResMut<TonemapPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    if let Err(e) = pass.pipeline(&gpu, variant(&output, &frame)) {
+    let Some(&variant) = plan.variant::<TonemapPass>() else {
+        return;
+    };
+    if let Err(e) = pass.pipeline(&gpu, variant) {
         errors.0.push(e);
         return;
     }
-    let Some(t) = targets.current.as_ref() else {
+    let Some((t, hdr)) = targets
+        .current
+        .as_ref()
+        .and_then(|t| Some((t, t.view(HDR)?)))
+    else {
         return;
     };
     let params = frame.camera.as_ref().map_or([0.0; 4], |c| {
@@ -131,7 +186,7 @@ pub fn prepare_tonemap(
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
-                resource: wgpu::BindingResource::TextureView(&t.hdr.view),
+                resource: wgpu::BindingResource::TextureView(hdr),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
@@ -145,8 +200,8 @@ pub fn prepare_tonemap(
 /// Records the tone mapping pass into the frame's output view.
 pub fn tonemap_pass(
     pass: Res<TonemapPass>,
+    plan: Res<FramePlan>,
     output: Res<FrameOutput>,
-    frame: Res<ExtractedFrame>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
@@ -154,9 +209,17 @@ pub fn tonemap_pass(
         encoder.as_mut(),
         output.view.as_ref(),
         pass.bind_group.as_ref(),
-        pass.pipelines.get(&variant(&output, &frame)),
+        plan.variant::<TonemapPass>()
+            .and_then(|v| pass.pipelines.get(v)),
     ) else {
         return;
     };
-    draw_fullscreen(encoder, timer, "tonemap", &[view], pipeline, bind_group);
+    draw_fullscreen(
+        encoder,
+        timer,
+        PassId::Tonemap.name(),
+        &[view],
+        pipeline,
+        bind_group,
+    );
 }

@@ -10,11 +10,14 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shaders;
 use crate::render::targets::Target;
 use crate::scene::{MeshHandle, Vertex};
 use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
 
 /// Format of the shadow atlas.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -52,6 +55,62 @@ pub struct ShadowPass {
     pub layout: AtlasLayout,
     /// Bumped whenever the atlas or the view buffer is recreated.
     pub generation: u64,
+}
+
+/// The shadow atlas: every shadow view's depth (owned by [`ShadowPass`]).
+pub const SHADOW_ATLAS: Slot = Slot::owned("shadow atlas");
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Draws shadow casters into the shadow atlas.
+    pub const Shadow: PassId = PassId::new("shadow");
+}
+
+/// The shadow pass compiles one pipeline for every frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ShadowVariant;
+
+impl FramePass for ShadowPass {
+    const ID: PassId = PassId::Shadow;
+    const READS: &'static [Slot] = &[];
+    const WRITES: &'static [Slot] = &[SHADOW_ATLAS];
+    type Variant = ShadowVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        ShadowPass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<ShadowVariant> {
+        let frame = world.resource::<ExtractedFrame>();
+        let sc = frame.shadow_counts;
+        let views = frame.shadow_views.len();
+        let reason = if views > 0 {
+            format!(
+                "{views} view(s): {} directional (cascades), {} spot, {} point light(s) (6 faces each); {} caster(s)",
+                sc.directional,
+                sc.spot,
+                sc.point,
+                frame.casters.len()
+            )
+        } else if frame.shadows_disabled {
+            "shadows are off (--no-shadows)".into()
+        } else if sc.skipped == 0 {
+            "no light casts shadows".into()
+        } else if frame.casters.is_empty() {
+            "no mesh casts shadows".into()
+        } else {
+            "no mesh receives shadows".into()
+        };
+        PassDecision::new(views > 0, reason, ShadowVariant)
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_shadows.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        shadow_pass.into_configs()
+    }
 }
 
 /// Shadow views the uniform copy holds (96 bytes each: 12 KiB).
@@ -326,7 +385,7 @@ pub fn shadow_pass(
     else {
         return;
     };
-    let scope = timer.begin_pass("shadow");
+    let scope = timer.begin_pass(PassId::Shadow);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("shadow"),

@@ -1,0 +1,158 @@
+//! The frame graph: every pass describes itself, and the registry derives the frame.
+//!
+//! A pass is one module behind the [`FramePass`] trait. It gives its [`PassId`] (the name
+//! reports, timers and `--explain` use), the frame resources ([`Slot`]s) it reads and
+//! writes, a `decide` function (does it run this frame, why, and which shader variant it
+//! compiles, as a named struct), and its `prepare` and `record` systems. The built-in
+//! passes are registered in one list, [`crate::render::passes::builtin`]; a script adds its
+//! own with [`crate::App::add_pass`].
+//!
+//! From those declarations the [`Registry`] derives everything else:
+//! - the execution order: a topological order of the dependencies that the declared reads
+//!   and writes imply (see [`registry`]);
+//! - the run conditions: each pass's systems run only when its decision says so;
+//! - the frame targets: a [`SlotKind::Target`] is allocated at the output size when a pass
+//!   that runs this frame uses it, and the plan records each slot's lifetime (first and
+//!   last pass that touch it);
+//! - the timer labels (the pass's name), the `--explain` text and the JSON plan
+//!   ([`FramePlan`]).
+//!
+//! # Why this design
+//!
+//! Two models were studied. Filament's FrameGraph builds a graph every frame: `addPass`
+//! declares reads and writes of virtual resources, the graph culls passes whose results
+//! nobody reads, allocates transient textures for exactly their lifetimes, and executes
+//! the passes in the order they were added. Bevy's render graph (and, since 0.16, its
+//! "passes are systems in ordered sets") makes each pass an ECS system and gets the order
+//! from explicit edges between them.
+//!
+//! Lumen takes the declaration side from Filament and the execution side from Bevy. The
+//! frame is already a `bevy_ecs` schedule, and passes already keep their pipelines and
+//! bindings in ECS resources, so a pass stays a pair of systems and the registry builds the
+//! schedule once (not every frame). What changes per frame — which passes run, which
+//! variant they compile, which targets exist — is decided by the plan system at the start
+//! of the schedule, from the scene, as Filament decides it when it builds its graph. The
+//! order is the one Filament uses (registration order, the order of `addPass`), checked
+//! and made explicit by the dependencies the declarations imply: a pass that reads a slot
+//! no earlier pass writes is refused when the registry is built, with a message that names
+//! both. Passes are not culled by the graph itself: "model only what the scene requires"
+//! is each pass's `decide`, which can say *why* in words.
+
+pub mod plan;
+pub mod registry;
+pub mod slots;
+
+use crate::error::Result;
+use crate::render::device::Gpu;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+
+pub use plan::{Decision, FramePlan, Lifetime, PassDecision};
+pub use registry::{PassEntry, Registry};
+
+/// A pass's name: how reports, timers, `--explain` and the JSON plan call it. Each pass
+/// module defines its own (`impl PassId { pub const Shadow: PassId = … }` beside the
+/// pass), so adding a pass touches nothing else.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PassId(&'static str);
+
+impl PassId {
+    /// A pass named `name`.
+    pub const fn new(name: &'static str) -> PassId {
+        PassId(name)
+    }
+
+    /// Short name used in reports and JSON.
+    pub const fn name(self) -> &'static str {
+        self.0
+    }
+}
+
+/// How a [`Slot`] comes to exist.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SlotKind {
+    /// A texture at the output's size that the graph allocates when a pass that runs
+    /// this frame uses it.
+    Target(TargetFormat),
+    /// A resource a pass owns and keeps between frames (the shadow atlas, the light
+    /// tiles, the exposure state); the graph only orders its users.
+    Owned,
+    /// The frame's output view, given to the renderer from outside.
+    Output,
+}
+
+/// The format of a [`SlotKind::Target`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TargetFormat {
+    /// Always this format.
+    Fixed(wgpu::TextureFormat),
+    /// The HDR colour format that [`crate::quality::Quality::hdr_precision`] selects.
+    Hdr,
+}
+
+/// A frame resource that passes read and write: a G-buffer channel, depth, HDR colour,
+/// the shadow atlas, … The core slots are in [`slots`]; a pass that brings a resource of
+/// its own defines its slot in its module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Slot {
+    /// Name, as `--explain`'s lifetimes and error messages give it.
+    pub name: &'static str,
+    /// How it is allocated.
+    pub kind: SlotKind,
+}
+
+impl Slot {
+    /// A texture allocated by the graph at the output's size.
+    pub const fn target(name: &'static str, format: TargetFormat) -> Slot {
+        Slot {
+            name,
+            kind: SlotKind::Target(format),
+        }
+    }
+
+    /// A resource its pass owns.
+    pub const fn owned(name: &'static str) -> Slot {
+        Slot {
+            name,
+            kind: SlotKind::Owned,
+        }
+    }
+}
+
+/// One pass of the frame. Implemented by a pass's resource (its pipelines and bindings);
+/// see the [module documentation](self) for what the registry derives from it.
+pub trait FramePass: Resource + Sized {
+    /// Its name.
+    const ID: PassId;
+    /// The slots it reads.
+    const READS: &'static [Slot];
+    /// The slots it writes (a slot it reads and writes is in both lists).
+    const WRITES: &'static [Slot];
+    /// Its shader variant key: what `decide` selects for the frame, as a named struct.
+    type Variant: Clone + std::fmt::Debug + PartialEq + Send + Sync + 'static;
+
+    /// Creates the pass (layouts, the pipelines that do not depend on the scene) from
+    /// `world`, which holds the renderer's shared resources.
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self>;
+
+    /// Whether it runs this frame, why, which shader features it compiles in and its
+    /// variant. `plan` holds the decisions of the passes before it.
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<Self::Variant>;
+
+    /// The systems that compile this frame's variant and update bindings; they run only
+    /// when the pass runs.
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        None
+    }
+
+    /// The systems that record the pass into the frame's command encoder; they run only
+    /// when the pass runs.
+    fn record() -> ScheduleConfigs<ScheduleSystem>;
+
+    /// What to record instead when the pass does not run (e.g. clearing what later passes
+    /// read); nothing by default.
+    fn skipped() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        None
+    }
+}

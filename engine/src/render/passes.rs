@@ -1,0 +1,31 @@
+//! The built-in passes, registered in one place. A new pass is its own module (and
+//! shader) plus one line here; the [`Registry`] derives the rest (see
+//! [`crate::render::graph`]).
+
+use crate::error::Result;
+use crate::render::debug_view::DebugViewPass;
+use crate::render::dof::DofPass;
+use crate::render::exposure::ExposurePass;
+use crate::render::gbuffer::GBufferPass;
+use crate::render::graph::Registry;
+use crate::render::light_culling::LightCullingPass;
+use crate::render::lighting::LightingPass;
+use crate::render::shadow::pass::ShadowPass;
+use crate::render::sky::SkyPass;
+use crate::render::tonemap::TonemapPass;
+
+/// Lumen's frame, in registration order (the order in which passes touching the same
+/// slot see it).
+pub fn builtin() -> Result<Registry> {
+    Registry::new()
+        .with::<ShadowPass>()
+        .with::<GBufferPass>()
+        .with::<LightCullingPass>()
+        .with::<LightingPass>()
+        .with::<SkyPass>()
+        .with::<ExposurePass>()
+        .with::<DofPass>()
+        .with::<TonemapPass>()
+        .with::<DebugViewPass>()
+        .ordered()
+}
