@@ -1,6 +1,7 @@
 // The Cook-Torrance BRDF, term for term the same as engine/src/brdf.rs (same names).
 // Units: BRDF values in 1/sr; cosines dimensionless. Formulas and sources: see brdf.rs
 // and PBR-REFERENCE §1, guards of §5.
+#import common
 
 const MIN_PERCEPTUAL_ROUGHNESS: f32 = 0.045;
 const MIN_N_DOT_V: f32 = 1e-4;

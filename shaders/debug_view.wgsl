@@ -3,6 +3,12 @@
 // Header constants: DEBUG_VIEW (DebugView as u32) and ENCODE_SRGB (true when the target
 // format is not an *Srgb format). Needs common, color, camera, encoding, bindings,
 // fullscreen, validate.
+#import color
+#import camera
+#import encoding
+#import bindings
+#import fullscreen
+#import validate
 
 struct DebugParams {
     focus_m: f32,

@@ -15,6 +15,10 @@
 //                    pixel, what shows around it), then the near field over it by its
 //                    coverage.
 // Needs common, camera, bindings, fullscreen.
+#import common
+#import camera
+#import bindings
+#import fullscreen
 
 struct DofParams {
     focus_m: f32,

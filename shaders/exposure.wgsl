@@ -2,6 +2,7 @@
 // current exposure), then one workgroup that averages log2 luminance between two
 // percentiles of the non-black pixels, meters it (EV100 = log2(L · 100 / 12.5)), clamps it and adapts the state
 // exponentially towards it. Needs color.wgsl.
+#import color
 
 struct ExposureParams {
     // Exposure the HDR target was rendered with (scene luminance = HDR / exposure).

@@ -5,6 +5,11 @@
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
 //   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
 //   depth    Depth32Float   : reversed Z
+#import common
+#import brdf
+#import color
+#import encoding
+#import bindings
 
 @group(0) @binding(0) var<uniform> view: View;
 

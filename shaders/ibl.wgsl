@@ -1,5 +1,7 @@
 // Image-based lighting, the same as engine/src/ibl.rs (same names). Needs common.wgsl and
 // brdf.wgsl.
+#import common
+#import brdf
 
 fn equirect_uv(d_in: vec3<f32>) -> vec2<f32> {
     let d = safe_normalize(d_in, vec3<f32>(0.0, 0.0, -1.0));

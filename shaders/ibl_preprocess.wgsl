@@ -7,6 +7,9 @@
 //                         angle matches the sample's, so a few samples give no fireflies.
 // Needs common.wgsl, brdf.wgsl and ibl.wgsl. Cube faces follow the Vulkan/WebGPU order
 // +X, −X, +Y, −Y, +Z, −Z.
+#import common
+#import brdf
+#import ibl
 
 struct Params {
     // Output face size in texels, output mip, number of prefiltered mips, sample count.

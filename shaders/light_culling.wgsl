@@ -7,6 +7,8 @@
 // An invocation per tile needs no barrier and no atomic, which costs a quarter of the
 // cooperative 8×8-workgroup version on lavapipe (measured). Needs common, bindings,
 // light_tiles.
+#import bindings
+#import light_tiles
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;

@@ -18,6 +18,16 @@
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
 // whole range in the same loop (no branch).
+#import common
+#import brdf
+#import punctual
+#import color
+#import encoding
+#import ibl
+#import bindings
+#import fullscreen
+#import shadows
+#import light_tiles
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<storage, read> lights: array<Light>;

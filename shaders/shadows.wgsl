@@ -1,6 +1,8 @@
 // Shadow-map lookups for the lighting pass: view selection (cascades, cube faces),
 // receiver biasing and filtering. Header constant SHADOW_FILTER: 0 hardware 2×2 PCF,
 // 1 Poisson/Vogel-disc PCF, 2 PCSS (see lumen::quality::ShadowFilter).
+#import common
+#import bindings
 
 @group(0) @binding(6) var<storage, read> shadow_views: array<ShadowView>;
 @group(0) @binding(7) var shadow_atlas: texture_depth_2d;

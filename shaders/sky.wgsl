@@ -1,6 +1,10 @@
 // Sky pass: the environment where no geometry was drawn. The pipeline's depth test
 // (equal to the cleared 0) keeps it to background pixels. Header constant ENV_MAP: an
 // image environment (else uniform). Needs common, ibl, bindings, fullscreen.
+#import common
+#import ibl
+#import bindings
+#import fullscreen
 
 @group(0) @binding(0) var<uniform> view: View;
 @group(0) @binding(1) var<uniform> environment: EnvironmentUniform;

@@ -2,6 +2,9 @@
 // Header constants: TONEMAPPER (see color.wgsl) and ENCODE_SRGB (true when the target
 // format is not an *Srgb format, so the exact sRGB curve is applied here).
 // Needs color.wgsl and camera.wgsl.
+#import color
+#import camera
+#import fullscreen
 
 struct PostParams {
     // Vignetting strength, tan of the half field of view horizontally and vertically.

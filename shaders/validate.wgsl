@@ -1,6 +1,7 @@
 // The PBR texture validator's metal/roughness rules per texel, the same as
 // engine/src/validate.rs (same names and numbers; see its documentation). Used by the
 // `validation` debug views. Needs color.wgsl.
+#import color
 
 const VERDICT_NOT_APPLICABLE: u32 = 0u;
 const VERDICT_VALID: u32 = 1u;

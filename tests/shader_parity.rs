@@ -6,7 +6,8 @@ mod common;
 
 use glam::{Vec3, Vec4};
 use lumen::brdf::{self, Surface, VisibilityModel};
-use lumen::render::shaders::{self, compose};
+use lumen::render::pipelines::create_module;
+use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
@@ -291,20 +292,10 @@ fn run_kernel(
 fn wgsl_functions_match_their_rust_twins() {
     let gpu = common::gpu();
     let kernel = include_str!("shaders/parity.wgsl");
-    let source = compose(
-        &[],
-        &[
-            shaders::COMMON.builtin,
-            shaders::BRDF.builtin,
-            shaders::PUNCTUAL.builtin,
-            shaders::COLOR.builtin,
-            shaders::ENCODING.builtin,
-            shaders::IBL.builtin,
-            shaders::CAMERA.builtin,
-            kernel,
-        ],
-    );
-    let module = shaders::create_module(&gpu, "parity", source).expect("parity kernel compiles");
+    let source = ShaderLibrary::default()
+        .compose_source("parity.wgsl", kernel, &[])
+        .expect("the parity kernel's imports resolve");
+    let module = create_module(&gpu, "parity", &source).expect("parity kernel compiles");
     let cases = cases();
     let results = run_kernel(
         &gpu,
@@ -358,7 +349,7 @@ fn wgsl_functions_match_their_rust_twins() {
 fn the_validator_rules_match_in_wgsl_and_rust() {
     use lumen::validate::{brightness_code, metal_rough_verdict};
     let gpu = common::gpu();
-    let kernel = r#"
+    let kernel = r#"#import validate
 @group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
 @compute @workgroup_size(64)
@@ -374,11 +365,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[i] = vec4<f32>(f32(metal_rough_verdict(base, metallic, strict)), f32(brightness_code(base)), 0.0, 0.0);
 }
 "#;
-    let source = compose(
-        &[],
-        &[shaders::COLOR.builtin, shaders::VALIDATE.builtin, kernel],
-    );
-    let module = shaders::create_module(&gpu, "validate parity", source).expect("compiles");
+    let source = ShaderLibrary::default()
+        .compose_source("validate parity", kernel, &[])
+        .expect("the kernel's imports resolve");
+    let module = create_module(&gpu, "validate parity", &source).expect("compiles");
     // w: metallic in [0, 1) plus 1 for strict.
     let decode = |c: u32| color::srgb_decode(c as f32 / 255.0);
     let mut cases: Vec<[f32; 4]> = Vec::new();

@@ -276,10 +276,10 @@ impl App {
         let gpu = self.gpu()?.clone();
         let new = shaders::read_overrides(dir)?;
         let old = gpu.shaders.overrides();
-        let changed: Vec<&'static str> = shaders::ALL
+        let changed: Vec<&'static str> = shaders::BUILTIN
             .iter()
-            .filter(|s| new.get(s.file) != old.get(s.file))
-            .map(|s| s.file)
+            .map(|(file, _)| *file)
+            .filter(|file| new.get(file) != old.get(file))
             .collect();
         if changed.is_empty() {
             return Ok(changed);

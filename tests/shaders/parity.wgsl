@@ -1,5 +1,12 @@
 // Evaluates every shared shader function on the inputs of one case; the test
 // tests/shader_parity.rs evaluates the Rust twins on the same inputs and compares.
+#import common
+#import brdf
+#import punctual
+#import color
+#import encoding
+#import ibl
+#import camera
 
 struct Case {
     n: vec4<f32>,

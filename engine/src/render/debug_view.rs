@@ -26,7 +26,7 @@ use crate::render::pipelines::{
     draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -232,19 +232,10 @@ impl DebugViewPass {
             gpu,
             "debug view",
             &self.pipeline_layout,
+            "debug_view.wgsl",
             &[
                 ShaderDef::U32("DEBUG_VIEW", view as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
-            ],
-            &[
-                shaders::COMMON,
-                shaders::COLOR,
-                shaders::CAMERA,
-                shaders::ENCODING,
-                shaders::BINDINGS,
-                shaders::FULLSCREEN,
-                shaders::VALIDATE,
-                shaders::DEBUG_VIEW,
             ],
             format,
         )?;

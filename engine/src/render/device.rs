@@ -322,32 +322,47 @@ impl Gpu {
             @fragment fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {
                 return data[u32(p.x) % arrayLength(&data)];
             }";
-        crate::render::shaders::create_module(self, "capability probe", PROBE.into())
-            .and_then(|module| {
-                crate::render::pipelines::fullscreen_pipeline(
-                    self,
-                    "capability probe",
-                    None,
-                    &module,
-                    ("vs", "fs"),
-                    &[wgpu::TextureFormat::Rgba8Unorm],
-                    None,
-                )
+        self.checked("capability probe", |device| {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("capability probe"),
+                source: wgpu::ShaderSource::Wgsl(PROBE.into()),
+            });
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("capability probe"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::TextureFormat::Rgba8Unorm.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
             })
-            .map(|_| ())
-            .map_err(|e| {
-                let first = e
-                    .to_string()
-                    .lines()
-                    .rev()
-                    .find(|l| !l.trim().is_empty())
-                    .unwrap_or_default()
-                    .trim()
-                    .to_string();
-                Error::Gpu(format!(
-                    "cannot compile storage buffers in vertex and fragment shaders ({first})"
-                ))
-            })
+        })
+        .map(|_| ())
+        .map_err(|e| {
+            let first = e
+                .to_string()
+                .lines()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or_default()
+                .trim()
+                .to_string();
+            Error::Gpu(format!(
+                "cannot compile storage buffers in vertex and fragment shaders ({first})"
+            ))
+        })
     }
 
     /// Largest 2D texture side the device accepts.

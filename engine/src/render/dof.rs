@@ -8,9 +8,9 @@ use crate::render::extract::{ExtractedCamera, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders;
 use crate::render::targets::{RenderTargets, Target};
 use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
@@ -142,17 +142,8 @@ pub struct DofPass {
 impl DofPass {
     /// Compiles the three pipelines.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = gpu.shaders.compose(
-            &[],
-            &[
-                shaders::COMMON,
-                shaders::CAMERA,
-                shaders::BINDINGS,
-                shaders::FULLSCREEN,
-                shaders::DOF,
-            ],
-        );
-        let module = shaders::create_module(gpu, "dof", source)?;
+        let source = gpu.shaders.compose("dof.wgsl", &[])?;
+        let module = create_module(gpu, "dof", &source)?;
         let pipeline = |entry, formats: &[wgpu::TextureFormat]| {
             fullscreen_pipeline(
                 gpu,

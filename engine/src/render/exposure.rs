@@ -9,7 +9,7 @@ use crate::render::frame::FrameEncoder;
 pub use crate::render::frame::{FrameDelta, MeteredExposure};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::shaders;
+use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -104,12 +104,7 @@ pub struct ExposurePass {
 impl ExposurePass {
     /// Compiles the pass.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let module = shaders::create_module(
-            gpu,
-            "exposure",
-            gpu.shaders
-                .compose(&[], &[shaders::COLOR, shaders::EXPOSURE]),
-        )?;
+        let module = create_module(gpu, "exposure", &gpu.shaders.compose("exposure.wgsl", &[])?)?;
         let pipeline = |entry: &str| {
             gpu.checked(&format!("{entry} pipeline"), |device| {
                 device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

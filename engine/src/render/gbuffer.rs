@@ -9,9 +9,9 @@ use crate::render::gpu_types::GpuInstance;
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::material_maps::GpuMaterialMaps;
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
@@ -113,18 +113,8 @@ pub struct GBufferPass {
 impl GBufferPass {
     /// Compiles the pass's plain variant.
     pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
-        let source = gpu.shaders.compose(
-            &[],
-            &[
-                shaders::COMMON,
-                shaders::BRDF,
-                shaders::COLOR,
-                shaders::ENCODING,
-                shaders::BINDINGS,
-                shaders::GBUFFER,
-            ],
-        );
-        let module = shaders::create_module(gpu, "gbuffer", source)?;
+        let source = gpu.shaders.compose("gbuffer.wgsl", &[])?;
+        let module = create_module(gpu, "gbuffer", &source)?;
         let layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -17,8 +17,9 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameErrors;
 use crate::render::gpu_types::GpuEnvironment;
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::fullscreen_pipeline;
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::Target;
 use crate::scene::environment::EquirectImage;
 use bevy_ecs::prelude::*;
@@ -148,16 +149,8 @@ fn layer_view(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
 impl Ibl {
     /// Compiles the preprocessing pipelines.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = gpu.shaders.compose(
-            &[],
-            &[
-                shaders::COMMON,
-                shaders::BRDF,
-                shaders::IBL,
-                shaders::IBL_PREPROCESS,
-            ],
-        );
-        let module = shaders::create_module(gpu, "ibl preprocessing", source)?;
+        let source = gpu.shaders.compose("ibl_preprocess.wgsl", &[])?;
+        let module = create_module(gpu, "ibl preprocessing", &source)?;
         let dummy = cube_texture(gpu, "dummy environment", 1, 1);
         Ok(Ibl {
             equirect_to_cube: compute_pipeline(gpu, &module, "cs_equirect_to_cube")?,
@@ -466,19 +459,13 @@ impl Ibl {
         }
         let start = Instant::now();
         let source = gpu.shaders.compose(
+            "brdf_lut.wgsl",
             &[
                 ShaderDef::U32("LUT_SAMPLES", samples.max(1)),
                 ShaderDef::U32("LUT_SIZE", size),
             ],
-            &[
-                shaders::COMMON,
-                shaders::BRDF,
-                shaders::IBL,
-                shaders::FULLSCREEN,
-                shaders::BRDF_LUT,
-            ],
-        );
-        let module = shaders::create_module(gpu, "brdf lut", source)?;
+        )?;
+        let module = create_module(gpu, "brdf lut", &source)?;
         let pipeline = fullscreen_pipeline(
             gpu,
             "brdf lut",

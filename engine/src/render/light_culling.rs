@@ -10,9 +10,10 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -166,17 +167,12 @@ impl LightCullingPass {
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(gpu: &Gpu, uniform_lights: bool, uniform_capacity: u32) -> String {
+    pub fn source(gpu: &Gpu, uniform_lights: bool, uniform_capacity: u32) -> Result<Composed> {
         gpu.shaders.compose(
+            "light_culling.wgsl",
             &[
                 ShaderDef::Bool("UNIFORM_LIGHTS", uniform_lights),
                 ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
-            ],
-            &[
-                shaders::COMMON,
-                shaders::BINDINGS,
-                shaders::LIGHT_TILES,
-                shaders::LIGHT_CULLING,
             ],
         )
     }
@@ -186,10 +182,10 @@ impl LightCullingPass {
         if self.pipelines[slot].is_some() {
             return Ok(());
         }
-        let module = shaders::create_module(
+        let module = create_module(
             gpu,
             "light culling",
-            Self::source(gpu, uniform_lights, capacity),
+            &Self::source(gpu, uniform_lights, capacity)?,
         )?;
         let pipeline = gpu.checked("light culling pipeline", |device| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

@@ -16,12 +16,13 @@ use crate::render::graph::slots::{
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::{
     filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, storage_entry,
     texture_load_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
@@ -262,8 +263,9 @@ impl LightingPass {
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(gpu: &Gpu, variant: LightingVariant, uniform_capacity: u32) -> String {
+    pub fn source(gpu: &Gpu, variant: LightingVariant, uniform_capacity: u32) -> Result<Composed> {
         gpu.shaders.compose(
+            "lighting.wgsl",
             &[
                 ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
                 ShaderDef::Bool("HAS_POINT", variant.point),
@@ -289,19 +291,6 @@ impl LightingPass {
                     crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
                 ),
             ],
-            &[
-                shaders::COMMON,
-                shaders::BRDF,
-                shaders::PUNCTUAL,
-                shaders::COLOR,
-                shaders::ENCODING,
-                shaders::IBL,
-                shaders::BINDINGS,
-                shaders::FULLSCREEN,
-                shaders::SHADOWS,
-                shaders::LIGHT_TILES,
-                shaders::LIGHTING,
-            ],
         )
     }
 
@@ -315,10 +304,10 @@ impl LightingPass {
         if self.pipelines.contains_key(&(variant, format)) {
             return Ok(());
         }
-        let module = shaders::create_module(
+        let module = create_module(
             gpu,
             "lighting",
-            LightingPass::source(gpu, variant, uniform_capacity),
+            &LightingPass::source(gpu, variant, uniform_capacity)?,
         )?;
         let pipeline = fullscreen_pipeline(
             gpu,

@@ -1,9 +1,9 @@
-//! Small builders shared by the passes: bind group layout entries, and the full-screen
-//! pipeline and pass that the lighting and tone mapping passes (and the adapter check) use.
+//! Small builders shared by the passes: shader modules from composed WGSL, bind group
+//! layout entries, and the full-screen pipeline and pass.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::device::Gpu;
-use crate::render::shaders::{self, Shader, ShaderDef};
+use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::timing::GpuTimer;
 
 /// A uniform buffer binding.
@@ -116,18 +116,18 @@ pub fn fullscreen_pipeline(
     })
 }
 
-/// Composes `modules` under `defs` and compiles the full-screen pipeline
+/// Composes the module `entry` under `defs` and compiles the full-screen pipeline
 /// `vs_fullscreen`/`fs_main` drawing into `format` without depth: a pass's variant
 /// (tone mapping, debug views).
 pub fn fullscreen_variant(
     gpu: &Gpu,
     label: &str,
     layout: &wgpu::PipelineLayout,
+    entry: &str,
     defs: &[ShaderDef],
-    modules: &[Shader],
     format: wgpu::TextureFormat,
 ) -> Result<wgpu::RenderPipeline> {
-    let module = shaders::create_module(gpu, label, gpu.shaders.compose(defs, modules))?;
+    let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
     fullscreen_pipeline(
         gpu,
         label,
@@ -178,4 +178,19 @@ pub fn draw_fullscreen(
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);
+}
+
+/// Compiles composed WGSL into a shader module. A compile error becomes [`Error::Gpu`]
+/// that starts with the module and line where naga finds it, then the compiler's message.
+pub fn create_module(gpu: &Gpu, label: &str, composed: &Composed) -> Result<wgpu::ShaderModule> {
+    gpu.checked(&format!("shader '{label}'"), |device| {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(composed.source.as_str().into()),
+        })
+    })
+    .map_err(|e| match composed.first_error() {
+        Some(at) => Error::Gpu(format!("{at}\n{e}")),
+        None => e,
+    })
 }

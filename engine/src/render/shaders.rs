@@ -1,114 +1,36 @@
 //! WGSL sources and their composition.
 //!
-//! WGSL has no `#include`: each pass's shader is its own file in `shaders/` preceded by
-//! the shared modules it uses and by a header of constants (the "shader defs") that
-//! select the features the scene needs. A feature a scene doesn't use is a `false`
-//! constant, so its code is removed when the pipeline is compiled.
+//! WGSL has no `#include`, so Lumen adds one line of its own: a module names what it
+//! uses with `#import NAME` lines (`NAME` is a file of `shaders/` without `.wgsl`), and
+//! [`ShaderLibrary::compose`] resolves them: every module once, each after the modules it
+//! imports, preceded by a header of constants (the "shader defs") that select the features
+//! the scene needs. A feature a scene doesn't use is a `false` constant, so its code is
+//! removed when the pipeline is compiled. A missing or circular import is an error that
+//! names the file and its line.
 //!
-//! The sources are compiled into the binary, so `lumen` runs from any directory. A
-//! [`ShaderLibrary`] can override them with files read from disk at run time
-//! ([`crate::App::reload_shaders`], the viewer's hot reload).
+//! Every `.wgsl` file of `shaders/` is compiled into the binary ([`BUILTIN`], listed by
+//! the build script), so `lumen` runs from any directory and a new shader needs no
+//! registration. A [`ShaderLibrary`] can override them with files read from disk at run
+//! time ([`crate::App::reload_shaders`], the viewer's hot reload). A compile error names
+//! the module and the line in that module, not in the composed source ([`Composed`],
+//! [`crate::render::pipelines::create_module`]).
 
 use crate::error::{Error, Result};
-use crate::render::device::Gpu;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, RwLock};
 
-/// One WGSL module: its file name in `shaders/` and the source compiled into the binary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shader {
-    /// File name in `shaders/`, e.g. `tonemap.wgsl`.
-    pub file: &'static str,
-    /// The source as compiled into the binary.
-    pub builtin: &'static str,
+/// Every WGSL module of `shaders/`, as (file name, source compiled into the binary).
+pub const BUILTIN: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/builtin_shaders.rs"));
+
+/// The built-in source of `file` (e.g. `tonemap.wgsl`).
+pub fn builtin(file: &str) -> Option<&'static str> {
+    BUILTIN.iter().find(|(f, _)| *f == file).map(|(_, s)| *s)
 }
-
-macro_rules! shader {
-    ($file:literal) => {
-        Shader {
-            file: $file,
-            builtin: include_str!(concat!("../../../shaders/", $file)),
-        }
-    };
-}
-
-/// Shared constants and helpers (`safe_normalize`, `PI`).
-pub const COMMON: Shader = shader!("common.wgsl");
-/// The BRDF, twin of `brdf.rs`.
-pub const BRDF: Shader = shader!("brdf.wgsl");
-/// Punctual light falloff, twin of `punctual.rs`.
-pub const PUNCTUAL: Shader = shader!("punctual.wgsl");
-/// sRGB curve and tone mappers, twin of `color.rs`.
-pub const COLOR: Shader = shader!("color.wgsl");
-/// G-buffer encodings, twin of `encoding.rs`.
-pub const ENCODING: Shader = shader!("encoding.wgsl");
-/// Uniform and storage layouts shared by the passes (view, instances, lights).
-pub const BINDINGS: Shader = shader!("bindings.wgsl");
-/// Full-screen triangle vertex shader.
-pub const FULLSCREEN: Shader = shader!("fullscreen.wgsl");
-/// G-buffer pass.
-pub const GBUFFER: Shader = shader!("gbuffer.wgsl");
-/// Deferred lighting pass.
-pub const LIGHTING: Shader = shader!("lighting.wgsl");
-/// Shadow pass (casters into the atlas).
-pub const SHADOW: Shader = shader!("shadow.wgsl");
-/// Shadow-map sampling and filtering, used by the lighting pass.
-pub const SHADOWS: Shader = shader!("shadows.wgsl");
-/// Image-based lighting functions, twin of `ibl.rs`.
-pub const IBL: Shader = shader!("ibl.wgsl");
-/// Environment preprocessing (compute).
-pub const IBL_PREPROCESS: Shader = shader!("ibl_preprocess.wgsl");
-/// The split-sum BRDF table.
-pub const BRDF_LUT: Shader = shader!("brdf_lut.wgsl");
-/// Sky pass: the environment as background.
-pub const SKY: Shader = shader!("sky.wgsl");
-/// Camera optics (circle of confusion, vignetting), twin of `scene/camera.rs`.
-pub const CAMERA: Shader = shader!("camera.wgsl");
-/// Automatic exposure (compute).
-pub const EXPOSURE: Shader = shader!("exposure.wgsl");
-/// Depth of field passes.
-pub const DOF: Shader = shader!("dof.wgsl");
-/// Tile light lists shared by light culling and lighting.
-pub const LIGHT_TILES: Shader = shader!("light_tiles.wgsl");
-/// Tiled light culling (compute).
-pub const LIGHT_CULLING: Shader = shader!("light_culling.wgsl");
-/// The validator's per-texel rules, twin of `validate.rs`.
-pub const VALIDATE: Shader = shader!("validate.wgsl");
-/// Debug views of the frame's channels.
-pub const DEBUG_VIEW: Shader = shader!("debug_view.wgsl");
-/// Tone mapping and output encoding pass.
-pub const TONEMAP: Shader = shader!("tonemap.wgsl");
-
-/// Every module, for reloading from disk.
-pub const ALL: [Shader; 23] = [
-    COMMON,
-    BRDF,
-    PUNCTUAL,
-    COLOR,
-    ENCODING,
-    BINDINGS,
-    FULLSCREEN,
-    GBUFFER,
-    LIGHTING,
-    SHADOW,
-    SHADOWS,
-    IBL,
-    IBL_PREPROCESS,
-    BRDF_LUT,
-    SKY,
-    CAMERA,
-    EXPOSURE,
-    DOF,
-    LIGHT_TILES,
-    LIGHT_CULLING,
-    TONEMAP,
-    VALIDATE,
-    DEBUG_VIEW,
-];
 
 /// The WGSL sources passes compile from: the built-in ones, with overrides read from disk.
-/// Cloning shares the overrides (every clone of a [`Gpu`] sees a reload).
+/// Cloning shares the overrides (every clone of a [`crate::render::device::Gpu`] sees a
+/// reload).
 #[derive(Clone, Debug, Default)]
 pub struct ShaderLibrary {
     overrides: Arc<RwLock<HashMap<&'static str, Arc<str>>>>,
@@ -118,19 +40,65 @@ pub struct ShaderLibrary {
 pub type ShaderOverrides = HashMap<&'static str, Arc<str>>;
 
 impl ShaderLibrary {
-    /// The current source of `shader`.
-    pub fn source(&self, shader: Shader) -> Arc<str> {
+    /// The current source of `file`, if it is a module of `shaders/`.
+    pub fn source(&self, file: &str) -> Option<Arc<str>> {
         self.overrides()
-            .get(shader.file)
+            .get(file)
             .cloned()
-            .unwrap_or_else(|| Arc::from(shader.builtin))
+            .or_else(|| builtin(file).map(Arc::from))
     }
 
-    /// [`compose`] with the current sources of `modules`.
-    pub fn compose(&self, defs: &[ShaderDef], modules: &[Shader]) -> String {
-        let sources: Vec<Arc<str>> = modules.iter().map(|m| self.source(*m)).collect();
-        let refs: Vec<&str> = sources.iter().map(|s| &**s).collect();
-        compose(defs, &refs)
+    /// The module `entry` (e.g. `lighting.wgsl`) with everything it imports, under `defs`.
+    pub fn compose(&self, entry: &str, defs: &[ShaderDef]) -> Result<Composed> {
+        let source = self
+            .source(entry)
+            .ok_or_else(|| Error::Gpu(format!("shader {entry}: no such file in shaders/")))?;
+        self.compose_source(entry, &source, defs)
+    }
+
+    /// [`ShaderLibrary::compose`] for an entry module given as text (named `name` in
+    /// errors), whose imports come from the library.
+    pub fn compose_source(&self, name: &str, source: &str, defs: &[ShaderDef]) -> Result<Composed> {
+        let mut composed = Composed::header(defs);
+        let mut stack = Vec::new();
+        let mut done = Vec::new();
+        self.append(name, source, &mut stack, &mut done, &mut composed)?;
+        Ok(composed)
+    }
+
+    fn append(
+        &self,
+        name: &str,
+        source: &str,
+        stack: &mut Vec<String>,
+        done: &mut Vec<String>,
+        out: &mut Composed,
+    ) -> Result<()> {
+        stack.push(name.to_string());
+        for (line, import) in imports(source) {
+            let file = format!("{import}.wgsl");
+            if stack.contains(&file) {
+                let mut cycle = stack.clone();
+                cycle.push(file);
+                return Err(Error::Gpu(format!(
+                    "shaders/{name}:{line}: circular import ({})",
+                    cycle.join(" → ")
+                )));
+            }
+            if done.contains(&file) {
+                continue;
+            }
+            let text = self.source(&file).ok_or_else(|| {
+                Error::Gpu(format!(
+                    "shaders/{name}:{line}: imports '{import}', but shaders/{file} does not exist"
+                ))
+            })?;
+            self.append(&file, &text, stack, done, out)?;
+        }
+        stack.pop();
+        done.push(name.to_string());
+        out.push_module(name, source);
+        Ok(())
     }
 
     /// The overrides in force.
@@ -150,7 +118,16 @@ impl ShaderLibrary {
     }
 }
 
-/// Reads every module of [`ALL`] that exists in `dir` and differs from the built-in
+/// The `#import NAME` lines of a module: (1-based line, NAME).
+fn imports(source: &str) -> impl Iterator<Item = (usize, &str)> {
+    source.lines().enumerate().filter_map(|(i, line)| {
+        line.trim()
+            .strip_prefix("#import ")
+            .map(|name| (i + 1, name.trim()))
+    })
+}
+
+/// Reads every module of [`BUILTIN`] that exists in `dir` and differs from the built-in
 /// source. A file that is missing keeps the built-in source; one that cannot be read
 /// is an error.
 pub fn read_overrides(dir: &Path) -> Result<ShaderOverrides> {
@@ -161,14 +138,14 @@ pub fn read_overrides(dir: &Path) -> Result<ShaderOverrides> {
         )));
     }
     let mut out = HashMap::new();
-    for shader in ALL {
-        let path = dir.join(shader.file);
+    for &(file, builtin) in BUILTIN {
+        let path = dir.join(file);
         if !path.exists() {
             continue;
         }
         let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        if text != shader.builtin {
-            out.insert(shader.file, Arc::from(text));
+        if text != builtin {
+            out.insert(file, Arc::from(text));
         }
     }
     Ok(out)
@@ -183,29 +160,175 @@ pub enum ShaderDef {
     U32(&'static str, u32),
 }
 
-/// The header of constants, then the modules, in order.
-pub fn compose(defs: &[ShaderDef], modules: &[&str]) -> String {
-    let mut source = String::from("// Composed by lumen::render::shaders.\n");
-    for def in defs {
-        match def {
-            ShaderDef::Bool(name, v) => source.push_str(&format!("const {name}: bool = {v};\n")),
-            ShaderDef::U32(name, v) => source.push_str(&format!("const {name}: u32 = {v}u;\n")),
-        }
-    }
-    for module in modules {
-        source.push('\n');
-        source.push_str(module);
-    }
-    source
+/// A composed WGSL source and where each of its lines came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Composed {
+    /// The WGSL text the compiler gets.
+    pub source: String,
+    /// (first line in `source`, module, its line count), 1-based, in order.
+    segments: Vec<(usize, String, usize)>,
 }
 
-/// Compiles WGSL into a shader module; a compile error becomes [`Error::Gpu`] with the
-/// compiler's message.
-pub fn create_module(gpu: &Gpu, label: &str, source: String) -> Result<wgpu::ShaderModule> {
-    gpu.checked(&format!("shader '{label}'"), |device| {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(label),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
-        })
-    })
+impl Composed {
+    fn header(defs: &[ShaderDef]) -> Composed {
+        let mut source = String::from("// Composed by lumen::render::shaders.\n");
+        for def in defs {
+            match def {
+                ShaderDef::Bool(name, v) => {
+                    source.push_str(&format!("const {name}: bool = {v};\n"))
+                }
+                ShaderDef::U32(name, v) => source.push_str(&format!("const {name}: u32 = {v}u;\n")),
+            }
+        }
+        Composed {
+            source,
+            segments: Vec::new(),
+        }
+    }
+
+    /// Appends a module, its `#import` lines blanked (so its lines keep their numbers).
+    fn push_module(&mut self, name: &str, text: &str) {
+        self.source.push('\n');
+        let first = self.source.lines().count() + 1;
+        let mut lines = 0;
+        for line in text.lines() {
+            if !line.trim().starts_with("#import ") {
+                self.source.push_str(line);
+            }
+            self.source.push('\n');
+            lines += 1;
+        }
+        self.segments.push((first, name.to_string(), lines));
+    }
+
+    /// The module and the line in it (1-based) of line `line` of [`Composed::source`].
+    pub fn locate(&self, line: usize) -> Option<(&str, usize)> {
+        self.segments
+            .iter()
+            .find(|(first, _, n)| line >= *first && line < first + n)
+            .map(|(first, name, _)| (name.as_str(), line - first + 1))
+    }
+
+    /// Where naga puts the first error of this source, as `shaders/FILE:LINE:COLUMN:
+    /// message`, if it finds one (parse or validation).
+    pub fn first_error(&self) -> Option<String> {
+        use wgpu::naga;
+        let (message, location) = match naga::front::wgsl::parse_str(&self.source) {
+            Err(e) => (e.message().to_string(), e.location(&self.source)),
+            Ok(module) => {
+                let mut validator = naga::valid::Validator::new(
+                    naga::valid::ValidationFlags::all(),
+                    naga::valid::Capabilities::all(),
+                );
+                let e = validator.validate(&module).err()?;
+                let location = e
+                    .spans()
+                    .next()
+                    .map(|(span, _)| span.location(&self.source));
+                (e.as_inner().to_string(), location)
+            }
+        };
+        let location = location?;
+        let (file, line) = self.locate(location.line_number as usize)?;
+        Some(format!(
+            "shaders/{file}:{line}:{}: {message}",
+            location.line_position
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn library(files: &[(&'static str, &str)]) -> ShaderLibrary {
+        let library = ShaderLibrary::default();
+        library.set_overrides(files.iter().map(|(f, s)| (*f, Arc::from(*s))).collect());
+        library
+    }
+
+    #[test]
+    fn imports_come_first_once_and_errors_map_to_the_module_line() {
+        let lib = library(&[
+            (
+                "tonemap.wgsl",
+                "#import common\n#import color\nfn a() -> f32 { return b(); }\n",
+            ),
+            (
+                "color.wgsl",
+                "#import common\nfn b() -> f32 { return PI; }\n",
+            ),
+            ("common.wgsl", "const PI: f32 = 3.14159;\n"),
+        ]);
+        let composed = lib
+            .compose("tonemap.wgsl", &[ShaderDef::Bool("X", true)])
+            .expect("composes");
+        let pi = composed.source.find("const PI").expect("common");
+        let b = composed.source.find("fn b").expect("color");
+        let a = composed.source.find("fn a").expect("tonemap");
+        assert!(pi < b && b < a, "{}", composed.source);
+        assert_eq!(composed.source.matches("const PI").count(), 1);
+        assert!(!composed.source.contains("#import"));
+        let line_of = |at: usize| composed.source[..at].lines().count() + 1;
+        assert_eq!(composed.locate(line_of(a)), Some(("tonemap.wgsl", 3)));
+        assert_eq!(composed.locate(line_of(b)), Some(("color.wgsl", 2)));
+        assert_eq!(composed.first_error(), None);
+    }
+
+    #[test]
+    fn a_type_error_names_the_module_and_its_own_line() {
+        let lib = library(&[
+            (
+                "tonemap.wgsl",
+                "#import color\n\n\nfn a() -> f32 { return b(); }\n",
+            ),
+            ("color.wgsl", "fn b() -> f32 {\n    return 1u;\n}\n"),
+        ]);
+        let composed = lib.compose("tonemap.wgsl", &[]).expect("composes");
+        let error = composed.first_error().expect("a type error");
+        assert!(error.starts_with("shaders/color.wgsl:"), "{error}");
+        let lib = library(&[("tonemap.wgsl", "\n\nfn a( -> f32 {}\n")]);
+        let error = lib
+            .compose("tonemap.wgsl", &[])
+            .expect("composes")
+            .first_error()
+            .expect("a syntax error");
+        assert!(error.starts_with("shaders/tonemap.wgsl:3:"), "{error}");
+    }
+
+    #[test]
+    fn missing_and_circular_imports_are_errors_naming_the_file() {
+        let lib = library(&[("tonemap.wgsl", "\n#import nowhere\n")]);
+        let err = lib
+            .compose("tonemap.wgsl", &[])
+            .expect_err("missing")
+            .to_string();
+        assert!(
+            err.contains("shaders/tonemap.wgsl:2") && err.contains("nowhere"),
+            "{err}"
+        );
+        let lib = library(&[
+            ("tonemap.wgsl", "#import color\n"),
+            ("color.wgsl", "#import tonemap\n"),
+        ]);
+        let err = lib
+            .compose("tonemap.wgsl", &[])
+            .expect_err("cycle")
+            .to_string();
+        assert!(err.contains("circular import"), "{err}");
+        assert!(err.contains("shaders/color.wgsl:1"), "{err}");
+        let err = lib
+            .compose("nothing.wgsl", &[])
+            .expect_err("no entry")
+            .to_string();
+        assert!(err.contains("nothing.wgsl"), "{err}");
+    }
+
+    #[test]
+    fn every_builtin_module_composes() {
+        let lib = ShaderLibrary::default();
+        for (file, _) in BUILTIN {
+            lib.compose(file, &[]).expect("imports resolve");
+        }
+    }
 }

@@ -8,11 +8,12 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
+use crate::render::pipelines::create_module;
 use crate::render::pipelines::{
     filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, uniform_entry,
 };
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -115,18 +116,10 @@ impl SkyPass {
         if self.pipelines.contains_key(&(env_map, format)) {
             return Ok(());
         }
-        let source = gpu.shaders.compose(
-            &[ShaderDef::Bool("ENV_MAP", env_map)],
-            &[
-                shaders::COMMON,
-                shaders::BRDF,
-                shaders::IBL,
-                shaders::BINDINGS,
-                shaders::FULLSCREEN,
-                shaders::SKY,
-            ],
-        );
-        let module = shaders::create_module(gpu, "sky", source)?;
+        let source = gpu
+            .shaders
+            .compose("sky.wgsl", &[ShaderDef::Bool("ENV_MAP", env_map)])?;
+        let module = create_module(gpu, "sky", &source)?;
         // The full-screen triangle lies at depth 0: it passes only where the G-buffer
         // depth is still the cleared 0 (reversed Z: nothing drawn).
         let depth = wgpu::DepthStencilState {

@@ -12,7 +12,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
     draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
 };
-use crate::render::shaders::{self, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -127,15 +127,10 @@ impl TonemapPass {
             gpu,
             "tonemap",
             &self.pipeline_layout,
+            "tonemap.wgsl",
             &[
                 ShaderDef::U32("TONEMAPPER", tonemapper as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
-            ],
-            &[
-                shaders::COLOR,
-                shaders::CAMERA,
-                shaders::FULLSCREEN,
-                shaders::TONEMAP,
             ],
             format,
         )?;

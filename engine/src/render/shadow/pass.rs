@@ -11,8 +11,8 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
-use crate::render::shaders;
 use crate::render::targets::Target;
 use crate::scene::{MeshHandle, Vertex};
 use bevy_ecs::prelude::*;
@@ -123,10 +123,8 @@ fn atlas_target(gpu: &Gpu, side: u32) -> Target {
 impl ShadowPass {
     /// Compiles the pass and creates an empty atlas.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = gpu
-            .shaders
-            .compose(&[], &[shaders::BINDINGS, shaders::SHADOW]);
-        let module = shaders::create_module(gpu, "shadow", source)?;
+        let source = gpu.shaders.compose("shadow.wgsl", &[])?;
+        let module = create_module(gpu, "shadow", &source)?;
         let caster_layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
