@@ -29,20 +29,25 @@
 #import shadows
 #import light_tiles
 
+// Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
-@group(0) @binding(1) var<storage, read> lights: array<Light>;
-@group(0) @binding(2) var gbuffer0: texture_2d<f32>;
-@group(0) @binding(3) var gbuffer1: texture_2d<f32>;
-@group(0) @binding(4) var gbuffer2: texture_2d<f32>;
+@group(0) @binding(1) var gbuffer0: texture_2d<f32>;
+@group(0) @binding(2) var gbuffer1: texture_2d<f32>;
+@group(0) @binding(3) var gbuffer2: texture_2d<f32>;
 // Depth bound as an unfilterable float texture: GLSL backends cannot textureLoad a
 // depth texture.
-@group(0) @binding(5) var depth_buffer: texture_2d<f32>;
+@group(0) @binding(4) var depth_buffer: texture_2d<f32>;
 
-@group(0) @binding(10) var<uniform> environment: EnvironmentUniform;
-@group(0) @binding(11) var env_cube: texture_cube<f32>;
-@group(0) @binding(12) var env_sampler: sampler;
-@group(0) @binding(13) var brdf_lut: texture_2d<f32>;
-@group(0) @binding(14) var<storage, read> light_tiles: array<u32>;
+// Group 2, the environment (ENVIRONMENT).
+@group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
+@group(2) @binding(1) var env_cube: texture_cube<f32>;
+@group(2) @binding(2) var env_sampler: sampler;
+@group(2) @binding(3) var brdf_lut: texture_2d<f32>;
+
+// Group 1, the lights and their shadows (LIGHTS_AND_SHADOWS); the shadow bindings,
+// 4 to 8, are declared in shadows.wgsl, which uses them.
+@group(1) @binding(0) var<storage, read> lights: array<Light>;
+@group(1) @binding(3) var<storage, read> light_tiles: array<u32>;
 
 // The first UNIFORM_LIGHT_CAPACITY lights again, compact, in a uniform buffer: the
 // unshadowed loops read from here when every light fits (UNIFORM_LIGHTS), because uniform
@@ -51,14 +56,14 @@
 struct UniformLights {
     items: array<PunctualLight, UNIFORM_LIGHT_CAPACITY>,
 }
-@group(0) @binding(15) var<uniform> uniform_lights: UniformLights;
+@group(1) @binding(1) var<uniform> uniform_lights: UniformLights;
 
 // The shadowed lights again, whole and packed (directional, point, spot): read from here
 // when UNIFORM_LIGHTS.
 struct ShadowedLights {
     items: array<Light, SHADOWED_LIGHT_CAPACITY>,
 }
-@group(0) @binding(17) var<uniform> shadowed_lights: ShadowedLights;
+@group(1) @binding(2) var<uniform> shadowed_lights: ShadowedLights;
 
 // Shadowed light i of `lights`, the `slot`-th shadowed light overall.
 fn shadowed_light(i: u32, slot: u32) -> Light {

@@ -4,19 +4,20 @@
 #import common
 #import bindings
 
-@group(0) @binding(6) var<storage, read> shadow_views: array<ShadowView>;
-@group(0) @binding(7) var shadow_atlas: texture_depth_2d;
-@group(0) @binding(8) var shadow_sampler: sampler_comparison;
+// The lighting pass's group 1 (engine/src/render/lighting.rs, LIGHTS_AND_SHADOWS).
+@group(1) @binding(4) var<storage, read> shadow_views: array<ShadowView>;
+@group(1) @binding(5) var shadow_atlas: texture_depth_2d;
+@group(1) @binding(6) var shadow_sampler: sampler_comparison;
 // The same atlas as plain floats, for the PCSS blocker search (a depth texture cannot be
 // read with textureLoad on GL).
-@group(0) @binding(9) var shadow_atlas_depth: texture_2d<f32>;
+@group(1) @binding(7) var shadow_atlas_depth: texture_2d<f32>;
 
 // The first UNIFORM_SHADOW_VIEW_CAPACITY views again, in a uniform buffer, read when every
 // view fits (UNIFORM_SHADOW_VIEWS): cheaper than storage loads on lavapipe.
 struct UniformShadowViews {
     items: array<ShadowView, UNIFORM_SHADOW_VIEW_CAPACITY>,
 }
-@group(0) @binding(16) var<uniform> uniform_shadow_views: UniformShadowViews;
+@group(1) @binding(8) var<uniform> uniform_shadow_views: UniformShadowViews;
 
 fn shadow_view(i: u32) -> ShadowView {
     if UNIFORM_SHADOW_VIEWS {

@@ -7,6 +7,7 @@
 use crate::brdf::VisibilityModel;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -16,11 +17,7 @@ use crate::render::graph::slots::{
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
-use crate::render::pipelines::create_module;
-use crate::render::pipelines::{
-    filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, storage_entry,
-    texture_load_entry, uniform_entry,
-};
+use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
@@ -183,74 +180,81 @@ impl FramePass for LightingPass {
     }
 }
 
-/// Generations of the targets, scene buffers, shadow atlas, environment and light tiles
-/// a bind group was built from.
-type BindingGenerations = (u64, u64, u64, u64, u64);
-
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
 pub struct LightingPass {
-    layout: wgpu::BindGroupLayout,
+    layouts: [wgpu::BindGroupLayout; 3],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
     /// Whether the adapter can depth-test against the depth buffer the shader reads
     /// (`READ_ONLY_DEPTH_STENCIL`; GL cannot): background pixels are then rejected
     /// before shading.
     depth_test: bool,
-    bind_group: Option<(BindingGenerations, wgpu::BindGroup)>,
+    /// Each group with the generations of the resources it was built from.
+    bind_groups: [Option<(Vec<u64>, wgpu::BindGroup)>; 3],
 }
+
+/// Group 0: the view and the G-buffer.
+pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
+    label: "lighting: view and G-buffer",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("gbuffer0", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+        ("gbuffer2", Binding::TextureLoad),
+        ("depth_buffer", Binding::TextureLoad),
+    ],
+};
+
+/// Group 1: the lights, their tile lists and their shadows.
+pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
+    label: "lighting: lights and shadows",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("lights", Binding::Storage),
+        ("uniform_lights", Binding::Uniform),
+        ("shadowed_lights", Binding::Uniform),
+        ("light_tiles", Binding::Storage),
+        ("shadow_views", Binding::Storage),
+        ("shadow_atlas", Binding::Depth),
+        ("shadow_sampler", Binding::ComparisonSampler),
+        ("shadow_atlas_depth", Binding::TextureLoad),
+        ("uniform_shadow_views", Binding::Uniform),
+    ],
+};
+
+/// Group 2: the environment (split-sum image-based lighting).
+pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
+    label: "lighting: environment",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("environment", Binding::Uniform),
+        (
+            "env_cube",
+            Binding::Sampled(wgpu::TextureViewDimension::Cube),
+        ),
+        ("env_sampler", Binding::Sampler),
+        ("brdf_lut", Binding::Sampled(wgpu::TextureViewDimension::D2)),
+    ],
+};
+
+/// The lighting pass's bind groups, in group order.
+pub const GROUPS: [BindGroupSpec; 3] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT];
 
 impl LightingPass {
     /// Creates the bind group layout; pipelines are compiled per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("lighting"),
-                entries: &[
-                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
-                    storage_entry(1, wgpu::ShaderStages::FRAGMENT),
-                    texture_load_entry(2),
-                    texture_load_entry(3),
-                    texture_load_entry(4),
-                    texture_load_entry(5),
-                    storage_entry(6, wgpu::ShaderStages::FRAGMENT),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 7,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Depth,
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 8,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                        count: None,
-                    },
-                    texture_load_entry(9),
-                    uniform_entry(10, wgpu::ShaderStages::FRAGMENT),
-                    sampled_texture_entry(11, wgpu::TextureViewDimension::Cube),
-                    filtering_sampler_entry(12),
-                    sampled_texture_entry(13, wgpu::TextureViewDimension::D2),
-                    storage_entry(14, wgpu::ShaderStages::FRAGMENT),
-                    uniform_entry(15, wgpu::ShaderStages::FRAGMENT),
-                    uniform_entry(16, wgpu::ShaderStages::FRAGMENT),
-                    uniform_entry(17, wgpu::ShaderStages::FRAGMENT),
-                ],
-            });
+        let layouts = GROUPS.map(|spec| spec.layout(gpu));
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("lighting"),
-                bind_group_layouts: &[Some(&layout)],
+                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1]), Some(&layouts[2])],
                 immediate_size: 0,
             });
         LightingPass {
-            layout,
+            layouts,
             pipeline_layout,
             pipelines: HashMap::new(),
             depth_test: gpu
@@ -258,40 +262,44 @@ impl LightingPass {
                 .get_downlevel_capabilities()
                 .flags
                 .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL),
-            bind_group: None,
+            bind_groups: [None, None, None],
         }
+    }
+
+    /// The shader defs of one variant, for a uniform light copy of `uniform_capacity`
+    /// lights.
+    pub fn defs(variant: LightingVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
+            ShaderDef::Bool("HAS_POINT", variant.point),
+            ShaderDef::Bool("HAS_SPOT", variant.spot),
+            ShaderDef::U32("VISIBILITY_MODEL", variant.visibility as u32),
+            ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
+            ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
+            ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
+            ShaderDef::U32("SHADOW_FILTER", variant.shadow_filter as u32),
+            ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
+            ShaderDef::Bool("ENV_MAP", variant.env_map),
+            ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
+            ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
+            ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
+            ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
+            ShaderDef::U32(
+                "UNIFORM_SHADOW_VIEW_CAPACITY",
+                crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
+            ),
+            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
+            ShaderDef::U32(
+                "SHADOWED_LIGHT_CAPACITY",
+                crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
+            ),
+        ]
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
     pub fn source(gpu: &Gpu, variant: LightingVariant, uniform_capacity: u32) -> Result<Composed> {
-        gpu.shaders.compose(
-            "lighting.wgsl",
-            &[
-                ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
-                ShaderDef::Bool("HAS_POINT", variant.point),
-                ShaderDef::Bool("HAS_SPOT", variant.spot),
-                ShaderDef::U32("VISIBILITY_MODEL", variant.visibility as u32),
-                ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
-                ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
-                ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
-                ShaderDef::U32("SHADOW_FILTER", variant.shadow_filter as u32),
-                ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
-                ShaderDef::Bool("ENV_MAP", variant.env_map),
-                ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
-                ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
-                ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
-                ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
-                ShaderDef::U32(
-                    "UNIFORM_SHADOW_VIEW_CAPACITY",
-                    crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
-                ),
-                ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
-                ShaderDef::U32(
-                    "SHADOWED_LIGHT_CAPACITY",
-                    crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
-                ),
-            ],
-        )
+        gpu.shaders
+            .compose("lighting.wgsl", &Self::defs(variant, uniform_capacity))
     }
 
     fn pipeline(
@@ -373,95 +381,52 @@ pub fn prepare_lighting(
         errors.0.push(e);
         return;
     }
-    let key = (
-        t.generation,
-        buffers.generation,
-        shadows.generation,
-        ibl.generation,
-        culling.generation,
-    );
-    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
+    let keys = [
+        vec![t.generation, buffers.generation],
+        vec![buffers.generation, shadows.generation, culling.generation],
+        vec![ibl.generation],
+    ];
+    let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
+        use wgpu::BindingResource::{Sampler, TextureView};
+        match group {
+            0 => vec![
+                buffers.view.as_entire_binding(),
+                TextureView(base_color),
+                TextureView(normal),
+                TextureView(emissive),
+                TextureView(depth),
+            ],
+            1 => vec![
+                buffers.lights.buffer.as_entire_binding(),
+                buffers.lights_uniform.as_entire_binding(),
+                buffers.shadowed_lights_uniform.as_entire_binding(),
+                culling.tiles.as_entire_binding(),
+                shadows.gpu_views.buffer.as_entire_binding(),
+                TextureView(&shadows.atlas.view),
+                Sampler(&shadows.sampler),
+                TextureView(&shadows.atlas.view),
+                shadows.views_uniform.as_entire_binding(),
+            ],
+            _ => vec![
+                ibl.uniform.as_entire_binding(),
+                TextureView(ibl.cube_view()),
+                Sampler(&ibl.sampler),
+                TextureView(ibl.lut_view()),
+            ],
+        }
+    };
+    for (i, key) in keys.into_iter().enumerate() {
+        if pass.bind_groups[i].as_ref().is_some_and(|(k, _)| *k == key) {
+            continue;
+        }
+        match GROUPS[i].group(&gpu, &pass.layouts[i], resources(i)) {
+            Ok(group) => pass.bind_groups[i] = Some((key, group)),
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        }
     }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("lighting"),
-        layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.view.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: buffers.lights.buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(base_color),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::TextureView(normal),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(emissive),
-            },
-            wgpu::BindGroupEntry {
-                binding: 5,
-                resource: wgpu::BindingResource::TextureView(depth),
-            },
-            wgpu::BindGroupEntry {
-                binding: 6,
-                resource: shadows.gpu_views.buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 7,
-                resource: wgpu::BindingResource::TextureView(&shadows.atlas.view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 8,
-                resource: wgpu::BindingResource::Sampler(&shadows.sampler),
-            },
-            wgpu::BindGroupEntry {
-                binding: 9,
-                resource: wgpu::BindingResource::TextureView(&shadows.atlas.view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 10,
-                resource: ibl.uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 11,
-                resource: wgpu::BindingResource::TextureView(ibl.cube_view()),
-            },
-            wgpu::BindGroupEntry {
-                binding: 12,
-                resource: wgpu::BindingResource::Sampler(&ibl.sampler),
-            },
-            wgpu::BindGroupEntry {
-                binding: 13,
-                resource: wgpu::BindingResource::TextureView(ibl.lut_view()),
-            },
-            wgpu::BindGroupEntry {
-                binding: 14,
-                resource: culling.tiles.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 15,
-                resource: buffers.lights_uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 16,
-                resource: shadows.views_uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 17,
-                resource: buffers.shadowed_lights_uniform.as_entire_binding(),
-            },
-        ],
-    });
-    pass.bind_group = Some((key, group));
 }
 
 /// Records the lighting pass: the HDR target is cleared to the pre-exposed background
@@ -478,11 +443,13 @@ pub fn lighting_pass(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let (Some(encoder), Some(hdr), Some(depth), Some((_, bind_group)), Some(pipeline)) = (
+    let [Some((_, g0)), Some((_, g1)), Some((_, g2))] = &pass.bind_groups else {
+        return;
+    };
+    let (Some(encoder), Some(hdr), Some(depth), Some(pipeline)) = (
         encoder.as_mut(),
         t.view(HDR),
         t.view(DEPTH),
-        pass.bind_group.as_ref(),
         plan.variant::<LightingPass>()
             .and_then(|v| pass.pipelines.get(&(*v, t.hdr_format))),
     ) else {
@@ -519,8 +486,61 @@ pub fn lighting_pass(
             multiview_mask: None,
         });
         rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, bind_group, &[]);
+        for (i, group) in [g0, g1, g2].into_iter().enumerate() {
+            rp.set_bind_group(i as u32, group, &[]);
+        }
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::shaders::ShaderLibrary;
+
+    /// Every binding of [`GROUPS`] is declared in the composed lighting shader, under its
+    /// name, at its group and index, and nothing else is bound.
+    #[test]
+    fn the_bind_group_lists_match_the_wgsl_declarations() {
+        let variant = LightingVariant {
+            directional: true,
+            point: true,
+            spot: true,
+            visibility: VisibilityModel::default(),
+            shadows: [true; 3],
+            shadow_filter: ShadowFilter::Pcss,
+            environment: true,
+            env_map: true,
+            energy_compensation: true,
+            light_culling: true,
+            uniform_lights: true,
+            uniform_shadow_views: true,
+        };
+        let composed = ShaderLibrary::default()
+            .compose("lighting.wgsl", &LightingPass::defs(variant, 8))
+            .expect("composes");
+        let module = wgpu::naga::front::wgsl::parse_str(&composed.source).expect("parses");
+        let mut declared: Vec<(u32, u32, String)> = module
+            .global_variables
+            .iter()
+            .filter_map(|(_, v)| {
+                let b = v.binding.as_ref()?;
+                Some((b.group, b.binding, v.name.clone().unwrap_or_default()))
+            })
+            .collect();
+        declared.sort();
+        let mut listed: Vec<(u32, u32, String)> = GROUPS
+            .iter()
+            .zip(0u32..)
+            .flat_map(|(spec, group)| {
+                spec.bindings
+                    .iter()
+                    .zip(0u32..)
+                    .map(move |((name, _), binding)| (group, binding, name.to_string()))
+            })
+            .collect();
+        listed.sort();
+        assert_eq!(declared, listed);
+    }
 }
