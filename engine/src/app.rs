@@ -7,7 +7,7 @@ use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::exposure::ExposurePass;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
-use crate::render::graph::{FramePlan, PassId, Slot, slots};
+use crate::render::graph::{FramePass, FramePlan, PassId, Registry, Slot, slots};
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::shadow::pass::ShadowPass;
@@ -150,6 +150,29 @@ impl App {
         self.offscreen = None;
         self.shader_fallback = None;
         render::install(&mut self.world, gpu)
+    }
+
+    /// Adds pass `P` to the frame, after the passes registered so far: its name, decision,
+    /// reads, writes and systems go into the frame graph, which orders it, runs it when
+    /// it decides to and allocates the targets it declares (see [`crate::render::graph`]).
+    /// A pass whose reads no earlier pass writes, or whose name is taken, is an error and
+    /// the frame stays as it was.
+    pub fn add_pass<P: FramePass>(&mut self) -> Result<()> {
+        let registry = match self.world.get_resource::<Registry>() {
+            Some(r) => r.clone(),
+            None => crate::render::passes::builtin()?,
+        }
+        .with::<P>()
+        .ordered()?;
+        if let Some(gpu) = self.world.get_resource::<Gpu>().cloned() {
+            let pass = P::create(&mut self.world, &gpu)?;
+            self.world.insert_resource(pass);
+            self.world.insert_resource(registry);
+            render::build_render_schedule(&mut self.world);
+        } else {
+            self.world.insert_resource(registry);
+        }
+        Ok(())
     }
 
     /// Why the GPU device was lost, if it was; attach a new GPU to go on.
