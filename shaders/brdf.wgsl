@@ -1,6 +1,6 @@
 // The Cook-Torrance BRDF, term for term the same as engine/src/brdf.rs (same names).
 // Units: BRDF values in 1/sr; cosines dimensionless. Formulas and sources: see brdf.rs
-// and PBR-REFERENCE §1, guards of §5.
+// and docs/src/formulas.md#the-brdf, guards in #numerical-guards.
 #import common
 
 const MIN_PERCEPTUAL_ROUGHNESS: f32 = 0.045;
@@ -94,7 +94,7 @@ fn visibility(model: u32, n_dot_v: f32, n_dot_l: f32, perceptual_roughness: f32)
     return v_schlick_ggx(n_dot_v, n_dot_l, k_direct(perceptual_roughness));
 }
 
-// (1 − u)⁵ with u clamped to [0, 1], power by multiplication (PBR-REFERENCE §5).
+// (1 − u)⁵ with u clamped to [0, 1], power by multiplication (docs/src/formulas.md#numerical-guards).
 fn pow5_one_minus(u: f32) -> f32 {
     let x = 1.0 - clamp(u, 0.0, 1.0);
     let x2 = x * x;

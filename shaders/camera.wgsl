@@ -1,6 +1,6 @@
 // Camera optics, the same as the functions in engine/src/scene/camera.rs (same names).
 
-// Signed thin-lens circle of confusion (diameter on the sensor, m), PBR-REFERENCE §3:
+// Signed thin-lens circle of confusion (diameter on the sensor, m), docs/src/formulas.md#thin-lens-depth-of-field:
 // c = A f (z − S) / (z (S − f)); negative in front of the focus plane; S = ∞ → −A f / z.
 fn circle_of_confusion(depth_m: f32, focus_m: f32, focal_length_m: f32, aperture_diameter_m: f32) -> f32 {
     let z = max(depth_m, 1e-6);

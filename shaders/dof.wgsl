@@ -1,4 +1,4 @@
-// Depth of field (PBR-REFERENCE §3): thin-lens circle of confusion, a gather blur at half
+// Depth of field (docs/src/formulas.md#thin-lens-depth-of-field): thin-lens circle of confusion, a gather blur at half
 // resolution with separate far and near fields, composited at full resolution.
 //   fs_dof_prepare   (half res): colour (2×2 average) and signed CoC radius (half-res px)
 //   fs_dof_tiles     (1/16 res): per 8×8 tile of half-res pixels, the largest near-field

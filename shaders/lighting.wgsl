@@ -264,7 +264,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             color += shade(n, v, incident.l, surface, incident.illuminance * cone);
         }
     }
-    // Keep the value finite in the f16 target (PBR-REFERENCE §5); NaN becomes 0.
+    // Keep the value finite in the f16 target (docs/src/formulas.md#numerical-guards); NaN becomes 0.
     color = select(color, vec3<f32>(0.0), color != color);
     return vec4<f32>(min(color, vec3<f32>(F16_MAX)), 1.0);
 }

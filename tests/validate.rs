@@ -193,7 +193,7 @@ fn black_diffuse_only_under_metal_specular() {
 fn the_seeds_numbers_hold() {
     assert!((lumen::brdf::f0_from_ior(1.5) - 0.04).abs() < 1e-7);
     assert!((lumen::brdf::dielectric_f0(0.5) - 0.04).abs() < 1e-7);
-    // 180 sRGB is the guide's 70 % metal floor; PBR-REFERENCE §4 notes it is 0.46 linear.
+    // 180 sRGB is the guide's 70 % metal floor; docs/src/formulas.md#measured-texture-ranges notes it is 0.46 linear.
     assert!((srgb_decode(180.0 / 255.0) - 0.456).abs() < 1e-3);
     assert_eq!(
         brightness_code(glam::Vec3::splat(srgb_decode(180.0 / 255.0))),

@@ -3,7 +3,7 @@
 //! Every function here has a WGSL twin with the same name; the test
 //! `tests/shader_parity.rs` evaluates both on the same inputs and holds them together.
 //!
-//! Conventions (PBR-REFERENCE §1):
+//! Conventions (docs/src/formulas.md#the-brdf):
 //! - `perceptual_roughness` r is what an artist authors (0 = mirror, 1 = rough);
 //!   the GGX width is α = r².
 //! - Cosines (`n_dot_v`, `n_dot_l`, `n_dot_h`, `v_dot_h`) are dimensionless.
@@ -16,16 +16,16 @@ use glam::Vec3;
 pub const PI: f32 = std::f32::consts::PI;
 
 /// Smallest perceptual roughness used in f32 shading: below it the GGX peak
-/// 1/(πα²) becomes a numerical spike (PBR-REFERENCE §5, Filament's 0.045).
+/// 1/(πα²) becomes a numerical spike (docs/src/formulas.md#numerical-guards, Filament's 0.045).
 pub const MIN_PERCEPTUAL_ROUGHNESS: f32 = 0.045;
 
 /// Lower bound for n·v: normal maps and silhouettes give n·v ≤ 0, which would
-/// divide by zero in the visibility term (PBR-REFERENCE §5, Filament's 1e-4).
+/// divide by zero in the visibility term (docs/src/formulas.md#numerical-guards, Filament's 1e-4).
 pub const MIN_N_DOT_V: f32 = 1e-4;
 
 /// Which geometric shadowing–masking (visibility) term the specular lobe uses.
 ///
-/// A speed/accuracy knob (PBR-REFERENCE §1). The numeric values are the ones the
+/// A speed/accuracy knob (docs/src/formulas.md#the-brdf). The numeric values are the ones the
 /// shaders receive as the constant `VISIBILITY_MODEL`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum VisibilityModel {
@@ -78,7 +78,7 @@ pub fn perceptual_roughness_to_alpha(perceptual_roughness: f32) -> f32 {
 ///
 /// The denominator is computed as `(n·h)² α² + |n × h|²`, with `n_cross_h_length_squared`
 /// = |n × h|² = 1 − (n·h)² taken from the cross product: near the peak, `1 − (n·h)²` in
-/// f32 cancels to a few significant bits when α is small (PBR-REFERENCE §5, Filament).
+/// f32 cancels to a few significant bits when α is small (docs/src/formulas.md#numerical-guards, Filament).
 pub fn d_ggx(alpha: f32, n_dot_h: f32, n_cross_h_length_squared: f32) -> f32 {
     let a = n_dot_h.clamp(0.0, 1.0) * alpha;
     let k = alpha / (n_cross_h_length_squared.max(0.0) + a * a);
@@ -109,7 +109,7 @@ pub fn g_smith_schlick_ggx(n_dot_v: f32, n_dot_l: f32, k: f32) -> f32 {
 
 /// Visibility `V = G / (4 (n·v)(n·l))` for Smith Schlick-GGX, simplified so that the
 /// cosines cancel: `V = 1 / (4 (n·v (1 − k) + k)(n·l (1 − k) + k))`. Never divides by a
-/// grazing cosine (PBR-REFERENCE §5).
+/// grazing cosine (docs/src/formulas.md#numerical-guards).
 pub fn v_schlick_ggx(n_dot_v: f32, n_dot_l: f32, k: f32) -> f32 {
     let v = n_dot_v.max(0.0) * (1.0 - k) + k;
     let l = n_dot_l.max(0.0) * (1.0 - k) + k;
@@ -161,7 +161,7 @@ pub fn visibility(
 }
 
 /// `(1 − u)⁵` with u clamped to [0, 1] and the power done by multiplication, so that
-/// a cosine a rounding error above 1 never feeds `pow` a negative base (PBR-REFERENCE §5).
+/// a cosine a rounding error above 1 never feeds `pow` a negative base (docs/src/formulas.md#numerical-guards).
 pub fn pow5_one_minus(u: f32) -> f32 {
     let x = 1.0 - u.clamp(0.0, 1.0);
     let x2 = x * x;
@@ -179,26 +179,26 @@ pub fn fd_lambert() -> f32 {
 }
 
 /// Dielectric F0 from the specular level (Substance's specularLevel):
-/// `F0 = 0.08 · specular_level`, so 0.5 → 0.04 (PBR-REFERENCE §4).
+/// `F0 = 0.08 · specular_level`, so 0.5 → 0.04 (docs/src/formulas.md#measured-texture-ranges).
 pub fn dielectric_f0(specular_level: f32) -> f32 {
     0.08 * specular_level.clamp(0.0, 1.0)
 }
 
-/// `F0 = mix(0.08 · specular_level, base_color, metallic)` (PBR-REFERENCE §1, §4).
+/// `F0 = mix(0.08 · specular_level, base_color, metallic)` (docs/src/formulas.md#the-brdf, #measured-texture-ranges).
 pub fn compute_f0(base_color: Vec3, metallic: f32, specular_level: f32) -> Vec3 {
     let m = metallic.clamp(0.0, 1.0);
     Vec3::splat(dielectric_f0(specular_level)) * (1.0 - m) + base_color * m
 }
 
 /// F0 of a dielectric from its index of refraction against air:
-/// `F0 = ((n − 1)/(n + 1))²` (PBR-REFERENCE §1; IOR 1.5 → 0.04).
+/// `F0 = ((n − 1)/(n + 1))²` (docs/src/formulas.md#the-brdf; IOR 1.5 → 0.04).
 pub fn f0_from_ior(ior: f32) -> f32 {
     let r = (ior - 1.0) / (ior + 1.0);
     r * r
 }
 
 /// Normalises `v`, or returns `fallback` when `v` is (nearly) zero or not finite,
-/// so that `normalize(0)` never produces NaN (PBR-REFERENCE §5).
+/// so that `normalize(0)` never produces NaN (docs/src/formulas.md#numerical-guards).
 pub fn safe_normalize(v: Vec3, fallback: Vec3) -> Vec3 {
     let len2 = v.length_squared();
     if len2 > 1e-20 && len2.is_finite() {
@@ -270,8 +270,8 @@ pub fn surface_brdf_lobes(
 
 /// The Cook-Torrance BRDF f_r (1/sr) for unit vectors `n` (normal), `v` (to the viewer)
 /// and `l` (to the light): `f_r = kD · c/π + D · F · V` with `kD = (1 − F)(1 − metallic)`
-/// and `V = G / (4 (n·v)(n·l))` (PBR-REFERENCE §1). Returns 0 for lights below the horizon.
-/// Guards of PBR-REFERENCE §5: roughness clamp, `max(n·v, 1e-4)`, safe normalize of
+/// and `V = G / (4 (n·v)(n·l))` (docs/src/formulas.md#the-brdf). Returns 0 for lights below the horizon.
+/// Guards of docs/src/formulas.md#numerical-guards: roughness clamp, `max(n·v, 1e-4)`, safe normalize of
 /// `v + l`, clamped Schlick cosine, visibility without division by grazing cosines.
 pub fn surface_brdf(n: Vec3, v: Vec3, l: Vec3, surface: &Surface, model: VisibilityModel) -> Vec3 {
     let lobes = surface_brdf_lobes(n, v, l, surface, model);
@@ -486,7 +486,7 @@ mod tests {
 
     #[test]
     fn specular_lobe_albedo_never_exceeds_one() {
-        // Every visibility model, F0 over the measured ranges of PBR-REFERENCE §4
+        // Every visibility model, F0 over the measured ranges of docs/src/formulas.md#measured-texture-ranges
         // (dielectrics 0.02–0.05, gems to 0.17, metals 0.5–1.0), as a pure specular surface.
         for model in MODELS {
             for f0 in [0.02f32, 0.04, 0.05, 0.08, 0.17, 0.5, 0.7, 1.0] {
@@ -510,7 +510,7 @@ mod tests {
     #[test]
     fn full_brdf_albedo_never_exceeds_one_for_valid_materials() {
         // The default (seeds') model, diffuse + specular, for dielectric base colours up to
-        // 240/255 sRGB (0.871 linear, the validator's upper bound, PBR-REFERENCE §4),
+        // 240/255 sRGB (0.871 linear, the validator's upper bound, docs/src/formulas.md#measured-texture-ranges),
         // partly metallic and metallic surfaces.
         let model = VisibilityModel::default();
         for (base, m) in [

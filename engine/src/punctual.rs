@@ -1,15 +1,15 @@
 //! Falloff of punctual (point and spot) lights on the CPU, the same as `shaders/punctual.wgsl`.
 //!
-//! Units (PBR-REFERENCE §2): a punctual light has a luminous intensity I in candela
+//! Units (docs/src/formulas.md#photometric-lights): a punctual light has a luminous intensity I in candela
 //! (lm/sr); at distance d (m) it gives the illuminance `E = I / d²` lux on a surface facing
 //! it. A directional light gives its illuminance in lux directly.
 
 /// Smallest squared distance (m²) used in the inverse-square law: a light closer than 1 cm
-/// to a surface would otherwise give an infinite illuminance (PBR-REFERENCE §5, Filament).
+/// to a surface would otherwise give an infinite illuminance (docs/src/formulas.md#numerical-guards, Filament).
 pub const MIN_DISTANCE_SQUARED: f32 = 1e-4;
 
 /// Smallest difference of cosines between a spot light's inner and outer cone, so that
-/// `inner = outer` never divides by zero (PBR-REFERENCE §5).
+/// `inner = outer` never divides by zero (docs/src/formulas.md#numerical-guards).
 pub const MIN_SPOT_COS_DELTA: f32 = 1e-4;
 
 /// Inverse-square law `1 / max(d², 1e-4)` (1/m²).

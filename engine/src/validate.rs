@@ -1,5 +1,5 @@
 //! The PBR texture validator: the practical rules of seed 001 (the Allegorithmic PBR
-//! guide) with the thresholds of PBR-REFERENCE §4, checked texel by texel.
+//! guide) with the thresholds of docs/src/formulas.md#measured-texture-ranges, checked texel by texel.
 //!
 //! Brightness is judged, as the guide's figures are, in 8-bit sRGB code values: a
 //! colour's *brightness* is `round(255 · srgb_encode(luminance(linear colour)))`, so a grey
@@ -19,7 +19,7 @@
 //!
 //! A metallic value below 10 (4 %) reads as 0, the noise of compressed maps. The numbers
 //! 10 (that noise floor) and 100 (the dirt bound, far under the 180 of bare metal) are
-//! Lumen's; every other number is PBR-REFERENCE §4's.
+//! Lumen's; every other number is docs/src/formulas.md#measured-texture-ranges.
 
 use crate::color::{luminance, srgb_decode, srgb_encode};
 use crate::scene::{ColorSpace, TextureData};

@@ -1,4 +1,4 @@
-//! The two PBR workflows of PBR-REFERENCE §4 and the conversions between them.
+//! The two PBR workflows of docs/src/formulas.md#material-workflows and the conversions between them.
 //!
 //! - Metal/roughness: base colour, metallic, perceptual roughness (Lumen's own model):
 //!   diffuse colour `c_diff = base · (1 − metallic)`, `F0 = mix(0.04, base, metallic)`.
@@ -8,7 +8,7 @@
 //! Both sides feed the same BRDF, so two materials are equivalent when their `c_diff`,
 //! `F0` and roughness agree. The conversions keep exactly that: metal/rough → spec/gloss
 //! sets `specular = F0` and `diffuse = c_diff / (1 − max(F0))` (Substance's converter,
-//! PBR-REFERENCE §4, writes `diffuse = c_diff` and so differs by that factor). Spec/gloss
+//! docs/src/formulas.md#material-workflows, writes `diffuse = c_diff` and so differs by that factor). Spec/gloss
 //! → metal/rough solves, on perceived brightness, the metallic value for which one base
 //! colour gives both `c_diff` and `F0`:
 //! `0.04 (1 − m)² − (s + d)(1 − m) + d = 0`, then recovers each channel from the diffuse
@@ -19,7 +19,7 @@
 
 use glam::Vec3;
 
-/// F0 of a dielectric, the 4 % both workflows assume (PBR-REFERENCE §4).
+/// F0 of a dielectric, the 4 % both workflows assume (docs/src/formulas.md#material-workflows).
 pub const DIELECTRIC_F0: f32 = 0.04;
 
 /// A metal/roughness material's colour terms.

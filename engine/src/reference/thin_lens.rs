@@ -2,7 +2,7 @@
 //! the scene rendered without the DoF pass from points spread over the thin lens's
 //! aperture disk, each view's frustum shifted so that the focus plane stays where it was,
 //! and averaged. Up to the sample count this is exactly the thin-lens model of
-//! PBR-REFERENCE §3, with correct occlusion at every edge: the ground truth that the
+//! docs/src/formulas.md#thin-lens-depth-of-field, with correct occlusion at every edge: the ground truth that the
 //! gather in `shaders/dof.wgsl` approximates.
 
 use crate::app::App;

@@ -2,7 +2,7 @@
 //!
 //! This is the only place the renderer reads the scene's components. Exposure is applied
 //! here, in f32, to every light, emissive and background value before anything reaches a
-//! 16-bit target (pre-exposure, PBR-REFERENCE §5).
+//! 16-bit target (pre-exposure, docs/src/formulas.md#numerical-guards).
 
 use crate::color::Tonemapper;
 use crate::error::Error;
@@ -36,7 +36,7 @@ pub struct ExtractedCamera {
     pub ev100: f32,
     /// Tone mapper.
     pub tonemapper: Tonemapper,
-    /// Lens settings after clamping (PBR-REFERENCE §5).
+    /// Lens settings after clamping (docs/src/formulas.md#numerical-guards).
     pub lens: crate::scene::Lens,
     /// Focal length (m), from the field of view and the sensor height.
     pub focal_length_m: f32,

@@ -1,4 +1,4 @@
-//! The physical camera (PBR-REFERENCE §3): projection, lens (aperture, shutter, ISO,
+//! The physical camera (docs/src/formulas.md#exposure): projection, lens (aperture, shutter, ISO,
 //! focal length, focus), exposure modes, depth of field, vignetting and tone mapping.
 
 use crate::color::Tonemapper;
@@ -74,7 +74,7 @@ impl Projection {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Exposure {
     /// An exposure value at ISO 100: `exposure = 1 / (1.2 · 2^EV100)`
-    /// (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR"; PBR-REFERENCE §3).
+    /// (Lagarde & de Rousiers 2014, "Moving Frostbite to PBR"; docs/src/formulas.md#exposure).
     Ev100(f32),
     /// A linear multiplier applied to luminance as given (1 = raw radiance).
     Linear(f32),
@@ -126,7 +126,7 @@ pub fn metered_ev100(luminance: f32) -> f32 {
     (luminance.max(1e-9) * 100.0 / METER_CALIBRATION_K).log2()
 }
 
-/// `EV100 = log2(N² / t · 100 / S)` (PBR-REFERENCE §3), aperture N (f-number), shutter
+/// `EV100 = log2(N² / t · 100 / S)` (docs/src/formulas.md#exposure), aperture N (f-number), shutter
 /// time t (s), sensitivity S (ISO).
 pub fn ev100_from_settings(aperture_f_stops: f32, shutter_s: f32, iso: f32) -> f32 {
     (aperture_f_stops * aperture_f_stops / shutter_s * 100.0 / iso).log2()
@@ -162,7 +162,7 @@ impl Default for Lens {
     }
 }
 
-/// Ranges of PBR-REFERENCE §5 for the physical settings.
+/// Ranges of docs/src/formulas.md#numerical-guards for the physical settings.
 pub const APERTURE_RANGE: (f32, f32) = (0.5, 64.0);
 /// Shutter time range (s).
 pub const SHUTTER_RANGE: (f32, f32) = (1.0 / 25000.0, 60.0);
@@ -189,7 +189,7 @@ fn clamp_noted(
 }
 
 impl Lens {
-    /// The lens with every setting clamped into its range (PBR-REFERENCE §5) for a focal
+    /// The lens with every setting clamped into its range (docs/src/formulas.md#numerical-guards) for a focal
     /// length of `focal_length_m`, and one note per setting that was changed.
     pub fn clamped(&self, focal_length_m: f32) -> (Lens, Vec<String>) {
         let d = Lens::default();
@@ -305,7 +305,7 @@ impl Exposure {
     }
 }
 
-/// Depth of field from the thin lens (PBR-REFERENCE §3).
+/// Depth of field from the thin lens (docs/src/formulas.md#exposure).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthOfField {
     /// Sample rings of the gather blur (1..=5): ring k has 8k samples. More rings give
@@ -429,7 +429,7 @@ impl Camera {
 
 /// Signed circle of confusion of the thin lens, diameter on the sensor in metres:
 /// `c = A · f · |z − S| / (z · (S − f))` with aperture diameter A = f/N, focal length f,
-/// focus distance S and depth z (all m; PBR-REFERENCE §3). Negative in front of the
+/// focus distance S and depth z (all m; docs/src/formulas.md#exposure). Negative in front of the
 /// focus plane. `S = ∞` gives `−A · f / z` (everything lies in front of the focus plane). Depth is clamped to ≥ 1 µm and S to ≥ 1.01 f.
 pub fn circle_of_confusion(
     depth_m: f32,

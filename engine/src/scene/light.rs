@@ -1,4 +1,4 @@
-//! Lights in photometric units (PBR-REFERENCE §2).
+//! Lights in photometric units (docs/src/formulas.md#photometric-lights).
 //!
 //! A light's position and direction come from its entity's
 //! [`crate::scene::GlobalTransform`]: directional and spot lights shine along the entity's
@@ -92,7 +92,7 @@ pub struct PointLight {
     /// Colour.
     pub color: LightColor,
     /// Distance in metres beyond which the light has no effect; the falloff is
-    /// windowed smoothly to 0 there (PBR-REFERENCE §2). Infinite = no limit.
+    /// windowed smoothly to 0 there (docs/src/formulas.md#photometric-lights). Infinite = no limit.
     pub range_m: f32,
     /// Whether the light casts shadows (see [`crate::scene::ShadowSettings`]).
     pub cast_shadows: bool,

@@ -1,4 +1,4 @@
-//! The metal/roughness material (PBR-REFERENCE §4).
+//! The metal/roughness material (docs/src/formulas.md#material-workflows).
 
 use bevy_ecs::prelude::*;
 use glam::{Vec3, Vec4};
@@ -21,7 +21,7 @@ pub struct Material {
     /// Emitted luminance in cd/m² (nits), linear RGB.
     pub emissive: Vec3,
     /// Ambient occlusion factor, 0 (fully occluded) .. 1 (open). It scales ambient and
-    /// image-based light only, never direct light (PBR-REFERENCE §4).
+    /// image-based light only, never direct light (docs/src/formulas.md#material-workflows).
     pub occlusion: f32,
     /// Draw back faces too, lit with the normal flipped towards the viewer (glTF's
     /// `doubleSided`); off, back faces are culled.

@@ -1,4 +1,4 @@
-//! `extremes`: every case of PBR-REFERENCE §5 that direct lighting can meet, in one frame.
+//! `extremes`: every case of docs/src/formulas.md#numerical-guards that direct lighting can meet, in one frame.
 //! It must render finite (no NaN, no Inf) everywhere.
 
 use lumen::assets::procedural::{cube, plane, uv_sphere};

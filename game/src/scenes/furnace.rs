@@ -1,4 +1,4 @@
-//! `furnace`: the white furnace test (PBR-REFERENCE §5). Spheres of roughness 0 to 1 in two
+//! `furnace`: the white furnace test (docs/src/formulas.md#numerical-guards). Spheres of roughness 0 to 1 in two
 //! rows, metals of base colour 1 (F0 = 1) above and white dielectrics below, lit only by a
 //! uniform environment of radiance 1 cd/m², no lights. With energy compensation and exposure
 //! 1 every sphere reflects exactly the light it receives: the spheres vanish into the

@@ -1,4 +1,4 @@
-//! `spheres`: the peer benchmark's scene (`../shared/peers/bevy-spheres`), object for
+//! `spheres`: the peer benchmark's scene (the Bevy peer `bevy-spheres`, see docs/src/measured.md), object for
 //! object, so that the two engines can be compared frame for frame.
 
 use lumen::assets::procedural::{plane, uv_sphere};
