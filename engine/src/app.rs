@@ -395,6 +395,14 @@ impl App {
         })
     }
 
+    /// The EV100 automatic exposure has adapted to, which the next frame uses; `None`
+    /// unless automatic exposure has metered a frame (or without a GPU).
+    pub fn metered_ev100(&self) -> Option<f32> {
+        self.world
+            .get_resource::<MeteredExposure>()
+            .and_then(|m| m.ev100)
+    }
+
     /// The last headless frame's display image (tone mapped, sRGB-encoded, 8-bit RGBA).
     pub fn read_display_image(&self) -> Result<image::RgbaImage> {
         let gpu = self.gpu()?;
