@@ -6,6 +6,7 @@ pub mod cli;
 pub mod convert_cmd;
 pub mod examples;
 pub mod materials;
+pub mod measure;
 pub mod output;
 pub mod progress;
 pub mod reference_cmd;

@@ -2,8 +2,8 @@
 //! with the benchmark's machinery and compared with the path-traced reference (FLIP on
 //! the tone-mapped images, relative MSE and PSNR on the linear HDR ones).
 
-use crate::bench::{measure, stats::Summary};
 use crate::cli::{SceneArgs, TradeoffArgs};
+use crate::measure::{measure, stats::Summary};
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;

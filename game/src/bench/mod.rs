@@ -5,17 +5,17 @@
 pub mod compare;
 pub mod plot;
 pub mod report;
-pub mod stats;
 
 use crate::cli::{BenchArgs, ViewArgs};
+use crate::measure::{FrameSample, measure};
 use crate::output::write_text;
 use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::prelude::Quality;
-use report::{FrameSample, RunInfo};
+use report::RunInfo;
 use std::path::Path;
-use std::time::{Instant, SystemTime, UNIX_EPOCH};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Runs the benchmark (or the comparison) the arguments ask for.
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -109,37 +109,6 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
         bar.set_position(u64::from(done))
     })?;
     Ok((samples, app))
-}
-
-/// Renders `warmup + frames` offscreen frames of `app` at `size` and returns the measured
-/// ones (the machinery of `lumen bench` and `lumen tradeoff`). `progress` gets the number
-/// of frames rendered so far.
-pub fn measure(
-    app: &mut App,
-    size: (u32, u32),
-    warmup: u32,
-    frames: u32,
-    progress: &dyn Fn(u32),
-) -> Result<Vec<FrameSample>> {
-    let mut samples = Vec::with_capacity(frames as usize);
-    for i in 0..warmup + frames {
-        let start = Instant::now();
-        app.update();
-        let update_ms = start.elapsed().as_secs_f64() * 1e3;
-        let report = app.render_headless(size)?;
-        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        if i >= warmup {
-            let mut stages = vec![("update", update_ms)];
-            stages.extend(report.stages);
-            samples.push(FrameSample {
-                frame_ms,
-                stages,
-                passes: report.passes,
-            });
-        }
-        progress(i + 1);
-    }
-    Ok(samples)
 }
 
 fn scene_stats(app: &App) -> [usize; 4] {

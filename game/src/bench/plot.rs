@@ -2,7 +2,7 @@
 //! line over the per-pass GPU times stacked as areas (plotters, bitmap backend, DejaVu
 //! Sans from `assets/fonts`).
 
-use super::report::FrameSample;
+use crate::measure::FrameSample;
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;

@@ -16,8 +16,8 @@ pub mod gui;
 pub mod panel;
 pub mod watch;
 
-use crate::bench::report::FrameSample;
 use crate::cli::ViewArgs;
+use crate::measure::{FrameSample, WindowFrames};
 use crate::render_cmd::save_frame;
 use crate::setup::{build_scene, check_scene_args, open_environment};
 use anyhow::{Context, Result, anyhow};
@@ -140,15 +140,7 @@ pub fn run_measured(
         shader_dir: None,
         ..WindowOptions::default()
     };
-    let measure = Measure {
-        warmup,
-        frames,
-        samples: Vec::new(),
-        seen: 0,
-        last_start: None,
-        pending: None,
-        progress,
-    };
+    let measure = WindowFrames::new(warmup, frames, progress);
     let (samples, app) = run_viewer(Scene::Args(Box::new(args)), options, Some(measure))?;
     let app = app.ok_or_else(|| anyhow!("the window never opened"))?;
     if samples.len() < frames as usize {
@@ -163,7 +155,7 @@ pub fn run_measured(
 fn run_viewer(
     scene: Scene,
     options: WindowOptions,
-    measure: Option<Measure>,
+    measure: Option<WindowFrames>,
 ) -> Result<(Vec<FrameSample>, Option<App>)> {
     let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
     let mut viewer = Viewer {
@@ -179,7 +171,10 @@ fn run_viewer(
     if let Some(e) = viewer.error {
         return Err(e);
     }
-    let samples = viewer.measure.map(|m| m.samples).unwrap_or_default();
+    let samples = viewer
+        .measure
+        .map(WindowFrames::into_samples)
+        .unwrap_or_default();
     Ok((samples, viewer.running.map(|r| r.app)))
 }
 
@@ -213,23 +208,12 @@ struct Running {
     last_frame: Instant,
 }
 
-/// A measured run in the window (`lumen bench --window`).
-struct Measure {
-    warmup: u32,
-    frames: u32,
-    samples: Vec<FrameSample>,
-    seen: u32,
-    last_start: Option<Instant>,
-    pending: Option<FrameSample>,
-    progress: Box<dyn FnMut(u32)>,
-}
-
 struct Viewer {
     scene: Option<Scene>,
     options: WindowOptions,
     running: Option<Running>,
     error: Option<anyhow::Error>,
-    measure: Option<Measure>,
+    measure: Option<WindowFrames>,
 }
 
 fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
@@ -663,31 +647,6 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
         r.last_title = Instant::now();
     }
     Ok(Some((report, update_ms)))
-}
-
-impl Measure {
-    /// Records a frame that started at `start`; the previous frame's time ends here.
-    /// Returns true once every measured frame is in.
-    fn frame(&mut self, start: Instant, report: lumen::FrameReport, update_ms: f64) -> bool {
-        if let (Some(last), Some(mut sample)) = (self.last_start, self.pending.take()) {
-            sample.frame_ms = start.duration_since(last).as_secs_f64() * 1e3;
-            self.samples.push(sample);
-        }
-        self.seen += 1;
-        (self.progress)(self.seen);
-        self.last_start = Some(start);
-        if self.seen > self.warmup {
-            let mut stages = vec![("update", update_ms)];
-            stages.extend(report.stages);
-            self.pending = Some(FrameSample {
-                frame_ms: 0.0,
-                stages,
-                passes: report.passes,
-            });
-        }
-        // One frame more than measured closes the last measured frame's interval.
-        self.samples.len() >= self.frames as usize
-    }
 }
 
 /// Carries out a panel button or its key, reporting in the panel.
