@@ -6,8 +6,9 @@ pub mod compare;
 pub mod plot;
 pub mod report;
 
+use super::view::{WindowOptions, WindowScene, run_window};
 use crate::cli::{BenchArgs, ViewArgs};
-use crate::measure::{FrameSample, measure};
+use crate::measure::{FrameSample, WindowFrames, measure};
 use crate::output::write_text;
 use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
 use anyhow::{Context, Result, anyhow};
@@ -38,14 +39,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
     let (samples, app, mode) = if args.window {
-        let b = bar.clone();
-        let view = ViewArgs::new(args.scene.clone(), args.size);
-        let (samples, app) = crate::view::run_measured(
-            view,
-            args.warmup,
-            args.frames,
-            Box::new(move |done| b.set_position(u64::from(done))),
-        )?;
+        let (samples, app) = window(args, &bar)?;
         (samples, app, "window")
     } else {
         let (samples, app) = headless(args, &bar)?;
@@ -108,6 +102,34 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
     let samples = measure(&mut app, args.size, args.warmup, args.frames, &|done| {
         bar.set_position(u64::from(done))
     })?;
+    Ok((samples, app))
+}
+
+/// Frames in a window without vsync or panel (see [`WindowFrames`] for what a frame's
+/// time is).
+fn window(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<FrameSample>, App)> {
+    let view = ViewArgs::new(args.scene.clone(), args.size);
+    let options = WindowOptions {
+        size: args.size,
+        panel: false,
+        shader_dir: None,
+        ..WindowOptions::default()
+    };
+    let b = bar.clone();
+    let frames = WindowFrames::new(
+        args.warmup,
+        args.frames,
+        Box::new(move |done| b.set_position(u64::from(done))),
+    );
+    let (samples, app) = run_window(WindowScene::Args(Box::new(view)), options, Some(frames))?;
+    let app = app.ok_or_else(|| anyhow!("the window never opened"))?;
+    if samples.len() < args.frames as usize {
+        return Err(anyhow!(
+            "the window closed after {} of {} measured frames",
+            samples.len(),
+            args.frames
+        ));
+    }
     Ok((samples, app))
 }
 
