@@ -181,9 +181,11 @@ fn bench_writes_a_complete_consistent_report() {
     for r in ratios.iter().filter(|r| **r != "—") {
         assert_eq!(*r, "1.000", "{table}");
     }
-    let rows =
-        lumen_game::bench::compare::compare(&dir.path().join("r.json"), &dir.path().join("r.json"))
-            .expect("compare");
+    let rows = lumen_game::commands::bench::compare::compare(
+        &dir.path().join("r.json"),
+        &dir.path().join("r.json"),
+    )
+    .expect("compare");
     assert!(rows.iter().filter_map(|r| r.ratio()).all(|x| x == 1.0));
     assert!(rows.iter().any(|r| r.name == "lighting (gpu)"));
 }

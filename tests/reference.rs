@@ -6,7 +6,8 @@ mod common;
 
 use lumen::App;
 use lumen::prelude::*;
-use lumen::reference::path::{ReferenceOptions, TraceScene, render, trace_scene};
+use lumen::reference::path::{ReferenceOptions, TraceScene, render};
+use lumen::trace_input::trace_scene;
 
 fn options(size: (u32, u32), spp: u32, max_bounces: u32, seed: u64) -> ReferenceOptions {
     ReferenceOptions {

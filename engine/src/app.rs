@@ -7,7 +7,8 @@ use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::exposure::ExposurePass;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
-use crate::render::graph::{FramePass, FramePlan, PassId, Registry, Slot, slots};
+use crate::render::graph::registry::Registry;
+use crate::render::graph::{FramePass, FramePlan, PassId, Slot, slots};
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::shadow::pass::ShadowPass;
@@ -418,6 +419,14 @@ impl App {
             notes: camera.notes.clone(),
             metered: *self.world.resource::<MeteredExposure>(),
         })
+    }
+
+    /// The EV100 automatic exposure has adapted to, which the next frame uses; `None`
+    /// unless automatic exposure has metered a frame (or without a GPU).
+    pub fn metered_ev100(&self) -> Option<f32> {
+        self.world
+            .get_resource::<MeteredExposure>()
+            .and_then(|m| m.ev100)
     }
 
     /// The last headless frame's display image (tone mapped, sRGB-encoded, 8-bit RGBA).

@@ -36,6 +36,7 @@ pub mod quality;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod trace_input;
 pub mod validate;
 pub mod workflow;
 

@@ -3,7 +3,7 @@
 //! `cargo run --release --example frame_timing [WxH]`.
 
 use lumen::prelude::*;
-use lumen_game::bench::{measure, stats::Summary};
+use lumen_game::measure::{measure, stats::Summary};
 
 fn main() -> anyhow::Result<()> {
     let size = lumen_game::examples::start((1280, 720)).size;

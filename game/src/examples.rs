@@ -1,7 +1,7 @@
 //! Small helpers the examples in `game/examples/` share: their command line, the app they
 //! build in, and where images go.
 
-use crate::view::{WindowOptions, show};
+use crate::commands::view::{WindowOptions, show};
 use lumen::App;
 use std::path::PathBuf;
 

@@ -2,7 +2,7 @@
 
 use clap::Parser;
 use lumen_game::cli::{Cli, Command, RenderArgs, SceneArgs, ViewArgs};
-use lumen_game::{render_cmd, scenes, view};
+use lumen_game::{commands, scenes};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -40,7 +40,7 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         // Texels that fail a rule get a status of their own, for asset pipelines.
-        Err(e) if e.is::<lumen_game::validate_cmd::ValidationFailed>() => {
+        Err(e) if e.is::<commands::validate::ValidationFailed>() => {
             eprintln!("lumen: {e}");
             ExitCode::from(3)
         }
@@ -55,25 +55,25 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Render(mut args)) => {
             args.scene.resolve_builtin();
-            render_cmd::run(&args).map(|_| ())
+            commands::render::run(&args).map(|_| ())
         }
         Some(Command::View(mut args)) => {
             args.scene.resolve_builtin();
-            view::run(args)
+            commands::view::run(args)
         }
         Some(Command::Bench(mut args)) => {
             args.scene.resolve_builtin();
-            lumen_game::bench::run(&args)
+            commands::bench::run(&args)
         }
         Some(Command::Reference(mut args)) => {
             args.scene.resolve_builtin();
-            lumen_game::reference_cmd::run(&args).map(|_| ())
+            commands::reference::run(&args).map(|_| ())
         }
-        Some(Command::Convert(args)) => lumen_game::convert_cmd::run(&args),
-        Some(Command::Validate(args)) => lumen_game::validate_cmd::run(&args),
+        Some(Command::Convert(args)) => commands::convert::run(&args),
+        Some(Command::Validate(args)) => commands::validate::run(&args),
         Some(Command::Tradeoff(mut args)) => {
             args.scene.resolve_builtin();
-            lumen_game::tradeoff::run(&args)
+            commands::tradeoff::run(&args)
         }
         Some(Command::Scenes) => {
             let text: String = scenes::SCENES
@@ -88,13 +88,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 scene: Some("spheres".into()),
                 ..SceneArgs::default()
             };
-            if !cli.headless && view::display_available() {
-                match view::run(ViewArgs::new(scene.clone(), (1280, 720))) {
+            if !cli.headless && commands::view::display_available() {
+                match commands::view::run(ViewArgs::new(scene.clone(), (1280, 720))) {
                     Ok(()) => return Ok(()),
                     Err(e) => eprintln!("lumen: no window ({e:#}); rendering headless instead"),
                 }
             }
-            render_cmd::run(&RenderArgs {
+            commands::render::run(&RenderArgs {
                 scene,
                 size: (1280, 720),
                 out: None,

@@ -40,7 +40,7 @@ impl TextureLoader<'_> {
             gltf::image::Source::View { view, .. } => self
                 .views
                 .get(view.index())
-                .and_then(|v| super::gltf::view_bytes(v, self.buffers))
+                .and_then(|v| super::gltf_buffers::view_bytes(v, self.buffers))
                 .map(<[u8]>::to_vec)
                 .ok_or(format!(
                     "{what}: buffer view {} is out of range",

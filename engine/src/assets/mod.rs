@@ -2,6 +2,7 @@
 
 pub mod draco;
 pub mod gltf;
+mod gltf_buffers;
 mod gltf_material;
 pub mod image_io;
 pub mod procedural;

@@ -20,7 +20,7 @@ pub fn read_uri(base: &Path, uri: &str) -> Result<Vec<u8>, String> {
     if uri.contains(':') {
         return Err(format!("unsupported URI scheme in {uri}"));
     }
-    let path = base.join(super::gltf::percent_decoded(uri));
+    let path = base.join(super::gltf_buffers::percent_decoded(uri));
     std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))
 }
 

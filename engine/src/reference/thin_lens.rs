@@ -48,10 +48,8 @@ pub fn render_thin_lens_reference(
             "the thin-lens reference needs at least one sample".into(),
         ));
     }
+    let metered = app.metered_ev100();
     let world = app.world_mut();
-    let metered = world
-        .resource::<crate::render::frame::MeteredExposure>()
-        .ev100;
     let (entity, camera, transform) = world
         .query::<(Entity, &Camera, &Transform)>()
         .iter(world)

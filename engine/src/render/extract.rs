@@ -10,7 +10,7 @@ use crate::punctual::spot_scale_offset;
 use crate::quality::Quality;
 use crate::render::frame::{FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
-use crate::render::shadow::views::{
+use crate::render::shadow_views::{
     CameraForShadows, ShadowView, directional_views, point_views, spot_view,
 };
 use crate::scene::{

@@ -29,6 +29,7 @@ pub mod readback;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod shadow;
+pub mod shadow_views;
 pub mod sky;
 pub mod targets;
 pub mod timing;
@@ -39,7 +40,8 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleLabel;
 use device::Gpu;
 use frame::{FrameEncoder, FrameErrors, FrameOutput};
-use graph::{FramePlan, Registry};
+use graph::FramePlan;
+use graph::registry::Registry;
 
 /// Reads the scene's components into [`extract::ExtractedFrame`].
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]

@@ -7,7 +7,7 @@ use crate::render::debug_view::DebugViewPass;
 use crate::render::dof::DofPass;
 use crate::render::exposure::ExposurePass;
 use crate::render::gbuffer::GBufferPass;
-use crate::render::graph::Registry;
+use crate::render::graph::registry::Registry;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
 use crate::render::shadow::pass::ShadowPass;

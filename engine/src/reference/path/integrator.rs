@@ -15,7 +15,7 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
-use super::scene::{SurfacePoint, TraceEnvironment, TraceMaterial, TraceScene};
+use super::scene::{SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene};
 use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
 use crate::punctual::{distance_attenuation, spot_attenuation};
 use glam::{Mat3, Vec2, Vec3, Vec4};
@@ -259,36 +259,57 @@ impl TraceScene {
     /// towards `v`.
     fn direct(&self, p: Vec3, offset: Vec3, v: Vec3, bsdf: &Bsdf, rng: &mut Rng) -> Vec3 {
         let mut sum = Vec3::ZERO;
-        let [directional, point, _] = self.light_counts;
-        for (i, light) in self.lights.iter().enumerate() {
-            let color = Vec3::from_slice(&light.color_inv_range2[..3]);
-            let (l, e, distance) = if i < directional {
-                let axis = Vec3::from_slice(&light.direction[..3]).normalize_or(Vec3::Y);
-                // A shadowed sun has its disc (tan of the angular radius): sample it
-                // uniformly, so its shadows get their true penumbrae. E stays the
-                // illuminance of the whole disc.
-                let tan_radius = light.shadow[2];
-                let l = if tan_radius > 0.0 && tan_radius.is_finite() {
-                    let cos_max = 1.0 / (1.0 + tan_radius * tan_radius).sqrt();
-                    let xi = rng.pair();
-                    let cos_t = 1.0 - xi.x * (1.0 - cos_max);
-                    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-                    let phi = 2.0 * PI * xi.y;
-                    basis(axis) * Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
-                } else {
-                    axis
-                };
-                (l, color, f32::MAX)
-            } else {
-                let to_light = Vec3::from_slice(&light.position[..3]) - p;
-                let d2 = to_light.length_squared();
-                let l = to_light.normalize_or(bsdf.n());
-                let mut e = color * distance_attenuation(d2, light.color_inv_range2[3]);
-                if i >= directional + point {
-                    let axis = Vec3::from_slice(&light.direction[..3]);
-                    e *= spot_attenuation((-l).dot(axis), light.spot[0], light.spot[1]);
+        // Unit direction and squared distance (m²) from `p` to a light at `position`.
+        let towards = |position: Vec3| {
+            let to_light = position - p;
+            let d2 = to_light.length_squared();
+            (to_light.normalize_or(bsdf.n()), d2)
+        };
+        for light in &self.lights {
+            let (l, e, distance) = match *light {
+                TraceLight::Directional {
+                    direction_to_light,
+                    illuminance,
+                    tan_angular_radius: tan_radius,
+                } => {
+                    let axis = direction_to_light.normalize_or(Vec3::Y);
+                    // A shadowed sun has its disc (tan of the angular radius): sample it
+                    // uniformly, so its shadows get their true penumbrae. E stays the
+                    // illuminance of the whole disc.
+                    let l = if tan_radius > 0.0 && tan_radius.is_finite() {
+                        let cos_max = 1.0 / (1.0 + tan_radius * tan_radius).sqrt();
+                        let xi = rng.pair();
+                        let cos_t = 1.0 - xi.x * (1.0 - cos_max);
+                        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                        let phi = 2.0 * PI * xi.y;
+                        basis(axis) * Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+                    } else {
+                        axis
+                    };
+                    (l, illuminance, f32::MAX)
                 }
-                (l, e, d2.sqrt())
+                TraceLight::Point {
+                    position_m,
+                    intensity,
+                    inv_range2,
+                } => {
+                    let (l, d2) = towards(position_m);
+                    let e = intensity * distance_attenuation(d2, inv_range2);
+                    (l, e, d2.sqrt())
+                }
+                TraceLight::Spot {
+                    position_m,
+                    axis,
+                    intensity,
+                    inv_range2,
+                    cone_scale,
+                    cone_offset,
+                } => {
+                    let (l, d2) = towards(position_m);
+                    let mut e = intensity * distance_attenuation(d2, inv_range2);
+                    e *= spot_attenuation((-l).dot(axis), cone_scale, cone_offset);
+                    (l, e, d2.sqrt())
+                }
             };
             if e == Vec3::ZERO || bsdf.n().dot(l) <= 0.0 {
                 continue;

@@ -4,6 +4,8 @@
 //! It renders what the rasterizer's extraction produced for the same frame: the same
 //! instances, factors, lights (pre-exposed, same units and attenuation), environment and
 //! camera, so its linear output is directly comparable with `lumen render --out F.exr`.
+//! That frame reaches it as a [`TraceInput`] of plain types, which
+//! [`crate::trace_input::trace_scene`] builds: nothing here depends on the renderer.
 //! It evaluates the same BRDF, with the same visibility term and, when the quality has
 //! it on, the same multiple-scattering energy compensation: it is the ground truth for
 //! light transport (visibility, shadows, indirect and environment light), not for the
@@ -15,14 +17,12 @@ pub mod integrator;
 pub mod scene;
 pub mod textures;
 
-use crate::app::App;
-use crate::error::{Error, Result};
 use glam::Vec2;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 pub use integrator::Rng;
-pub use scene::TraceScene;
+pub use scene::{TraceInput, TraceInstance, TraceLight, TraceScene};
 
 /// What `render` is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,23 +46,6 @@ impl Default for ReferenceOptions {
             seed: 0,
         }
     }
-}
-
-/// Builds the trace scene of `app`'s current World: one rasterized frame at `size` runs
-/// first, so that extraction (camera, exposure, instances, lights) is the rasterizer's.
-pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
-    app.render_headless(size)?;
-    let world = app.world_mut();
-    let environment = world
-        .query::<&crate::scene::Environment>()
-        .iter(world)
-        .next()
-        .cloned();
-    let frame = world.resource::<crate::render::extract::ExtractedFrame>();
-    let meshes = world.resource::<crate::scene::Meshes>();
-    let textures = world.resource::<crate::scene::Textures>();
-    let quality = world.resource::<crate::quality::Quality>();
-    TraceScene::new(frame, meshes, textures, environment.as_ref(), quality).map_err(Error::Scene)
 }
 
 /// Path-traces `scene`: linear, pre-exposed radiance per pixel (alpha 1), the mean of

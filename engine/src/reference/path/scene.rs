@@ -1,16 +1,100 @@
-//! The scene as the path tracer sees it, built from the rasterizer's own extracted frame
-//! (so both use the same instances, materials, lights, exposure and camera): world-space
-//! triangles in a BVH, per-triangle material, the lights, and the environment with an
-//! importance-sampling table.
+//! The scene as the path tracer sees it: world-space triangles in a BVH, per-triangle
+//! material, the lights, and the environment with an importance-sampling table, built
+//! from a [`TraceInput`] (the rasterizer's own extracted frame in plain types, so both
+//! use the same instances, materials, lights, exposure and camera).
 
 use super::bvh::{Bvh, Triangle};
 use crate::brdf::VisibilityModel;
 use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
-use crate::render::extract::ExtractedFrame;
-use crate::render::gpu_types::GpuLight;
-use crate::scene::{Environment, EnvironmentSource, Meshes};
+use crate::scene::{Environment, EnvironmentSource, MaterialMaps, MeshHandle, Meshes};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
+
+/// A light as the path tracer samples it, pre-exposed like the rasterizer's lights:
+/// colour × intensity × exposure, as one f32 product.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TraceLight {
+    /// A light at infinity (the sun).
+    Directional {
+        /// Unit vector from the scene towards the light.
+        direction_to_light: Vec3,
+        /// Illuminance × linear colour × exposure (pre-exposed lux, rgb).
+        illuminance: Vec3,
+        /// Tangent of the angular radius of the sun's disc, which shadow rays sample
+        /// uniformly (true penumbrae; the illuminance is that of the whole disc); 0 when
+        /// the rasterizer draws no shadow for this light, which then shines from
+        /// `direction_to_light` alone.
+        tan_angular_radius: f32,
+    },
+    /// A point light (a point: its radius only softens the rasterizer's shadows).
+    Point {
+        /// Position (m).
+        position_m: Vec3,
+        /// Luminous intensity × linear colour × exposure (pre-exposed cd, rgb).
+        intensity: Vec3,
+        /// 1 / range² (1/m²) of the range window; 0: unlimited range.
+        inv_range2: f32,
+    },
+    /// A spot light: a point light inside a cone.
+    Spot {
+        /// Position (m).
+        position_m: Vec3,
+        /// Unit vector along the cone's axis, away from the light.
+        axis: Vec3,
+        /// Luminous intensity × linear colour × exposure (pre-exposed cd, rgb).
+        intensity: Vec3,
+        /// 1 / range² (1/m²) of the range window; 0: unlimited range.
+        inv_range2: f32,
+        /// Cone scale (dimensionless): the cone factor is
+        /// `saturate(cos θ · scale + offset)²` ([`crate::punctual::spot_scale_offset`]).
+        cone_scale: f32,
+        /// Cone offset (dimensionless).
+        cone_offset: f32,
+    },
+}
+
+/// One drawn mesh instance, with the factors of its material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceInstance {
+    /// The mesh.
+    pub mesh: MeshHandle,
+    /// World from local (m).
+    pub world_from_local: Mat4,
+    /// Normal matrix: inverse-transpose of the upper 3×3 of `world_from_local`.
+    pub normal_matrix: Mat3,
+    /// Linear base colour factor (rgb, as given; clamped to 0..1 when traced).
+    pub base_color: Vec3,
+    /// Metallic factor (0..1 when traced).
+    pub metallic: f32,
+    /// Perceptual roughness factor.
+    pub roughness: f32,
+    /// Dielectric specular level (F0 = 0.08 × level).
+    pub specular_level: f32,
+    /// Emitted luminance × exposure (pre-exposed cd/m², rgb).
+    pub emissive: Vec3,
+    /// Index into [`TraceInput::material_maps`] of its textures, if any.
+    pub maps: Option<u32>,
+}
+
+/// What one frame draws, in the path tracer's own types: the rasterizer's extracted frame
+/// (instances, material maps, lights, camera, exposure, background), pre-exposed.
+#[derive(Clone, Debug)]
+pub struct TraceInput {
+    /// Instances, in the rasterizer's draw order.
+    pub instances: Vec<TraceInstance>,
+    /// The distinct material maps of the instances.
+    pub material_maps: Vec<MaterialMaps>,
+    /// Lights, in the rasterizer's order.
+    pub lights: Vec<TraceLight>,
+    /// The camera.
+    pub camera: TraceCamera,
+    /// Exposure multiplier (dimensionless; luminance × exposure = pre-exposed value), for
+    /// the environment.
+    pub exposure: f32,
+    /// Background luminance × exposure (pre-exposed cd/m², rgb): what a primary ray that
+    /// misses shows unless the environment is drawn as the background.
+    pub background: Vec3,
+}
 
 /// A surface's material, pre-exposed like the rasterizer's instance data.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -257,10 +341,8 @@ pub struct TraceScene {
     pub material: Vec<u32>,
     /// Materials.
     pub materials: Vec<TraceMaterial>,
-    /// Lights as the lighting pass reads them (pre-exposed).
-    pub lights: Vec<GpuLight>,
-    /// Directional, point and spot light counts (in that order in `lights`).
-    pub light_counts: [usize; 3],
+    /// Lights (pre-exposed).
+    pub lights: Vec<TraceLight>,
     /// The environment.
     pub environment: TraceEnvironment,
     /// What a primary ray that misses shows (pre-exposed): the environment or this colour.
@@ -274,67 +356,56 @@ pub struct TraceScene {
 }
 
 impl TraceScene {
-    /// Builds the scene from an extracted frame.
+    /// Builds the scene from a frame's input.
     pub fn new(
-        frame: &ExtractedFrame,
+        input: &TraceInput,
         meshes: &Meshes,
         textures: &crate::scene::Textures,
         environment: Option<&Environment>,
         quality: &crate::quality::Quality,
-    ) -> Result<TraceScene, String> {
-        let camera = frame.camera.as_ref().ok_or("the scene has no camera")?;
-        let exposure = camera.exposure;
+    ) -> TraceScene {
+        let exposure = input.exposure;
         let mut triangles = Vec::new();
         let mut corners = Vec::new();
         let mut material = Vec::new();
         let mut materials = Vec::new();
-        let maps: Vec<super::textures::TraceMaps> = frame
+        let maps: Vec<super::textures::TraceMaps> = input
             .material_maps
             .iter()
             .map(|m| super::textures::TraceMaps::new(m, textures))
             .collect();
-        for batch in &frame.batches {
-            let Some(mesh) = meshes.get(batch.mesh) else {
+        for inst in &input.instances {
+            let Some(mesh) = meshes.get(inst.mesh) else {
                 continue;
             };
-            let range =
-                batch.first_instance as usize..(batch.first_instance + batch.count) as usize;
-            for inst in frame.instances.get(range).into_iter().flatten() {
-                let m = Mat4::from_cols_array_2d(&inst.world_from_local);
-                let n = Mat3::from_cols(
-                    Vec3::from_slice(&inst.normal_matrix[0][..3]),
-                    Vec3::from_slice(&inst.normal_matrix[1][..3]),
-                    Vec3::from_slice(&inst.normal_matrix[2][..3]),
-                );
-                let index = materials.len() as u32;
-                let [r, g, b, _] = inst.base_color;
-                let [er, eg, eb, _] = inst.emissive_occlusion;
-                materials.push(TraceMaterial {
-                    base_color: Vec3::new(r, g, b).clamp(Vec3::ZERO, Vec3::ONE),
-                    metallic: inst.params[0].clamp(0.0, 1.0),
-                    roughness: crate::brdf::clamp_perceptual_roughness(inst.params[1]),
-                    specular_level: inst.params[2].clamp(0.0, 1.0),
-                    emissive: Vec3::new(er, eg, eb),
-                    maps: batch.maps,
+            let m = inst.world_from_local;
+            let n = inst.normal_matrix;
+            let index = materials.len() as u32;
+            materials.push(TraceMaterial {
+                base_color: inst.base_color.clamp(Vec3::ZERO, Vec3::ONE),
+                metallic: inst.metallic.clamp(0.0, 1.0),
+                roughness: crate::brdf::clamp_perceptual_roughness(inst.roughness),
+                specular_level: inst.specular_level.clamp(0.0, 1.0),
+                emissive: inst.emissive,
+                maps: inst.maps,
+            });
+            for t in mesh.indices.chunks_exact(3) {
+                let v = [0, 1, 2].map(|k| mesh.vertices[t[k] as usize]);
+                triangles.push(Triangle {
+                    p: v.map(|v| m.transform_point3(Vec3::from(v.position))),
                 });
-                for t in mesh.indices.chunks_exact(3) {
-                    let v = [0, 1, 2].map(|k| mesh.vertices[t[k] as usize]);
-                    triangles.push(Triangle {
-                        p: v.map(|v| m.transform_point3(Vec3::from(v.position))),
-                    });
-                    corners.push(v.map(|v| {
-                        Corner {
-                            normal: (n * Vec3::from(v.normal)).normalize_or(Vec3::Z),
-                            tangent: m
-                                .transform_vector3(Vec3::from_slice(&v.tangent[..3]))
-                                .normalize_or(Vec3::X)
-                                .extend(if v.tangent[3] < 0.0 { -1.0 } else { 1.0 }),
-                            uv: [Vec2::from(v.uv), Vec2::from(v.uv1)],
-                            color: Vec4::from(v.color),
-                        }
-                    }));
-                    material.push(index);
-                }
+                corners.push(v.map(|v| {
+                    Corner {
+                        normal: (n * Vec3::from(v.normal)).normalize_or(Vec3::Z),
+                        tangent: m
+                            .transform_vector3(Vec3::from_slice(&v.tangent[..3]))
+                            .normalize_or(Vec3::X)
+                            .extend(if v.tangent[3] < 0.0 { -1.0 } else { 1.0 }),
+                        uv: [Vec2::from(v.uv), Vec2::from(v.uv1)],
+                        color: Vec4::from(v.color),
+                    }
+                }));
+                material.push(index);
             }
         }
         let env = match environment {
@@ -356,42 +427,21 @@ impl TraceScene {
         };
         let show_env = environment
             .is_some_and(|e| matches!(e.background, crate::scene::Background::Environment { .. }));
-        let [br, bg, bb, _] = frame.view.background;
-        let view = camera.view_from_world;
-        let world_from_view = view.inverse();
-        let lens = camera.depth_of_field.map(|_| {
-            let radius = camera.focal_length_m / camera.lens.aperture_f_stops * 0.5;
-            (radius, camera.lens.focus_distance_m)
-        });
-        Ok(TraceScene {
+        TraceScene {
             bvh: Bvh::build(triangles),
             corners,
             maps,
             material,
             materials,
-            lights: frame.lights.clone(),
-            light_counts: [
-                frame.light_counts.directional as usize,
-                frame.light_counts.point as usize,
-                frame.light_counts.spot as usize,
-            ],
+            lights: input.lights.clone(),
             environment: env,
-            background: (!show_env).then_some(Vec3::new(br, bg, bb)),
-            camera: TraceCamera {
-                world_from_clip: Mat4::from_cols_array_2d(&frame.view.world_from_clip),
-                position: camera.position,
-                basis: Mat3::from_cols(
-                    world_from_view.x_axis.truncate().normalize(),
-                    world_from_view.y_axis.truncate().normalize(),
-                    -world_from_view.z_axis.truncate().normalize(),
-                ),
-                lens,
-            },
+            background: (!show_env).then_some(input.background),
+            camera: input.camera,
             visibility: quality.visibility,
             energy_compensation: quality
                 .energy_compensation
                 .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
-        })
+        }
     }
 }
 

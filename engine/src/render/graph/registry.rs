@@ -15,8 +15,7 @@
 //! ties broken by registration order), and a pass's prepare and record systems are
 //! chained in that order in the render schedule.
 
-use super::plan::{FramePlan, Lifetime};
-use super::{FramePass, PassId, Slot};
+use super::{FramePass, FramePlan, Lifetime, PassId, Slot};
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use bevy_ecs::prelude::*;

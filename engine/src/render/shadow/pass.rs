@@ -4,7 +4,6 @@
 //! selects its matrix with a dynamic offset (no per-view pipeline, pass or target).
 
 use super::atlas::{AtlasLayout, AtlasRect, pack};
-use super::views::{frustum_planes, sphere_in_frustum};
 use crate::error::Result;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -13,6 +12,7 @@ use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
+use crate::render::shadow_views::{frustum_planes, sphere_in_frustum};
 use crate::render::targets::Target;
 use crate::scene::{MeshHandle, Vertex};
 use bevy_ecs::prelude::*;

@@ -2,8 +2,10 @@
 //! each a clip-from-world matrix, a requested resolution and what the lighting pass needs
 //! to bias and filter it.
 
-use super::cascades::{fit_cascade, light_rotation, split_distances};
+pub mod cascades;
+
 use crate::scene::{Cascades, ShadowSettings};
+use cascades::{fit_cascade, light_rotation, split_distances};
 use glam::{Mat4, Vec3, Vec4};
 
 /// Texels of guard band around each cube face: the faces' field of view is widened by

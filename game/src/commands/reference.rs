@@ -5,7 +5,8 @@ use crate::setup::{build_scene, check_scene_args};
 use anyhow::Result;
 use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
-use lumen::reference::path::{ReferenceOptions, render, trace_scene};
+use lumen::reference::path::{ReferenceOptions, render};
+use lumen::trace_input::trace_scene;
 use std::path::PathBuf;
 
 /// The tone mapper of the camera the last rendered frame used.

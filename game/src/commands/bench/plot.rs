@@ -2,12 +2,12 @@
 //! line over the per-pass GPU times stacked as areas (plotters, bitmap backend, DejaVu
 //! Sans from `assets/fonts`).
 
-use super::report::FrameSample;
+use crate::measure::FrameSample;
 use anyhow::{Context, Result, anyhow};
 use plotters::prelude::*;
 use std::path::Path;
 
-pub(crate) static FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
+pub(crate) static FONT: &[u8] = include_bytes!("../../../../assets/fonts/DejaVuSans.ttf");
 
 const PALETTE: [RGBColor; 8] = [
     RGBColor(31, 119, 180),

@@ -1,32 +1,13 @@
 //! What a benchmark recorded: per-frame samples, their summaries as the JSON report
 //! (schema `lumen-bench/1`, README "Benchmarking"), the CSV and the terminal summary.
 
-use super::stats::Summary;
-use lumen::render::timing::PassTiming;
+use crate::measure::FrameSample;
+use crate::measure::stats::Summary;
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 
 /// The schema name written into every report.
 pub const SCHEMA: &str = "lumen-bench/1";
-
-/// One measured frame.
-#[derive(Clone, Debug)]
-pub struct FrameSample {
-    /// Wall time of the whole frame (ms): headless, from the start of the ECS update to
-    /// the GPU finishing; in a window, from one frame's start to the next's.
-    pub frame_ms: f64,
-    /// CPU time of each stage (ms), `update` first.
-    pub stages: Vec<(&'static str, f64)>,
-    /// Every pass's CPU recording time and GPU time.
-    pub passes: Vec<PassTiming>,
-}
-
-impl FrameSample {
-    /// Sum of the passes' GPU times (ms); `None` without timestamp queries.
-    pub fn gpu_ms(&self) -> Option<f64> {
-        self.passes.iter().map(|p| p.gpu_ms).sum()
-    }
-}
 
 /// Everything about the run that is not a timing.
 #[derive(Clone, Debug)]
@@ -215,6 +196,7 @@ pub fn summary_text(info: &RunInfo, samples: &[FrameSample]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use lumen::render::timing::PassTiming;
 
     fn sample(frame: f64, gpu: [f64; 2]) -> FrameSample {
         FrameSample {

@@ -5,17 +5,18 @@
 pub mod compare;
 pub mod plot;
 pub mod report;
-pub mod stats;
 
+use super::view::{WindowOptions, WindowScene, run_window};
 use crate::cli::{BenchArgs, ViewArgs};
+use crate::measure::{FrameSample, WindowFrames, measure};
 use crate::output::write_text;
 use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::prelude::Quality;
-use report::{FrameSample, RunInfo};
+use report::RunInfo;
 use std::path::Path;
-use std::time::{Instant, SystemTime, UNIX_EPOCH};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Runs the benchmark (or the comparison) the arguments ask for.
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -38,14 +39,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
     let (samples, app, mode) = if args.window {
-        let b = bar.clone();
-        let view = ViewArgs::new(args.scene.clone(), args.size);
-        let (samples, app) = crate::view::run_measured(
-            view,
-            args.warmup,
-            args.frames,
-            Box::new(move |done| b.set_position(u64::from(done))),
-        )?;
+        let (samples, app) = window(args, &bar)?;
         (samples, app, "window")
     } else {
         let (samples, app) = headless(args, &bar)?;
@@ -111,35 +105,32 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
     Ok((samples, app))
 }
 
-/// Renders `warmup + frames` offscreen frames of `app` at `size` and returns the measured
-/// ones (the machinery of `lumen bench` and `lumen tradeoff`). `progress` gets the number
-/// of frames rendered so far.
-pub fn measure(
-    app: &mut App,
-    size: (u32, u32),
-    warmup: u32,
-    frames: u32,
-    progress: &dyn Fn(u32),
-) -> Result<Vec<FrameSample>> {
-    let mut samples = Vec::with_capacity(frames as usize);
-    for i in 0..warmup + frames {
-        let start = Instant::now();
-        app.update();
-        let update_ms = start.elapsed().as_secs_f64() * 1e3;
-        let report = app.render_headless(size)?;
-        let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        if i >= warmup {
-            let mut stages = vec![("update", update_ms)];
-            stages.extend(report.stages);
-            samples.push(FrameSample {
-                frame_ms,
-                stages,
-                passes: report.passes,
-            });
-        }
-        progress(i + 1);
+/// Frames in a window without vsync or panel (see [`WindowFrames`] for what a frame's
+/// time is).
+fn window(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<FrameSample>, App)> {
+    let view = ViewArgs::new(args.scene.clone(), args.size);
+    let options = WindowOptions {
+        size: args.size,
+        panel: false,
+        shader_dir: None,
+        ..WindowOptions::default()
+    };
+    let b = bar.clone();
+    let frames = WindowFrames::new(
+        args.warmup,
+        args.frames,
+        Box::new(move |done| b.set_position(u64::from(done))),
+    );
+    let (samples, app) = run_window(WindowScene::Args(Box::new(view)), options, Some(frames))?;
+    let app = app.ok_or_else(|| anyhow!("the window never opened"))?;
+    if samples.len() < args.frames as usize {
+        return Err(anyhow!(
+            "the window closed after {} of {} measured frames",
+            samples.len(),
+            args.frames
+        ));
     }
-    Ok(samples)
+    Ok((samples, app))
 }
 
 fn scene_stats(app: &App) -> [usize; 4] {

@@ -1,38 +1,25 @@
-//! Windows: `lumen view`, and [`show`] for scripts that want their scene in a window.
-//!
-//! The viewer has orbit and fly cameras ([`controls`]), an egui panel ([`panel`]) with
-//! the frame time, per-pass timings, debug views, quality knobs, exposure, depth of field
-//! and lights, screenshots (PNG and EXR), glTF and HDR files opened by drag and drop or
-//! `--open`, and WGSL reloaded from `shaders/` when a file changes ([`watch`]).
-//!
-//! Resizing (down to a minimised 0×0 window) and lost or outdated surfaces are handled.
-//! A frame that fails (a shader that does not compile, a file that does not load) is
-//! shown as an error in the panel and the viewer goes on. When the GPU device is lost,
-//! the viewer makes a new device, surface and renderer and goes on with the same scene
-//! (if no device can be made, it ends with a message). Nothing panics.
+//! The viewer's window loop: one window, its GPU and surface, the app rendered into it
+//! every frame with the panel on top, input, a lost device replaced, and frames measured
+//! for `lumen bench --window`.
 
-pub mod controls;
-pub mod gui;
-pub mod panel;
-pub mod watch;
-
-use crate::bench::report::FrameSample;
+use super::controls::CameraControls;
+use super::gui::Gui;
+use super::open::open_file;
+use super::panel::{Action, Panel};
+use super::screenshot::screenshot;
+use super::surface::{clear, configure, window_gpu};
+use super::watch::ShaderWatcher;
 use crate::cli::ViewArgs;
-use crate::render_cmd::save_frame;
-use crate::setup::{build_scene, check_scene_args, open_environment};
+use crate::measure::{FrameSample, WindowFrames};
+use crate::setup::build_scene;
 use anyhow::{Context, Result, anyhow};
-use controls::CameraControls;
-use gui::Gui;
 use lumen::App;
-use lumen::assets::image_io::OutputFormat;
 use lumen::prelude::*;
-use lumen::render::device::{Gpu, GpuRequest};
+use lumen::render::device::Gpu;
 use lumen::wgpu;
-use panel::{Action, Panel};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use watch::ShaderWatcher;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
@@ -100,70 +87,16 @@ pub fn show(app: App, options: WindowOptions) -> Result<()> {
             "lumen_game::view::show needs an App without a GPU (App::new()), not App::headless()"
         ));
     }
-    run_viewer(Scene::Ready(Box::new(app)), options, None).map(|_| ())
+    run_window(WindowScene::Ready(Box::new(app)), options, None).map(|_| ())
 }
 
-/// Opens the viewer on the scene `args` describe and runs until the window closes.
-pub fn run(args: ViewArgs) -> Result<()> {
-    check_scene_args(&args.scene)?;
-    let options = WindowOptions {
-        title: "lumen".into(),
-        size: args.size,
-        panel: !args.no_panel,
-        shader_dir: args.shaders.clone().or_else(default_shader_dir),
-        frames: args.frames,
-        screenshot: args.screenshot.clone(),
-        lose_device_after: args.lose_device_after,
-    };
-    if let Some(dir) = &options.shader_dir
-        && !dir.is_dir()
-    {
-        return Err(anyhow!("shader folder {} does not exist", dir.display()));
-    }
-    run_viewer(Scene::Args(Box::new(args)), options, None).map(|_| ())
-}
-
-/// Renders `warmup + frames` frames into a window without vsync or panel and returns
-/// the measured frames and the app. A frame's time is the wall time from its start to
-/// the next frame's start (update, record, submit, GPU, present). `progress(done)` is
-/// called after every frame.
-pub fn run_measured(
-    args: ViewArgs,
-    warmup: u32,
-    frames: u32,
-    progress: Box<dyn FnMut(u32)>,
-) -> Result<(Vec<FrameSample>, App)> {
-    check_scene_args(&args.scene)?;
-    let options = WindowOptions {
-        size: args.size,
-        panel: false,
-        shader_dir: None,
-        ..WindowOptions::default()
-    };
-    let measure = Measure {
-        warmup,
-        frames,
-        samples: Vec::new(),
-        seen: 0,
-        last_start: None,
-        pending: None,
-        progress,
-    };
-    let (samples, app) = run_viewer(Scene::Args(Box::new(args)), options, Some(measure))?;
-    let app = app.ok_or_else(|| anyhow!("the window never opened"))?;
-    if samples.len() < frames as usize {
-        return Err(anyhow!(
-            "the window closed after {} of {frames} measured frames",
-            samples.len()
-        ));
-    }
-    Ok((samples, app))
-}
-
-fn run_viewer(
-    scene: Scene,
+/// Opens a window on `scene` and runs it until it closes; with `measure`, without vsync,
+/// measuring frames until all are in. Returns the measured frames (none without
+/// `measure`) and the app, if the window opened.
+pub(crate) fn run_window(
+    scene: WindowScene,
     options: WindowOptions,
-    measure: Option<Measure>,
+    measure: Option<WindowFrames>,
 ) -> Result<(Vec<FrameSample>, Option<App>)> {
     let event_loop = EventLoop::new().context("cannot open a window (no display?)")?;
     let mut viewer = Viewer {
@@ -179,12 +112,15 @@ fn run_viewer(
     if let Some(e) = viewer.error {
         return Err(e);
     }
-    let samples = viewer.measure.map(|m| m.samples).unwrap_or_default();
+    let samples = viewer
+        .measure
+        .map(WindowFrames::into_samples)
+        .unwrap_or_default();
     Ok((samples, viewer.running.map(|r| r.app)))
 }
 
 /// Where the window's scene comes from.
-enum Scene {
+pub(crate) enum WindowScene {
     /// Built from the command line once the GPU exists.
     Args(Box<ViewArgs>),
     /// A script's app, GPU attached by the window.
@@ -213,93 +149,21 @@ struct Running {
     last_frame: Instant,
 }
 
-/// A measured run in the window (`lumen bench --window`).
-struct Measure {
-    warmup: u32,
-    frames: u32,
-    samples: Vec<FrameSample>,
-    seen: u32,
-    last_start: Option<Instant>,
-    pending: Option<FrameSample>,
-    progress: Box<dyn FnMut(u32)>,
+impl Running {
+    /// Saves the current view at the window's size: as `path`, or as the next
+    /// `out/screenshot-N.png` and `.exr`. Returns the log line.
+    fn screenshot(&mut self, path: Option<&Path>) -> Result<String> {
+        let size = (self.config.width.max(1), self.config.height.max(1));
+        screenshot(&mut self.app, size, path, &mut self.screenshots)
+    }
 }
 
 struct Viewer {
-    scene: Option<Scene>,
+    scene: Option<WindowScene>,
     options: WindowOptions,
     running: Option<Running>,
     error: Option<anyhow::Error>,
-    measure: Option<Measure>,
-}
-
-fn pick_format(caps: &wgpu::SurfaceCapabilities) -> Option<wgpu::TextureFormat> {
-    // A non-sRGB 8-bit format lets the tone mapping pass apply the exact sRGB curve.
-    let preferred = [
-        wgpu::TextureFormat::Bgra8Unorm,
-        wgpu::TextureFormat::Rgba8Unorm,
-    ];
-    preferred
-        .iter()
-        .find(|f| caps.formats.contains(f))
-        .copied()
-        .or_else(|| caps.formats.first().copied())
-}
-
-/// A GPU that can present to `window`, its surface, and the surface configured at the
-/// window's size.
-fn window_gpu(
-    window: &Arc<Window>,
-    display: &winit::event_loop::OwnedDisplayHandle,
-    present_mode: wgpu::PresentMode,
-) -> Result<(Gpu, wgpu::Surface<'static>, wgpu::SurfaceConfiguration)> {
-    let surface_window = window.clone();
-    let display = display.clone();
-    let (gpu, surface) = Gpu::new(
-        &GpuRequest::from_env()?,
-        Some(&move |instance: &wgpu::Instance| {
-            instance
-                .create_surface(surface_window.clone())
-                .map_err(|e| e.to_string())
-        }),
-        Some(&move || Box::new(display.clone())),
-    )?;
-    let surface = surface.ok_or_else(|| anyhow!("no window surface"))?;
-    let caps = surface.get_capabilities(&gpu.adapter);
-    let format =
-        pick_format(&caps).ok_or_else(|| anyhow!("the window surface supports no format"))?;
-    let size = window.inner_size();
-    let config = wgpu::SurfaceConfiguration {
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-        format,
-        width: size.width,
-        height: size.height,
-        present_mode,
-        desired_maximum_frame_latency: 2,
-        alpha_mode: caps
-            .alpha_modes
-            .first()
-            .copied()
-            .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-        view_formats: vec![],
-        color_space: wgpu::SurfaceColorSpace::Auto,
-    };
-    configure(&gpu, &surface, &config)?;
-    Ok((gpu, surface, config))
-}
-
-/// Configures `surface` (not while minimised); a refusal is an error, since presenting
-/// from an unconfigured surface would panic in wgpu.
-fn configure(
-    gpu: &Gpu,
-    surface: &wgpu::Surface<'static>,
-    config: &wgpu::SurfaceConfiguration,
-) -> Result<()> {
-    if config.width > 0 && config.height > 0 {
-        gpu.checked("configuring the window surface", |device| {
-            surface.configure(device, config)
-        })?;
-    }
-    Ok(())
+    measure: Option<WindowFrames>,
 }
 
 /// After the device was lost: a new GPU, surface and panel renderer, and the app's
@@ -368,8 +232,8 @@ impl Viewer {
 
         let mut panel = Panel::new(adapter);
         let (mut app, open) = match self.scene.take() {
-            Some(Scene::Ready(app)) => (*app, Vec::new()),
-            Some(Scene::Args(args)) => {
+            Some(WindowScene::Ready(app)) => (*app, Vec::new()),
+            Some(WindowScene::Args(args)) => {
                 let mut app = App::new();
                 app.attach_gpu(gpu.clone())?;
                 build_scene(&mut app, &args.scene)?;
@@ -424,66 +288,6 @@ impl Viewer {
     }
 }
 
-/// The scene's root entities (transforms and environments without a parent).
-fn scene_roots(world: &mut World) -> std::collections::HashSet<Entity> {
-    world
-        .query_filtered::<Entity, (Or<(With<Transform>, With<Environment>)>, Without<ChildOf>)>()
-        .iter(world)
-        .collect()
-}
-
-/// Opens a dropped or `--open`ed file: a glTF model replaces the scene (lights and camera
-/// of the file, or the loader's defaults); an HDR or EXR image becomes the environment.
-/// Returns a line for the log.
-pub fn open_file(app: &mut App, path: &Path) -> Result<String> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    match ext.as_str() {
-        "gltf" | "glb" => {
-            // The model replaces the scene but not its environment; a file that fails
-            // to load leaves the scene as it was. Scene roots only: despawning a root
-            // despawns its children, and resources are entities too.
-            let before = scene_roots(app.world_mut());
-            let loaded = lumen::assets::gltf::load_gltf(app, path);
-            let world = app.world_mut();
-            let remove: Vec<Entity> = match &loaded {
-                Ok(_) => before
-                    .into_iter()
-                    .filter(|e| world.get::<Environment>(*e).is_none())
-                    .collect(),
-                Err(_) => scene_roots(world).difference(&before).copied().collect(),
-            };
-            for e in remove {
-                if let Ok(entity) = world.get_entity_mut(e) {
-                    entity.despawn();
-                }
-            }
-            let summary = loaded?;
-            for w in &summary.warnings {
-                log::warn!("{}: {w}", path.display());
-            }
-            Ok(format!(
-                "opened {}: {} primitives, {} triangles, {} lights",
-                path.display(),
-                summary.primitives,
-                summary.triangles,
-                summary.lights
-            ))
-        }
-        "hdr" | "exr" => {
-            open_environment(app, path)?;
-            Ok(format!("environment {}", path.display()))
-        }
-        _ => Err(anyhow!(
-            "{}: cannot open this file type (expected .gltf, .glb, .hdr or .exr)",
-            path.display()
-        )),
-    }
-}
-
 /// Reloads the WGSL in `dir`, reporting the result in the panel.
 fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
     match app.reload_shaders(dir) {
@@ -494,64 +298,6 @@ fn reload_shaders(app: &mut App, panel: &mut Panel, dir: &Path) {
         }
         Err(e) => panel.set_error(format!("shader reload: {e}")),
     }
-}
-
-/// Renders `app` headless at `size` and saves `<base>.png` (the display image) and
-/// `<base>.exr` (exposed linear HDR, before tone mapping), creating folders; returns the
-/// two paths. What the `P` key does.
-pub fn save_screenshot(app: &mut App, size: (u32, u32), base: &Path) -> Result<[PathBuf; 2]> {
-    app.render_headless(size)?;
-    let paths = [base.with_extension("png"), base.with_extension("exr")];
-    save_frame(app, &paths[0], OutputFormat::Png)?;
-    save_frame(app, &paths[1], OutputFormat::Exr)?;
-    Ok(paths)
-}
-
-/// Saves the current view at the window's size: as `path` (PNG or EXR by extension), or
-/// as the next `out/screenshot-N.png` and `.exr`. Returns the log line.
-fn screenshot(r: &mut Running, path: Option<&Path>) -> Result<String> {
-    let size = (r.config.width.max(1), r.config.height.max(1));
-    let written: Vec<PathBuf> = match path {
-        Some(p) => {
-            let format = OutputFormat::from_path(p)?;
-            r.app.render_headless(size)?;
-            save_frame(&r.app, p, format)?;
-            vec![p.to_path_buf()]
-        }
-        None => {
-            r.screenshots += 1;
-            let base = PathBuf::from(format!("out/screenshot-{}", r.screenshots));
-            save_screenshot(&mut r.app, size, &base)?.to_vec()
-        }
-    };
-    let names: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-    Ok(format!("saved {}", names.join(" and ")))
-}
-
-/// Clears `view` to black: the frame under the panel when the scene could not render.
-fn clear(gpu: &Gpu, view: &wgpu::TextureView) {
-    let mut encoder = gpu
-        .device
-        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("clear"),
-        });
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("clear"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    gpu.queue.submit([encoder.finish()]);
 }
 
 /// Draws one frame; returns its report and the ECS update time (ms), or `None` when no
@@ -665,35 +411,10 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
     Ok(Some((report, update_ms)))
 }
 
-impl Measure {
-    /// Records a frame that started at `start`; the previous frame's time ends here.
-    /// Returns true once every measured frame is in.
-    fn frame(&mut self, start: Instant, report: lumen::FrameReport, update_ms: f64) -> bool {
-        if let (Some(last), Some(mut sample)) = (self.last_start, self.pending.take()) {
-            sample.frame_ms = start.duration_since(last).as_secs_f64() * 1e3;
-            self.samples.push(sample);
-        }
-        self.seen += 1;
-        (self.progress)(self.seen);
-        self.last_start = Some(start);
-        if self.seen > self.warmup {
-            let mut stages = vec![("update", update_ms)];
-            stages.extend(report.stages);
-            self.pending = Some(FrameSample {
-                frame_ms: 0.0,
-                stages,
-                passes: report.passes,
-            });
-        }
-        // One frame more than measured closes the last measured frame's interval.
-        self.samples.len() >= self.frames as usize
-    }
-}
-
 /// Carries out a panel button or its key, reporting in the panel.
 fn act(r: &mut Running, action: Action) {
     match action {
-        Action::Screenshot => match screenshot(r, None) {
+        Action::Screenshot => match r.screenshot(None) {
             Ok(line) => r.panel.message(line),
             Err(e) => r.panel.set_error(format!("screenshot: {e:#}")),
         },
@@ -842,7 +563,7 @@ impl ApplicationHandler for Viewer {
             && let Some(path) = self.options.screenshot.clone()
             && let Some(r) = self.running.as_mut()
         {
-            match screenshot(r, Some(&path)) {
+            match r.screenshot(Some(&path)) {
                 Ok(line) => eprintln!("{line}"),
                 Err(e) => self.error = Some(e),
             }

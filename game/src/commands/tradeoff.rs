@@ -2,15 +2,16 @@
 //! with the benchmark's machinery and compared with the path-traced reference (FLIP on
 //! the tone-mapped images, relative MSE and PSNR on the linear HDR ones).
 
-use crate::bench::{measure, stats::Summary};
 use crate::cli::{SceneArgs, TradeoffArgs};
+use crate::measure::{measure, stats::Summary};
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
 use lumen::quality::{HdrPrecision, QualityPreset, ShadowFilter};
-use lumen::reference::path::{ReferenceOptions, render, trace_scene};
+use lumen::reference::path::{ReferenceOptions, render};
+use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -128,10 +129,14 @@ fn reference(
     {
         // One frame for the camera's tone mapper; no scene to trace.
         app.render_headless(size)?;
-        return Ok((img, crate::reference_cmd::frame_tonemapper(&app), true));
+        return Ok((
+            img,
+            crate::commands::reference::frame_tonemapper(&app),
+            true,
+        ));
     }
     let traced = trace_scene(&mut app, size)?;
-    let tonemapper = crate::reference_cmd::frame_tonemapper(&app);
+    let tonemapper = crate::commands::reference::frame_tonemapper(&app);
     let bar = crate::progress::bar(u64::from(size.1), "reference", "rows");
     let img = render(
         &traced,
@@ -303,8 +308,12 @@ pub fn pareto_front(rows: &[Row]) -> Vec<usize> {
 }
 
 fn plot(path: &Path, title: &str, rows: &[Row]) -> Result<()> {
-    plotters::style::register_font("sans-serif", FontStyle::Normal, crate::bench::plot::FONT)
-        .map_err(|_| anyhow!("the bundled chart font does not load"))?;
+    plotters::style::register_font(
+        "sans-serif",
+        FontStyle::Normal,
+        crate::commands::bench::plot::FONT,
+    )
+    .map_err(|_| anyhow!("the bundled chart font does not load"))?;
     let draw = |e: &dyn std::fmt::Display| anyhow!("drawing {}: {e}", path.display());
     let x_max = rows.iter().map(|r| r.frame_ms).fold(0.0, f64::max) * 1.15;
     let y_max = rows.iter().map(|r| r.flip_mean).fold(0.0, f64::max) * 1.15;

@@ -1,0 +1,245 @@
+//! The path tracer's input from the rasterizer's extracted frame: the one place where
+//! [`crate::reference::path`] meets the renderer, so that the reference depends on
+//! nothing in [`crate::render`].
+
+use crate::app::App;
+use crate::error::{Error, Result};
+use crate::reference::path::scene::TraceCamera;
+use crate::reference::path::{TraceInput, TraceInstance, TraceLight, TraceScene};
+use crate::render::extract::ExtractedFrame;
+use glam::{Mat3, Mat4, Vec3};
+
+/// Builds the trace scene of `app`'s current World: one rasterized frame at `size` runs
+/// first, so that extraction (camera, exposure, instances, lights) is the rasterizer's.
+pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
+    app.render_headless(size)?;
+    let world = app.world_mut();
+    let environment = world
+        .query::<&crate::scene::Environment>()
+        .iter(world)
+        .next()
+        .cloned();
+    let frame = world.resource::<ExtractedFrame>();
+    let meshes = world.resource::<crate::scene::Meshes>();
+    let textures = world.resource::<crate::scene::Textures>();
+    let quality = world.resource::<crate::quality::Quality>();
+    let input = trace_input(frame)?;
+    Ok(TraceScene::new(
+        &input,
+        meshes,
+        textures,
+        environment.as_ref(),
+        quality,
+    ))
+}
+
+/// The path tracer's view of `frame`: its instances in draw order (batch by batch), its
+/// lights with the values the lighting pass reads (pre-exposed, as the same f32s), its
+/// camera, exposure and background. An error if the frame has no camera.
+pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
+    let camera = frame
+        .camera
+        .as_ref()
+        .ok_or_else(|| Error::Scene("the scene has no camera".into()))?;
+    let mut instances = Vec::with_capacity(frame.instances.len());
+    for batch in &frame.batches {
+        let range = batch.first_instance as usize..(batch.first_instance + batch.count) as usize;
+        for inst in frame.instances.get(range).into_iter().flatten() {
+            let [r, g, b, _] = inst.base_color;
+            let [er, eg, eb, _] = inst.emissive_occlusion;
+            instances.push(TraceInstance {
+                mesh: batch.mesh,
+                world_from_local: Mat4::from_cols_array_2d(&inst.world_from_local),
+                normal_matrix: Mat3::from_cols(
+                    Vec3::from_slice(&inst.normal_matrix[0][..3]),
+                    Vec3::from_slice(&inst.normal_matrix[1][..3]),
+                    Vec3::from_slice(&inst.normal_matrix[2][..3]),
+                ),
+                base_color: Vec3::new(r, g, b),
+                metallic: inst.params[0],
+                roughness: inst.params[1],
+                specular_level: inst.params[2],
+                emissive: Vec3::new(er, eg, eb),
+                maps: batch.maps,
+            });
+        }
+    }
+    let directional = frame.light_counts.directional as usize;
+    let point = frame.light_counts.point as usize;
+    let lights = frame
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, light)| {
+            let color = Vec3::from_slice(&light.color_inv_range2[..3]);
+            let inv_range2 = light.color_inv_range2[3];
+            let position_m = Vec3::from_slice(&light.position[..3]);
+            let direction = Vec3::from_slice(&light.direction[..3]);
+            if i < directional {
+                TraceLight::Directional {
+                    direction_to_light: direction,
+                    illuminance: color,
+                    tan_angular_radius: light.shadow[2],
+                }
+            } else if i < directional + point {
+                TraceLight::Point {
+                    position_m,
+                    intensity: color,
+                    inv_range2,
+                }
+            } else {
+                TraceLight::Spot {
+                    position_m,
+                    axis: direction,
+                    intensity: color,
+                    inv_range2,
+                    cone_scale: light.spot[0],
+                    cone_offset: light.spot[1],
+                }
+            }
+        })
+        .collect();
+    let [br, bg, bb, _] = frame.view.background;
+    let world_from_view = camera.view_from_world.inverse();
+    let lens = camera.depth_of_field.map(|_| {
+        let radius = camera.focal_length_m / camera.lens.aperture_f_stops * 0.5;
+        (radius, camera.lens.focus_distance_m)
+    });
+    Ok(TraceInput {
+        instances,
+        material_maps: frame.material_maps.clone(),
+        lights,
+        camera: TraceCamera {
+            world_from_clip: Mat4::from_cols_array_2d(&frame.view.world_from_clip),
+            position: camera.position,
+            basis: Mat3::from_cols(
+                world_from_view.x_axis.truncate().normalize(),
+                world_from_view.y_axis.truncate().normalize(),
+                -world_from_view.z_axis.truncate().normalize(),
+            ),
+            lens,
+        },
+        exposure: camera.exposure,
+        background: Vec3::new(br, bg, bb),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::extract::{Batch, LightCounts};
+    use crate::render::gpu_types::{GpuInstance, GpuLight};
+
+    #[test]
+    fn lights_and_instances_keep_the_extracted_values() {
+        let mut frame = ExtractedFrame::default();
+        assert!(trace_input(&frame).is_err(), "no camera");
+        let light = |position: [f32; 4], direction: [f32; 4], color: [f32; 4], spot| GpuLight {
+            position,
+            direction,
+            color_inv_range2: color,
+            spot,
+            shadow: [0.0, 1.0, 0.25, 0.0],
+            ..GpuLight::default()
+        };
+        frame.lights = vec![
+            light(
+                [0.0; 4],
+                [0.0, 1.0, 0.0, 0.0],
+                [3.0, 2.0, 1.0, 0.0],
+                [0.0; 4],
+            ),
+            light(
+                [1.0, 2.0, 3.0, 1.0],
+                [0.0; 4],
+                [4.0, 5.0, 6.0, 0.01],
+                [0.0; 4],
+            ),
+            light(
+                [4.0, 5.0, 6.0, 1.0],
+                [0.0, 0.0, -1.0, 0.0],
+                [7.0, 8.0, 9.0, 0.04],
+                [2.5, -1.5, 0.0, 0.0],
+            ),
+        ];
+        frame.light_counts = LightCounts {
+            directional: 1,
+            point: 1,
+            spot: 1,
+        };
+        frame.instances = vec![
+            GpuInstance {
+                base_color: [0.5, 0.25, 2.0, 1.0],
+                emissive_occlusion: [1.0, 2.0, 3.0, 1.0],
+                params: [0.5, 0.75, 0.25, 1.0],
+                ..GpuInstance::default()
+            };
+            3
+        ];
+        frame.batches = vec![Batch {
+            mesh: crate::scene::MeshHandle(7),
+            maps: Some(1),
+            double_sided: false,
+            first_instance: 1,
+            count: 2,
+        }];
+        frame.camera = Some(crate::render::extract::ExtractedCamera {
+            position: Vec3::new(0.0, 1.0, 5.0),
+            view_from_world: Mat4::from_translation(Vec3::new(0.0, -1.0, -5.0)),
+            clip_from_view: Mat4::IDENTITY,
+            exposure: 0.125,
+            ev100: 0.0,
+            tonemapper: Default::default(),
+            lens: Default::default(),
+            focal_length_m: 0.05,
+            fov_y: 1.0,
+            aspect: 1.0,
+            depth_of_field: None,
+            vignette: 0.0,
+            auto_exposure: None,
+            notes: Vec::new(),
+        });
+        let input = trace_input(&frame).expect("a camera");
+        assert_eq!(
+            input.lights,
+            [
+                TraceLight::Directional {
+                    direction_to_light: Vec3::Y,
+                    illuminance: Vec3::new(3.0, 2.0, 1.0),
+                    tan_angular_radius: 0.25,
+                },
+                TraceLight::Point {
+                    position_m: Vec3::new(1.0, 2.0, 3.0),
+                    intensity: Vec3::new(4.0, 5.0, 6.0),
+                    inv_range2: 0.01,
+                },
+                TraceLight::Spot {
+                    position_m: Vec3::new(4.0, 5.0, 6.0),
+                    axis: Vec3::NEG_Z,
+                    intensity: Vec3::new(7.0, 8.0, 9.0),
+                    inv_range2: 0.04,
+                    cone_scale: 2.5,
+                    cone_offset: -1.5,
+                },
+            ]
+        );
+        // Only the batched instances, with the batch's mesh and maps.
+        assert_eq!(input.instances.len(), 2);
+        let inst = input.instances[0];
+        assert_eq!(inst.mesh, crate::scene::MeshHandle(7));
+        assert_eq!(inst.maps, Some(1));
+        assert_eq!(inst.base_color, Vec3::new(0.5, 0.25, 2.0));
+        assert_eq!(inst.emissive, Vec3::new(1.0, 2.0, 3.0));
+        assert_eq!(
+            (inst.metallic, inst.roughness, inst.specular_level),
+            (0.5, 0.75, 0.25)
+        );
+        assert_eq!(input.exposure, 0.125);
+        assert_eq!(input.camera.position, Vec3::new(0.0, 1.0, 5.0));
+        assert_eq!(
+            input.camera.basis,
+            Mat3::from_cols(Vec3::X, Vec3::Y, Vec3::NEG_Z)
+        );
+        assert_eq!(input.camera.lens, None);
+    }
+}
