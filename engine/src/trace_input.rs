@@ -5,7 +5,7 @@
 use crate::app::App;
 use crate::error::{Error, Result};
 use crate::reference::path::scene::TraceCamera;
-use crate::reference::path::{TraceInput, TraceInstance, TraceLight, TraceScene};
+use crate::reference::path::{TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene};
 use crate::render::extract::ExtractedFrame;
 use glam::{Mat3, Mat4, Vec3};
 
@@ -55,12 +55,14 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                     Vec3::from_slice(&inst.normal_matrix[1][..3]),
                     Vec3::from_slice(&inst.normal_matrix[2][..3]),
                 ),
-                base_color: Vec3::new(r, g, b),
-                metallic: inst.params[0],
-                roughness: inst.params[1],
-                specular_level: inst.params[2],
-                emissive: Vec3::new(er, eg, eb),
-                maps: batch.maps,
+                material: TraceMaterial {
+                    base_color: Vec3::new(r, g, b),
+                    metallic: inst.params[0],
+                    roughness: inst.params[1],
+                    specular_level: inst.params[2],
+                    emissive: Vec3::new(er, eg, eb),
+                    maps: batch.maps,
+                },
             });
         }
     }
@@ -227,11 +229,12 @@ mod tests {
         assert_eq!(input.instances.len(), 2);
         let inst = input.instances[0];
         assert_eq!(inst.mesh, crate::scene::MeshHandle(7));
-        assert_eq!(inst.maps, Some(1));
-        assert_eq!(inst.base_color, Vec3::new(0.5, 0.25, 2.0));
-        assert_eq!(inst.emissive, Vec3::new(1.0, 2.0, 3.0));
+        let m = inst.material;
+        assert_eq!(m.maps, Some(1));
+        assert_eq!(m.base_color, Vec3::new(0.5, 0.25, 2.0));
+        assert_eq!(m.emissive, Vec3::new(1.0, 2.0, 3.0));
         assert_eq!(
-            (inst.metallic, inst.roughness, inst.specular_level),
+            (m.metallic, m.roughness, m.specular_level),
             (0.5, 0.75, 0.25)
         );
         assert_eq!(input.exposure, 0.125);

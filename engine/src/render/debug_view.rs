@@ -266,11 +266,8 @@ pub fn prepare_debug_view(
     let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
         return;
     };
-    let (Some(base_color), Some(normal), Some(depth)) = (
-        t.view(GBUFFER_BASE_COLOR),
-        t.view(GBUFFER_NORMAL),
-        t.view(DEPTH),
-    ) else {
+    let Some([base_color, normal, depth]) = t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH])
+    else {
         return;
     };
     let params = Params {

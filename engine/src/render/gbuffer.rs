@@ -302,12 +302,9 @@ pub fn gbuffer_pass(
     ) else {
         return;
     };
-    let (Some(base_color), Some(normal), Some(emissive), Some(depth)) = (
-        t.view(GBUFFER_BASE_COLOR),
-        t.view(GBUFFER_NORMAL),
-        t.view(GBUFFER_EMISSIVE),
-        t.view(DEPTH),
-    ) else {
+    let Some([base_color, normal, emissive, depth]) =
+        t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH])
+    else {
         return;
     };
     let scope = timer.begin_pass(PassId::GBuffer);

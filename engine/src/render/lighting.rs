@@ -180,6 +180,9 @@ impl FramePass for LightingPass {
     }
 }
 
+/// The generations of the resources a bind group was built from (unused places 0).
+type BindingGenerations = [u64; 3];
+
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
 pub struct LightingPass {
@@ -191,7 +194,7 @@ pub struct LightingPass {
     /// before shading.
     depth_test: bool,
     /// Each group with the generations of the resources it was built from.
-    bind_groups: [Option<(Vec<u64>, wgpu::BindGroup)>; 3],
+    bind_groups: [Option<(BindingGenerations, wgpu::BindGroup)>; 3],
 }
 
 /// Group 0: the view and the G-buffer.
@@ -369,22 +372,19 @@ pub fn prepare_lighting(
     else {
         return;
     };
-    let (Some(base_color), Some(normal), Some(emissive), Some(depth)) = (
-        t.view(GBUFFER_BASE_COLOR),
-        t.view(GBUFFER_NORMAL),
-        t.view(GBUFFER_EMISSIVE),
-        t.view(DEPTH),
-    ) else {
+    let Some([base_color, normal, emissive, depth]) =
+        t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH])
+    else {
         return;
     };
     if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity, t.hdr_format) {
         errors.0.push(e);
         return;
     }
-    let keys = [
-        vec![t.generation, buffers.generation],
-        vec![buffers.generation, shadows.generation, culling.generation],
-        vec![ibl.generation],
+    let keys: [BindingGenerations; 3] = [
+        [t.generation, buffers.generation, 0],
+        [buffers.generation, shadows.generation, culling.generation],
+        [ibl.generation, 0, 0],
     ];
     let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
         use wgpu::BindingResource::{Sampler, TextureView};
@@ -446,10 +446,9 @@ pub fn lighting_pass(
     let [Some((_, g0)), Some((_, g1)), Some((_, g2))] = &pass.bind_groups else {
         return;
     };
-    let (Some(encoder), Some(hdr), Some(depth), Some(pipeline)) = (
+    let (Some(encoder), Some([hdr, depth]), Some(pipeline)) = (
         encoder.as_mut(),
-        t.view(HDR),
-        t.view(DEPTH),
+        t.views([HDR, DEPTH]),
         plan.variant::<LightingPass>()
             .and_then(|v| pass.pipelines.get(&(*v, t.hdr_format))),
     ) else {

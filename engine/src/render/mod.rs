@@ -65,8 +65,12 @@ fn prepare_targets(
     plan: Res<FramePlan>,
     mut targets: ResMut<targets::RenderTargets>,
 ) {
-    let slots: Vec<graph::Slot> = plan.lifetimes.iter().map(|l| l.slot).collect();
-    targets.ensure(&gpu, output.size, quality.hdr_precision.format(), &slots);
+    targets.ensure(
+        &gpu,
+        output.size,
+        quality.hdr_precision.format(),
+        plan.lifetimes.iter().map(|l| l.slot),
+    );
 }
 
 /// Opens the frame's command encoder.

@@ -165,6 +165,8 @@ pub enum ShaderDef {
 pub struct Composed {
     /// The WGSL text the compiler gets.
     pub source: String,
+    /// Lines in `source` so far.
+    lines: usize,
     /// (first line in `source`, module, its line count), 1-based, in order.
     segments: Vec<(usize, String, usize)>,
 }
@@ -181,6 +183,7 @@ impl Composed {
             }
         }
         Composed {
+            lines: source.lines().count(),
             source,
             segments: Vec::new(),
         }
@@ -189,7 +192,8 @@ impl Composed {
     /// Appends a module, its `#import` lines blanked (so its lines keep their numbers).
     fn push_module(&mut self, name: &str, text: &str) {
         self.source.push('\n');
-        let first = self.source.lines().count() + 1;
+        self.lines += 1;
+        let first = self.lines + 1;
         let mut lines = 0;
         for line in text.lines() {
             if !line.trim().starts_with("#import ") {
@@ -198,6 +202,7 @@ impl Composed {
             self.source.push('\n');
             lines += 1;
         }
+        self.lines += lines;
         self.segments.push((first, name.to_string(), lines));
     }
 

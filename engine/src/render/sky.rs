@@ -200,10 +200,9 @@ pub fn sky_pass(
     let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<SkyPass>()) else {
         return;
     };
-    let (Some(encoder), Some(hdr), Some(depth), Some((_, bind_group)), Some(pipeline)) = (
+    let (Some(encoder), Some([hdr, depth]), Some((_, bind_group)), Some(pipeline)) = (
         encoder.as_mut(),
-        t.view(HDR),
-        t.view(DEPTH),
+        t.views([HDR, DEPTH]),
         pass.bind_group.as_ref(),
         pass.pipelines.get(&(variant.env_map, t.hdr_format)),
     ) else {

@@ -67,6 +67,13 @@ impl FrameTargets {
     pub fn view(&self, slot: Slot) -> Option<&wgpu::TextureView> {
         self.get(slot).map(|t| &t.view)
     }
+
+    /// The views of several slots, if this frame has every one of them.
+    pub fn views<const N: usize>(&self, slots: [Slot; N]) -> Option<[&wgpu::TextureView; N]> {
+        let views: Vec<&wgpu::TextureView> =
+            slots.iter().map(|s| self.view(*s)).collect::<Option<_>>()?;
+        views.try_into().ok()
+    }
 }
 
 /// The frame's targets, created on first use and recreated when the output size or the
@@ -87,7 +94,7 @@ impl RenderTargets {
         gpu: &Gpu,
         size: (u32, u32),
         hdr_format: wgpu::TextureFormat,
-        slots: &[Slot],
+        slots: impl IntoIterator<Item = Slot>,
     ) {
         if self
             .current
@@ -109,7 +116,7 @@ impl RenderTargets {
             let SlotKind::Target(format) = slot.kind else {
                 continue;
             };
-            if current.get(*slot).is_some() {
+            if current.get(slot).is_some() {
                 continue;
             }
             let format = match format {
@@ -120,7 +127,7 @@ impl RenderTargets {
             current.generation = self.generation;
             current
                 .targets
-                .push((*slot, Target::new(gpu, slot.name, size, format)));
+                .push((slot, Target::new(gpu, slot.name, size, format)));
         }
     }
 }

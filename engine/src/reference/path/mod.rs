@@ -22,7 +22,7 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 pub use integrator::Rng;
-pub use scene::{TraceInput, TraceInstance, TraceLight, TraceScene};
+pub use scene::{TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene};
 
 /// What `render` is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

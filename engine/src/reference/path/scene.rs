@@ -62,18 +62,9 @@ pub struct TraceInstance {
     pub world_from_local: Mat4,
     /// Normal matrix: inverse-transpose of the upper 3×3 of `world_from_local`.
     pub normal_matrix: Mat3,
-    /// Linear base colour factor (rgb, as given; clamped to 0..1 when traced).
-    pub base_color: Vec3,
-    /// Metallic factor (0..1 when traced).
-    pub metallic: f32,
-    /// Perceptual roughness factor.
-    pub roughness: f32,
-    /// Dielectric specular level (F0 = 0.08 × level).
-    pub specular_level: f32,
-    /// Emitted luminance × exposure (pre-exposed cd/m², rgb).
-    pub emissive: Vec3,
-    /// Index into [`TraceInput::material_maps`] of its textures, if any.
-    pub maps: Option<u32>,
+    /// Its material's factors as given (clamped into range when traced:
+    /// [`TraceMaterial::clamped`]); `maps` indexes [`TraceInput::material_maps`].
+    pub material: TraceMaterial,
 }
 
 /// What one frame draws, in the path tracer's own types: the rasterizer's extracted frame
@@ -109,8 +100,23 @@ pub struct TraceMaterial {
     pub specular_level: f32,
     /// Emitted luminance × exposure.
     pub emissive: Vec3,
-    /// Index into [`TraceScene::maps`] of its textures, if any.
+    /// Index into [`TraceScene::maps`] (the same order as [`TraceInput::material_maps`])
+    /// of its textures, if any.
     pub maps: Option<u32>,
+}
+
+impl TraceMaterial {
+    /// The factors clamped into the ranges the BRDF takes: base colour, metallic and
+    /// specular level into 0..1, roughness by [`crate::brdf::clamp_perceptual_roughness`].
+    pub fn clamped(self) -> TraceMaterial {
+        TraceMaterial {
+            base_color: self.base_color.clamp(Vec3::ZERO, Vec3::ONE),
+            metallic: self.metallic.clamp(0.0, 1.0),
+            roughness: crate::brdf::clamp_perceptual_roughness(self.roughness),
+            specular_level: self.specular_level.clamp(0.0, 1.0),
+            ..self
+        }
+    }
 }
 
 /// A triangle corner's shading attributes (world space).
@@ -381,14 +387,7 @@ impl TraceScene {
             let m = inst.world_from_local;
             let n = inst.normal_matrix;
             let index = materials.len() as u32;
-            materials.push(TraceMaterial {
-                base_color: inst.base_color.clamp(Vec3::ZERO, Vec3::ONE),
-                metallic: inst.metallic.clamp(0.0, 1.0),
-                roughness: crate::brdf::clamp_perceptual_roughness(inst.roughness),
-                specular_level: inst.specular_level.clamp(0.0, 1.0),
-                emissive: inst.emissive,
-                maps: inst.maps,
-            });
+            materials.push(inst.material.clamped());
             for t in mesh.indices.chunks_exact(3) {
                 let v = [0, 1, 2].map(|k| mesh.vertices[t[k] as usize]);
                 triangles.push(Triangle {

@@ -128,7 +128,7 @@ pub trait FramePass: Resource + Sized {
     /// The slots it writes (a slot it reads and writes is in both lists).
     const WRITES: &'static [Slot];
     /// Its shader variant key: what `decide` selects for the frame, as a named struct.
-    type Variant: Clone + std::fmt::Debug + PartialEq + Send + Sync + 'static;
+    type Variant: std::fmt::Debug + Send + Sync + 'static;
 
     /// Creates the pass (layouts, the pipelines that do not depend on the scene) from
     /// `world`, which holds the renderer's shared resources.
@@ -223,20 +223,7 @@ pub struct FramePlan {
     pub features: Vec<Decision>,
     /// The slots the passes that run use, with their lifetimes, in order of first use.
     pub lifetimes: Vec<Lifetime>,
-    variants: Vec<(PassId, Arc<dyn Any + Send + Sync>, String)>,
-}
-
-impl PartialEq for FramePlan {
-    fn eq(&self, other: &Self) -> bool {
-        self.passes == other.passes
-            && self.features == other.features
-            && self.lifetimes == other.lifetimes
-            && self
-                .variants
-                .iter()
-                .map(|(id, _, text)| (id, text))
-                .eq(other.variants.iter().map(|(id, _, text)| (id, text)))
-    }
+    variants: Vec<(PassId, Arc<dyn Any + Send + Sync>)>,
 }
 
 impl FramePlan {
@@ -249,15 +236,8 @@ impl FramePlan {
     pub fn variant<P: FramePass>(&self) -> Option<&P::Variant> {
         self.variants
             .iter()
-            .find(|(id, _, _)| *id == P::ID)
-            .and_then(|(_, v, _)| v.downcast_ref::<P::Variant>())
-    }
-
-    /// Each pass's variant, as `Debug` text, in execution order.
-    pub fn variant_texts(&self) -> impl Iterator<Item = (PassId, &str)> {
-        self.variants
-            .iter()
-            .map(|(id, _, text)| (*id, text.as_str()))
+            .find(|(id, _)| *id == P::ID)
+            .and_then(|(_, v)| v.downcast_ref::<P::Variant>())
     }
 
     /// Records pass `P`'s decision.
@@ -271,8 +251,7 @@ impl FramePlan {
         self.passes
             .push((P::ID, Decision::new(P::ID.name(), runs, reason)));
         self.features.extend(features);
-        let text = format!("{variant:?}");
-        self.variants.push((P::ID, Arc::new(variant), text));
+        self.variants.push((P::ID, Arc::new(variant)));
     }
 
     /// A human-readable account of the plan (`lumen render --explain`).
@@ -293,20 +272,6 @@ impl FramePlan {
                 d.name,
                 if d.enabled { "on" } else { "off" },
                 d.reason
-            ));
-        }
-        out
-    }
-
-    /// The slots and their lifetimes, one line each (the viewer's frame graph panel).
-    pub fn explain_lifetimes(&self) -> String {
-        let mut out = String::new();
-        for l in &self.lifetimes {
-            out.push_str(&format!(
-                "  {:<40} {} → {}\n",
-                l.slot.name,
-                l.first.name(),
-                l.last.name()
             ));
         }
         out

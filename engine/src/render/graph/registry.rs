@@ -22,8 +22,8 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 
-/// Builds systems for a schedule.
-type SystemsFn = fn() -> Option<ScheduleConfigs<ScheduleSystem>>;
+/// Builds a pass's optional systems for a schedule.
+type OptionalSystems = fn() -> Option<ScheduleConfigs<ScheduleSystem>>;
 
 /// One registered pass, with its type erased.
 #[derive(Clone, Copy)]
@@ -36,9 +36,9 @@ pub struct PassEntry {
     pub writes: &'static [Slot],
     create: fn(&mut World, &Gpu) -> Result<()>,
     decide: fn(&World, &mut FramePlan),
-    prepare: SystemsFn,
-    record: SystemsFn,
-    skipped: SystemsFn,
+    prepare: OptionalSystems,
+    record: fn() -> ScheduleConfigs<ScheduleSystem>,
+    skipped: OptionalSystems,
 }
 
 impl std::fmt::Debug for PassEntry {
@@ -68,14 +68,9 @@ impl PassEntry {
                 plan.push::<P>(decision);
             },
             prepare: P::prepare,
-            record: || Some(P::record()),
+            record: P::record,
             skipped: P::skipped,
         }
-    }
-
-    /// Whether it reads or writes `slot`.
-    pub fn uses(&self, slot: Slot) -> bool {
-        self.reads.contains(&slot) || self.writes.contains(&slot)
     }
 }
 
@@ -96,11 +91,6 @@ impl Registry {
     pub fn with<P: FramePass>(mut self) -> Registry {
         self.entries.push(PassEntry::of::<P>());
         self
-    }
-
-    /// The passes, in execution order.
-    pub fn entries(&self) -> &[PassEntry] {
-        &self.entries
     }
 
     /// Checks the declarations (unique names, no read before a write) and puts the passes
@@ -216,9 +206,7 @@ impl Registry {
         }
         steps.push(begin_frame);
         for e in &self.entries {
-            if let Some(record) = (e.record)() {
-                steps.push(record.run_if(pass_runs(e.id)));
-            }
+            steps.push((e.record)().run_if(pass_runs(e.id)));
             if let Some(skipped) = (e.skipped)() {
                 steps.push(skipped.run_if(not(pass_runs(e.id))));
             }
