@@ -1,7 +1,8 @@
 //! Bind groups with one source of truth: a [`BindGroupSpec`] lists a group's bindings
 //! (their WGSL names and kinds, the binding index being the position in the list), and
-//! the same list builds both the layout and the group. A test composes each pass's shader
-//! and checks that every listed name is declared in the WGSL at that group and binding.
+//! the same list builds both the layout and the group. `tests/bindings.rs` composes each
+//! pass's shader and checks that every listed name is declared in the WGSL at that group
+//! and binding, and that nothing else is bound there.
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
@@ -13,6 +14,10 @@ pub enum Binding {
     Uniform,
     /// A read-only storage buffer.
     Storage,
+    /// A storage buffer the shader writes.
+    StorageReadWrite,
+    /// A uniform buffer bound at a dynamic offset, of at least this many bytes.
+    DynamicUniform(u64),
     /// A 2D float texture read with `textureLoad` (any float format, depth included,
     /// binds as unfilterable float).
     TextureLoad,
@@ -41,6 +46,14 @@ impl Binding {
         match self {
             Binding::Uniform => buffer(wgpu::BufferBindingType::Uniform),
             Binding::Storage => buffer(wgpu::BufferBindingType::Storage { read_only: true }),
+            Binding::StorageReadWrite => {
+                buffer(wgpu::BufferBindingType::Storage { read_only: false })
+            }
+            Binding::DynamicUniform(size) => wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: true,
+                min_binding_size: wgpu::BufferSize::new(size),
+            },
             Binding::TextureLoad => texture(
                 wgpu::TextureSampleType::Float { filterable: false },
                 wgpu::TextureViewDimension::D2,

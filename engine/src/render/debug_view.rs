@@ -16,15 +16,14 @@
 //! | CoC | thin-lens CoC radius ÷ the largest radius, red in front of the focus plane, green behind it (the lens's settings even when depth of field is off) |
 
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{
-    draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
-};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
@@ -125,6 +124,20 @@ struct Params {
     pad: [f32; 2],
 }
 
+/// The debug view pass's bind group.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "debug view",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("params", Binding::Uniform),
+        ("gbuffer0", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+        ("depth_buffer", Binding::TextureLoad),
+        ("shadow_atlas", Binding::TextureLoad),
+    ],
+};
+
 #[allow(non_upper_case_globals)]
 impl PassId {
     /// A debug view of one channel, instead of tone mapping.
@@ -189,19 +202,7 @@ pub struct DebugViewPass {
 impl DebugViewPass {
     /// Creates the bind group layout; pipelines compile per view on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("debug view"),
-                entries: &[
-                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
-                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
-                    texture_load_entry(2),
-                    texture_load_entry(3),
-                    texture_load_entry(4),
-                    texture_load_entry(5),
-                ],
-            });
+        let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -281,30 +282,24 @@ pub fn prepare_debug_view(
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
-    fn texture(binding: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
-        wgpu::BindGroupEntry {
-            binding,
-            resource: wgpu::BindingResource::TextureView(view),
-        }
-    }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("debug view"),
-        layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.view.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: pass.params.as_entire_binding(),
-            },
-            texture(2, base_color),
-            texture(3, normal),
-            texture(4, depth),
-            texture(5, &shadows.atlas.view),
+    let group = match BINDINGS.group(
+        &gpu,
+        &pass.layout,
+        vec![
+            buffers.view.as_entire_binding(),
+            pass.params.as_entire_binding(),
+            wgpu::BindingResource::TextureView(base_color),
+            wgpu::BindingResource::TextureView(normal),
+            wgpu::BindingResource::TextureView(depth),
+            wgpu::BindingResource::TextureView(&shadows.atlas.view),
         ],
-    });
+    ) {
+        Ok(group) => group,
+        Err(e) => {
+            errors.0.push(e);
+            return;
+        }
+    };
     pass.bind_group = Some((key, group));
 }
 

@@ -2,6 +2,7 @@
 //! metallic, emissive + specular level, and depth (layout in `shaders/gbuffer.wgsl`).
 
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -10,7 +11,6 @@ use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, G
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
-use crate::render::pipelines::uniform_entry;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
@@ -18,6 +18,13 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
+
+/// The G-buffer pass's group 0 (group 1 is [`crate::render::material_maps::BINDINGS`]).
+pub const VIEW: BindGroupSpec = BindGroupSpec {
+    label: "gbuffer",
+    visibility: wgpu::ShaderStages::VERTEX,
+    bindings: &[("view", Binding::Uniform)],
+};
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -115,12 +122,7 @@ impl GBufferPass {
     pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
         let source = gpu.shaders.compose("gbuffer.wgsl", &[])?;
         let module = create_module(gpu, "gbuffer", &source)?;
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("gbuffer"),
-                entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX)],
-            });
+        let layout = VIEW.layout(gpu);
         let plain_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -274,14 +276,13 @@ pub fn prepare_gbuffer(
     {
         return;
     }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("gbuffer"),
-        layout: &pass.layout,
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: buffers.view.as_entire_binding(),
-        }],
-    });
+    let group = match VIEW.group(&gpu, &pass.layout, vec![buffers.view.as_entire_binding()]) {
+        Ok(group) => group,
+        Err(e) => {
+            errors.0.push(e);
+            return;
+        }
+    };
     pass.bind_group = Some((buffers.generation, group));
 }
 

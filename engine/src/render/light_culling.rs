@@ -5,13 +5,13 @@
 //! [`crate::quality::Quality::light_culling`] is on.
 
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::create_module;
-use crate::render::pipelines::{storage_entry, uniform_entry};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::targets::RenderTargets;
@@ -29,6 +29,19 @@ const TILE_STRIDE: u32 = 2 + 2 * MAX_TILE_LIGHTS;
 /// The fewest unshadowed point and spot lights for which culling runs. Below it the
 /// culling pass costs more than it saves (README, "Light culling", measured on lavapipe).
 pub const LIGHT_CULLING_MIN_LIGHTS: u32 = 8;
+
+/// The light culling pass's bind group.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "light culling",
+    visibility: wgpu::ShaderStages::COMPUTE,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("lights", Binding::Storage),
+        ("depth_buffer", Binding::TextureLoad),
+        ("tiles", Binding::StorageReadWrite),
+        ("uniform_lights", Binding::Uniform),
+    ],
+};
 
 /// The per-tile light lists (owned by [`LightCullingPass`]).
 pub const LIGHT_TILES: Slot = Slot::owned("light tiles");
@@ -116,37 +129,7 @@ pub struct LightCullingPass {
 impl LightCullingPass {
     /// The bind group layout and an empty tile buffer; no pipeline is compiled yet.
     pub fn new(gpu: &Gpu) -> Self {
-        let compute = wgpu::ShaderStages::COMPUTE;
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("light culling"),
-                entries: &[
-                    uniform_entry(0, compute),
-                    storage_entry(1, compute),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 2,
-                        visibility: compute,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 3,
-                        visibility: compute,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Storage { read_only: false },
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
-                    uniform_entry(4, compute),
-                ],
-            });
+        let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -250,32 +233,23 @@ pub fn prepare_light_culling(
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("light culling"),
-        layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.view.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: buffers.lights.buffer.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(depth),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: pass.tiles.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: buffers.lights_uniform.as_entire_binding(),
-            },
+    let group = match BINDINGS.group(
+        &gpu,
+        &pass.layout,
+        vec![
+            buffers.view.as_entire_binding(),
+            buffers.lights.buffer.as_entire_binding(),
+            wgpu::BindingResource::TextureView(depth),
+            pass.tiles.as_entire_binding(),
+            buffers.lights_uniform.as_entire_binding(),
         ],
-    });
+    ) {
+        Ok(group) => group,
+        Err(e) => {
+            errors.0.push(e);
+            return;
+        }
+    };
     pass.bind_group = Some((key, group));
 }
 

@@ -5,9 +5,10 @@
 //! Nothing here is built for a scene without `MaterialMaps`.
 
 use crate::color::{srgb_decode, srgb_encode};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::pipelines::uniform_entry;
+use crate::render::frame::FrameErrors;
 use crate::scene::{
     ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, Textures, Wrap,
 };
@@ -126,6 +127,40 @@ fn mipmap_filter(f: Filter) -> wgpu::MipmapFilterMode {
     }
 }
 
+/// The material maps' bind group (the G-buffer pass's group 1): the factors, then the five
+/// textures, then their samplers, in the order of [`MaterialMaps::slots`].
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "material maps",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("maps", Binding::Uniform),
+        (
+            "base_color_map",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "metallic_roughness_map",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "normal_map",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "occlusion_map",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "emissive_map",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("base_color_sampler", Binding::Sampler),
+        ("metallic_roughness_sampler", Binding::Sampler),
+        ("normal_sampler", Binding::Sampler),
+        ("occlusion_sampler", Binding::Sampler),
+        ("emissive_sampler", Binding::Sampler),
+    ],
+};
 /// The GPU side of textured materials.
 #[derive(Resource)]
 pub struct GpuMaterialMaps {
@@ -144,34 +179,7 @@ pub struct GpuMaterialMaps {
 impl GpuMaterialMaps {
     /// The bind group layout; nothing is uploaded until a frame uses textures.
     pub fn new(gpu: &Gpu) -> Self {
-        let fragment = wgpu::ShaderStages::FRAGMENT;
-        let mut entries = vec![uniform_entry(0, fragment)];
-        for k in 0..5 {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 1 + k,
-                visibility: fragment,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            });
-        }
-        for k in 0..5 {
-            entries.push(wgpu::BindGroupLayoutEntry {
-                binding: 6 + k,
-                visibility: fragment,
-                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                count: None,
-            });
-        }
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("material maps"),
-                entries: &entries,
-            });
+        let layout = BINDINGS.layout(gpu);
         let anisotropic = gpu
             .adapter
             .get_downlevel_capabilities()
@@ -246,6 +254,7 @@ pub fn prepare_material_maps(
     frame: Res<ExtractedFrame>,
     store: Res<Textures>,
     mut maps: ResMut<GpuMaterialMaps>,
+    mut errors: ResMut<FrameErrors>,
 ) {
     let maps = &mut *maps;
     maps.frame_groups.clear();
@@ -333,27 +342,17 @@ pub fn prepare_material_maps(
                 contents: bytemuck::bytes_of(&GpuMaps::new(m)),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: uniform.as_entire_binding(),
-        }];
-        for (k, view) in views.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 1 + k as u32,
-                resource: wgpu::BindingResource::TextureView(view),
-            });
-        }
-        for (k, sampler) in samplers.iter().enumerate() {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 6 + k as u32,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            });
-        }
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("material maps"),
-            layout: &maps.layout,
-            entries: &entries,
-        });
+        let resources = std::iter::once(uniform.as_entire_binding())
+            .chain(views.into_iter().map(wgpu::BindingResource::TextureView))
+            .chain(samplers.into_iter().map(wgpu::BindingResource::Sampler))
+            .collect();
+        let group = match BINDINGS.group(&gpu, &maps.layout, resources) {
+            Ok(group) => group,
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        };
         maps.groups.push((m.clone(), group));
         maps.frame_groups.push(maps.groups.len() - 1);
     }

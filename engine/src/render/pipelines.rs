@@ -1,81 +1,10 @@
-//! Small builders shared by the passes: shader modules from composed WGSL, bind group
-//! layout entries, and the full-screen pipeline and pass.
+//! Small builders shared by the passes: shader modules from composed WGSL, and the
+//! full-screen pipeline and pass (bind groups: [`crate::render::bindings`]).
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::timing::GpuTimer;
-
-/// A uniform buffer binding.
-pub fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A read-only storage buffer binding.
-pub fn storage_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A 2D texture read with `textureLoad` in the fragment shader (no sampler, so any
-/// float format, depth included, binds as unfilterable float).
-pub fn texture_load_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-/// A filterable float texture sampled in the fragment shader (`texture_2d` or
-/// `texture_cube`, as `dimension` says).
-pub fn sampled_texture_entry(
-    binding: u32,
-    dimension: wgpu::TextureViewDimension,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-            view_dimension: dimension,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-/// A filtering sampler for the fragment shader.
-pub fn filtering_sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-        count: None,
-    }
-}
 
 /// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
 /// target for `vs_fullscreen`) into colour targets of `formats`, no blending, and the

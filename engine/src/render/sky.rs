@@ -2,16 +2,14 @@
 //! geometry (a depth test against the cleared depth, so no fragment runs elsewhere).
 
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
-use crate::render::pipelines::create_module;
-use crate::render::pipelines::{
-    filtering_sampler_entry, fullscreen_pipeline, sampled_texture_entry, uniform_entry,
-};
+use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
@@ -74,6 +72,21 @@ impl FramePass for SkyPass {
     }
 }
 
+/// The sky pass's bind group.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "sky",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("environment", Binding::Uniform),
+        (
+            "env_cube",
+            Binding::Sampled(wgpu::TextureViewDimension::Cube),
+        ),
+        ("env_sampler", Binding::Sampler),
+    ],
+};
+
 /// The sky pass's pipelines (image or uniform environment) and bindings.
 #[derive(Resource)]
 pub struct SkyPass {
@@ -86,17 +99,7 @@ pub struct SkyPass {
 impl SkyPass {
     /// Creates the bind group layout; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("sky"),
-                entries: &[
-                    uniform_entry(0, wgpu::ShaderStages::FRAGMENT),
-                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
-                    sampled_texture_entry(2, wgpu::TextureViewDimension::Cube),
-                    filtering_sampler_entry(3),
-                ],
-            });
+        let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -164,28 +167,22 @@ pub fn prepare_sky(
     if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sky"),
-        layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffers.view.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: ibl.uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(ibl.cube_view()),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&ibl.sampler),
-            },
+    let group = match BINDINGS.group(
+        &gpu,
+        &pass.layout,
+        vec![
+            buffers.view.as_entire_binding(),
+            ibl.uniform.as_entire_binding(),
+            wgpu::BindingResource::TextureView(ibl.cube_view()),
+            wgpu::BindingResource::Sampler(&ibl.sampler),
         ],
-    });
+    ) {
+        Ok(group) => group,
+        Err(e) => {
+            errors.0.push(e);
+            return;
+        }
+    };
     pass.bind_group = Some((key, group));
 }
 

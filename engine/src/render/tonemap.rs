@@ -3,15 +3,14 @@
 
 use crate::color::Tonemapper;
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::debug_view::DebugView;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DISPLAY, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{
-    draw_fullscreen, fullscreen_variant, texture_load_entry, uniform_entry,
-};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -75,6 +74,13 @@ impl FramePass for TonemapPass {
     }
 }
 
+/// The tone mapping pass's bind group.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "tonemap",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("hdr", Binding::TextureLoad), ("post", Binding::Uniform)],
+};
+
 /// The tone mapping pass's pipelines and bindings.
 #[derive(Resource)]
 pub struct TonemapPass {
@@ -88,15 +94,7 @@ pub struct TonemapPass {
 impl TonemapPass {
     /// Creates the bind group layout; pipelines are compiled per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("tonemap"),
-                entries: &[
-                    texture_load_entry(0),
-                    uniform_entry(1, wgpu::ShaderStages::FRAGMENT),
-                ],
-            });
+        let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -175,20 +173,20 @@ pub fn prepare_tonemap(
     {
         return;
     }
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("tonemap"),
-        layout: &pass.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(hdr),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: pass.params.as_entire_binding(),
-            },
+    let group = match BINDINGS.group(
+        &gpu,
+        &pass.layout,
+        vec![
+            wgpu::BindingResource::TextureView(hdr),
+            pass.params.as_entire_binding(),
         ],
-    });
+    ) {
+        Ok(group) => group,
+        Err(e) => {
+            errors.0.push(e);
+            return;
+        }
+    };
     pass.bind_group = Some((t.generation, group));
 }
 

@@ -5,9 +5,10 @@
 
 use super::atlas::{AtlasLayout, AtlasRect, pack};
 use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::FrameEncoder;
+use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::create_module;
@@ -56,6 +57,13 @@ pub struct ShadowPass {
     /// Bumped whenever the atlas or the view buffer is recreated.
     pub generation: u64,
 }
+
+/// The shadow pass's bind group: each view's matrix at a dynamic offset.
+pub const CASTERS: BindGroupSpec = BindGroupSpec {
+    label: "shadow casters",
+    visibility: wgpu::ShaderStages::VERTEX,
+    bindings: &[("caster_view", Binding::DynamicUniform(64))],
+};
 
 /// The shadow atlas: every shadow view's depth (owned by [`ShadowPass`]).
 pub const SHADOW_ATLAS: Slot = Slot::owned("shadow atlas");
@@ -125,21 +133,7 @@ impl ShadowPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let source = gpu.shaders.compose("shadow.wgsl", &[])?;
         let module = create_module(gpu, "shadow", &source)?;
-        let caster_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("shadow casters"),
-                entries: &[wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: true,
-                        min_binding_size: wgpu::BufferSize::new(64),
-                    },
-                    count: None,
-                }],
-            });
+        let caster_layout = CASTERS.layout(gpu);
         let pipeline_layout = gpu
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -239,7 +233,12 @@ fn caster_view_buffer(gpu: &Gpu, views: usize) -> wgpu::Buffer {
 }
 
 /// Packs the atlas, uploads the views, culls casters per view and (re)builds bindings.
-pub fn prepare_shadows(gpu: Res<Gpu>, frame: Res<ExtractedFrame>, mut pass: ResMut<ShadowPass>) {
+pub fn prepare_shadows(
+    gpu: Res<Gpu>,
+    frame: Res<ExtractedFrame>,
+    mut pass: ResMut<ShadowPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
     let pass = &mut *pass;
     pass.views.clear();
     let requests: Vec<u32> = frame.shadow_views.iter().map(|v| v.resolution).collect();
@@ -355,18 +354,21 @@ pub fn prepare_shadows(gpu: Res<Gpu>, frame: Res<ExtractedFrame>, mut pass: ResM
         .as_ref()
         .is_none_or(|(k, _)| *k != key)
     {
-        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shadow casters"),
-            layout: &pass.caster_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer: &pass.caster_views,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(64),
-                }),
-            }],
-        });
+        let group = match CASTERS.group(
+            &gpu,
+            &pass.caster_layout,
+            vec![wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &pass.caster_views,
+                offset: 0,
+                size: wgpu::BufferSize::new(64),
+            })],
+        ) {
+            Ok(group) => group,
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        };
         pass.caster_bind_group = Some((key, group));
     }
 }

@@ -1,0 +1,129 @@
+//! Every bind group list (`BindGroupSpec`) against the WGSL of the shader it binds: each
+//! listed name is declared at its group and index, and nothing else is bound in those
+//! groups. The list is the one source both the layout and the group are built from, so
+//! this is what keeps Rust and WGSL in step.
+
+use lumen::brdf::VisibilityModel;
+use lumen::quality::ShadowFilter;
+use lumen::render::bindings::{BindGroupSpec, Binding};
+use lumen::render::lighting::{LightingPass, LightingVariant};
+use lumen::render::shaders::{ShaderDef, ShaderLibrary};
+use lumen::render::tonemap;
+use lumen::render::{debug_view, gbuffer, light_culling, lighting, material_maps, shadow, sky};
+use lumen::wgpu::naga;
+
+/// (group, binding, name) of every resource `entry` declares in `groups`, sorted.
+fn declared(entry: &str, defs: &[ShaderDef], groups: &[u32]) -> Vec<(u32, u32, String)> {
+    let composed = ShaderLibrary::default()
+        .compose(entry, defs)
+        .unwrap_or_else(|e| panic!("{entry}: {e}"));
+    let module = naga::front::wgsl::parse_str(&composed.source)
+        .unwrap_or_else(|e| panic!("{entry}: {}", e.emit_to_string(&composed.source)));
+    let mut out: Vec<(u32, u32, String)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, v)| {
+            let b = v.binding.as_ref()?;
+            groups
+                .contains(&b.group)
+                .then(|| (b.group, b.binding, v.name.clone().unwrap_or_default()))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// (group, binding, name) of the lists, group `i` being `specs[i].0`, sorted.
+fn listed(specs: &[(u32, BindGroupSpec)]) -> Vec<(u32, u32, String)> {
+    let mut out: Vec<(u32, u32, String)> = specs
+        .iter()
+        .flat_map(|(group, spec)| {
+            spec.bindings
+                .iter()
+                .zip(0u32..)
+                .map(move |((name, _), binding)| (*group, binding, name.to_string()))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+fn check(entry: &str, defs: &[ShaderDef], specs: &[(u32, BindGroupSpec)]) {
+    let groups: Vec<u32> = specs.iter().map(|(g, _)| *g).collect();
+    assert_eq!(declared(entry, defs, &groups), listed(specs), "{entry}");
+}
+
+#[test]
+fn every_bind_group_list_matches_its_shader() {
+    let everything = LightingVariant {
+        directional: true,
+        point: true,
+        spot: true,
+        visibility: VisibilityModel::default(),
+        shadows: [true; 3],
+        shadow_filter: ShadowFilter::Pcss,
+        environment: true,
+        env_map: true,
+        energy_compensation: true,
+        light_culling: true,
+        uniform_lights: true,
+        uniform_shadow_views: true,
+    };
+    check(
+        "lighting.wgsl",
+        &LightingPass::defs(everything, 8),
+        &[
+            (0, lighting::VIEW_AND_GBUFFER),
+            (1, lighting::LIGHTS_AND_SHADOWS),
+            (2, lighting::ENVIRONMENT),
+        ],
+    );
+    check(
+        "gbuffer.wgsl",
+        &[],
+        &[(0, gbuffer::VIEW), (1, material_maps::BINDINGS)],
+    );
+    check("shadow.wgsl", &[], &[(0, shadow::pass::CASTERS)]);
+    check(
+        "sky.wgsl",
+        &[ShaderDef::Bool("ENV_MAP", true)],
+        &[(0, sky::BINDINGS)],
+    );
+    check(
+        "light_culling.wgsl",
+        &[
+            ShaderDef::Bool("UNIFORM_LIGHTS", true),
+            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", 8),
+        ],
+        &[(0, light_culling::BINDINGS)],
+    );
+    let output = [
+        ShaderDef::U32("TONEMAPPER", 0),
+        ShaderDef::Bool("ENCODE_SRGB", true),
+    ];
+    check("tonemap.wgsl", &output, &[(0, tonemap::BINDINGS)]);
+    check(
+        "debug_view.wgsl",
+        &[
+            ShaderDef::U32("DEBUG_VIEW", 1),
+            ShaderDef::Bool("ENCODE_SRGB", true),
+        ],
+        &[(0, debug_view::BINDINGS)],
+    );
+    // The comparison can fail: a list with one name changed, or one binding short, does
+    // not match the shader.
+    let renamed = BindGroupSpec {
+        bindings: &[("hdr", Binding::TextureLoad), ("postt", Binding::Uniform)],
+        ..tonemap::BINDINGS
+    };
+    let short = BindGroupSpec {
+        bindings: &[("hdr", Binding::TextureLoad)],
+        ..tonemap::BINDINGS
+    };
+    for wrong in [renamed, short] {
+        assert_ne!(
+            declared("tonemap.wgsl", &output, &[0]),
+            listed(&[(0, wrong)])
+        );
+    }
+}
