@@ -37,22 +37,81 @@ fn rmse(a: &image::Rgba32FImage, b: &image::Rgba32FImage) -> f64 {
     (sum / (3 * a.width() * a.height()) as f64).sqrt()
 }
 
+/// Two emitters of 3·10³⁸ cd/m² (finite in f32), one seen in the other's mirror: a path
+/// that adds them overflows to +Inf. The guard drops and counts those paths, and the image
+/// stays finite and within the 16-bit float ceiling of the HDR target.
+#[test]
+fn non_finite_paths_are_counted_and_dropped() {
+    let mut app = App::headless().expect("a GPU adapter");
+    let plane = app
+        .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+        .expect("plane");
+    let sphere = app
+        .add_mesh(lumen::assets::procedural::uv_sphere(1.0, 16, 8))
+        .expect("sphere");
+    let huge = Vec3::new(3e38, 3e38, 3e38);
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(plane),
+        Material {
+            emissive: huge,
+            ..Material::new(Vec3::ONE, 1.0, 0.0)
+        },
+        Transform::IDENTITY,
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            emissive: huge,
+            ..Material::default()
+        },
+        Transform::from_xyz(0.0, 3.0, 0.0),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 6.0, 6.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let scene = trace_scene(&mut app, (32, 24)).expect("trace scene");
+    let traced = render(&scene, &options((32, 24), 4, 2, 1), &|_| {});
+    let max = traced
+        .image
+        .pixels()
+        .flat_map(|p| p.0)
+        .fold(0.0f32, |m, v| {
+            if v.is_finite() {
+                m.max(v)
+            } else {
+                f32::INFINITY
+            }
+        });
+    assert!(max.is_finite(), "a non-finite pixel");
+    assert!(
+        traced.dropped_samples > 0,
+        "no path overflowed (max {max}): the test scene does not exercise the guard"
+    );
+    assert!(max <= 65504.0, "a pixel above the HDR ceiling: {max}");
+    assert!(max > 1000.0, "the emitters are not seen: max {max}");
+}
+
 #[test]
 fn one_sample_per_pixel_is_finite_and_seeds_are_deterministic() {
     for name in ["spheres", "extremes", "dof", "shadows"] {
         let (_app, scene) = scene_of(name, (24, 16));
-        let img = render(&scene, &options((24, 16), 1, 4, 7), &|_| {});
+        let img = render(&scene, &options((24, 16), 1, 4, 7), &|_| {}).image;
         let bad = img
             .pixels()
             .filter(|p| p.0.iter().any(|c| !c.is_finite() || *c < 0.0))
             .count();
         assert_eq!(bad, 0, "{name}");
-        let again = render(&scene, &options((24, 16), 1, 4, 7), &|_| {});
+        let again = render(&scene, &options((24, 16), 1, 4, 7), &|_| {}).image;
         assert_eq!(img, again, "{name}: same seed, same image");
     }
     let (_app, scene) = scene_of("spheres", (24, 16));
-    let a = render(&scene, &options((24, 16), 2, 4, 1), &|_| {});
-    let b = render(&scene, &options((24, 16), 2, 4, 2), &|_| {});
+    let a = render(&scene, &options((24, 16), 2, 4, 1), &|_| {}).image;
+    let b = render(&scene, &options((24, 16), 2, 4, 2), &|_| {}).image;
     assert_ne!(a, b, "another seed, other noise");
 }
 
@@ -65,11 +124,16 @@ fn error_falls_as_one_over_root_spp() {
     app.world_mut()
         .spawn(Environment::uniform(Vec3::splat(2000.0)));
     let scene = trace_scene(&mut app, size).expect("trace scene");
-    let truth = render(&scene, &options(size, 8192, 1, 99), &|_| {});
+    let truth = render(&scene, &options(size, 8192, 1, 99), &|_| {}).image;
     let spps = [4u32, 16, 64, 256];
     let errors: Vec<f64> = spps
         .iter()
-        .map(|&spp| rmse(&render(&scene, &options(size, spp, 1, 5), &|_| {}), &truth))
+        .map(|&spp| {
+            rmse(
+                &render(&scene, &options(size, spp, 1, 5), &|_| {}).image,
+                &truth,
+            )
+        })
         .collect();
     // Least-squares slope of log(error) against log(spp): −0.5 for 1/√spp.
     let xs: Vec<f64> = spps.iter().map(|&s| f64::from(s).ln()).collect();
@@ -114,7 +178,7 @@ fn raster_against_direct_reference(
     app.render_headless(size).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
     let scene = trace_scene(app, size).expect("trace scene");
-    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {});
+    let reference = render(&scene, &options(size, 64, 1, 3), &|_| {}).image;
     let err = lumen::reference::relative_luminance_error(&raster, &reference).expect("error");
     (raster, reference, err)
 }
@@ -161,7 +225,7 @@ fn the_furnace_converges_to_one() {
         let mut app = common::app_with("furnace");
         app.world_mut().resource_mut::<Quality>().visibility = model;
         let scene = trace_scene(&mut app, size).expect("trace scene");
-        let img = render(&scene, &options(size, 256, 32, 11), &|_| {});
+        let img = render(&scene, &options(size, 256, 32, 11), &|_| {}).image;
         let lum = |x: u32, y: u32| common::lum(img.get_pixel(x, y));
         let background = lum(2, 2);
         assert!((background - 1.0).abs() < 1e-4, "{background}");

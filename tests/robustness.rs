@@ -96,13 +96,19 @@ fn a_failed_image_write_is_an_error_and_keeps_the_old_file() {
         let old = b"a good image from an earlier run";
         std::fs::write(dir.path().join(name), old).expect("old file");
         let (out, _) = lumen_limited(
-            &["render", "--scene", "spheres", "--size", "48x48", "--out", name],
+            &[
+                "render", "--scene", "spheres", "--size", "48x48", "--out", name,
+            ],
             dir.path(),
             limits,
             Duration::from_secs(120),
         );
         assert_clean_failure(&out, name);
-        assert!(!text(&out.stdout).contains("wrote"), "{}", text(&out.stdout));
+        assert!(
+            !text(&out.stdout).contains("wrote"),
+            "{}",
+            text(&out.stdout)
+        );
         assert_eq!(
             std::fs::read(dir.path().join(name)).expect("old file stays"),
             old,
@@ -214,7 +220,12 @@ fn write_exr(path: &Path, w: u32, h: u32, value: [f32; 3]) {
 #[test]
 fn an_environment_past_the_device_limit_is_downscaled_before_the_gpu_sees_it() {
     let dir = tmp();
-    write_hdr(&dir.path().join("tall.hdr"), 2, 100_000, [128, 128, 128, 129]);
+    write_hdr(
+        &dir.path().join("tall.hdr"),
+        2,
+        100_000,
+        [128, 128, 128, 129],
+    );
     let out = lumen(
         &[
             "render", "--scene", "spheres", "--env", "tall.hdr", "--size", "32x32", "--out",
@@ -223,7 +234,11 @@ fn an_environment_past_the_device_limit_is_downscaled_before_the_gpu_sees_it() {
         dir.path(),
     );
     assert_warned(&out, "downscaled");
-    assert!(text(&out.stderr).contains("100000"), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("100000"),
+        "{}",
+        text(&out.stderr)
+    );
 }
 
 // Problem 5: the path tracer wrote +Inf and f32::MAX pixels.
@@ -235,7 +250,14 @@ fn the_path_tracer_writes_finite_images_of_the_extremes() {
         let name = format!("extremes-{spp}.exr");
         let out = lumen(
             &[
-                "reference", "extremes", "--size", "64x48", "--spp", spp, "--out", &name,
+                "reference",
+                "extremes",
+                "--size",
+                "64x48",
+                "--spp",
+                spp,
+                "--out",
+                &name,
             ],
             dir.path(),
         );
@@ -248,7 +270,10 @@ fn the_path_tracer_writes_finite_images_of_the_extremes() {
             .flat_map(|p| p.0)
             .filter(|v| !v.is_finite() || v.abs() >= f32::MAX / 4.0)
             .count();
-        assert_eq!(bad, 0, "{spp} spp: {bad} non-finite or near-overflow channels");
+        assert_eq!(
+            bad, 0,
+            "{spp} spp: {bad} non-finite or near-overflow channels"
+        );
         assert!(img.pixels().any(|p| p.0[0] > 0.0), "{spp} spp: black image");
     }
 }

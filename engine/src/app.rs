@@ -101,6 +101,9 @@ pub struct App {
     last_frame: Option<Instant>,
     /// The shader sources before the last reload, until a frame renders with the new ones.
     shader_fallback: Option<ShaderOverrides>,
+    /// The last frame size that passed [`check_size`]: a size is checked once, not every
+    /// frame.
+    checked_size: Option<(u32, u32)>,
 }
 
 impl Default for App {
@@ -126,6 +129,7 @@ impl App {
             fixed_delta: None,
             last_frame: None,
             shader_fallback: None,
+            checked_size: None,
         }
     }
 
@@ -241,7 +245,7 @@ impl App {
     /// Read it with [`App::read_display_image`] and [`App::read_hdr_image`].
     pub fn render_headless(&mut self, size: (u32, u32)) -> Result<FrameReport> {
         let gpu = self.gpu()?.clone();
-        check_size(&gpu, size)?;
+        self.check_size(&gpu, size)?;
         if self
             .offscreen
             .as_ref()
@@ -324,6 +328,15 @@ impl App {
         render::insert_passes(&mut self.world, gpu)
     }
 
+    /// [`check_size`], once per new size.
+    fn check_size(&mut self, gpu: &Gpu, size: (u32, u32)) -> Result<()> {
+        if self.checked_size != Some(size) {
+            check_size(gpu, size, self.world.get_resource::<Quality>())?;
+            self.checked_size = Some(size);
+        }
+        Ok(())
+    }
+
     fn render_frame(
         &mut self,
         view: Option<wgpu::TextureView>,
@@ -331,7 +344,7 @@ impl App {
         size: (u32, u32),
     ) -> Result<FrameReport> {
         let gpu = self.gpu()?.clone();
-        check_size(&gpu, size)?;
+        self.check_size(&gpu, size)?;
         let start = Instant::now();
         let mut stages = Vec::new();
         let mut stage = |name, t: Instant| stages.push((name, t.elapsed().as_secs_f64() * 1e3));
@@ -526,12 +539,46 @@ impl App {
     }
 }
 
-fn check_size(gpu: &Gpu, (w, h): (u32, u32)) -> Result<()> {
+/// Checks a frame size before anything is allocated: each side within the adapter's 2D
+/// texture limit, and the frame's estimated memory ([`frame_bytes`]) within the memory
+/// budget ([`crate::limits::memory_budget`]).
+fn check_size(gpu: &Gpu, (w, h): (u32, u32), quality: Option<&Quality>) -> Result<()> {
     let max = gpu.max_texture_size();
     if w == 0 || h == 0 || w > max || h > max {
         return Err(Error::InvalidArgument(format!(
             "image size {w}x{h} is out of range: each side must be 1..={max} on this adapter"
         )));
     }
+    let hdr = quality.map_or(crate::quality::HdrPrecision::Half, |q| q.hdr_precision);
+    let need = frame_bytes((w, h), hdr.format());
+    let budget = crate::limits::memory_budget();
+    if need > budget.bytes {
+        return Err(Error::InvalidArgument(format!(
+            "a {w}x{h} frame needs about {} for its targets and read-back, over the memory budget of {budget}",
+            crate::limits::bytes_text(need)
+        )));
+    }
     Ok(())
+}
+
+/// Estimated memory of one frame of `size` (bytes): the core targets (G-buffer, depth,
+/// the HDR target in `hdr_format`, the display image), the float read-back of the HDR
+/// target and its copy as an image on the CPU. Shadow maps and environment cubes do not
+/// grow with the frame and are left out.
+pub fn frame_bytes(size: (u32, u32), hdr_format: wgpu::TextureFormat) -> u64 {
+    let texel = |f: wgpu::TextureFormat| u64::from(f.block_copy_size(None).unwrap_or(4));
+    let targets = [
+        slots::GBUFFER0_FORMAT,
+        slots::GBUFFER1_FORMAT,
+        slots::GBUFFER2_FORMAT,
+        slots::DEPTH_FORMAT,
+        hdr_format,
+        HEADLESS_FORMAT,
+    ]
+    .map(texel)
+    .iter()
+    .sum::<u64>();
+    let float_rgba = 16;
+    let per_pixel = targets + 2 * float_rgba;
+    u64::from(size.0) * u64::from(size.1) * per_pixel
 }

@@ -31,6 +31,7 @@ pub mod color;
 pub mod encoding;
 pub mod error;
 pub mod ibl;
+pub mod limits;
 pub mod punctual;
 pub mod quality;
 pub mod reference;

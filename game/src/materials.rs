@@ -2,7 +2,7 @@
 //! texture files given by role.
 
 use crate::cli::TextureRoles;
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Result, anyhow};
 use lumen::scene::{ColorSpace, TextureData};
 use lumen::validate::{ColorInput, MaterialInput, ScalarInput};
 use std::path::{Path, PathBuf};
@@ -23,7 +23,7 @@ pub struct NamedMaterial {
 /// Reads an image file as RGBA8 in `color_space`, with the glTF loader's decoder: a side
 /// over [`MAX_TEXTURE_SIZE`] is downscaled, with a warning on stderr.
 pub fn read_texture(path: &Path, color_space: ColorSpace) -> Result<TextureData> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = lumen::assets::files::read(path, lumen::limits::FileKind::Texture)?;
     let mut warnings = Vec::new();
     let what = path.display().to_string();
     let texture = lumen::assets::texture_io::decode(

@@ -1,5 +1,6 @@
-//! Writing to standard output without panicking when the reader has gone away
-//! (`lumen render | head -1`): `println!` panics on a broken pipe.
+//! Output: standard output without panicking when the reader has gone away
+//! (`lumen render | head -1`: `println!` panics on a broken pipe), and text files written
+//! atomically.
 
 use anyhow::{Context, Result};
 use std::io::Write;
@@ -11,8 +12,9 @@ pub fn print(text: &str) {
     let _ = out.write_all(text.as_bytes()).and_then(|_| out.flush());
 }
 
-/// Writes `text` to `path`, creating its folder; errors name the path.
+/// Writes `text` to `path` atomically (its folder created; a failed write leaves what
+/// `path` held); errors name the path.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    lumen::assets::image_io::ensure_parent(path)?;
-    std::fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    lumen::assets::files::write_atomic(path, text.as_bytes())
+        .with_context(|| format!("cannot write {}", path.display()))
 }

@@ -46,3 +46,23 @@ pub fn bar(total: u64, what: &str, unit: &str) -> indicatif::ProgressBar {
     );
     b
 }
+
+/// Frames of at least this many pixels (2048 × 2048) show a spinner with their stage: on a
+/// software rasterizer each one takes seconds.
+pub const LONG_FRAME_PIXELS: u64 = 2048 * 2048;
+
+/// A spinner on stderr for one-off work done in stages (`{what}: {stage} ({elapsed})`),
+/// ticking by itself while a stage blocks; hidden unless `show` and stderr is a terminal.
+pub fn stages(show: bool, what: &str) -> indicatif::ProgressBar {
+    if !show || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::new_spinner();
+    let template = format!("{{spinner}} {what}: {{msg}} ({{elapsed}})");
+    b.set_style(
+        indicatif::ProgressStyle::with_template(&template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+    );
+    b.enable_steady_tick(std::time::Duration::from_millis(200));
+    b
+}

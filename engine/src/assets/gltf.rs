@@ -16,11 +16,14 @@
 //! Textures are not read yet: materials use their factors, and a warning says how many
 //! textures were ignored.
 
-use super::gltf_buffers::{percent_decoded, view_bytes};
+use super::files;
+use super::gltf_buffers::{load_buffers, view_bytes};
+use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
 use super::{draco, tangents};
 use crate::app::App;
 use crate::error::{Error, Result};
+use crate::limits::FileKind;
 use crate::scene::{
     Aabb, Camera, DirectionalLight, GlobalTransform, LightColor, LuminousIntensity, Material,
     Mesh3d, MeshData, PointLight, Projection, SpotLight, Transform, Vertex,
@@ -75,6 +78,13 @@ pub fn material_inputs(
     path: &Path,
     max_texture_size: u32,
 ) -> Result<(Vec<NamedMaterialInput>, Vec<String>)> {
+    contained(path, || read_material_inputs(path, max_texture_size))
+}
+
+fn read_material_inputs(
+    path: &Path,
+    max_texture_size: u32,
+) -> Result<(Vec<NamedMaterialInput>, Vec<String>)> {
     let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let views: Vec<gltf::buffer::View> = document.views().collect();
@@ -99,31 +109,35 @@ pub fn material_inputs(
     Ok((materials, loader.warnings))
 }
 
-/// Reads and parses a glTF file and loads its buffers, checking that every buffer file
-/// exists first.
+/// Reads and parses a glTF file (capped as [`FileKind::Model`]) and loads its buffers
+/// (each capped as [`FileKind::Buffer`]).
 fn open(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>)> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = files::read(path, FileKind::Model)?;
     let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
-    for buffer in gltf.document.buffers() {
-        if let gltf::buffer::Source::Uri(uri) = buffer.source()
-            && !uri.starts_with("data:")
-            && !base.join(percent_decoded(uri)).is_file()
-        {
-            return Err(bad(
-                path,
-                format!("buffer {}: file {uri} not found", buffer.index()),
-            ));
-        }
-    }
-    let buffers = gltf::import_buffers(&gltf.document, Some(base), gltf.blob.clone())
+    let buffers = load_buffers(&gltf.document, base, gltf.blob)
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
     Ok((gltf.document, buffers))
+}
+
+/// Runs `load` on the file at `path` with any panic inside the `gltf` crate turned into the
+/// usual error naming the file.
+fn contained<T>(path: &Path, load: impl FnOnce() -> Result<T>) -> Result<T> {
+    crate::error::contain_panics(load).unwrap_or_else(|panic| {
+        Err(bad(
+            path,
+            format!("malformed glTF (the glTF reader failed: {panic})"),
+        ))
+    })
 }
 
 /// Loads a glTF file into `app`'s World. Fails with an error naming the file and the
 /// problem; never panics on malformed input.
 pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
+    contained(path, || load_into(app, path))
+}
+
+fn load_into(app: &mut App, path: &Path) -> Result<GltfSummary> {
     let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let mut summary = GltfSummary::default();
@@ -228,21 +242,28 @@ pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
             }
         }
         if let (Some(camera), false) = (node.camera(), summary.has_camera) {
-            if let gltf::camera::Projection::Perspective(p) = camera.projection() {
-                world.entity_mut(entity).insert(Camera {
-                    projection: Projection {
-                        fov_y_rad: p.yfov(),
-                        near_m: p.znear(),
-                        far_m: p.zfar().unwrap_or(p.znear() * 1e5),
-                        ..Projection::default()
-                    },
-                    ..Camera::default()
-                });
-                summary.has_camera = true;
-            } else {
-                summary
+            match camera.projection() {
+                gltf::camera::Projection::Perspective(p) => match degenerate_perspective(&p) {
+                    Some(problem) => summary.warnings.push(format!(
+                        "camera {}: {problem}: ignored, the view is framed automatically",
+                        camera.index()
+                    )),
+                    None => {
+                        world.entity_mut(entity).insert(Camera {
+                            projection: Projection {
+                                fov_y_rad: p.yfov(),
+                                near_m: p.znear(),
+                                far_m: p.zfar().unwrap_or(p.znear() * 1e5),
+                                ..Projection::default()
+                            },
+                            ..Camera::default()
+                        });
+                        summary.has_camera = true;
+                    }
+                },
+                gltf::camera::Projection::Orthographic(_) => summary
                     .warnings
-                    .push("orthographic cameras are not supported; ignored".into());
+                    .push("orthographic cameras are not supported; ignored".into()),
             }
         }
         if let Some(light) = node.light() {
@@ -334,6 +355,21 @@ fn texture_budget(app: &App) -> u32 {
     budget.min(device).max(1)
 }
 
+/// Why a perspective camera describes no view, if it does not: glTF requires
+/// 0 < `yfov` < π, `znear` > 0 and `zfar` > `znear` (all finite).
+fn degenerate_perspective(p: &gltf::camera::Perspective) -> Option<String> {
+    let (yfov, znear, zfar) = (p.yfov(), p.znear(), p.zfar());
+    let fov_ok = yfov.is_finite() && yfov > 0.0 && yfov < std::f32::consts::PI;
+    let near_ok = znear.is_finite() && znear > 0.0;
+    let far_ok = zfar.is_none_or(|f| f.is_finite() && f > znear);
+    (!(fov_ok && near_ok && far_ok)).then(|| {
+        let far = zfar.map_or("none".into(), |f| f.to_string());
+        format!(
+            "yfov {yfov}, znear {znear}, zfar {far} describe no view (glTF needs 0 < yfov < π, znear > 0, zfar > znear)"
+        )
+    })
+}
+
 fn finite_vec(v: Vec3, fallback: Vec3) -> Vec3 {
     if v.is_finite() { v } else { fallback }
 }
@@ -380,9 +416,11 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
 /// the Draco stream).
 fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
     use gltf::json::validation::{Error as Invalid, Validate};
+    gltf_checks::check_index_ranges(bytes).map_err(|e| format!("invalid glTF: {e}"))?;
     let gltf = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| format!("not a valid glTF file: {e}"))?;
     let root = gltf.document.as_json();
+    gltf_checks::check_attribute_accessors(root).map_err(|e| format!("invalid glTF: {e}"))?;
     let draco_required = root
         .extensions_required
         .iter()

@@ -1,5 +1,48 @@
-//! A glTF file's URIs and buffer views, for the importer and the texture readers:
-//! percent-decoding and bounds-checked buffer view bytes.
+//! A glTF file's URIs, buffers and buffer views, for the importer and the texture readers:
+//! percent-decoding, capped buffer loading and bounds-checked buffer view bytes.
+
+use crate::limits::FileKind;
+use std::path::Path;
+
+/// Loads every buffer of `document`: the GLB binary chunk, a base64 `data:` URI, or a file
+/// beside the document read with [`super::files::read`] (a regular file, capped as
+/// [`FileKind::Buffer`]). A buffer shorter than its `byteLength` is an error.
+pub(super) fn load_buffers(
+    document: &gltf::Document,
+    base: &Path,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>, String> {
+    let cap = FileKind::Buffer.cap();
+    document
+        .buffers()
+        .map(|buffer| {
+            let at = format!("buffer {}", buffer.index());
+            let declared = buffer.length();
+            if declared as u64 > cap {
+                return Err(format!(
+                    "{at}: byteLength {declared} is over the {} cap",
+                    crate::limits::bytes_text(cap)
+                ));
+            }
+            let bytes = match buffer.source() {
+                gltf::buffer::Source::Bin => blob
+                    .take()
+                    .ok_or_else(|| format!("{at}: the file has no binary chunk"))?,
+                gltf::buffer::Source::Uri(uri) => {
+                    super::texture_io::read_uri(base, uri, FileKind::Buffer)
+                        .map_err(|e| format!("{at}: {e}"))?
+                }
+            };
+            if bytes.len() < declared {
+                return Err(format!(
+                    "{at}: {} bytes, shorter than its byteLength {declared}",
+                    bytes.len()
+                ));
+            }
+            Ok(gltf::buffer::Data(bytes))
+        })
+        .collect()
+}
 
 /// A URI's `%XX` escapes decoded (glTF URIs are percent-encoded); malformed escapes stay.
 pub(super) fn percent_decoded(uri: &str) -> String {

@@ -46,7 +46,9 @@ impl TextureLoader<'_> {
                     "{what}: buffer view {} is out of range",
                     view.index()
                 )),
-            gltf::image::Source::Uri { uri, .. } => texture_io::read_uri(self.base, uri),
+            gltf::image::Source::Uri { uri, .. } => {
+                texture_io::read_uri(self.base, uri, crate::limits::FileKind::Texture)
+            }
         };
         let decoded = bytes.and_then(|b| {
             texture_io::decode(&b, color_space, self.max_size, &mut self.warnings, &what)

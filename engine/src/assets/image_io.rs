@@ -1,6 +1,8 @@
 //! Writing rendered images: PNG (display image) and OpenEXR (linear HDR).
 
+use super::files;
 use crate::error::{Error, Result};
+use crate::limits::FileKind;
 use std::path::Path;
 
 /// The image formats `lumen` writes, chosen by file extension.
@@ -32,16 +34,6 @@ impl OutputFormat {
     }
 }
 
-/// Creates the parent directory of `path` if needed.
-pub fn ensure_parent(path: &Path) -> Result<()> {
-    match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => {
-            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))
-        }
-        _ => Ok(()),
-    }
-}
-
 fn image_error(path: &Path, e: image::ImageError) -> Error {
     match e {
         image::ImageError::IoError(io) => Error::io(path, io),
@@ -49,26 +41,38 @@ fn image_error(path: &Path, e: image::ImageError) -> Error {
     }
 }
 
+/// Encodes `image` as `format` in memory and writes it with [`files::write_atomic`]: a
+/// failed write is an error and never leaves a half-written file at `path`.
+pub fn save<P: image::PixelWithColorType>(
+    path: &Path,
+    image: &image::ImageBuffer<P, Vec<P::Subpixel>>,
+    format: image::ImageFormat,
+) -> Result<()>
+where
+    [P::Subpixel]: image::EncodableLayout,
+{
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, format)
+        .map_err(|e| image_error(path, e))?;
+    files::write_atomic(path, bytes.get_ref())
+}
+
 /// Writes an 8-bit RGBA image as PNG.
 pub fn save_png(path: &Path, image: &image::RgbaImage) -> Result<()> {
-    ensure_parent(path)?;
-    image
-        .save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| image_error(path, e))
+    save(path, image, image::ImageFormat::Png)
 }
 
 /// Writes the RGB channels of a float image as a 32-bit float OpenEXR file.
 pub fn save_exr(path: &Path, image: &image::Rgba32FImage) -> Result<()> {
-    ensure_parent(path)?;
     let rgb: image::Rgb32FImage = image::DynamicImage::ImageRgba32F(image.clone()).into_rgb32f();
-    rgb.save_with_format(path, image::ImageFormat::OpenExr)
-        .map_err(|e| image_error(path, e))
+    save(path, &rgb, image::ImageFormat::OpenExr)
 }
 
 /// Reads an OpenEXR (or any float-capable) image as 32-bit float RGBA.
 pub fn load_rgba32f(path: &Path) -> Result<image::Rgba32FImage> {
-    let img = image::ImageReader::open(path)
-        .map_err(|e| Error::io(path, e))?
+    let bytes = files::read(path, FileKind::Environment)?;
+    let img = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| Error::io(path, e))?
         .decode()

@@ -1,8 +1,11 @@
-//! Getting content into the scene: procedural meshes, glTF import, image files.
+//! Getting content into the scene and images out: procedural meshes, glTF import, image
+//! files, and the checked reads and atomic writes every file goes through.
 
 pub mod draco;
+pub mod files;
 pub mod gltf;
 mod gltf_buffers;
+mod gltf_checks;
 mod gltf_material;
 pub mod image_io;
 pub mod procedural;

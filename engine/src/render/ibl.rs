@@ -295,6 +295,24 @@ impl Ibl {
         self.report("upload", 0, total);
 
         let t = Instant::now();
+        // Checked before any GPU call: an image past the device's 2D limit is box-filtered
+        // down to it on the CPU, with a warning.
+        let limit = gpu.device.limits().max_texture_dimension_2d;
+        let fitted = image.downscaled_to_fit(limit);
+        if let Some(small) = &fitted {
+            log::warn!(
+                "{}: {}×{} exceeds the device's texture limit of {limit}: downscaled to {}×{}",
+                image
+                    .path
+                    .as_ref()
+                    .map_or("environment".into(), |p| p.display().to_string()),
+                image.width,
+                image.height,
+                small.width,
+                small.height
+            );
+        }
+        let image = fitted.as_ref().unwrap_or(image);
         let data: Vec<half::f16> = image
             .texels
             .iter()

@@ -143,7 +143,7 @@ pub fn read_overrides(dir: &Path) -> Result<ShaderOverrides> {
         if !path.exists() {
             continue;
         }
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        let text = crate::assets::files::read_text(&path)?;
         if text != builtin {
             out.insert(file, Arc::from(text));
         }

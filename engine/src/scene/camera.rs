@@ -389,7 +389,14 @@ impl Camera {
     pub fn resolve_exposure(&self, metered_ev100: Option<f32>) -> ResolvedExposure {
         let mut notes = Vec::new();
         let comp = if self.exposure_compensation.is_finite() {
-            self.exposure_compensation.clamp(-20.0, 20.0)
+            let c = self.exposure_compensation;
+            let clamped = c.clamp(-20.0, 20.0);
+            if clamped != c {
+                notes.push(format!(
+                    "exposure compensation {c} stops is outside -20..=20: clamped to {clamped}"
+                ));
+            }
+            clamped
         } else {
             notes.push("exposure compensation is not finite: using 0".into());
             0.0

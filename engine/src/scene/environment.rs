@@ -87,7 +87,7 @@ impl EquirectImage {
     /// Loads an OpenEXR (any compression the `exr` crate reads, DWAA/DWAB included) or
     /// Radiance `.hdr` file. Errors name the file and the problem.
     pub fn load(path: &Path) -> Result<EquirectImage> {
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::assets::files::read(path, crate::limits::FileKind::Environment)?;
         let format = image::guess_format(&bytes)
             .map_err(|_| Error::bad_file(path, "not an OpenEXR or Radiance HDR image"))?;
         if !matches!(
@@ -108,7 +108,14 @@ impl EquirectImage {
             .map_err(|e| Error::bad_file(path, e.to_string()))?;
         img.path = Some(path.to_path_buf());
         let s = img.sanitized;
-        if s.negative + s.non_finite + s.clamped > 0 {
+        if img.is_black() {
+            log::warn!(
+                "{}: the environment lights nothing: every texel is black after {} negative and {} NaN or infinite channels became 0",
+                path.display(),
+                s.negative,
+                s.non_finite
+            );
+        } else if s.negative + s.non_finite + s.clamped > 0 {
             log::info!(
                 "{}: set {} negative and {} non-finite channels to 0, clamped {} above {MAX_TEXEL}",
                 path.display(),
@@ -118,6 +125,56 @@ impl EquirectImage {
             );
         }
         Ok(img)
+    }
+}
+
+impl EquirectImage {
+    /// A box-filtered copy no wider and no taller than `max` texels (each axis on its own,
+    /// so an image past a device's texture limit fits it), or `None` if it already fits.
+    /// Each output texel is the mean of the source texels its footprint covers.
+    pub fn downscaled_to_fit(&self, max: u32) -> Option<EquirectImage> {
+        let max = max.max(2);
+        if self.width <= max && self.height <= max {
+            return None;
+        }
+        let (w, h) = (self.width.min(max), self.height.min(max));
+        let span = |i: u32, out: u32, size: u32| {
+            let lo = (u64::from(i) * u64::from(size) / u64::from(out)) as u32;
+            let hi = ((u64::from(i) + 1) * u64::from(size) / u64::from(out)) as u32;
+            lo..hi.max(lo + 1).min(size)
+        };
+        let mut texels = Vec::with_capacity(w as usize * h as usize);
+        for y in 0..h {
+            let rows = span(y, h, self.height);
+            for x in 0..w {
+                let cols = span(x, w, self.width);
+                let mut sum = [0.0f64; 3];
+                let mut n = 0.0f64;
+                for sy in rows.clone() {
+                    for sx in cols.clone() {
+                        let t = self.texels[(sy * self.width + sx) as usize];
+                        for c in 0..3 {
+                            sum[c] += f64::from(t[c]);
+                        }
+                        n += 1.0;
+                    }
+                }
+                texels.push(sum.map(|v| (v / n) as f32));
+            }
+        }
+        Some(EquirectImage {
+            id: NEXT_IMAGE_ID.fetch_add(1, Ordering::Relaxed),
+            path: self.path.clone(),
+            width: w,
+            height: h,
+            texels,
+            sanitized: self.sanitized,
+        })
+    }
+
+    /// Whether no texel carries light (every channel 0 after sanitizing).
+    pub fn is_black(&self) -> bool {
+        self.texels.iter().all(|t| t.iter().all(|&v| v == 0.0))
     }
 }
 

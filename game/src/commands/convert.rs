@@ -150,9 +150,7 @@ fn save<P: image::PixelWithColorType>(
 where
     [P::Subpixel]: image::EncodableLayout,
 {
-    lumen::assets::image_io::ensure_parent(path)?;
-    image
-        .save(path)
+    lumen::assets::image_io::save(path, image, image::ImageFormat::Png)
         .with_context(|| format!("writing {}", path.display()))
 }
 

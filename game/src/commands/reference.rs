@@ -18,6 +18,18 @@ pub fn frame_tonemapper(app: &App) -> lumen::color::Tonemapper {
         .unwrap_or_default()
 }
 
+/// Warns when the path tracer dropped NaN or infinite paths (one line, with the count).
+pub fn warn_dropped(dropped: u64, options: &ReferenceOptions) {
+    if dropped > 0 {
+        let total = u64::from(options.size.0)
+            * u64::from(options.size.1)
+            * u64::from(options.samples_per_pixel.max(1));
+        log::warn!(
+            "path tracer: dropped {dropped} of {total} paths whose radiance was NaN or infinite"
+        );
+    }
+}
+
 /// Builds the scene, path-traces it and writes the image. Returns the path written.
 pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     check_scene_args(&args.scene)?;
@@ -38,8 +50,10 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     };
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
-    let image = render(&scene, &options, &|rows| bar.set_position(u64::from(rows)));
+    let traced = render(&scene, &options, &|rows| bar.set_position(u64::from(rows)));
     bar.finish_and_clear();
+    warn_dropped(traced.dropped_samples, &options);
+    let image = traced.image;
     let seconds = start.elapsed().as_secs_f64();
     match format {
         OutputFormat::Exr => save_exr(&out, &image)?,

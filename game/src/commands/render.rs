@@ -21,6 +21,12 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
+    let pixels = u64::from(args.size.0) * u64::from(args.size.1);
+    let stages = crate::progress::stages(
+        pixels >= crate::progress::LONG_FRAME_PIXELS,
+        &format!("rendering {}x{}", args.size.0, args.size.1),
+    );
+    stages.set_message("first frame (compiling pipelines)");
     // The first frame compiles the pipelines the scene needs; the second is measured.
     // Automatic exposure first adapts: frames at a fixed 1/30 s until the meter settles.
     let first = app.render_headless(args.size)?;
@@ -36,6 +42,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             }
         }
     }
+    stages.set_message("measured frame");
     let report = app.render_headless(args.size)?;
     for note in &report.notes {
         log::warn!("camera: {note}");
@@ -43,7 +50,9 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     if args.explain {
         eprint!("{}", report.plan.explain());
     }
+    stages.set_message(format!("reading back and writing {}", out.display()));
     save_frame(&app, &out, format)?;
+    stages.finish_and_clear();
 
     let adapter = app.adapter().cloned().context("no adapter")?;
     let gpu_total: Option<f64> = report.passes.iter().map(|p| p.gpu_ms).sum();

@@ -138,17 +138,16 @@ fn reference(
     let traced = trace_scene(&mut app, size)?;
     let tonemapper = crate::commands::reference::frame_tonemapper(&app);
     let bar = crate::progress::bar(u64::from(size.1), "reference", "rows");
-    let img = render(
-        &traced,
-        &ReferenceOptions {
-            size,
-            samples_per_pixel: spp,
-            max_bounces: REFERENCE_BOUNCES,
-            seed: 0,
-        },
-        &|rows| bar.set_position(u64::from(rows)),
-    );
+    let options = ReferenceOptions {
+        size,
+        samples_per_pixel: spp,
+        max_bounces: REFERENCE_BOUNCES,
+        seed: 0,
+    };
+    let result = render(&traced, &options, &|rows| bar.set_position(u64::from(rows)));
     bar.finish_and_clear();
+    crate::commands::reference::warn_dropped(result.dropped_samples, &options);
+    let img = result.image;
     lumen::assets::image_io::save_exr(&cache, &img)?;
     Ok((img, tonemapper, false))
 }
@@ -244,7 +243,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     let table = markdown(&title, &rows);
     crate::output::print(&table);
     if let Some(path) = &args.out {
-        std::fs::write(path, &table).with_context(|| format!("writing {}", path.display()))?;
+        crate::output::write_text(path, &table)?;
     }
     if let Some(path) = &args.json {
         let doc = json!({
@@ -264,7 +263,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         if path.as_os_str() == "-" {
             crate::output::print(&format!("{text}\n"));
         } else {
-            std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+            crate::output::write_text(path, &text)?;
         }
     }
     if let Some(path) = &args.plot {
@@ -317,50 +316,50 @@ fn plot(path: &Path, title: &str, rows: &[Row]) -> Result<()> {
     let draw = |e: &dyn std::fmt::Display| anyhow!("drawing {}: {e}", path.display());
     let x_max = rows.iter().map(|r| r.frame_ms).fold(0.0, f64::max) * 1.15;
     let y_max = rows.iter().map(|r| r.flip_mean).fold(0.0, f64::max) * 1.15;
-    let root = BitMapBackend::new(path, (1200, 600)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| draw(&e))?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..x_max.max(1e-3), 0.0..y_max.max(1e-4))
-        .map_err(|e| draw(&e))?;
-    chart
-        .configure_mesh()
-        .x_desc("ms per frame")
-        .y_desc("FLIP mean against the reference")
-        .label_style(("sans-serif", 14))
-        .draw()
-        .map_err(|e| draw(&e))?;
-    let front = pareto_front(rows);
-    chart
-        .draw_series(LineSeries::new(
-            front.iter().map(|&i| (rows[i].frame_ms, rows[i].flip_mean)),
-            RGBColor(214, 39, 40).stroke_width(2),
-        ))
-        .map_err(|e| draw(&e))?;
-    for (i, r) in rows.iter().enumerate() {
-        let color = if front.contains(&i) {
-            RGBColor(214, 39, 40)
-        } else {
-            RGBColor(31, 119, 180)
-        };
-        chart
-            .draw_series(std::iter::once(Circle::new(
-                (r.frame_ms, r.flip_mean),
-                5,
-                color.filled(),
-            )))
+    crate::commands::bench::plot::draw_png(path, |root| {
+        root.fill(&WHITE).map_err(|e| draw(&e))?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0.0..x_max.max(1e-3), 0.0..y_max.max(1e-4))
             .map_err(|e| draw(&e))?;
         chart
-            .draw_series(std::iter::once(Text::new(
-                r.label(),
-                (r.frame_ms, r.flip_mean),
-                ("sans-serif", 12),
-            )))
+            .configure_mesh()
+            .x_desc("ms per frame")
+            .y_desc("FLIP mean against the reference")
+            .label_style(("sans-serif", 14))
+            .draw()
             .map_err(|e| draw(&e))?;
-    }
-    root.present().map_err(|e| draw(&e))?;
-    Ok(())
+        let front = pareto_front(rows);
+        chart
+            .draw_series(LineSeries::new(
+                front.iter().map(|&i| (rows[i].frame_ms, rows[i].flip_mean)),
+                RGBColor(214, 39, 40).stroke_width(2),
+            ))
+            .map_err(|e| draw(&e))?;
+        for (i, r) in rows.iter().enumerate() {
+            let color = if front.contains(&i) {
+                RGBColor(214, 39, 40)
+            } else {
+                RGBColor(31, 119, 180)
+            };
+            chart
+                .draw_series(std::iter::once(Circle::new(
+                    (r.frame_ms, r.flip_mean),
+                    5,
+                    color.filled(),
+                )))
+                .map_err(|e| draw(&e))?;
+            chart
+                .draw_series(std::iter::once(Text::new(
+                    r.label(),
+                    (r.frame_ms, r.flip_mean),
+                    ("sans-serif", 12),
+                )))
+                .map_err(|e| draw(&e))?;
+        }
+        Ok(())
+    })
 }

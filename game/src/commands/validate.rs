@@ -156,8 +156,7 @@ fn write_heatmaps(dir: &Path, k: usize, m: &NamedMaterial, report: &Report) -> R
     let stem = format!("{k}-{}", file_stem(&m.name));
     let save = |name: String, image: &image::RgbImage| -> Result<()> {
         let path = dir.join(name);
-        image
-            .save(&path)
+        lumen::assets::image_io::save(&path, image, image::ImageFormat::Png)
             .with_context(|| format!("writing {}", path.display()))
     };
     save(format!("{stem}.png"), &report.heatmap)?;

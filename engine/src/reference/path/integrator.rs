@@ -375,7 +375,9 @@ impl TraceScene {
         None
     }
 
-    /// One path's radiance (pre-exposed) along a camera ray.
+    /// One path's radiance (pre-exposed) along a camera ray. It can be NaN or infinite
+    /// (finite terms that overflow f32 when added): [`super::render`] counts and drops
+    /// such paths.
     pub fn radiance(&self, origin: Vec3, dir: Vec3, max_bounces: u32, rng: &mut Rng) -> Vec3 {
         let Some(mut hit) = self.trace(origin, dir) else {
             return self
@@ -437,11 +439,7 @@ impl TraceScene {
                 throughput /= q;
             }
         }
-        if radiance.is_finite() {
-            radiance
-        } else {
-            Vec3::ZERO
-        }
+        radiance
     }
 }
 

@@ -48,40 +48,75 @@ impl Default for ReferenceOptions {
     }
 }
 
+/// The largest value a pixel holds per channel: the 16-bit float maximum (65504) of the
+/// rasterizer's HDR target, which its lighting and sky passes clamp to.
+pub const HDR_MAX: f64 = 65504.0;
+
+/// A path-traced image and what its accumulation had to drop.
+#[derive(Clone, Debug)]
+pub struct Traced {
+    /// Linear, pre-exposed radiance per pixel (alpha 1); every value finite.
+    pub image: image::Rgba32FImage,
+    /// Paths whose radiance was NaN or infinite: counted, left out of their pixel's mean.
+    pub dropped_samples: u64,
+}
+
 /// Path-traces `scene`: linear, pre-exposed radiance per pixel (alpha 1), the mean of
 /// `samples_per_pixel` paths with the pixel position jittered uniformly (box filter).
 /// Rows run in parallel; `progress` is called with the number of rows done so far.
+///
+/// The accumulation is guarded: a path whose radiance is NaN or infinite is counted in
+/// [`Traced::dropped_samples`] and left out of the mean, which is taken over the remaining
+/// paths in `f64` so that no sum of finite values overflows; a pixel with no finite path
+/// is black. Like the rasterizer's 16-bit float HDR target, a pixel holds at most
+/// [`HDR_MAX`] per channel. Every pixel written is finite.
 pub fn render(
     scene: &TraceScene,
     options: &ReferenceOptions,
     progress: &(dyn Fn(u32) + Sync),
-) -> image::Rgba32FImage {
+) -> Traced {
     let (w, h) = (options.size.0.max(1), options.size.1.max(1));
     let spp = options.samples_per_pixel.max(1);
     let size = Vec2::new(w as f32, h as f32);
     let done = AtomicU32::new(0);
-    let rows: Vec<Vec<f32>> = (0..h)
+    let rows: Vec<(Vec<f32>, u64)> = (0..h)
         .into_par_iter()
         .map(|y| {
             let mut row = Vec::with_capacity(w as usize * 4);
+            let mut dropped = 0u64;
             for x in 0..w {
                 let pixel = y * w + x;
-                let mut sum = glam::Vec3::ZERO;
+                let mut sum = glam::DVec3::ZERO;
+                let mut kept = 0u32;
                 for s in 0..spp {
                     let mut rng = Rng::new(options.seed, pixel, s);
                     let jitter = rng.pair();
                     let lens = rng.pair();
                     let (origin, dir) =
                         scene.camera_ray(Vec2::new(x as f32, y as f32) + jitter, size, lens);
-                    sum += scene.radiance(origin, dir, options.max_bounces.max(1), &mut rng);
+                    let l = scene.radiance(origin, dir, options.max_bounces.max(1), &mut rng);
+                    if l.is_finite() {
+                        sum += l.as_dvec3();
+                        kept += 1;
+                    } else {
+                        dropped += 1;
+                    }
                 }
-                let c = sum / spp as f32;
+                let c = (sum / f64::from(kept.max(1)))
+                    .min(glam::DVec3::splat(HDR_MAX))
+                    .as_vec3();
                 row.extend([c.x, c.y, c.z, 1.0]);
             }
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-            row
+            (row, dropped)
         })
         .collect();
-    image::Rgba32FImage::from_raw(w, h, rows.concat())
-        .unwrap_or_else(|| image::Rgba32FImage::new(w, h))
+    let dropped_samples = rows.iter().map(|(_, d)| d).sum();
+    let pixels: Vec<f32> = rows.into_iter().flat_map(|(row, _)| row).collect();
+    let image = image::Rgba32FImage::from_raw(w, h, pixels)
+        .unwrap_or_else(|| image::Rgba32FImage::new(w, h));
+    Traced {
+        image,
+        dropped_samples,
+    }
 }
