@@ -1,6 +1,6 @@
 // Environment preprocessing (compute), run once per environment image:
-//   cs_equirect_to_cube : equirectangular image → cube map mip 0
-//   cs_downsample       : cube mip n−1 → mip n (2×2 box average)
+//   cs_equirect_to_cube : equirectangular image → cube map mip 0 (as a face strip)
+//   cs_downsample       : cube mip n−1 → mip n (2×2 box average, face strip to face strip)
 //   cs_prefilter        : GGX-prefiltered cube mip (roughness = mip / (mips − 1)) from the
 //                         source cube, with filtered importance sampling (Křivánek &
 //                         Colbert 2008): each sample reads the source mip whose texel solid
@@ -29,7 +29,15 @@ struct Params {
 @group(0) @binding(2) var input_sampler: sampler;
 @group(0) @binding(3) var equirect: texture_2d<f32>;
 @group(0) @binding(4) var source_cube: texture_cube<f32>;
-@group(0) @binding(5) var previous_mip: texture_2d_array<f32>;
+// The source cube's mips are built as face strips: the six faces of one mip side by side
+// in a 2D texture (face k at columns k·size..(k+1)·size), each copied into the cube.
+@group(0) @binding(5) var previous_strip: texture_2d<f32>;
+@group(0) @binding(6) var strip: texture_storage_2d<rgba16float, write>;
+
+// Texel `p` of face `face` in a strip of `size`² faces.
+fn strip_texel(face: u32, p: vec2<u32>, size: u32) -> vec2<i32> {
+    return vec2<i32>(i32(p.x + face * size), i32(p.y));
+}
 
 // World direction through face coordinates `uv` in [−1, 1]² of cube face `face`.
 fn cube_direction(face: u32, uv: vec2<f32>) -> vec3<f32> {
@@ -57,7 +65,7 @@ fn cs_equirect_to_cube(@builtin(global_invocation_id) id: vec3<u32>) {
         let uv = (vec2<f32>(id.xy) + vec2<f32>(0.5) + offset) / f32(params.size) * 2.0 - vec2<f32>(1.0);
         sum += textureSampleLevel(equirect, input_sampler, equirect_uv(cube_direction(id.z, uv)), 0.0).rgb;
     }
-    textureStore(output, vec2<i32>(id.xy), i32(id.z), vec4<f32>(sum * 0.25, 1.0));
+    textureStore(strip, strip_texel(id.z, id.xy, params.size), vec4<f32>(sum * 0.25, 1.0));
 }
 
 @compute @workgroup_size(8, 8, 1)
@@ -65,11 +73,13 @@ fn cs_downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= params.size || id.y >= params.size {
         return;
     }
-    let p = vec2<i32>(id.xy) * 2;
-    let layer = i32(id.z);
-    let c = textureLoad(previous_mip, p, layer, 0) + textureLoad(previous_mip, p + vec2<i32>(1, 0), layer, 0)
-        + textureLoad(previous_mip, p + vec2<i32>(0, 1), layer, 0) + textureLoad(previous_mip, p + vec2<i32>(1, 1), layer, 0);
-    textureStore(output, vec2<i32>(id.xy), layer, vec4<f32>(c.rgb * 0.25, 1.0));
+    let previous = params.size * 2u;
+    let p = id.xy * 2u;
+    let c = textureLoad(previous_strip, strip_texel(id.z, p, previous), 0)
+        + textureLoad(previous_strip, strip_texel(id.z, p + vec2<u32>(1u, 0u), previous), 0)
+        + textureLoad(previous_strip, strip_texel(id.z, p + vec2<u32>(0u, 1u), previous), 0)
+        + textureLoad(previous_strip, strip_texel(id.z, p + vec2<u32>(1u, 1u), previous), 0);
+    textureStore(strip, strip_texel(id.z, id.xy, params.size), vec4<f32>(c.rgb * 0.25, 1.0));
 }
 
 @compute @workgroup_size(8, 8, 1)

@@ -123,7 +123,8 @@ fn cube_texture(gpu: &Gpu, label: &str, size: u32, mips: u32) -> wgpu::Texture {
         format: CUBE_FORMAT,
         usage: wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
@@ -133,6 +134,66 @@ fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
         dimension: Some(wgpu::TextureViewDimension::Cube),
         ..Default::default()
     })
+}
+
+/// A face strip: the six faces of one cube mip of `size`² texels side by side in a 2D
+/// texture, written by the preprocessing shaders and copied into the cube.
+fn face_strip(gpu: &Gpu, size: u32) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("environment face strip"),
+        size: wgpu::Extent3d {
+            width: size * 6,
+            height: size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: CUBE_FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// Copies the face strip `strip` into mip `mip` (of `size`² texels per face) of `cube`.
+fn copy_strip_to_cube(
+    encoder: &mut wgpu::CommandEncoder,
+    strip: &wgpu::Texture,
+    cube: &wgpu::Texture,
+    mip: u32,
+    size: u32,
+) {
+    for face in 0..6 {
+        encoder.copy_texture_to_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: strip,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: face * size,
+                    y: 0,
+                    z: 0,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyTextureInfo {
+                texture: cube,
+                mip_level: mip,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: face,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
 }
 
 fn layer_view(texture: &wgpu::Texture, mip: u32) -> wgpu::TextureView {
@@ -345,6 +406,11 @@ impl Ibl {
         steps.push(("spherical harmonics", t.elapsed().as_secs_f64() * 1e3));
 
         self.report("equirect to cube", 2, total);
+        // Every mip of the source cube is computed into a face strip (a 2D texture with the
+        // six faces side by side) and copied into the cube; each downsample reads the
+        // previous strip. This is for GL, where a cube can be neither sampled as a 2D array
+        // nor copied from, and where sampling mip n−1 of a texture sets its level range to
+        // n−1 so that an image store into mip n of the same texture is dropped.
         let source = cube_texture(gpu, "environment source cube", size, source_mips);
         let equirect_view = equirect.create_view(&Default::default());
         let base = Params {
@@ -355,6 +421,7 @@ impl Ibl {
             source_size: size as f32,
             pad: [0.0; 3],
         };
+        let mut strip = face_strip(gpu, size);
         let ms = Ibl::run(gpu, "equirect to cube", |encoder| {
             Ibl::dispatch(
                 gpu,
@@ -363,10 +430,6 @@ impl Ibl {
                 base,
                 &[
                     wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&layer_view(&source, 0)),
-                    },
-                    wgpu::BindGroupEntry {
                         binding: 2,
                         resource: wgpu::BindingResource::Sampler(&self.equirect_sampler),
                     },
@@ -374,37 +437,49 @@ impl Ibl {
                         binding: 3,
                         resource: wgpu::BindingResource::TextureView(&equirect_view),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 6,
+                        resource: wgpu::BindingResource::TextureView(
+                            &strip.create_view(&Default::default()),
+                        ),
+                    },
                 ],
             );
+            copy_strip_to_cube(encoder, &strip, &source, 0, size);
         })?;
         steps.push(("equirect to cube", ms));
 
         self.report("cube mips", 3, total);
         let ms = Ibl::run(gpu, "cube mips", |encoder| {
             for mip in 1..source_mips {
+                let level_size = (size >> mip).max(1);
+                let next = face_strip(gpu, level_size);
                 Ibl::dispatch(
                     gpu,
                     encoder,
                     &self.downsample,
                     Params {
-                        size: size >> mip,
+                        size: level_size,
                         mip,
                         ..base
                     },
                     &[
                         wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&layer_view(&source, mip)),
+                            binding: 5,
+                            resource: wgpu::BindingResource::TextureView(
+                                &strip.create_view(&Default::default()),
+                            ),
                         },
                         wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: wgpu::BindingResource::TextureView(&layer_view(
-                                &source,
-                                mip - 1,
-                            )),
+                            binding: 6,
+                            resource: wgpu::BindingResource::TextureView(
+                                &next.create_view(&Default::default()),
+                            ),
                         },
                     ],
                 );
+                copy_strip_to_cube(encoder, &next, &source, mip, level_size);
+                strip = next;
             }
         })?;
         steps.push(("cube mips", ms));
