@@ -14,6 +14,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// reaches it (the sun of `sky.exr` peaks at 22672).
 pub const MAX_TEXEL: f32 = 65504.0;
 
+/// The longest side of an environment image decoded (texels): 32768, twice the largest
+/// HDRIs published (16k × 8k).
+pub const MAX_SIDE: u32 = 32768;
+
 /// What loading an HDR image had to repair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Sanitized {
@@ -88,7 +92,13 @@ impl EquirectImage {
     /// Radiance `.hdr` file. Errors name the file and the problem.
     pub fn load(path: &Path) -> Result<EquirectImage> {
         let bytes = crate::assets::files::read(path, crate::limits::FileKind::Environment)?;
-        let format = image::guess_format(&bytes)
+        EquirectImage::decode(&bytes, path)
+    }
+
+    /// Decodes the bytes of an OpenEXR or Radiance `.hdr` file read from `path` (named in
+    /// errors and warnings).
+    pub fn decode(bytes: &[u8], path: &Path) -> Result<EquirectImage> {
+        let format = image::guess_format(bytes)
             .map_err(|_| Error::bad_file(path, "not an OpenEXR or Radiance HDR image"))?;
         if !matches!(
             format,
@@ -99,7 +109,46 @@ impl EquirectImage {
                 format!("{format:?} is not an HDR format (use OpenEXR .exr or Radiance .hdr)"),
             ));
         }
-        let decoded = image::load_from_memory_with_format(&bytes, format)
+        // The header's size is checked before anything is decoded: a decoder sizes its
+        // buffers from it, and some allocate without a check (the `exr` crate's DWA
+        // decoder asked for 25 GB for a mutated data window).
+        let header = || {
+            let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes));
+            reader.set_format(format);
+            reader
+        };
+        // For OpenEXR, the larger of the display window (the image crate's dimensions, the
+        // size of the buffer it decodes into) and every part's data window (what the `exr`
+        // crate decodes).
+        let (mut w, mut h) = header()
+            .into_dimensions()
+            .map_err(|e| Error::bad_file(path, format!("cannot decode: {e}")))?;
+        if format == image::ImageFormat::OpenExr {
+            let (dw, dh) = exr_data_window(bytes)
+                .map_err(|e| Error::bad_file(path, format!("cannot decode: {e}")))?;
+            (w, h) = (w.max(dw), h.max(dh));
+        }
+        let decoded_bytes = u64::from(w) * u64::from(h) * 16;
+        let budget = crate::limits::memory_budget();
+        if w > MAX_SIDE || h > MAX_SIDE || decoded_bytes > budget.bytes {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "{w}×{h} is too large to decode (each side at most {MAX_SIDE}; {} decoded, the memory budget is {budget})",
+                    crate::limits::bytes_text(decoded_bytes)
+                ),
+            ));
+        }
+        if format == image::ImageFormat::OpenExr {
+            check_exr_chunks(bytes)
+                .map_err(|e| Error::bad_file(path, format!("cannot decode: {e}")))?;
+        }
+        let mut reader = header();
+        let mut limits = image::Limits::default();
+        limits.max_alloc = Some(budget.bytes);
+        reader.limits(limits);
+        let decoded = reader
+            .decode()
             .map_err(|e| Error::bad_file(path, format!("cannot decode: {e}")))?
             .into_rgb32f();
         let (w, h) = decoded.dimensions();
@@ -176,6 +225,71 @@ impl EquirectImage {
     pub fn is_black(&self) -> bool {
         self.texels.iter().all(|t| t.iter().all(|&v| v == 0.0))
     }
+}
+
+/// The largest data window among an OpenEXR file's parts (texels), read from its headers
+/// alone. The decoders size their buffers from the data windows, which the image crate's
+/// dimensions (the display window) do not bound.
+fn exr_data_window(bytes: &[u8]) -> std::result::Result<(u32, u32), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| e.to_string())?;
+    let side = |v: usize| u32::try_from(v).unwrap_or(u32::MAX);
+    let (mut w, mut h) = (0, 0);
+    for header in &meta.headers {
+        w = w.max(side(header.layer_size.width()));
+        h = h.max(side(header.layer_size.height()));
+    }
+    Ok((w, h))
+}
+
+/// Refuses an OpenEXR file with a DWA-compressed chunk whose header declares more data
+/// than its block can hold. The `exr` crate's DWA decoder allocates what those counters
+/// say before checking them (the fuzzer found requests of 25 GB and 512 TB, which abort the
+/// process). Each chunk's ten counters (little-endian u64: the unknown, AC, DC and RLE
+/// section sizes and the AC and DC coefficient counts) are bounded by four times the
+/// header's largest uncompressed block.
+fn check_exr_chunks(bytes: &[u8]) -> std::result::Result<(), String> {
+    let reader = exr::block::read(std::io::Cursor::new(bytes), false).map_err(|e| e.to_string())?;
+    let headers = reader.headers().to_vec();
+    let is_dwa = |h: &exr::meta::header::Header| {
+        matches!(
+            h.compression,
+            exr::compression::Compression::DWAA(_) | exr::compression::Compression::DWAB(_)
+        )
+    };
+    if !headers.iter().any(is_dwa) {
+        return Ok(());
+    }
+    for chunk in reader.all_chunks(false).map_err(|e| e.to_string())? {
+        let chunk = chunk.map_err(|e| e.to_string())?;
+        let Some(header) = headers.get(chunk.layer_index).filter(|h| is_dwa(h)) else {
+            continue;
+        };
+        let data = match &chunk.compressed_block {
+            exr::block::chunk::CompressedBlock::ScanLine(b) => &b.compressed_pixels_le,
+            exr::block::chunk::CompressedBlock::Tile(t) => &t.compressed_pixels_le,
+            _ => return Err("deep data is not an environment image".into()),
+        };
+        let limit = header.max_block_byte_size() as u64 * 4;
+        let counters = data
+            .chunks_exact(8)
+            .take(10)
+            .map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0xFF; 8])));
+        for (k, value) in counters.enumerate() {
+            // Counters 8 and 9 count 16-bit coefficients; the others are byte sizes.
+            let bytes = if k >= 8 {
+                value.saturating_mul(2)
+            } else {
+                value
+            };
+            if k > 0 && bytes > limit {
+                return Err(format!(
+                    "a DWA chunk declares {bytes} bytes, more than its block can hold ({limit})"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Where the environment's light comes from.
