@@ -13,8 +13,10 @@
 //!   scales the emission. Alpha mode `MASK` keeps or drops a primitive by its constant
 //!   alpha; `BLEND` primitives are not drawn (a warning), unless their alpha is exactly 1.
 //!
-//! Textures are not read yet: materials use their factors, and a warning says how many
-//! textures were ignored.
+//! Textures (base colour, metallic-roughness, normal, occlusion, emissive) are decoded
+//! within the texture budget ([`gltf_material`]). Every file and URI is read through
+//! [`files::read`] (regular files only, capped by kind); indices are checked before the
+//! `gltf` crate uses them ([`gltf_checks`]) and its panics become errors.
 
 use super::files;
 use super::gltf_buffers::{load_buffers, view_bytes};
