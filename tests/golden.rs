@@ -68,6 +68,7 @@ const CASES: &[Case] = &[
     case("dof", &["--scene", "dof"]),
     case("lights", &["--scene", "lights"]),
     case("extremes", &["--scene", "extremes"]),
+    case("cornell", &["--scene", "cornell"]),
     ibl_case(
         "ibl-studio",
         &["--scene", "spheres", "--env", "assets/hdri/studio.exr"],

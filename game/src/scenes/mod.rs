@@ -1,5 +1,6 @@
 //! The built-in demo and test scenes.
 
+mod cornell;
 mod dof;
 mod extremes;
 mod furnace;
@@ -53,6 +54,11 @@ pub const SCENES: &[SceneInfo] = &[
         build: lights::build,
     },
     SceneInfo {
+        name: "cornell",
+        description: "the Cornell box (published dimensions): red and green walls, two white blocks, a point light under the ceiling; colour bleeding",
+        build: cornell::build,
+    },
+    SceneInfo {
         name: "extremes",
         description: "numerical torture: roughness 0, grazing view, a light 1 µm from a surface, 1e9 lux, degenerate lights and transforms",
         build: extremes::build,
@@ -69,6 +75,9 @@ pub fn find(name: &str) -> Result<&'static SceneInfo, String> {
     })
 }
 
+pub use cornell::{
+    CORNELL_CAMERA, CORNELL_GREEN, CORNELL_LIGHT, CORNELL_RED, CORNELL_ROOM, CORNELL_WHITE,
+};
 pub use dof::{
     DOF_APERTURE, DOF_DISTANCES, DOF_FOCAL_LENGTH_MM, DOF_PANEL_FRACTION, DOF_SCREEN_X, DOF_STRIPES,
 };
