@@ -765,3 +765,85 @@ fn a_files_tangents_keep_their_handedness() {
         assert_eq!(v.tangent, [1.0, 0.0, 0.0, -1.0]);
     }
 }
+
+/// A point light above a 1.2 m occluder over a floor, seen from the side under the
+/// occluder; returns the centre pixel's luminance (the floor right below the occluder).
+fn occluded_floor(light_shadows: bool) -> f32 {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let quad = |y: f32, half: f32| -> Vec<u8> {
+        [
+            [-half, y, -half],
+            [half, y, -half],
+            [half, y, half],
+            [-half, y, half],
+        ]
+        .iter()
+        .flatten()
+        .flat_map(|v: &f32| v.to_le_bytes())
+        .collect()
+    };
+    let mut bin = quad(0.0, 3.0);
+    bin.extend(quad(1.0, 0.6));
+    bin.extend([0u16, 2, 1, 0, 3, 2].iter().flat_map(|i| i.to_le_bytes()));
+    std::fs::write(dir.path().join("room.bin"), &bin).expect("bin");
+    // The camera looks down 13.5° from (0, 0.6, 2.5) at the origin.
+    let half_angle = (0.6f32 / 2.5).atan() * -0.5;
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "intensity": 100.0, "color": [1.0, 1.0, 1.0]}
+        ]}},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [
+            {"mesh": 0},
+            {"mesh": 1},
+            {"translation": [0.0, 2.0, 0.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"camera": 0, "translation": [0.0, 0.6, 2.5],
+             "rotation": [half_angle.sin(), 0.0, 0.0, half_angle.cos()]}
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.05, "zfar": 50.0}}],
+        "materials": [{"doubleSided": true, "pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 1.0}}],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": 0}, "indices": 2, "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": 1}, "indices": 2, "material": 0}]}
+        ],
+        "buffers": [{"byteLength": bin.len(), "uri": "room.bin"}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 96, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-3.0, 0.0, -3.0], "max": [3.0, 0.0, 3.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-0.6, 1.0, -0.6], "max": [0.6, 1.0, 0.6]},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.path().join("room.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).expect("json")).expect("gltf");
+    let mut app = App::headless().expect("a GPU adapter");
+    let options = lumen::assets::gltf::GltfOptions { light_shadows };
+    let summary = lumen::assets::gltf::load_gltf_with(&mut app, &path, &options).expect("loads");
+    assert_eq!((summary.lights, summary.has_camera), (1, true));
+    app.render_headless((64, 64)).expect("frame");
+    let img = app.read_hdr_image().expect("hdr");
+    common::lum(img.get_pixel(32, 32))
+}
+
+#[test]
+fn lights_from_files_cast_shadows_unless_turned_off() {
+    let shadowed = occluded_floor(true);
+    let unshadowed = occluded_floor(false);
+    assert!(
+        unshadowed > 0.0,
+        "the floor is not lit at all: {unshadowed}"
+    );
+    assert!(
+        shadowed < 0.01 * unshadowed,
+        "the occluder casts no shadow: {shadowed} against {unshadowed} without shadows"
+    );
+}

@@ -219,6 +219,9 @@ pub struct SceneArgs {
     /// Turn every shadow off (no shadow pass runs).
     #[arg(long)]
     pub no_shadows: bool,
+    /// The lights of a glTF file cast no shadows (they do by default).
+    #[arg(long)]
+    pub no_gltf_light_shadows: bool,
     /// Shadow filtering: hardware (2×2 PCF), pcf (16 taps, default), pcss (soft, from the light's size).
     #[arg(long, value_name = "NAME", value_parser = parse_shadow_filter)]
     pub shadow_filter: Option<lumen::quality::ShadowFilter>,

@@ -13,7 +13,10 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     apply_quality(&mut app.world_mut().resource_mut::<Quality>(), args);
     match (&args.file, &args.scene) {
         (Some(file), _) => {
-            let summary = lumen::assets::gltf::load_gltf(app, file)?;
+            let options = lumen::assets::gltf::GltfOptions {
+                light_shadows: !args.no_gltf_light_shadows,
+            };
+            let summary = lumen::assets::gltf::load_gltf_with(app, file, &options)?;
             log::info!(
                 "{}: {} node(s), {} primitive(s), {} triangles, {} light(s)",
                 file.display(),

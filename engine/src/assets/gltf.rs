@@ -1,7 +1,8 @@
 //! glTF 2.0 import (`.gltf` with its buffers, or `.glb`): the node hierarchy becomes
 //! entities with [`ChildOf`] and [`Transform`]; every triangle primitive becomes a mesh
 //! with a metal/roughness [`Material`]; the first camera and `KHR_lights_punctual`
-//! lights are mapped onto ours (glTF's lux and candela are our units).
+//! lights are mapped onto ours (glTF's lux and candela are our units). The lights cast
+//! shadows unless [`GltfOptions::light_shadows`] is off.
 //!
 //! - Primitives: u8/u16/u32 or no indices; `KHR_draco_mesh_compression` (decoded with
 //!   `draco-core`). Every accessor's byte range is checked against its buffer before it
@@ -133,13 +134,35 @@ fn contained<T>(path: &Path, load: impl FnOnce() -> Result<T>) -> Result<T> {
     })
 }
 
-/// Loads a glTF file into `app`'s World. Fails with an error naming the file and the
-/// problem; never panics on malformed input.
-pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
-    contained(path, || load_into(app, path))
+/// How a glTF file is imported.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GltfOptions {
+    /// Whether the file's `KHR_lights_punctual` lights cast shadows. On by default: a light
+    /// inside a room must not light through its walls, and the path tracer, the judge,
+    /// always has shadows.
+    pub light_shadows: bool,
 }
 
-fn load_into(app: &mut App, path: &Path) -> Result<GltfSummary> {
+impl Default for GltfOptions {
+    fn default() -> Self {
+        GltfOptions {
+            light_shadows: true,
+        }
+    }
+}
+
+/// Loads a glTF file into `app`'s World with the default [`GltfOptions`]. Fails with an
+/// error naming the file and the problem; never panics on malformed input.
+pub fn load_gltf(app: &mut App, path: &Path) -> Result<GltfSummary> {
+    load_gltf_with(app, path, &GltfOptions::default())
+}
+
+/// [`load_gltf`] with `options`.
+pub fn load_gltf_with(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSummary> {
+    contained(path, || load_into(app, path, options))
+}
+
+fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSummary> {
     let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let mut summary = GltfSummary::default();
@@ -269,7 +292,7 @@ fn load_into(app: &mut App, path: &Path) -> Result<GltfSummary> {
             }
         }
         if let Some(light) = node.light() {
-            spawn_light(world, entity, &light);
+            spawn_light(world, entity, &light, options.light_shadows);
             summary.lights += 1;
         }
         stack.extend(node.children().map(|c| (c, entity, depth + 1)));
@@ -376,7 +399,12 @@ fn finite_vec(v: Vec3, fallback: Vec3) -> Vec3 {
     if v.is_finite() { v } else { fallback }
 }
 
-fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punctual::Light) {
+fn spawn_light(
+    world: &mut World,
+    entity: Entity,
+    light: &gltf::khr_lights_punctual::Light,
+    cast_shadows: bool,
+) {
     let color = LightColor::LinearRgb(Vec3::from(light.color()));
     let intensity = light.intensity();
     let range_m = light.range().unwrap_or(f32::INFINITY);
@@ -386,6 +414,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
             e.insert(DirectionalLight {
                 illuminance_lux: intensity,
                 color,
+                cast_shadows,
                 ..DirectionalLight::default()
             });
         }
@@ -394,6 +423,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
                 intensity: LuminousIntensity::Candela(intensity),
                 color,
                 range_m,
+                cast_shadows,
                 ..PointLight::default()
             });
         }
@@ -407,6 +437,7 @@ fn spawn_light(world: &mut World, entity: Entity, light: &gltf::khr_lights_punct
                 range_m,
                 inner_angle_rad: inner_cone_angle,
                 outer_angle_rad: outer_cone_angle,
+                cast_shadows,
                 ..SpotLight::default()
             });
         }
