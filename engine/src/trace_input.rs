@@ -77,17 +77,21 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
             let inv_range2 = light.color_inv_range2[3];
             let position_m = Vec3::from_slice(&light.position[..3]);
             let direction = Vec3::from_slice(&light.direction[..3]);
+            // A shadow view index of −1: the frame draws no shadow for this light.
+            let casts_shadows = light.shadow[0] >= 0.0;
             if i < directional {
                 TraceLight::Directional {
                     direction_to_light: direction,
                     illuminance: color,
                     tan_angular_radius: light.shadow[2],
+                    casts_shadows,
                 }
             } else if i < directional + point {
                 TraceLight::Point {
                     position_m,
                     intensity: color,
                     inv_range2,
+                    casts_shadows,
                 }
             } else {
                 TraceLight::Spot {
@@ -97,6 +101,7 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                     inv_range2,
                     cone_scale: light.spot[0],
                     cone_offset: light.spot[1],
+                    casts_shadows,
                 }
             }
         })
@@ -209,11 +214,13 @@ mod tests {
                     direction_to_light: Vec3::Y,
                     illuminance: Vec3::new(3.0, 2.0, 1.0),
                     tan_angular_radius: 0.25,
+                    casts_shadows: true,
                 },
                 TraceLight::Point {
                     position_m: Vec3::new(1.0, 2.0, 3.0),
                     intensity: Vec3::new(4.0, 5.0, 6.0),
                     inv_range2: 0.01,
+                    casts_shadows: false,
                 },
                 TraceLight::Spot {
                     position_m: Vec3::new(4.0, 5.0, 6.0),
@@ -222,6 +229,7 @@ mod tests {
                     inv_range2: 0.04,
                     cone_scale: 2.5,
                     cone_offset: -1.5,
+                    casts_shadows: true,
                 },
             ]
         );

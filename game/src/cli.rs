@@ -347,6 +347,10 @@ pub struct ReferenceArgs {
     /// Random seed: the same seed gives the same image.
     #[arg(long, value_name = "S", default_value_t = 0)]
     pub seed: u64,
+    /// Which lights shadow rays test: physical (every light, default) or frame (only the
+    /// lights whose shadow the rasterized frame draws).
+    #[arg(long, value_name = "MODE", default_value = "physical", value_parser = parse_light_visibility)]
+    pub light_visibility: lumen::reference::path::LightVisibility,
     /// Output file: .exr (linear exposed radiance) or .png (tone mapped with the camera's
     /// tone mapper). Default: `out/<scene>-reference.exr`.
     #[arg(long, value_name = "FILE")]
@@ -576,6 +580,11 @@ fn parse_unit(s: &str) -> Result<f32, String> {
             Err(format!("{s} must be in 0..=1"))
         }
     })
+}
+
+fn parse_light_visibility(s: &str) -> Result<lumen::reference::path::LightVisibility, String> {
+    lumen::reference::path::LightVisibility::from_name(s)
+        .ok_or_else(|| format!("unknown light visibility '{s}' (use physical or frame)"))
 }
 
 fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> {

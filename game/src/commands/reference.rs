@@ -41,7 +41,8 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
-    let scene = trace_scene(&mut app, args.size)?;
+    let mut scene = trace_scene(&mut app, args.size)?;
+    scene.light_visibility = args.light_visibility;
     let options = ReferenceOptions {
         size: args.size,
         samples_per_pixel: args.spp,

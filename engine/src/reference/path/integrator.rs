@@ -15,7 +15,9 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
-use super::scene::{SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene};
+use super::scene::{
+    LightVisibility, SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene,
+};
 use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
 use crate::punctual::{distance_attenuation, spot_attenuation};
 use glam::{Mat3, Vec2, Vec3, Vec4};
@@ -271,6 +273,7 @@ impl TraceScene {
                     direction_to_light,
                     illuminance,
                     tan_angular_radius: tan_radius,
+                    ..
                 } => {
                     let axis = direction_to_light.normalize_or(Vec3::Y);
                     // A shadowed sun has its disc (tan of the angular radius): sample it
@@ -292,6 +295,7 @@ impl TraceScene {
                     position_m,
                     intensity,
                     inv_range2,
+                    ..
                 } => {
                     let (l, d2) = towards(position_m);
                     let e = intensity * distance_attenuation(d2, inv_range2);
@@ -304,6 +308,7 @@ impl TraceScene {
                     inv_range2,
                     cone_scale,
                     cone_offset,
+                    ..
                 } => {
                     let (l, d2) = towards(position_m);
                     let mut e = intensity * distance_attenuation(d2, inv_range2);
@@ -315,10 +320,13 @@ impl TraceScene {
                 continue;
             }
             let f = bsdf.eval(v, l);
+            let tested =
+                light.casts_shadows() || self.light_visibility == LightVisibility::Physical;
             if f == Vec3::ZERO
-                || self
-                    .bvh
-                    .occluded(p + offset, l, 0.0, distance * (1.0 - 1e-4))
+                || (tested
+                    && self
+                        .bvh
+                        .occluded(p + offset, l, 0.0, distance * (1.0 - 1e-4)))
             {
                 continue;
             }

@@ -22,7 +22,9 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 pub use integrator::Rng;
-pub use scene::{TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene};
+pub use scene::{
+    LightVisibility, TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene,
+};
 
 /// What `render` is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

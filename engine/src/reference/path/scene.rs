@@ -25,6 +25,8 @@ pub enum TraceLight {
         /// the rasterizer draws no shadow for this light, which then shines from
         /// `direction_to_light` alone.
         tan_angular_radius: f32,
+        /// Whether the frame draws this light's shadow.
+        casts_shadows: bool,
     },
     /// A point light (a point: its radius only softens the rasterizer's shadows).
     Point {
@@ -34,6 +36,8 @@ pub enum TraceLight {
         intensity: Vec3,
         /// 1 / range² (1/m²) of the range window; 0: unlimited range.
         inv_range2: f32,
+        /// Whether the frame draws this light's shadow.
+        casts_shadows: bool,
     },
     /// A spot light: a point light inside a cone.
     Spot {
@@ -50,7 +54,51 @@ pub enum TraceLight {
         cone_scale: f32,
         /// Cone offset (dimensionless).
         cone_offset: f32,
+        /// Whether the frame draws this light's shadow.
+        casts_shadows: bool,
     },
+}
+
+impl TraceLight {
+    /// Whether the frame draws this light's shadow.
+    pub fn casts_shadows(&self) -> bool {
+        match *self {
+            TraceLight::Directional { casts_shadows, .. }
+            | TraceLight::Point { casts_shadows, .. }
+            | TraceLight::Spot { casts_shadows, .. } => casts_shadows,
+        }
+    }
+}
+
+/// Which lights the path tracer's shadow rays test.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LightVisibility {
+    /// Every light is occluded by the geometry between it and the surface: the physical
+    /// truth.
+    #[default]
+    Physical,
+    /// Only the lights whose shadow the frame draws are occluded; the others light every
+    /// surface facing them, as the rasterizer does. It judges a frame against the same
+    /// visibility, separating the cost of unshadowed lights from the rest of the error.
+    AsFrame,
+}
+
+impl LightVisibility {
+    /// Both, in the order `--light-visibility` lists them.
+    pub const ALL: [LightVisibility; 2] = [LightVisibility::Physical, LightVisibility::AsFrame];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightVisibility::Physical => "physical",
+            LightVisibility::AsFrame => "frame",
+        }
+    }
+
+    /// The mode called `name`.
+    pub fn from_name(name: &str) -> Option<LightVisibility> {
+        LightVisibility::ALL.into_iter().find(|v| v.name() == name)
+    }
 }
 
 /// One drawn mesh instance, with the factors of its material.
@@ -359,6 +407,8 @@ pub struct TraceScene {
     pub visibility: VisibilityModel,
     /// Energy compensation of the specular lobe, as the rasterizer's `Quality` sets it.
     pub energy_compensation: Option<AlbedoTable>,
+    /// Which lights shadow rays test ([`LightVisibility::Physical`] unless set).
+    pub light_visibility: LightVisibility,
 }
 
 impl TraceScene {
@@ -440,6 +490,7 @@ impl TraceScene {
             energy_compensation: quality
                 .energy_compensation
                 .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
+            light_visibility: LightVisibility::Physical,
         }
     }
 }
