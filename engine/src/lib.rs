@@ -30,6 +30,7 @@ pub mod brdf;
 pub mod color;
 pub mod encoding;
 pub mod error;
+pub mod files;
 pub mod ibl;
 pub mod limits;
 pub mod punctual;

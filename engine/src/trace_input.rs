@@ -169,6 +169,8 @@ mod tests {
                 [2.5, -1.5, 0.0, 0.0],
             ),
         ];
+        // The point light has no shadow view: the frame draws no shadow for it.
+        frame.lights[1].shadow[0] = -1.0;
         frame.light_counts = LightCounts {
             directional: 1,
             point: 1,

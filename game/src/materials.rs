@@ -23,7 +23,7 @@ pub struct NamedMaterial {
 /// Reads an image file as RGBA8 in `color_space`, with the glTF loader's decoder: a side
 /// over [`MAX_TEXTURE_SIZE`] is downscaled, with a warning on stderr.
 pub fn read_texture(path: &Path, color_space: ColorSpace) -> Result<TextureData> {
-    let bytes = lumen::assets::files::read(path, lumen::limits::FileKind::Texture)?;
+    let bytes = lumen::files::read(path, lumen::limits::FileKind::Texture)?;
     let mut warnings = Vec::new();
     let what = path.display().to_string();
     let texture = lumen::assets::texture_io::decode(

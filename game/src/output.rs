@@ -15,6 +15,6 @@ pub fn print(text: &str) {
 /// Writes `text` to `path` atomically (its folder created; a failed write leaves what
 /// `path` held); errors name the path.
 pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    lumen::assets::files::write_atomic(path, text.as_bytes())
+    lumen::files::write_atomic(path, text.as_bytes())
         .with_context(|| format!("cannot write {}", path.display()))
 }

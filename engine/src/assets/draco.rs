@@ -43,11 +43,14 @@ pub fn decode_primitive<'a>(
         .get("attributes")
         .and_then(|a| a.as_object())
         .ok_or(format!("{EXTENSION} without attributes"))?;
-    let unique_id = |name: &str| {
-        attributes
-            .get(name)
-            .and_then(|v| v.as_u64())
-            .map(|v| v as u32)
+    // A unique id past u32 is refused, never truncated onto another attribute.
+    let unique_id = |name: &str| -> Result<Option<u32>, String> {
+        match attributes.get(name).and_then(|v| v.as_u64()) {
+            None => Ok(None),
+            Some(v) => u32::try_from(v).map(Some).map_err(|_| {
+                format!("{EXTENSION}: Draco attribute id {v} for {name} is out of range")
+            }),
+        }
     };
 
     let mut buffer = DecoderBuffer::new(bytes);
@@ -58,7 +61,7 @@ pub fn decode_primitive<'a>(
 
     let points = mesh.num_points();
     let attribute = |name: &str| -> Result<Option<&PointAttribute>, String> {
-        match unique_id(name) {
+        match unique_id(name)? {
             None => Ok(None),
             Some(id) => mesh
                 .attribute_by_unique_id(id)
@@ -124,4 +127,39 @@ fn read_floats<const N: usize>(
             Ok(v)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Draco stream and extension object of `assets/models/suzi.glb`.
+    fn suzi() -> (Vec<u8>, gltf::json::Value) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/models/suzi.glb");
+        let bytes = std::fs::read(path).expect("suzi.glb");
+        let glb = gltf::Gltf::from_slice_without_validation(&bytes).expect("glb");
+        let json = glb.document.as_json();
+        let extension = json.meshes[0].primitives[0]
+            .extensions
+            .as_ref()
+            .and_then(|e| e.others.get(EXTENSION))
+            .cloned()
+            .expect("draco extension");
+        let view = &json.buffer_views[0];
+        let start = view.byte_offset.map_or(0, |o| o.0 as usize);
+        let end = start + view.byte_length.0 as usize;
+        let blob = glb.blob.expect("binary chunk");
+        (blob[start..end].to_vec(), extension)
+    }
+
+    #[test]
+    fn attribute_ids_are_range_checked_not_truncated() {
+        let (stream, mut extension) = suzi();
+        let decoded = decode_primitive(&extension, |_| Some(&stream[..])).expect("decodes");
+        assert_eq!(decoded.indices.len() / 3, 14_842);
+        // 2³² would wrap to id 0, the positions, under an `as u32`.
+        extension["attributes"]["NORMAL"] = gltf::json::Value::from(4_294_967_296u64);
+        let e = decode_primitive(&extension, |_| Some(&stream[..])).expect_err("out of range");
+        assert!(e.contains("4294967296 for NORMAL is out of range"), "{e}");
+    }
 }

@@ -19,13 +19,13 @@
 //! [`files::read`] (regular files only, capped by kind); indices are checked before the
 //! `gltf` crate uses them ([`gltf_checks`]) and its panics become errors.
 
-use super::files;
 use super::gltf_buffers::{load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
 use super::{draco, tangents};
 use crate::app::App;
 use crate::error::{Error, Result};
+use crate::files;
 use crate::limits::FileKind;
 use crate::scene::{
     Aabb, Camera, DirectionalLight, GlobalTransform, LightColor, LuminousIntensity, Material,

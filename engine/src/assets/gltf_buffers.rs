@@ -2,10 +2,30 @@
 //! percent-decoding, capped buffer loading and bounds-checked buffer view bytes.
 
 use crate::limits::FileKind;
+use base64::Engine;
 use std::path::Path;
 
+/// The bytes behind a glTF URI: a base64 `data:` URI, or a percent-encoded path relative
+/// to `base`, read as a file of `kind` (a regular file within its cap).
+pub(super) fn read_uri(base: &Path, uri: &str, kind: FileKind) -> Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let payload = rest
+            .split_once(";base64,")
+            .map(|(_, p)| p)
+            .ok_or("a data URI that is not base64")?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(payload)
+            .map_err(|e| format!("bad base64 data URI: {e}"));
+    }
+    if uri.contains(':') {
+        return Err(format!("unsupported URI scheme in {uri}"));
+    }
+    let path = base.join(percent_decoded(uri));
+    crate::files::read(&path, kind).map_err(|e| e.to_string())
+}
+
 /// Loads every buffer of `document`: the GLB binary chunk, a base64 `data:` URI, or a file
-/// beside the document read with [`super::files::read`] (a regular file, capped as
+/// beside the document read with [`crate::files::read`] (a regular file, capped as
 /// [`FileKind::Buffer`]). A buffer shorter than its `byteLength` is an error.
 pub(super) fn load_buffers(
     document: &gltf::Document,
@@ -29,8 +49,7 @@ pub(super) fn load_buffers(
                     .take()
                     .ok_or_else(|| format!("{at}: the file has no binary chunk"))?,
                 gltf::buffer::Source::Uri(uri) => {
-                    super::texture_io::read_uri(base, uri, FileKind::Buffer)
-                        .map_err(|e| format!("{at}: {e}"))?
+                    read_uri(base, uri, FileKind::Buffer).map_err(|e| format!("{at}: {e}"))?
                 }
             };
             if bytes.len() < declared {
@@ -76,4 +95,26 @@ pub(super) fn view_bytes<'a>(
     let data = buffers.get(view.buffer().index())?;
     let end = view.offset().checked_add(view.length())?;
     data.0.get(view.offset()..end)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_uris_are_errors() {
+        let base = Path::new("/nonexistent");
+        assert!(
+            read_uri(base, "missing.png", FileKind::Texture)
+                .unwrap_err()
+                .contains("missing.png")
+        );
+        assert!(read_uri(base, "data:image/png;base64,@@@", FileKind::Texture).is_err());
+        assert!(read_uri(base, "https://example.com/a.png", FileKind::Texture).is_err());
+        assert_eq!(
+            read_uri(base, "data:image/png;base64,AAEC", FileKind::Texture).ok(),
+            Some(vec![0, 1, 2])
+        );
+        assert_eq!(percent_decoded("a%20b%zz"), "a b%zz");
+    }
 }

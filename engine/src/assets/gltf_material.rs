@@ -47,7 +47,7 @@ impl TextureLoader<'_> {
                     view.index()
                 )),
             gltf::image::Source::Uri { uri, .. } => {
-                texture_io::read_uri(self.base, uri, crate::limits::FileKind::Texture)
+                super::gltf_buffers::read_uri(self.base, uri, crate::limits::FileKind::Texture)
             }
         };
         let decoded = bytes.and_then(|b| {

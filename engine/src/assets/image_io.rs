@@ -1,7 +1,7 @@
 //! Writing rendered images: PNG (display image) and OpenEXR (linear HDR).
 
-use super::files;
 use crate::error::{Error, Result};
+use crate::files;
 use crate::limits::FileKind;
 use std::path::Path;
 

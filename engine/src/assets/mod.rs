@@ -2,7 +2,6 @@
 //! files, and the checked reads and atomic writes every file goes through.
 
 pub mod draco;
-pub mod files;
 pub mod gltf;
 mod gltf_buffers;
 mod gltf_checks;

@@ -1,29 +1,6 @@
-//! Texture files: reading an image from a URI (data URI or a file next to the scene) and
-//! decoding it to RGBA8 within a size budget.
+//! Texture images: decoding PNG or JPEG bytes to RGBA8 within a size budget.
 
-use crate::limits::FileKind;
 use crate::scene::{ColorSpace, TextureData};
-use base64::Engine;
-use std::path::Path;
-
-/// The bytes behind a glTF URI: a base64 `data:` URI, or a percent-encoded path relative
-/// to `base`, read as a file of `kind` (a regular file within its cap).
-pub fn read_uri(base: &Path, uri: &str, kind: FileKind) -> Result<Vec<u8>, String> {
-    if let Some(rest) = uri.strip_prefix("data:") {
-        let payload = rest
-            .split_once(";base64,")
-            .map(|(_, p)| p)
-            .ok_or("a data URI that is not base64")?;
-        return base64::engine::general_purpose::STANDARD
-            .decode(payload)
-            .map_err(|e| format!("bad base64 data URI: {e}"));
-    }
-    if uri.contains(':') {
-        return Err(format!("unsupported URI scheme in {uri}"));
-    }
-    let path = base.join(super::gltf_buffers::percent_decoded(uri));
-    super::files::read(&path, kind).map_err(|e| e.to_string())
-}
 
 /// Decodes PNG or JPEG bytes into RGBA8. A texture whose longest side exceeds `max_size`
 /// is downscaled (keeping its aspect ratio) with a warning pushed to `warnings`.
@@ -92,21 +69,9 @@ mod tests {
     }
 
     #[test]
-    fn bad_bytes_and_uris_are_errors() {
+    fn bad_bytes_are_errors() {
         let mut warnings = Vec::new();
         assert!(decode(b"not an image", ColorSpace::Srgb, 64, &mut warnings, "x").is_err());
         assert!(decode(&png(4, 4)[..20], ColorSpace::Srgb, 64, &mut warnings, "x").is_err());
-        let base = Path::new("/nonexistent");
-        assert!(
-            read_uri(base, "missing.png", FileKind::Texture)
-                .unwrap_err()
-                .contains("missing.png")
-        );
-        assert!(read_uri(base, "data:image/png;base64,@@@", FileKind::Texture).is_err());
-        assert!(read_uri(base, "https://example.com/a.png", FileKind::Texture).is_err());
-        assert_eq!(
-            read_uri(base, "data:image/png;base64,AAEC", FileKind::Texture).ok(),
-            Some(vec![0, 1, 2])
-        );
     }
 }

@@ -143,7 +143,7 @@ pub fn read_overrides(dir: &Path) -> Result<ShaderOverrides> {
         if !path.exists() {
             continue;
         }
-        let text = crate::assets::files::read_text(&path)?;
+        let text = crate::files::read_text(&path)?;
         if text != builtin {
             out.insert(file, Arc::from(text));
         }

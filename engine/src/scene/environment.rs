@@ -91,7 +91,7 @@ impl EquirectImage {
     /// Loads an OpenEXR (any compression the `exr` crate reads, DWAA/DWAB included) or
     /// Radiance `.hdr` file. Errors name the file and the problem.
     pub fn load(path: &Path) -> Result<EquirectImage> {
-        let bytes = crate::assets::files::read(path, crate::limits::FileKind::Environment)?;
+        let bytes = crate::files::read(path, crate::limits::FileKind::Environment)?;
         EquirectImage::decode(&bytes, path)
     }
 

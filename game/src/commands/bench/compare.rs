@@ -29,7 +29,7 @@ impl Row {
 }
 
 fn load(path: &Path) -> Result<Value> {
-    let text = lumen::assets::files::read_text(path)?;
+    let text = lumen::files::read_text(path)?;
     let v: Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     if v["schema"] != SCHEMA {
