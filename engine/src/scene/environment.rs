@@ -14,9 +14,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// reaches it (the sun of `sky.exr` peaks at 22672).
 pub const MAX_TEXEL: f32 = 65504.0;
 
-/// The longest side of an environment image decoded (texels): 32768, twice the largest
-/// HDRIs published (16k × 8k).
-pub const MAX_SIDE: u32 = 32768;
+/// The most texels an environment image may have: 16384 × 8192, the largest HDRIs
+/// published. The shape is free (a 2 × 100 000 image decodes, and is downscaled to the
+/// device's limit before upload).
+pub const MAX_TEXELS: u64 = 16384 * 8192;
 
 /// What loading an HDR image had to repair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -128,13 +129,14 @@ impl EquirectImage {
                 .map_err(|e| Error::bad_file(path, format!("cannot decode: {e}")))?;
             (w, h) = (w.max(dw), h.max(dh));
         }
-        let decoded_bytes = u64::from(w) * u64::from(h) * 16;
+        let texels = u64::from(w) * u64::from(h);
+        let decoded_bytes = texels * 16;
         let budget = crate::limits::memory_budget();
-        if w > MAX_SIDE || h > MAX_SIDE || decoded_bytes > budget.bytes {
+        if texels > MAX_TEXELS || decoded_bytes > budget.bytes {
             return Err(Error::bad_file(
                 path,
                 format!(
-                    "{w}×{h} is too large to decode (each side at most {MAX_SIDE}; {} decoded, the memory budget is {budget})",
+                    "{w}×{h} is too large to decode (at most {MAX_TEXELS} texels, 16384 × 8192; {} decoded, the memory budget is {budget})",
                     crate::limits::bytes_text(decoded_bytes)
                 ),
             ));
@@ -245,7 +247,7 @@ fn exr_data_window(bytes: &[u8]) -> std::result::Result<(u32, u32), String> {
 /// Refuses an OpenEXR file with a DWA-compressed chunk whose header declares more data
 /// than its block can hold. The `exr` crate's DWA decoder allocates what those counters
 /// say before checking them (the fuzzer found requests of 25 GB and 512 TB, which abort the
-/// process). Each chunk's ten counters (little-endian u64: the unknown, AC, DC and RLE
+/// process). The nine counters after each chunk's version (little-endian u64: the unknown, AC, DC and RLE
 /// section sizes and the AC and DC coefficient counts) are bounded by four times the
 /// header's largest uncompressed block.
 fn check_exr_chunks(bytes: &[u8]) -> std::result::Result<(), String> {
