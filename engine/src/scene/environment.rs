@@ -14,10 +14,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// reaches it (the sun of `sky.exr` peaks at 22672).
 pub const MAX_TEXEL: f32 = 65504.0;
 
-/// The most texels an environment image may have: 16384 × 8192, the largest HDRIs
-/// published. The shape is free (a 2 × 100 000 image decodes, and is downscaled to the
-/// device's limit before upload).
-pub const MAX_TEXELS: u64 = 16384 * 8192;
+/// The most texels an environment image may have: 8192 × 4096, in any shape (a
+/// 2 × 100 000 image decodes, and is downscaled to the device's limit before upload).
+/// Decoding takes about 50 bytes a texel at its peak (the decoders' float RGBA, the RGB
+/// copy and the sanitised texels), 1.7 GB at this limit; a 16k HDRI would need 6.7 GB,
+/// so larger images are refused with the reason (downscale them first).
+pub const MAX_TEXELS: u64 = 8192 * 4096;
 
 /// What loading an HDR image had to repair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -136,7 +138,7 @@ impl EquirectImage {
             return Err(Error::bad_file(
                 path,
                 format!(
-                    "{w}×{h} is too large to decode (at most {MAX_TEXELS} texels, 16384 × 8192; {} decoded, the memory budget is {budget})",
+                    "{w}×{h} is too large to decode (at most {MAX_TEXELS} texels, 8192 × 4096, in any shape; {} decoded, the memory budget is {budget}); downscale it first",
                     crate::limits::bytes_text(decoded_bytes)
                 ),
             ));
