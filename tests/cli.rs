@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::Xvfb;
+use common::{Xvfb, assert_clean_failure};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -22,21 +22,6 @@ fn text(bytes: &[u8]) -> String {
 
 fn tmp() -> tempfile::TempDir {
     tempfile::tempdir().expect("temp dir")
-}
-
-/// A failed run: non-zero exit, one line on stderr naming `needle`, no panic.
-fn assert_clean_failure(out: &Output, needle: &str) {
-    let err = text(&out.stderr);
-    assert!(
-        !out.status.success(),
-        "expected failure, got success; stderr: {err}"
-    );
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
-    assert!(
-        err.contains(needle),
-        "stderr does not mention '{needle}': {err}"
-    );
 }
 
 #[test]

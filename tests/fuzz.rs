@@ -14,6 +14,8 @@
 //! - **Regressions**: every input that ever crashed a loader is kept in
 //!   `tests/data/fuzz/<loader>/` and replayed first, asserting an error and no panic.
 
+mod common;
+
 use lumen::App;
 use lumen::scene::{ColorSpace, EquirectImage};
 use serde_json::Value;
@@ -245,19 +247,6 @@ fn mutant(seeds: &[Vec<u8>], rng: &mut Rng) -> Vec<u8> {
     data
 }
 
-/// Peak resident memory of this process (bytes), from `/proc/self/status`.
-fn peak_rss() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
-        })
-        .unwrap_or(0)
-        * 1024
-}
-
 /// Where crashing inputs are written.
 fn crash_dir() -> PathBuf {
     repo().join("target/fuzz-crashes")
@@ -375,7 +364,7 @@ fn fuzz(loader: &'static str, seeds: Vec<Vec<u8>>, load: impl Fn(&[u8]) -> bool)
             }
         }
     }
-    let peak = peak_rss();
+    let peak = common::process_memory("VmHWM");
     println!(
         "fuzz {loader}: {runs} inputs in {:.0} s ({loaded} loaded), {replayed} corpus files, {} seeds, slowest {:.2} s, peak RSS {} MiB, {} panics",
         start.elapsed().as_secs_f64(),
@@ -471,18 +460,7 @@ fn textured_glb() -> Vec<u8> {
         4,
         |x, y| image::Rgba([(x * 60) as u8, (y * 60) as u8, 128, 255]),
     )));
-    let positions: [[f32; 3]; 4] = [
-        [-1.0, -1.0, 0.0],
-        [1.0, -1.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [-1.0, 1.0, 0.0],
-    ];
-    let uvs: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
-    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
-    let mut bin: Vec<u8> = Vec::new();
-    bin.extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    let mut bin = common::quad_buffer(1.0);
     bin.extend([0, 0]);
     let png_offset = bin.len();
     bin.extend(&png);

@@ -44,18 +44,7 @@ fn write_quad_with(
     extra: serde_json::Value,
     sun_rotation: [f32; 4],
 ) -> PathBuf {
-    let positions: [[f32; 3]; 4] = [
-        [-2.0, -2.0, 0.0],
-        [2.0, -2.0, 0.0],
-        [2.0, 2.0, 0.0],
-        [-2.0, 2.0, 0.0],
-    ];
-    let uvs: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
-    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
-    let mut bin: Vec<u8> = Vec::new();
-    bin.extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    let bin = common::quad_buffer(2.0);
     std::fs::write(dir.join("quad.bin"), &bin).expect("write bin");
     let doc = json!({
         "asset": {"version": "2.0"},

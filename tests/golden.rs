@@ -13,6 +13,8 @@
 //!   on lavapipe and overwrites its golden. Do it only when a change of the picture is
 //!   intended (a new feature, a fixed bug, a changed default) and say so in the commit.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -140,18 +142,7 @@ fn textured_quad(dir: &Path) -> PathBuf {
         image::Rgba([0, (x * 32) as u8, if x >= 4 { 255 } else { 0 }, 255])
     });
     ramp.save(dir.join("ramp.png")).expect("ramp png");
-    let positions: [[f32; 3]; 4] = [
-        [-1.0, -1.0, 0.0],
-        [1.0, -1.0, 0.0],
-        [1.0, 1.0, 0.0],
-        [-1.0, 1.0, 0.0],
-    ];
-    let uvs: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
-    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
-    let mut bin: Vec<u8> = Vec::new();
-    bin.extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
-    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    let bin = common::quad_buffer(1.0);
     std::fs::write(dir.join("quad.bin"), &bin).expect("bin");
     let doc = serde_json::json!({
         "asset": {"version": "2.0"},

@@ -3,6 +3,9 @@
 //! one-line error or a warning, a non-zero exit where something failed, no panic, nothing
 //! lost, and finite output.
 
+mod common;
+
+use common::assert_clean_failure;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -55,21 +58,6 @@ fn lumen_limited(args: &[&str], cwd: &Path, limits: &str, timeout: Duration) -> 
 
 fn lumen(args: &[&str], cwd: &Path) -> Output {
     lumen_limited(args, cwd, "", Duration::from_secs(120)).0
-}
-
-/// A failed run: non-zero exit, one line on stderr naming `needle`, no panic.
-fn assert_clean_failure(out: &Output, needle: &str) {
-    let err = text(&out.stderr);
-    assert!(
-        !out.status.success(),
-        "expected failure, got success; stderr: {err}"
-    );
-    assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
-    assert!(
-        err.contains(needle),
-        "stderr does not mention '{needle}': {err}"
-    );
 }
 
 /// A successful run whose stderr warns about `needle` and shows no GPU error or panic.

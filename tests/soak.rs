@@ -21,19 +21,6 @@ const GL_FRAMES: u32 = 600;
 /// 600 (docs/src/tests.md, "Soak").
 const GROWTH_LIMIT: u64 = 4 << 20;
 
-/// Resident memory of this process (bytes), from `/proc/self/status`.
-fn rss() -> u64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmRSS:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
-        })
-        .expect("VmRSS in /proc/self/status")
-        * 1024
-}
-
 /// Turns the scene's point lights about the vertical axis by the fixed frame time, so
 /// every frame extracts and uploads new light data.
 fn orbit_lights(mut lights: Query<&mut Transform, With<PointLight>>) {
@@ -57,7 +44,7 @@ fn soak(backend: wgpu::Backends, frames: u32) -> (u64, u64) {
     for _ in 0..WARM_UP_FRAMES {
         app.render_headless((32, 32)).expect("frame");
     }
-    let warm = rss();
+    let warm = common::process_memory("VmRSS");
     for _ in 0..frames {
         app.render_headless((32, 32)).expect("frame");
     }
@@ -66,7 +53,7 @@ fn soak(backend: wgpu::Backends, frames: u32) -> (u64, u64) {
         image.pixels().any(|p| common::lum(p) > 0.0),
         "the soaked frames are black"
     );
-    (warm, rss())
+    (warm, common::process_memory("VmRSS"))
 }
 
 #[test]

@@ -54,6 +54,52 @@ pub fn run_compute(
     bytemuck::cast_slice::<u8, [f32; 4]>(&data).to_vec()
 }
 
+/// A glTF quad's binary buffer: 4 positions (±`half`, ±`half`, 0) in bytes 0..48, their
+/// texture coordinates (v down) in 48..80, and 6 `u16` indices (two triangles) in 80..92.
+pub fn quad_buffer(half: f32) -> Vec<u8> {
+    let positions: [[f32; 3]; 4] = [
+        [-half, -half, 0.0],
+        [half, -half, 0.0],
+        [half, half, 0.0],
+        [-half, half, 0.0],
+    ];
+    let uvs: [[f32; 2]; 4] = [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+    let indices: [u16; 6] = [0, 1, 2, 0, 2, 3];
+    let mut bin: Vec<u8> = Vec::new();
+    bin.extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    bin.extend(uvs.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    bin
+}
+
+/// A failed `lumen` run: non-zero exit, one line on stderr naming `needle`, no panic.
+pub fn assert_clean_failure(out: &std::process::Output, needle: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success(),
+        "expected failure, got success; stderr: {err}"
+    );
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+    assert!(
+        err.contains(needle),
+        "stderr does not mention '{needle}': {err}"
+    );
+}
+
+/// A memory line of `/proc/self/status` (`VmRSS`, `VmHWM`, …) in bytes.
+pub fn process_memory(key: &str) -> u64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.strip_prefix(key).is_some_and(|r| r.starts_with(':')))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<u64>().ok())
+        })
+        .unwrap_or_else(|| panic!("{key} in /proc/self/status"))
+        * 1024
+}
+
 /// Luminance-like mean of the rgb of an HDR pixel.
 pub fn lum(p: &image::Rgba<f32>) -> f32 {
     0.2126 * p.0[0] + 0.7152 * p.0[1] + 0.0722 * p.0[2]
