@@ -1,7 +1,8 @@
 // Debug views: one channel of the frame instead of the tone-mapped image
 // (engine/src/render/debug_view.rs documents each view's encoding).
-// Header constants: DEBUG_VIEW (DebugView as u32) and ENCODE_SRGB (true when the target
-// format is not an *Srgb format). Needs common, color, camera, encoding, bindings,
+// Header constants: DEBUG_VIEW (DebugView as u32), ENCODE_SRGB (true when the target
+// format is not an *Srgb format) and SCREEN_AO (the AO pass ran: the occlusion view
+// combines its result). Needs common, color, camera, encoding, bindings,
 // fullscreen, validate.
 #import color
 #import camera
@@ -9,6 +10,7 @@
 #import bindings
 #import fullscreen
 #import validate
+#import ambient_occlusion
 
 struct DebugParams {
     focus_m: f32,
@@ -30,6 +32,7 @@ struct DebugParams {
 @group(0) @binding(3) var gbuffer1: texture_2d<f32>;
 @group(0) @binding(4) var depth_buffer: texture_2d<f32>;
 @group(0) @binding(5) var shadow_atlas: texture_2d<f32>;
+@group(0) @binding(6) var screen_ao: texture_2d<f32>;
 
 const VIEW_ALBEDO: u32 = 1u;
 const VIEW_NORMAL: u32 = 2u;
@@ -85,7 +88,11 @@ fn debug_color(p: vec2<i32>) -> vec3<f32> {
             if background {
                 return vec3<f32>(0.0);
             }
-            return vec3<f32>(unpack_occlusion(g0.a));
+            var ao = unpack_occlusion(g0.a);
+            if SCREEN_AO {
+                ao = combine_occlusion(ao, textureLoad(screen_ao, p, 0).r);
+            }
+            return vec3<f32>(ao);
         }
         case VIEW_DEPTH: {
             let z = view_depth(p);

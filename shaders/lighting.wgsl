@@ -8,7 +8,9 @@
 // scene; absent kinds compile to nothing), VISIBILITY_MODEL, DIRECTIONAL_SHADOWS,
 // POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights), SHADOW_FILTER,
 // HAS_ENVIRONMENT and ENV_MAP (image-based lighting from an image or a uniform colour),
-// ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe).
+// ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe),
+// SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
+// multiple-bounce fit).
 //
 // Shadowed lights come first within their kind and get their own loop: software
 // rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
@@ -28,6 +30,7 @@
 #import fullscreen
 #import shadows
 #import light_tiles
+#import ambient_occlusion
 
 // Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
@@ -38,11 +41,12 @@
 // depth texture.
 @group(0) @binding(4) var depth_buffer: texture_2d<f32>;
 
-// Group 2, the environment (ENVIRONMENT).
+// Group 2, indirect light: the environment and the AO pass's occlusion (ENVIRONMENT).
 @group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
 @group(2) @binding(1) var env_cube: texture_cube<f32>;
 @group(2) @binding(2) var env_sampler: sampler;
 @group(2) @binding(3) var brdf_lut: texture_2d<f32>;
+@group(2) @binding(4) var screen_ao: texture_2d<f32>;
 
 // Group 1, the lights and their shadows (LIGHTS_AND_SHADOWS); the shadow bindings,
 // 4 to 8, are declared in shadows.wgsl, which uses them.
@@ -190,7 +194,17 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
         // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
         // surface in a uniform environment returns exactly that environment.
-        let ao = unpack_occlusion(g0.a);
+        // Occlusion of indirect light only: the material's, and the AO pass's where it
+        // runs (the smaller of the two, combine_occlusion).
+        var ao = unpack_occlusion(g0.a);
+        var diffuse_ao = vec3<f32>(ao);
+        if SCREEN_AO {
+            ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
+            diffuse_ao = vec3<f32>(ao);
+            if AO_MULTI_BOUNCE {
+                diffuse_ao = gtao_multi_bounce(ao, surface.base_color);
+            }
+        }
         let e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
         let rotation = environment.params.y;
         let irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
@@ -199,7 +213,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
             prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
         }
-        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * (fd_lambert() * ao);
+        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao;
         color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
     }
     let shadowed = view.shadowed_counts;

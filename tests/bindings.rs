@@ -9,6 +9,7 @@ use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
 use lumen::render::tonemap;
+use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::{debug_view, gbuffer, light_culling, lighting, material_maps, shadow, sky};
 use lumen::wgpu::naga;
 
@@ -65,6 +66,8 @@ fn every_bind_group_list_matches_its_shader() {
         environment: true,
         env_map: true,
         energy_compensation: true,
+        screen_ao: true,
+        ao_multi_bounce: true,
         light_culling: true,
         uniform_lights: true,
         uniform_shadow_views: true,
@@ -107,8 +110,23 @@ fn every_bind_group_list_matches_its_shader() {
         &[
             ShaderDef::U32("DEBUG_VIEW", 1),
             ShaderDef::Bool("ENCODE_SRGB", true),
+            ShaderDef::Bool("SCREEN_AO", true),
         ],
         &[(0, debug_view::BINDINGS)],
+    );
+    check(
+        "gtao.wgsl",
+        &AoPass::defs(AoVariant {
+            slices: 2,
+            steps: 3,
+            denoise: true,
+        }),
+        &[(0, ambient_occlusion::RESOLVE)],
+    );
+    assert_eq!(
+        ambient_occlusion::TRACE.bindings,
+        &ambient_occlusion::RESOLVE.bindings[..4],
+        "the trace step binds the resolve step's bindings but its input"
     );
     // The comparison can fail: a list with one name changed, or one binding short, does
     // not match the shader.

@@ -24,6 +24,7 @@
 //! lumens or candela for point and spot lights, cd/m² for emissive and backgrounds.
 //! Right-handed, +Y up, cameras and lights look along their local −Z.
 
+pub mod ambient_occlusion;
 pub mod app;
 pub mod assets;
 pub mod brdf;

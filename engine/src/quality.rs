@@ -45,6 +45,85 @@ impl ShadowFilter {
     }
 }
 
+/// Where screen-space ambient occlusion is computed (README, "Indirect light", for the
+/// measured cost of each).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AoResolution {
+    /// No ambient-occlusion pass: indirect light sees only the materials' occlusion.
+    Off,
+    /// One AO sample per 2×2 pixels, upsampled by the depth-aware resolve.
+    #[default]
+    Half,
+    /// One AO sample per pixel.
+    Full,
+}
+
+impl AoResolution {
+    /// Every setting, cheapest first.
+    pub const ALL: [AoResolution; 3] = [AoResolution::Off, AoResolution::Half, AoResolution::Full];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            AoResolution::Off => "off",
+            AoResolution::Half => "half",
+            AoResolution::Full => "full",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<AoResolution> {
+        AoResolution::ALL
+            .into_iter()
+            .find(|r| r.name().eq_ignore_ascii_case(name))
+    }
+
+    /// Full-resolution pixels per AO sample along each axis (0 when off).
+    pub fn scale(self) -> u32 {
+        match self {
+            AoResolution::Off => 0,
+            AoResolution::Half => 2,
+            AoResolution::Full => 1,
+        }
+    }
+}
+
+/// Screen-space ambient occlusion (GTAO, [`crate::ambient_occlusion`]): it darkens
+/// environment light (and, once they exist, probe light) where the depth buffer shows
+/// nearby geometry; direct lights are never occluded by it. It runs only when the frame
+/// has indirect light to occlude.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoSettings {
+    /// Off, half or full resolution.
+    pub resolution: AoResolution,
+    /// Slices (screen directions) per pixel, 1..=8; each costs `2 × steps` depth reads.
+    pub slices: u32,
+    /// Depth samples per side of a slice, 1..=32.
+    pub steps: u32,
+    /// World-space radius in metres within which geometry occludes (with the falloff of
+    /// [`crate::ambient_occlusion::ao_falloff`]).
+    pub radius_m: f32,
+    /// A 4×4 depth-aware spatial filter that averages the 16 slice rotations of the
+    /// per-pixel noise; off, each pixel keeps its own noisy estimate.
+    pub denoise: bool,
+    /// The multiple-bounce fit brightens occlusion on bright surfaces (Jimenez et al.
+    /// 2016); off, the single-bounce visibility darkens them as much as dark ones.
+    pub multi_bounce: bool,
+}
+
+impl Default for AoSettings {
+    fn default() -> Self {
+        AoSettings {
+            resolution: AoResolution::Half,
+            slices: 3,
+            steps: 6,
+            radius_m: 1.0,
+            denoise: true,
+            multi_bounce: true,
+        }
+    }
+}
+
 /// The renderer's quality settings.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct Quality {
@@ -56,6 +135,11 @@ pub struct Quality {
     pub shadows: bool,
     /// Shadow filtering.
     pub shadow_filter: ShadowFilter,
+    /// Every light casts shadows, whatever its own `cast_shadows` says
+    /// (`--light-shadows all`): the frame then has the physical visibility the path
+    /// tracer has. Each point light adds six shadow views (one cube) and each spot light
+    /// one, plus their shadowed loop in the lighting pass.
+    pub all_lights_cast_shadows: bool,
     /// Multiple-scattering energy compensation of the specular lobe (Kulla & Conty 2017),
     /// for environment and direct light. On: metals and rough surfaces keep their energy
     /// (the white furnace holds); costs one table lookup per pixel.
@@ -83,6 +167,8 @@ pub struct Quality {
     /// Texture budget: the longest side, in texels, a texture keeps when it is loaded
     /// (larger ones are downscaled with a warning; the device's own limit applies too).
     pub max_texture_size: u32,
+    /// Screen-space ambient occlusion.
+    pub ao: AoSettings,
 }
 
 /// Format of the exposed HDR target.
@@ -119,15 +205,17 @@ impl HdrPrecision {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum QualityPreset {
     /// Hardware 2×2 shadow filtering at half resolution with one cascade, no energy
-    /// compensation, 16-sample IBL prefiltering, one DoF ring.
+    /// compensation, 16-sample IBL prefiltering, one DoF ring, no ambient occlusion.
     Low,
     /// 16-tap PCF at full resolution with two cascades, energy compensation, 32 IBL
-    /// samples, two DoF rings.
+    /// samples, two DoF rings, half-resolution AO of 2 slices × 4 steps.
     Medium,
-    /// The defaults: 16-tap PCF, up to four cascades, 64 IBL samples, the camera's rings.
+    /// The defaults: 16-tap PCF, up to four cascades, 64 IBL samples, the camera's rings,
+    /// half-resolution AO of 3 slices × 6 steps.
     High,
-    /// PCSS at twice the resolution, height-correlated Smith visibility, 256 IBL samples,
-    /// a 128² BRDF table of 1024 samples, five DoF rings and an f32 HDR target.
+    /// PCSS at twice the resolution, shadows for every light, height-correlated Smith
+    /// visibility, 256 IBL samples, a 128² BRDF table of 1024 samples, five DoF rings, an
+    /// f32 HDR target and full-resolution AO of 4 slices × 8 steps.
     Ultra,
 }
 
@@ -171,6 +259,10 @@ impl QualityPreset {
                 brdf_lut_samples: 128,
                 dof_rings: Some(1),
                 max_texture_size: 1024,
+                ao: AoSettings {
+                    resolution: AoResolution::Off,
+                    ..high.ao
+                },
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -179,12 +271,18 @@ impl QualityPreset {
                 brdf_lut_samples: 256,
                 dof_rings: Some(2),
                 max_texture_size: 2048,
+                ao: AoSettings {
+                    slices: 2,
+                    steps: 4,
+                    ..high.ao
+                },
                 ..high
             },
             QualityPreset::High => high,
             QualityPreset::Ultra => Quality {
                 visibility: VisibilityModel::SmithGgxCorrelated,
                 shadow_filter: ShadowFilter::Pcss,
+                all_lights_cast_shadows: true,
                 shadow_resolution_scale: 2.0,
                 ibl_samples: 256,
                 brdf_lut_size: 128,
@@ -192,6 +290,12 @@ impl QualityPreset {
                 dof_rings: Some(5),
                 hdr_precision: HdrPrecision::Full,
                 max_texture_size: 8192,
+                ao: AoSettings {
+                    resolution: AoResolution::Full,
+                    slices: 4,
+                    steps: 8,
+                    ..high.ao
+                },
                 ..high
             },
         }
@@ -204,6 +308,7 @@ impl Default for Quality {
             visibility: VisibilityModel::default(),
             shadows: true,
             shadow_filter: ShadowFilter::default(),
+            all_lights_cast_shadows: false,
             energy_compensation: true,
             ibl_samples: 64,
             brdf_lut_size: 64,
@@ -214,6 +319,7 @@ impl Default for Quality {
             hdr_precision: HdrPrecision::Half,
             light_culling: true,
             max_texture_size: 4096,
+            ao: AoSettings::default(),
         }
     }
 }

@@ -219,6 +219,10 @@ pub struct SceneArgs {
     /// Turn every shadow off (no shadow pass runs).
     #[arg(long)]
     pub no_shadows: bool,
+    /// Which lights cast shadows: scene (each light's own setting; the default below
+    /// ultra) or all (every light, as the path tracer sees them; ultra's).
+    #[arg(long, value_name = "WHICH", value_parser = parse_light_shadows)]
+    pub light_shadows: Option<bool>,
     /// The lights of a glTF file cast no shadows (they do by default).
     #[arg(long)]
     pub no_gltf_light_shadows: bool,
@@ -270,6 +274,25 @@ pub struct SceneArgs {
     /// Precision of the HDR target: f16 (default) or f32.
     #[arg(long, value_name = "P", value_parser = parse_hdr_precision)]
     pub hdr: Option<lumen::quality::HdrPrecision>,
+    /// Screen-space ambient occlusion on environment light: off, half (default) or full
+    /// resolution.
+    #[arg(long, value_name = "RES", value_parser = parse_ao_resolution)]
+    pub ao: Option<lumen::quality::AoResolution>,
+    /// AO slices (screen directions) per pixel (1..=8).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub ao_slices: Option<u32>,
+    /// AO depth samples per side of a slice (1..=32).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=32))]
+    pub ao_steps: Option<u32>,
+    /// AO radius in metres: geometry farther than this does not occlude.
+    #[arg(long, value_name = "M", value_parser = parse_positive)]
+    pub ao_radius: Option<f32>,
+    /// No spatial filter on the AO: each pixel keeps its own noisy estimate.
+    #[arg(long)]
+    pub no_ao_denoise: bool,
+    /// Single-bounce AO: no multiple-bounce brightening of bright surfaces.
+    #[arg(long)]
+    pub no_ao_multi_bounce: bool,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]
@@ -351,6 +374,11 @@ pub struct ReferenceArgs {
     /// lights whose shadow the rasterized frame draws).
     #[arg(long, value_name = "MODE", default_value = "physical", value_parser = parse_light_visibility)]
     pub light_visibility: lumen::reference::path::LightVisibility,
+    /// Ray-trace ambient occlusion instead of radiance, within the AO radius
+    /// (`--ao-radius`, default 1 m): the ground truth of `--debug-view occlusion`. A PNG
+    /// shows it as grey (value × 255), as the debug view does.
+    #[arg(long)]
+    pub occlusion: bool,
     /// Output file: .exr (linear exposed radiance) or .png (tone mapped with the camera's
     /// tone mapper). Default: `out/<scene>-reference.exr`.
     #[arg(long, value_name = "FILE")]
@@ -585,6 +613,19 @@ fn parse_unit(s: &str) -> Result<f32, String> {
 fn parse_light_visibility(s: &str) -> Result<lumen::reference::path::LightVisibility, String> {
     lumen::reference::path::LightVisibility::from_name(s)
         .ok_or_else(|| format!("unknown light visibility '{s}' (use physical or frame)"))
+}
+
+fn parse_ao_resolution(s: &str) -> Result<lumen::quality::AoResolution, String> {
+    lumen::quality::AoResolution::from_name(s)
+        .ok_or_else(|| format!("unknown AO resolution '{s}' (use off, half, full)"))
+}
+
+fn parse_light_shadows(s: &str) -> Result<bool, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "all" => Ok(true),
+        "scene" => Ok(false),
+        _ => Err(format!("unknown light-shadow set '{s}' (use scene, all)")),
+    }
 }
 
 fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> {

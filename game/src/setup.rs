@@ -86,11 +86,32 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(f) = args.shadow_filter {
         quality.shadow_filter = f;
     }
+    if let Some(all) = args.light_shadows {
+        quality.all_lights_cast_shadows = all;
+    }
     if args.no_energy_compensation {
         quality.energy_compensation = false;
     }
     if let Some(n) = args.max_texture_size {
         quality.max_texture_size = n;
+    }
+    if let Some(r) = args.ao {
+        quality.ao.resolution = r;
+    }
+    if let Some(n) = args.ao_slices {
+        quality.ao.slices = n;
+    }
+    if let Some(n) = args.ao_steps {
+        quality.ao.steps = n;
+    }
+    if let Some(r) = args.ao_radius {
+        quality.ao.radius_m = r;
+    }
+    if args.no_ao_denoise {
+        quality.ao.denoise = false;
+    }
+    if args.no_ao_multi_bounce {
+        quality.ao.multi_bounce = false;
     }
 }
 
@@ -225,6 +246,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "visibility": q.visibility.name(),
         "shadows": q.shadows,
         "shadow_filter": q.shadow_filter.name(),
+        "light_shadows": if q.all_lights_cast_shadows { "all" } else { "scene" },
         "shadow_resolution_scale": q.shadow_resolution_scale,
         "max_cascades": q.max_cascades,
         "energy_compensation": q.energy_compensation,
@@ -235,5 +257,13 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "hdr_precision": q.hdr_precision.name(),
         "light_culling": q.light_culling,
         "max_texture_size": q.max_texture_size,
+        "ao": {
+            "resolution": q.ao.resolution.name(),
+            "slices": q.ao.slices,
+            "steps": q.ao.steps,
+            "radius_m": q.ao.radius_m,
+            "denoise": q.ao.denoise,
+            "multi_bounce": q.ao.multi_bounce,
+        },
     })
 }

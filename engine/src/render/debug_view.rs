@@ -9,7 +9,7 @@
 //! | albedo | the base colour as stored (sRGB-encoded) |
 //! | normal | world-space normal `n · 0.5 + 0.5`; black background |
 //! | metallic, roughness | the stored value as grey |
-//! | occlusion | ambient occlusion as grey; black background |
+//! | occlusion | the occlusion indirect light sees, as grey: the material's, combined with the AO pass's where it runs (`combine_occlusion`); black background |
 //! | depth | [`depth_grey`] of the view depth; black background |
 //! | shadow atlas | stored shadow depth (reversed Z: 1 near the light, 0 cleared) of the square atlas, which fills the frame's height from the left edge |
 //! | validation, validation-strict | the worst verdict of `lumen::validate`'s metal/roughness rules on the G-buffer's base colour and metallic: green valid, yellow borderline, red invalid (`Verdict::color`); black background |
@@ -23,6 +23,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -135,6 +136,7 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("gbuffer1", Binding::TextureLoad),
         ("depth_buffer", Binding::TextureLoad),
         ("shadow_atlas", Binding::TextureLoad),
+        ("screen_ao", Binding::TextureLoad),
     ],
 };
 
@@ -151,11 +153,19 @@ pub struct DebugViewVariant {
     pub format: wgpu::TextureFormat,
     /// The channel shown.
     pub view: DebugView,
+    /// The AO pass runs (the occlusion view combines its result).
+    pub screen_ao: bool,
 }
 
 impl FramePass for DebugViewPass {
     const ID: PassId = PassId::DebugView;
-    const READS: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH, SHADOW_ATLAS];
+    const READS: &'static [Slot] = &[
+        GBUFFER_BASE_COLOR,
+        GBUFFER_NORMAL,
+        DEPTH,
+        SHADOW_ATLAS,
+        AMBIENT_OCCLUSION,
+    ];
     const WRITES: &'static [Slot] = &[DISPLAY];
     type Variant = DebugViewVariant;
 
@@ -163,7 +173,7 @@ impl FramePass for DebugViewPass {
         Ok(DebugViewPass::new(gpu))
     }
 
-    fn decide(world: &World, _: &FramePlan) -> PassDecision<DebugViewVariant> {
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<DebugViewVariant> {
         let view = *world.resource::<DebugView>();
         let on = view != DebugView::Off;
         PassDecision::new(
@@ -176,6 +186,7 @@ impl FramePass for DebugViewPass {
             DebugViewVariant {
                 format: world.resource::<FrameOutput>().format,
                 view,
+                screen_ao: plan.runs(PassId::AmbientOcclusion),
             },
         )
     }
@@ -228,7 +239,11 @@ impl DebugViewPass {
         if self.pipelines.contains_key(&variant) {
             return Ok(());
         }
-        let DebugViewVariant { format, view } = variant;
+        let DebugViewVariant {
+            format,
+            view,
+            screen_ao,
+        } = variant;
         let pipeline = fullscreen_variant(
             gpu,
             "debug view",
@@ -237,6 +252,7 @@ impl DebugViewPass {
             &[
                 ShaderDef::U32("DEBUG_VIEW", view as u32),
                 ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
+                ShaderDef::Bool("SCREEN_AO", screen_ao),
             ],
             format,
         )?;
@@ -267,7 +283,8 @@ pub fn prepare_debug_view(
     let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
         return;
     };
-    let Some([base_color, normal, depth]) = t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH])
+    let Some([base_color, normal, depth, ao]) =
+        t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH, AMBIENT_OCCLUSION])
     else {
         return;
     };
@@ -292,6 +309,7 @@ pub fn prepare_debug_view(
             wgpu::BindingResource::TextureView(normal),
             wgpu::BindingResource::TextureView(depth),
             wgpu::BindingResource::TextureView(&shadows.atlas.view),
+            wgpu::BindingResource::TextureView(ao),
         ],
     ) {
         Ok(group) => group,

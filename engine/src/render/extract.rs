@@ -472,7 +472,7 @@ pub fn extract_frame(
     for (light, transform, settings, cascades) in &directional {
         let towards_light = -transform.forward();
         let (mut shadow, mut shadow_bias, mut cascade_far) = (NO_SHADOW, [0.0; 4], NO_CASCADES);
-        if light.cast_shadows && shadows_on {
+        if (light.cast_shadows || quality.all_lights_cast_shadows) && shadows_on {
             let s = sanitized(
                 settings
                     .copied()
@@ -493,7 +493,7 @@ pub fn extract_frame(
             }
             frame.shadow_views.extend(views);
             frame.shadow_counts.directional += 1;
-        } else if light.cast_shadows {
+        } else if light.cast_shadows || quality.all_lights_cast_shadows {
             frame.shadow_counts.skipped += 1;
         }
         frame.lights.push(GpuLight {
@@ -514,7 +514,7 @@ pub fn extract_frame(
         let c = exposed(light.color.to_linear_rgb(), light.candela(), exposure);
         let position = transform.translation();
         let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
-        if light.cast_shadows && shadows_on {
+        if (light.cast_shadows || quality.all_lights_cast_shadows) && shadows_on {
             let s = sanitized(
                 settings.copied().unwrap_or_else(ShadowSettings::point),
                 quality.shadow_resolution_scale,
@@ -525,7 +525,7 @@ pub fn extract_frame(
                 shadow_fields(frame.shadow_views.len(), views.len(), radius, &s);
             frame.shadow_views.extend(views);
             frame.shadow_counts.point += 1;
-        } else if light.cast_shadows {
+        } else if light.cast_shadows || quality.all_lights_cast_shadows {
             frame.shadow_counts.skipped += 1;
         }
         frame.lights.push(GpuLight {
@@ -547,7 +547,7 @@ pub fn extract_frame(
         );
         let position = transform.translation();
         let (mut shadow, mut shadow_bias) = (NO_SHADOW, [0.0; 4]);
-        if light.cast_shadows && shadows_on {
+        if (light.cast_shadows || quality.all_lights_cast_shadows) && shadows_on {
             let s = sanitized(
                 settings.copied().unwrap_or_else(ShadowSettings::spot),
                 quality.shadow_resolution_scale,
@@ -565,7 +565,7 @@ pub fn extract_frame(
             (shadow, shadow_bias) = shadow_fields(frame.shadow_views.len(), 1, radius, &s);
             frame.shadow_views.push(view);
             frame.shadow_counts.spot += 1;
-        } else if light.cast_shadows {
+        } else if light.cast_shadows || quality.all_lights_cast_shadows {
             frame.shadow_counts.skipped += 1;
         }
         frame.lights.push(GpuLight {

@@ -16,6 +16,7 @@ use crate::render::graph::slots::{
 };
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
+use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
@@ -54,6 +55,10 @@ pub struct LightingVariant {
     pub env_map: bool,
     /// Multiple-scattering energy compensation compiled in.
     pub energy_compensation: bool,
+    /// The AO pass's occlusion applied to environment light.
+    pub screen_ao: bool,
+    /// Its multiple-bounce fit.
+    pub ao_multi_bounce: bool,
     /// Unshadowed point and spot lights come from the tile lists of the culling pass.
     pub light_culling: bool,
     /// Every light fits the uniform copy of the light array (read from it, not from the
@@ -72,6 +77,7 @@ impl FramePass for LightingPass {
         DEPTH,
         SHADOW_ATLAS,
         LIGHT_TILES,
+        AMBIENT_OCCLUSION,
     ];
     const WRITES: &'static [Slot] = &[HDR];
     type Variant = LightingVariant;
@@ -140,6 +146,20 @@ impl FramePass for LightingPass {
                 "off: single-scattering GGX"
             },
         );
+        let screen_ao = plan.runs(PassId::AmbientOcclusion) && environment.enabled;
+        let ambient_occlusion = Decision::new(
+            "ambient occlusion",
+            screen_ao,
+            if screen_ao {
+                if quality.ao.multi_bounce {
+                    "the AO pass's, with the multiple-bounce fit, on environment light"
+                } else {
+                    "the AO pass's, single bounce, on environment light"
+                }
+            } else {
+                "no AO pass: materials' occlusion only"
+            },
+        );
         let variant = LightingVariant {
             directional: directional.enabled,
             point: point.enabled,
@@ -150,6 +170,8 @@ impl FramePass for LightingPass {
             environment: environment.enabled,
             env_map: environment.enabled && env.is_some_and(|e| e.image.is_some()),
             energy_compensation: energy_compensation.enabled,
+            screen_ao,
+            ao_multi_bounce: screen_ao && quality.ao.multi_bounce,
             light_culling: plan.runs(PassId::LightCulling),
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views
@@ -165,6 +187,7 @@ impl FramePass for LightingPass {
                 visibility,
                 shadow_lookups,
                 environment,
+                ambient_occlusion,
                 energy_compensation,
             ],
             variant,
@@ -227,7 +250,8 @@ pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// Group 2: the environment (split-sum image-based lighting).
+/// Group 2: indirect light: the environment (split-sum image-based lighting) and the AO
+/// pass's occlusion.
 pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
     label: "lighting: environment",
     visibility: wgpu::ShaderStages::FRAGMENT,
@@ -239,6 +263,7 @@ pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
         ),
         ("env_sampler", Binding::Sampler),
         ("brdf_lut", Binding::Sampled(wgpu::TextureViewDimension::D2)),
+        ("screen_ao", Binding::TextureLoad),
     ],
 };
 
@@ -284,6 +309,8 @@ impl LightingPass {
             ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
+            ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
+            ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
             ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
@@ -372,8 +399,13 @@ pub fn prepare_lighting(
     else {
         return;
     };
-    let Some([base_color, normal, emissive, depth]) =
-        t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH])
+    let Some([base_color, normal, emissive, depth, ao]) = t.views([
+        GBUFFER_BASE_COLOR,
+        GBUFFER_NORMAL,
+        GBUFFER_EMISSIVE,
+        DEPTH,
+        AMBIENT_OCCLUSION,
+    ])
     else {
         return;
     };
@@ -384,7 +416,7 @@ pub fn prepare_lighting(
     let keys: [BindingGenerations; 3] = [
         [t.generation, buffers.generation, 0],
         [buffers.generation, shadows.generation, culling.generation],
-        [ibl.generation, 0, 0],
+        [ibl.generation, t.generation, 0],
     ];
     let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
         use wgpu::BindingResource::{Sampler, TextureView};
@@ -412,6 +444,7 @@ pub fn prepare_lighting(
                 TextureView(ibl.cube_view()),
                 Sampler(&ibl.sampler),
                 TextureView(ibl.lut_view()),
+                TextureView(ao),
             ],
         }
     };

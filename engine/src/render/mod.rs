@@ -20,6 +20,7 @@ pub mod gbuffer;
 pub mod gpu_types;
 pub mod graph;
 pub mod ibl;
+pub mod indirect;
 pub mod light_culling;
 pub mod lighting;
 pub mod material_maps;

@@ -8,6 +8,7 @@ use crate::render::dof::DofPass;
 use crate::render::exposure::ExposurePass;
 use crate::render::gbuffer::GBufferPass;
 use crate::render::graph::registry::Registry;
+use crate::render::indirect::ambient_occlusion::AoPass;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
 use crate::render::shadow::pass::ShadowPass;
@@ -20,6 +21,7 @@ pub fn builtin() -> Result<Registry> {
     Registry::new()
         .with::<ShadowPass>()
         .with::<GBufferPass>()
+        .with::<AoPass>()
         .with::<LightCullingPass>()
         .with::<LightingPass>()
         .with::<SkyPass>()

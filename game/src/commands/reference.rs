@@ -5,7 +5,7 @@ use crate::setup::{build_scene, check_scene_args};
 use anyhow::Result;
 use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
-use lumen::reference::path::{ReferenceOptions, render};
+use lumen::reference::path::{ReferenceOptions, render, render_ambient_occlusion};
 use lumen::trace_input::trace_scene;
 use std::path::PathBuf;
 
@@ -49,9 +49,15 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         max_bounces: args.max_bounces,
         seed: args.seed,
     };
+    let radius_m = app.world().resource::<lumen::prelude::Quality>().ao.radius_m;
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
-    let traced = render(&scene, &options, &|rows| bar.set_position(u64::from(rows)));
+    let progress = |rows| bar.set_position(u64::from(rows));
+    let traced = if args.occlusion {
+        render_ambient_occlusion(&scene, &options, radius_m, &progress)
+    } else {
+        render(&scene, &options, &progress)
+    };
     bar.finish_and_clear();
     warn_dropped(traced.dropped_samples, &options);
     let image = traced.image;
@@ -62,21 +68,29 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
             let tonemapper = frame_tonemapper(&app);
             let display = image::RgbaImage::from_fn(image.width(), image.height(), |x, y| {
                 let [r, g, b, _] = image.get_pixel(x, y).0;
+                let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+                if args.occlusion {
+                    return image::Rgba([byte(r), byte(g), byte(b), 255]);
+                }
                 let c = tonemapper.apply(glam::Vec3::new(r, g, b));
-                let e =
-                    |v: f32| (lumen::color::srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8;
+                let e = |v: f32| byte(lumen::color::srgb_encode(v.clamp(0.0, 1.0)));
                 image::Rgba([e(c.x), e(c.y), e(c.z), 255])
             });
             save_png(&out, &display)?;
         }
     }
+    let what = if args.occlusion {
+        format!("ambient occlusion within {radius_m} m")
+    } else {
+        format!("{} bounce(s)", args.max_bounces)
+    };
     crate::output::print(&format!(
-        "path-traced {} at {}x{}, {} spp, {} bounce(s), seed {}: {:.1} s ({} threads)\nwrote {}\n",
+        "path-traced {} at {}x{}, {} spp, {}, seed {}: {:.1} s ({} threads)\nwrote {}\n",
         args.scene.label(),
         args.size.0,
         args.size.1,
         args.spp,
-        args.max_bounces,
+        what,
         args.seed,
         seconds,
         rayon::current_num_threads(),

@@ -9,7 +9,7 @@ use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
-use lumen::quality::{HdrPrecision, QualityPreset, ShadowFilter};
+use lumen::quality::{AoResolution, HdrPrecision, QualityPreset, ShadowFilter};
 use lumen::reference::path::{ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
@@ -74,6 +74,7 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
             a.shadow_filter = Some(f)
         });
     }
+    knob("--light-shadows", "all".into(), &|a| a.light_shadows = Some(true));
     for x in [0.5f32, 2.0] {
         knob("--shadow-resolution-scale", x.to_string(), &|a| {
             a.shadow_resolution_scale = Some(x)
@@ -98,6 +99,22 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
         a.brdf_lut_size = Some(32)
     });
     knob("--hdr", "f32".into(), &|a| a.hdr = Some(HdrPrecision::Full));
+    for r in [AoResolution::Off, AoResolution::Full] {
+        knob("--ao", r.name().into(), &|a| a.ao = Some(r));
+    }
+    for n in [1u32, 6] {
+        knob("--ao-slices", n.to_string(), &|a| a.ao_slices = Some(n));
+    }
+    for n in [3u32, 12] {
+        knob("--ao-steps", n.to_string(), &|a| a.ao_steps = Some(n));
+    }
+    for r in [0.5f32, 2.0] {
+        knob("--ao-radius", r.to_string(), &|a| a.ao_radius = Some(r));
+    }
+    knob("--no-ao-denoise", String::new(), &|a| a.no_ao_denoise = true);
+    knob("--no-ao-multi-bounce", String::new(), &|a| {
+        a.no_ao_multi_bounce = true
+    });
     out
 }
 

@@ -383,6 +383,46 @@ impl TraceScene {
         None
     }
 
+    /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned
+    /// to the side `v` comes from: (geometric, shading).
+    fn facing_normals(&self, t: usize, normal: Vec3, v: Vec3) -> (Vec3, Vec3) {
+        let tri = self.bvh.triangles()[t];
+        let ng = (tri.p[1] - tri.p[0])
+            .cross(tri.p[2] - tri.p[0])
+            .normalize_or(Vec3::Z);
+        let facing = if ng.dot(v) < 0.0 { -ng } else { ng };
+        let n = if normal.dot(facing) < 0.0 {
+            -normal
+        } else {
+            normal
+        };
+        (facing, n)
+    }
+
+    /// One sample of the ambient occlusion at the first surface along a camera ray: a
+    /// cosine-distributed direction about the shading normal (turned to the viewer), and
+    /// 1 minus the falloff weight ([`crate::ambient_occlusion::ao_falloff`]) of the first
+    /// surface it meets within `radius_m` metres (a direction below the geometric surface
+    /// is occluded at once). Its mean is the cosine-weighted visibility that the AO pass
+    /// estimates from the depth buffer; a ray that meets nothing gives 1.
+    pub fn ambient_occlusion(&self, origin: Vec3, dir: Vec3, radius_m: f32, rng: &mut Rng) -> f32 {
+        let Some((distance, t, surface)) = self.trace(origin, dir) else {
+            return 1.0;
+        };
+        let p = origin + dir * distance;
+        let (facing, n) = self.facing_normals(t, surface.normal, -dir);
+        let d = concentric_disk(rng.pair());
+        let l = basis(n) * Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt());
+        if l.dot(facing) <= 0.0 {
+            return 0.0;
+        }
+        let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
+        match self.trace(p + offset, l) {
+            Some((hit, _, _)) => 1.0 - crate::ambient_occlusion::ao_falloff(hit, radius_m),
+            None => 1.0,
+        }
+    }
+
     /// One path's radiance (pre-exposed) along a camera ray. It can be NaN or infinite
     /// (finite terms that overflow f32 when added): [`super::render`] counts and drops
     /// such paths.
@@ -399,17 +439,8 @@ impl TraceScene {
         for bounce in 0..max_bounces {
             let (distance, t, surface) = hit;
             let p = ray_origin + ray_dir * distance;
-            let tri = self.bvh.triangles()[t];
-            let ng = (tri.p[1] - tri.p[0])
-                .cross(tri.p[2] - tri.p[0])
-                .normalize_or(Vec3::Z);
             let v = -ray_dir;
-            // Face the viewer: both normals on the side the ray came from.
-            let facing = if ng.dot(v) < 0.0 { -ng } else { ng };
-            let mut n = surface.normal;
-            if n.dot(facing) < 0.0 {
-                n = -n;
-            }
+            let (facing, n) = self.facing_normals(t, surface.normal, v);
             let bsdf = Bsdf::new(
                 n,
                 v,

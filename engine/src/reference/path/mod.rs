@@ -17,7 +17,7 @@ pub mod integrator;
 pub mod scene;
 pub mod textures;
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -77,9 +77,43 @@ pub fn render(
     options: &ReferenceOptions,
     progress: &(dyn Fn(u32) + Sync),
 ) -> Traced {
+    let size = Vec2::new(options.size.0.max(1) as f32, options.size.1.max(1) as f32);
+    accumulate(options, progress, &|pixel, rng| {
+        let jitter = rng.pair();
+        let lens = rng.pair();
+        let (origin, dir) = scene.camera_ray(pixel + jitter, size, lens);
+        scene.radiance(origin, dir, options.max_bounces.max(1), rng)
+    })
+}
+
+/// Ray-traces the ambient occlusion of `scene` within `radius_m` metres
+/// ([`TraceScene::ambient_occlusion`]): per pixel, the mean of `samples_per_pixel`
+/// cosine-distributed rays from the first surface, as grey (0 fully occluded, 1 open;
+/// 1 where the camera sees no surface). The ground truth of the AO pass.
+pub fn render_ambient_occlusion(
+    scene: &TraceScene,
+    options: &ReferenceOptions,
+    radius_m: f32,
+    progress: &(dyn Fn(u32) + Sync),
+) -> Traced {
+    let size = Vec2::new(options.size.0.max(1) as f32, options.size.1.max(1) as f32);
+    accumulate(options, progress, &|pixel, rng| {
+        let jitter = rng.pair();
+        let lens = rng.pair();
+        let (origin, dir) = scene.camera_ray(pixel + jitter, size, lens);
+        Vec3::splat(scene.ambient_occlusion(origin, dir, radius_m, rng))
+    })
+}
+
+/// The guarded mean of `samples_per_pixel` values of `sample(pixel corner, rng)` per
+/// pixel (see [`render`]).
+fn accumulate(
+    options: &ReferenceOptions,
+    progress: &(dyn Fn(u32) + Sync),
+    sample: &(dyn Fn(Vec2, &mut Rng) -> Vec3 + Sync),
+) -> Traced {
     let (w, h) = (options.size.0.max(1), options.size.1.max(1));
     let spp = options.samples_per_pixel.max(1);
-    let size = Vec2::new(w as f32, h as f32);
     let done = AtomicU32::new(0);
     let rows: Vec<(Vec<f32>, u64)> = (0..h)
         .into_par_iter()
@@ -92,11 +126,7 @@ pub fn render(
                 let mut kept = 0u32;
                 for s in 0..spp {
                     let mut rng = Rng::new(options.seed, pixel, s);
-                    let jitter = rng.pair();
-                    let lens = rng.pair();
-                    let (origin, dir) =
-                        scene.camera_ray(Vec2::new(x as f32, y as f32) + jitter, size, lens);
-                    let l = scene.radiance(origin, dir, options.max_bounces.max(1), &mut rng);
+                    let l = sample(Vec2::new(x as f32, y as f32), &mut rng);
                     if l.is_finite() {
                         sum += l.as_dvec3();
                         kept += 1;

@@ -1,0 +1,325 @@
+//! Screen-space ambient occlusion (`shaders/gtao.wgsl`): ground-truth ambient occlusion
+//! (GTAO, Jimenez et al. 2016; the formulas in [`crate::ambient_occlusion`]) from the
+//! depth buffer and the G-buffer's normals, at half or full resolution, then a
+//! depth-aware resolve to the full-resolution [`AMBIENT_OCCLUSION`] target that the
+//! lighting pass applies to indirect light only.
+//!
+//! It runs only when the frame has indirect light to occlude (an environment), something
+//! is drawn and [`crate::quality::AoSettings::resolution`] is not `off`.
+
+use crate::error::Result;
+use crate::quality::{AoResolution, AoSettings, Quality};
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat};
+use crate::render::pipelines::{create_module, draw_fullscreen, fullscreen_pipeline};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
+use crate::render::targets::{RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Screen-space ambient occlusion.
+    pub const AmbientOcclusion: PassId = PassId::new("ao");
+}
+
+/// Format of the AO targets: visibility 0..1 in 8 bits (steps of 1/255, below the noise
+/// of any slice count).
+pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// The resolved ambient occlusion at full resolution: the fraction (0..1) of
+/// cosine-weighted indirect light that reaches each pixel.
+pub const AMBIENT_OCCLUSION: Slot =
+    Slot::target("ambient occlusion", TargetFormat::Fixed(AO_FORMAT));
+
+/// Largest screen radius a slice marches, as a fraction of the target's height: a
+/// surface close to the camera would otherwise march across the whole frame.
+const MAX_RADIUS_FRACTION: f32 = 1.0;
+
+/// The trace step's bindings.
+pub const TRACE: BindGroupSpec = BindGroupSpec {
+    label: "ao trace",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("params", Binding::Uniform),
+        ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+    ],
+};
+
+/// The resolve step's bindings: the trace step's and its output.
+pub const RESOLVE: BindGroupSpec = BindGroupSpec {
+    label: "ao resolve",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("params", Binding::Uniform),
+        ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+        ("raw_ao", Binding::TextureLoad),
+    ],
+};
+
+/// The AO shader variant: the loop counts and the filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct AoVariant {
+    /// Slices per pixel.
+    pub slices: u32,
+    /// Depth samples per side of a slice.
+    pub steps: u32,
+    /// The 4×4 depth-aware filter.
+    pub denoise: bool,
+}
+
+/// `AoParams` of `gtao.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    radius_m: f32,
+    pixels_per_m: f32,
+    max_radius_px: f32,
+    scale: f32,
+}
+
+/// Why the AO pass does not run this frame, if it does not.
+pub fn skip_reason(quality: &AoSettings, frame: &ExtractedFrame) -> Option<&'static str> {
+    if quality.resolution == AoResolution::Off {
+        Some("ambient occlusion is off (--ao off)")
+    } else if frame.instances.is_empty() {
+        Some("nothing is drawn")
+    } else if frame.environment.is_none() {
+        Some("no indirect light to occlude (no environment)")
+    } else {
+        None
+    }
+}
+
+impl FramePass for AoPass {
+    const ID: PassId = PassId::AmbientOcclusion;
+    const READS: &'static [Slot] = &[DEPTH, GBUFFER_NORMAL];
+    const WRITES: &'static [Slot] = &[AMBIENT_OCCLUSION];
+    type Variant = AoVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(AoPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<AoVariant> {
+        let ao = world.resource::<Quality>().ao;
+        let frame = world.resource::<ExtractedFrame>();
+        let variant = AoVariant {
+            slices: ao.slices.clamp(1, 8),
+            steps: ao.steps.clamp(1, 32),
+            denoise: ao.denoise,
+        };
+        let reason = skip_reason(&ao, frame).map_or_else(
+            || {
+                format!(
+                    "GTAO at {} resolution, {} slices × {} steps, radius {:.2} m, {}",
+                    ao.resolution.name(),
+                    variant.slices,
+                    variant.steps,
+                    ao.radius_m,
+                    if ao.denoise { "denoised" } else { "raw" }
+                )
+            },
+            String::from,
+        );
+        PassDecision::new(skip_reason(&ao, frame).is_none(), reason, variant)
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_ao.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        ao_pass.into_configs()
+    }
+}
+
+/// The AO pass's pipelines, its AO-resolution target and bindings.
+#[derive(Resource)]
+pub struct AoPass {
+    layouts: [wgpu::BindGroupLayout; 2],
+    pipeline_layouts: [wgpu::PipelineLayout; 2],
+    pipelines: HashMap<AoVariant, [wgpu::RenderPipeline; 2]>,
+    params: wgpu::Buffer,
+    /// The AO-resolution target and the full-resolution size it was made for, with its
+    /// scale.
+    raw: Option<((u32, u32), u32, Target)>,
+    bind_groups: Option<(u64, [wgpu::BindGroup; 2])>,
+}
+
+impl AoPass {
+    /// Creates the layouts; pipelines compile per variant on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layouts = [TRACE.layout(gpu), RESOLVE.layout(gpu)];
+        let pipeline_layouts = [0, 1].map(|i| {
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some([TRACE.label, RESOLVE.label][i]),
+                    bind_group_layouts: &[Some(&layouts[i])],
+                    immediate_size: 0,
+                })
+        });
+        AoPass {
+            layouts,
+            pipeline_layouts,
+            pipelines: HashMap::new(),
+            params: gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("ao params"),
+                    contents: &[0; std::mem::size_of::<Params>()],
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                }),
+            raw: None,
+            bind_groups: None,
+        }
+    }
+
+    /// The shader defs of `variant`.
+    pub fn defs(variant: AoVariant) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("SLICES", variant.slices),
+            ShaderDef::U32("STEPS", variant.steps),
+            ShaderDef::Bool("DENOISE", variant.denoise),
+        ]
+    }
+
+    fn pipelines(&mut self, gpu: &Gpu, variant: AoVariant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let module = create_module(
+            gpu,
+            "ao",
+            &gpu.shaders.compose("gtao.wgsl", &AoPass::defs(variant))?,
+        )?;
+        let pipeline = |i: usize, entry: &str| {
+            fullscreen_pipeline(
+                gpu,
+                entry,
+                Some(&self.pipeline_layouts[i]),
+                &module,
+                ("vs_fullscreen", entry),
+                &[AO_FORMAT],
+                None,
+            )
+        };
+        let pair = [pipeline(0, "fs_trace")?, pipeline(1, "fs_resolve")?];
+        self.pipelines.insert(variant, pair);
+        Ok(())
+    }
+}
+
+/// Compiles the variant, sizes the AO-resolution target, writes the parameters and builds
+/// the bind groups.
+#[allow(clippy::too_many_arguments)]
+pub fn prepare_ao(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    quality: Res<Quality>,
+    frame: Res<ExtractedFrame>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<AoPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let (Some(&variant), Some(t), Some(camera)) = (
+        plan.variant::<AoPass>(),
+        targets.current.as_ref(),
+        frame.camera.as_ref(),
+    ) else {
+        return;
+    };
+    if let Err(e) = pass.pipelines(&gpu, variant) {
+        errors.0.push(e);
+        return;
+    }
+    let scale = quality.ao.resolution.scale().max(1);
+    if pass
+        .raw
+        .as_ref()
+        .is_none_or(|(size, s, _)| *size != t.size || *s != scale)
+    {
+        let size = (t.size.0.div_ceil(scale), t.size.1.div_ceil(scale));
+        pass.raw = Some((t.size, scale, Target::new(&gpu, "ao raw", size, AO_FORMAT)));
+        pass.bind_groups = None;
+    }
+    let height = t.size.1 as f32;
+    let params = Params {
+        radius_m: if quality.ao.radius_m.is_finite() {
+            quality.ao.radius_m.max(0.0)
+        } else {
+            0.0
+        },
+        pixels_per_m: 0.5 * height * camera.clip_from_view.y_axis.y.abs(),
+        max_radius_px: (MAX_RADIUS_FRACTION * height).max(1.0),
+        scale: scale as f32,
+    };
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    let key = t.generation + (buffers.generation << 32);
+    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let (Some([depth, normal]), Some((_, _, raw))) =
+        (t.views([DEPTH, GBUFFER_NORMAL]), pass.raw.as_ref())
+    else {
+        return;
+    };
+    use wgpu::BindingResource::TextureView;
+    let common = || {
+        vec![
+            buffers.view.as_entire_binding(),
+            pass.params.as_entire_binding(),
+            TextureView(depth),
+            TextureView(normal),
+        ]
+    };
+    let mut with_raw = common();
+    with_raw.push(TextureView(&raw.view));
+    let groups = TRACE
+        .group(&gpu, &pass.layouts[0], common())
+        .and_then(|trace| Ok([trace, RESOLVE.group(&gpu, &pass.layouts[1], with_raw)?]));
+    match groups {
+        Ok(groups) => pass.bind_groups = Some((key, groups)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the trace at AO resolution and the resolve into [`AMBIENT_OCCLUSION`].
+pub fn ao_pass(
+    plan: Res<FramePlan>,
+    pass: Res<AoPass>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some((_, _, raw)), Some((_, [trace, resolve]))) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.raw.as_ref(),
+        pass.bind_groups.as_ref(),
+    ) else {
+        return;
+    };
+    let (Some(out), Some([trace_pipeline, resolve_pipeline])) = (
+        t.view(AMBIENT_OCCLUSION),
+        plan.variant::<AoPass>().and_then(|v| pass.pipelines.get(v)),
+    ) else {
+        return;
+    };
+    draw_fullscreen(encoder, timer, "ao trace", &[&raw.view], trace_pipeline, trace);
+    draw_fullscreen(encoder, timer, "ao resolve", &[out], resolve_pipeline, resolve);
+}
