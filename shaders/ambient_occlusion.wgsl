@@ -2,7 +2,7 @@
 // engine/src/ambient_occlusion.rs (same names), where each is documented.
 #import common
 
-const FALLOFF_RANGE: f32 = 0.6;
+const FALLOFF_RANGE: f32 = 0.4;
 
 // Weight of an occluder at distance_m for an AO radius radius_m: 1, then linear to 0.
 fn ao_falloff(distance_m: f32, radius_m: f32) -> f32 {

@@ -66,8 +66,11 @@ fn bayer4(p: vec2<u32>) -> u32 {
 // off the slice's line, and on a tilted plane that offset alone would raise the horizon:
 // the sample is slid parallel to the pixel's tangent plane (along `slide`, the slice
 // plane's normal `axis` made tangent) into the slice plane, which keeps its height above
-// the tangent plane, so an open plane stays exactly at the tangent horizon.
-fn horizon_step(best: f32, low: f32, q: vec2<i32>, p: vec3<f32>, v: vec3<f32>, axis: vec3<f32>, slide: vec3<f32>) -> f32 {
+// the tangent plane, so an open plane stays exactly at the tangent horizon. A sample that
+// lands on the other side of p in the slice (`toward` is the side's direction: at grazing
+// angles a pixel ahead on the screen can lie behind p on the surface) says nothing about
+// this side's horizon and is skipped.
+fn horizon_step(best: f32, low: f32, q: vec2<i32>, p: vec3<f32>, v: vec3<f32>, toward: vec3<f32>, axis: vec3<f32>, slide: vec3<f32>) -> f32 {
     let size = vec2<i32>(textureDimensions(depth_buffer));
     if any(q < vec2<i32>(0)) || any(q >= size) {
         return best;
@@ -78,7 +81,10 @@ fn horizon_step(best: f32, low: f32, q: vec2<i32>, p: vec3<f32>, v: vec3<f32>, a
     }
     let delta = world_at(vec2<f32>(q) + vec2<f32>(0.5), d) - p;
     let in_slice = delta - slide * dot(delta, axis);
-    let c = dot(in_slice, v) / max(length(in_slice), 1e-6);
+    if dot(in_slice, toward) <= 0.0 {
+        return best;
+    }
+    let c = dot(in_slice, v) / length(in_slice);
     return max(best, mix(low, c, ao_falloff(length(delta), params.radius_m)));
 }
 
@@ -120,7 +126,7 @@ fn fs_trace(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         // where the slice plane nearly contains the normal (that slice weighs ~0).
         let tangent_axis = axis - n * dot(axis, n);
         let crossing = dot(tangent_axis, axis);
-        let slide = select(axis, tangent_axis / crossing, crossing > 0.1);
+        let slide = select(axis, tangent_axis / crossing, crossing > 1e-4);
         let d = safe_normalize(vec3<f32>(pixel_of(p + dir * (0.01 * z)) - center, 0.0), vec3<f32>(1.0, 0.0, 0.0)).xy;
         let projected = gtao_projected_normal(n, v, dir);
         let low = gtao_open_horizons(projected.y);
@@ -128,8 +134,8 @@ fn fs_trace(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         for (var k = 0u; k < STEPS; k++) {
             let t = (f32(k) + step_noise) / f32(STEPS);
             let offset = d * (1.0 + (radius_px - 1.0) * t * t);
-            horizon.x = horizon_step(horizon.x, low.x, vec2<i32>(floor(center - offset)), p, v, axis, slide);
-            horizon.y = horizon_step(horizon.y, low.y, vec2<i32>(floor(center + offset)), p, v, axis, slide);
+            horizon.x = horizon_step(horizon.x, low.x, vec2<i32>(floor(center - offset)), p, v, -dir, axis, slide);
+            horizon.y = horizon_step(horizon.y, low.y, vec2<i32>(floor(center + offset)), p, v, dir, axis, slide);
         }
         visibility += gtao_slice(projected, horizon);
     }

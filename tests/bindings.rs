@@ -6,10 +6,10 @@
 use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
 use lumen::render::bindings::{BindGroupSpec, Binding};
+use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
 use lumen::render::tonemap;
-use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::{debug_view, gbuffer, light_culling, lighting, material_maps, shadow, sky};
 use lumen::wgpu::naga;
 

@@ -17,7 +17,7 @@ use std::f32::consts::FRAC_PI_2;
 
 /// Fraction of the AO radius over which an occluder's weight falls from 1 to 0 (its outer
 /// part); [`ao_falloff`].
-pub const FALLOFF_RANGE: f32 = 0.6;
+pub const FALLOFF_RANGE: f32 = 0.4;
 
 /// Weight (0..1) of an occluder at `distance_m` metres from the shaded point, for an AO
 /// radius of `radius_m` metres: 1 up to `(1 − FALLOFF_RANGE) · radius`, then falling
@@ -130,7 +130,10 @@ mod tests {
         for (n, v) in [
             (Vec3::Y, Vec3::Y),
             (Vec3::Y, Vec3::new(0.0, 0.2, 1.0).normalize()),
-            (Vec3::new(0.3, 1.0, -0.2).normalize(), Vec3::new(-0.5, 0.6, 0.6).normalize()),
+            (
+                Vec3::new(0.3, 1.0, -0.2).normalize(),
+                Vec3::new(-0.5, 0.6, 0.6).normalize(),
+            ),
             (Vec3::X, Vec3::new(0.05, 0.0, 1.0).normalize()),
         ] {
             let ao = open_visibility(n, v, 512);
@@ -151,7 +154,7 @@ mod tests {
     fn falloff_and_combination() {
         assert_eq!(ao_falloff(0.0, 1.0), 1.0);
         assert_eq!(ao_falloff(0.4, 1.0), 1.0);
-        assert!((ao_falloff(0.7, 1.0) - 0.5).abs() < 1e-6);
+        assert!((ao_falloff(0.8, 1.0) - 0.5).abs() < 1e-6);
         assert_eq!(ao_falloff(1.0, 1.0), 0.0);
         assert_eq!(ao_falloff(5.0, 0.0), 0.0);
         assert_eq!(combine_occlusion(0.3, 0.8), 0.3);

@@ -7,6 +7,7 @@
 #import encoding
 #import ibl
 #import camera
+#import ambient_occlusion
 
 struct Case {
     n: vec4<f32>,
@@ -20,7 +21,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 19u;
+const OUTPUTS: u32 = 22u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -78,6 +79,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 17u] = vec4<f32>(tonemap_agx(c.base_metallic.rgb * 4.0),
                                  circle_of_confusion(x * 20.0, coc_focus(i), 0.05, k * 0.05));
     results[o + 18u] = vec4<f32>(tonemap_pbr_neutral(c.base_metallic.rgb * 4.0), vignetting(x * 3.0, n_dot_h));
+    let projected = gtao_projected_normal(c.n.xyz, c.v.xyz, c.l.xyz);
+    results[o + 19u] = vec4<f32>(projected, gtao_open_horizons(x * 3.0 - 1.5));
+    results[o + 20u] = vec4<f32>(gtao_slice(projected, vec2<f32>(2.0 * x - 1.0, 2.0 * n_dot_h - 1.0)),
+                                 gtao_slice_visibility(-1.5 * x, 1.5 * n_dot_h, 2.0 * k - 1.0),
+                                 ao_falloff(2.0 * x, n_dot_h + 0.1), combine_occlusion(x, n_dot_h));
+    results[o + 21u] = vec4<f32>(gtao_multi_bounce(x, c.base_metallic.rgb), 0.0);
 }
 
 // The same focus distances as coc_focus in tests/shader_parity.rs.

@@ -405,8 +405,7 @@ pub fn prepare_lighting(
         GBUFFER_EMISSIVE,
         DEPTH,
         AMBIENT_OCCLUSION,
-    ])
-    else {
+    ]) else {
         return;
     };
     if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity, t.hdr_format) {

@@ -49,7 +49,11 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         max_bounces: args.max_bounces,
         seed: args.seed,
     };
-    let radius_m = app.world().resource::<lumen::prelude::Quality>().ao.radius_m;
+    let radius_m = app
+        .world()
+        .resource::<lumen::prelude::Quality>()
+        .ao
+        .radius_m;
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(u64::from(rows));

@@ -74,7 +74,9 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
             a.shadow_filter = Some(f)
         });
     }
-    knob("--light-shadows", "all".into(), &|a| a.light_shadows = Some(true));
+    knob("--light-shadows", "all".into(), &|a| {
+        a.light_shadows = Some(true)
+    });
     for x in [0.5f32, 2.0] {
         knob("--shadow-resolution-scale", x.to_string(), &|a| {
             a.shadow_resolution_scale = Some(x)
@@ -111,7 +113,9 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     for r in [0.5f32, 2.0] {
         knob("--ao-radius", r.to_string(), &|a| a.ao_radius = Some(r));
     }
-    knob("--no-ao-denoise", String::new(), &|a| a.no_ao_denoise = true);
+    knob("--no-ao-denoise", String::new(), &|a| {
+        a.no_ao_denoise = true
+    });
     knob("--no-ao-multi-bounce", String::new(), &|a| {
         a.no_ao_multi_bounce = true
     });

@@ -320,6 +320,20 @@ pub fn ao_pass(
     ) else {
         return;
     };
-    draw_fullscreen(encoder, timer, "ao trace", &[&raw.view], trace_pipeline, trace);
-    draw_fullscreen(encoder, timer, "ao resolve", &[out], resolve_pipeline, resolve);
+    draw_fullscreen(
+        encoder,
+        timer,
+        "ao trace",
+        &[&raw.view],
+        trace_pipeline,
+        trace,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "ao resolve",
+        &[out],
+        resolve_pipeline,
+        resolve,
+    );
 }
