@@ -313,3 +313,33 @@ fn ao_stays_finite_on_degenerate_input() {
     let (mean, _) = lit(&mut nan);
     assert!(mean.is_finite() && mean > 0.0);
 }
+
+#[test]
+fn every_light_can_cast_shadows_for_the_judge() {
+    let mut app = scene(None, true);
+    app.world_mut().spawn((
+        PointLight {
+            range_m: 20.0,
+            ..PointLight::default()
+        },
+        Transform::from_xyz(0.0, -1.0, 0.0),
+    ));
+    app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        app.world().resource::<ExtractedFrame>().shadowed_counts,
+        [0, 0, 0],
+        "the scene's lights cast no shadows"
+    );
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .all_lights_cast_shadows = true;
+    app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        app.world().resource::<ExtractedFrame>().shadowed_counts,
+        [1, 1, 0],
+        "--light-shadows all: the sun and the point light"
+    );
+    // The path tracer's frame-visibility mode then tests every light too.
+    let traced = trace_scene(&mut app, SIZE).expect("trace scene");
+    assert!(traced.lights.iter().all(|l| l.casts_shadows()));
+}

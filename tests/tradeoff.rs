@@ -79,3 +79,69 @@ fn the_pareto_front_keeps_only_undominated_rows() {
     ];
     assert_eq!(pareto_front(&rows), vec![0, 1, 3]);
 }
+
+#[test]
+fn the_decomposition_separates_shading_visibility_and_transport() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args([
+            "tradeoff",
+            "spheres",
+            "--decompose",
+            "--size",
+            "64x36",
+            "--spp",
+            "16",
+            "--frames",
+            "1",
+            "--json",
+            "d.json",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("lumen runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("d.json")).expect("json"))
+            .expect("valid JSON");
+    assert_eq!(doc["schema"], "lumen-tradeoff-decompose/1");
+    let parts = doc["parts"].as_array().expect("parts");
+    let names: Vec<&str> = parts.iter().filter_map(|p| p["part"].as_str()).collect();
+    assert_eq!(
+        names,
+        ["implementation", "unshadowed lights", "transport", "total"]
+    );
+    let flip = |name: &str| {
+        parts
+            .iter()
+            .find(|p| p["part"] == name)
+            .and_then(|p| p["flip_mean"].as_f64())
+            .expect(name)
+    };
+    for name in names {
+        let f = flip(name);
+        assert!(f.is_finite() && (0.0..=1.0).contains(&f), "{name}: {f}");
+    }
+    // spheres' point lights below the floor cast no shadow in the frame, and its metals
+    // reflect a floor the frame does not transport: both parts are far from 0.
+    println!(
+        "implementation {}, unshadowed {}, transport {}, total {}",
+        flip("implementation"),
+        flip("unshadowed lights"),
+        flip("transport"),
+        flip("total")
+    );
+    assert!(flip("unshadowed lights") > 0.01);
+    assert!(flip("transport") > flip("implementation"));
+    // Three references, each cached under its own name.
+    for name in ["1b-frame", "1b", "8b"] {
+        let cached = dir.path().join(format!(
+            "out/reference-cache/spheres-64x36-16spp-{name}.exr"
+        ));
+        assert!(cached.is_file(), "{}", cached.display());
+    }
+}

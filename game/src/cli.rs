@@ -219,8 +219,8 @@ pub struct SceneArgs {
     /// Turn every shadow off (no shadow pass runs).
     #[arg(long)]
     pub no_shadows: bool,
-    /// Which lights cast shadows: scene (each light's own setting; the default below
-    /// ultra) or all (every light, as the path tracer sees them; ultra's).
+    /// Which lights cast shadows: scene (each light's own setting, the default) or all
+    /// (every light, as the path tracer sees them).
     #[arg(long, value_name = "WHICH", value_parser = parse_light_shadows)]
     pub light_shadows: Option<bool>,
     /// The lights of a glTF file cast no shadows (they do by default).
@@ -407,8 +407,13 @@ pub struct TradeoffArgs {
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Draw time against error, with the Pareto front, into this PNG.
-    #[arg(long, value_name = "FILE.png")]
+    #[arg(long, value_name = "FILE.png", conflicts_with = "decompose")]
     pub plot: Option<PathBuf>,
+    /// Instead of the rows, split the error of one frame (the quality options given,
+    /// default high) into its implementation's own error, what its unshadowed lights
+    /// cost and what it does not transport.
+    #[arg(long)]
+    pub decompose: bool,
 }
 
 /// Arguments of `lumen view`.

@@ -10,7 +10,7 @@ use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
 use lumen::quality::{AoResolution, HdrPrecision, QualityPreset, ShadowFilter};
-use lumen::reference::path::{ReferenceOptions, render};
+use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
 use serde_json::json;
@@ -122,6 +122,22 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     out
 }
 
+/// Which reference: how many bounces its paths take and which lights its shadow rays
+/// test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReferenceKind {
+    /// Surface interactions per path (1 = direct light only).
+    pub bounces: u32,
+    /// Every light's shadow (physical) or only those the frame draws.
+    pub visibility: LightVisibility,
+}
+
+/// The ground truth the rows are judged against: 8 bounces, physical visibility.
+pub const FULL_REFERENCE: ReferenceKind = ReferenceKind {
+    bounces: REFERENCE_BOUNCES,
+    visibility: LightVisibility::Physical,
+};
+
 /// The reference of `scene` at `size` and `spp`: from the cache when it holds it, else
 /// path-traced (Smith height-correlated visibility and energy compensation: Lumen's most
 /// accurate BRDF) and cached.
@@ -129,17 +145,31 @@ fn reference(
     scene: &SceneArgs,
     size: (u32, u32),
     spp: u32,
+    kind: ReferenceKind,
 ) -> Result<(image::Rgba32FImage, Tonemapper, bool)> {
+    let mut app = App::headless()?;
+    build_scene(&mut app, scene)?;
+    // The frame's visibility depends on which lights the frame's quality shadows.
+    let visibility = match kind.visibility {
+        LightVisibility::Physical => "",
+        LightVisibility::AsFrame
+            if app
+                .world()
+                .resource::<lumen::prelude::Quality>()
+                .all_lights_cast_shadows =>
+        {
+            "-frame-all"
+        }
+        LightVisibility::AsFrame => "-frame",
+    };
     let cache = PathBuf::from("out/reference-cache").join(format!(
-        "{}-{}x{}-{}spp-{}b.exr",
+        "{}-{}x{}-{}spp-{}b{visibility}.exr",
         scene.label(),
         size.0,
         size.1,
         spp,
-        REFERENCE_BOUNCES
+        kind.bounces
     ));
-    let mut app = App::headless()?;
-    build_scene(&mut app, scene)?;
     {
         let mut q = app.world_mut().resource_mut::<lumen::prelude::Quality>();
         q.visibility = VisibilityModel::SmithGgxCorrelated;
@@ -156,13 +186,14 @@ fn reference(
             true,
         ));
     }
-    let traced = trace_scene(&mut app, size)?;
+    let mut traced = trace_scene(&mut app, size)?;
+    traced.light_visibility = kind.visibility;
     let tonemapper = crate::commands::reference::frame_tonemapper(&app);
     let bar = crate::progress::bar(u64::from(size.1), "reference", "rows");
     let options = ReferenceOptions {
         size,
         samples_per_pixel: spp,
-        max_bounces: REFERENCE_BOUNCES,
+        max_bounces: kind.bounces,
         seed: 0,
     };
     let result = render(&traced, &options, &|rows| bar.set_position(u64::from(rows)));
@@ -222,8 +253,11 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     {
         return Err(anyhow!("{}: expected a .png file", p.display()));
     }
+    if args.decompose {
+        return decompose(args);
+    }
     let (reference_image, tonemapper, cached) =
-        reference(&args.scene, args.size, args.spp).context("the reference")?;
+        reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
     let configs = configurations(&args.scene);
     let progress = crate::progress::bar(configs.len() as u64, "tradeoff", "configurations");
     let mut rows = Vec::new();
@@ -289,6 +323,130 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     }
     if let Some(path) = &args.plot {
         plot(path, &title, &rows)?;
+    }
+    Ok(())
+}
+
+/// One part of the decomposed error: what was compared with what, and the errors.
+struct Part {
+    name: &'static str,
+    compared: &'static str,
+    flip_mean: f64,
+    psnr_db: f64,
+    relative_mse: f64,
+}
+
+/// `--decompose`: splits the frame's error against the full reference into what its
+/// shading gets wrong, what its unshadowed lights cost and what it does not transport.
+fn decompose(args: &TradeoffArgs) -> Result<()> {
+    let direct = |visibility| ReferenceKind {
+        bounces: 1,
+        visibility,
+    };
+    let (direct_frame, tonemapper, _) = reference(
+        &args.scene,
+        args.size,
+        args.spp,
+        direct(LightVisibility::AsFrame),
+    )
+    .context("the direct-light reference with the frame's visibility")?;
+    let (direct_physical, _, _) = reference(
+        &args.scene,
+        args.size,
+        args.spp,
+        direct(LightVisibility::Physical),
+    )
+    .context("the direct-light reference")?;
+    let (full, _, _) =
+        reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
+    let mut app = App::headless()?;
+    build_scene(&mut app, &args.scene)?;
+    let samples = measure(&mut app, args.size, 3, args.frames, &|_| {})?;
+    let frame_ms = Summary::of(&samples.iter().map(|s| s.frame_ms).collect::<Vec<_>>())
+        .map_or(f64::NAN, |s| s.median);
+    let frame = app.read_hdr_image()?;
+    let part = |name, compared, a: &image::Rgba32FImage, b: &image::Rgba32FImage| -> Result<Part> {
+        let (flip_mean, psnr_db, relative_mse) = errors(a, b, tonemapper)?;
+        Ok(Part {
+            name,
+            compared,
+            flip_mean,
+            psnr_db,
+            relative_mse,
+        })
+    };
+    let parts = [
+        part(
+            "implementation",
+            "the frame against direct light with the frame's light visibility",
+            &frame,
+            &direct_frame,
+        )?,
+        part(
+            "unshadowed lights",
+            "direct light with the frame's visibility against physical visibility",
+            &direct_frame,
+            &direct_physical,
+        )?,
+        part(
+            "transport",
+            "direct light against all light (8 bounces), both physical",
+            &direct_physical,
+            &full,
+        )?,
+        part(
+            "total",
+            "the frame against the full reference",
+            &frame,
+            &full,
+        )?,
+    ];
+    let adapter = app.adapter().cloned().context("no adapter")?;
+    let quality = crate::setup::preset_name(app.world().resource::<lumen::prelude::Quality>());
+    let title = format!(
+        "{} {}x{}, {quality}, {:.2} ms/frame, references {} spp, on {} ({})",
+        args.scene.label(),
+        args.size.0,
+        args.size.1,
+        frame_ms,
+        args.spp,
+        adapter.name,
+        adapter.backend
+    );
+    let mut table = format!(
+        "{title}\n\n| part | compared | FLIP mean | PSNR (dB) | relative MSE |\n| --- | --- | --- | --- | --- |\n"
+    );
+    for p in &parts {
+        table += &format!(
+            "| {} | {} | {:.4} | {:.2} | {:.2e} |\n",
+            p.name, p.compared, p.flip_mean, p.psnr_db, p.relative_mse
+        );
+    }
+    table += "\nFLIP is not additive: the parts show where the error comes from, not a sum.\n";
+    crate::output::print(&table);
+    if let Some(path) = &args.out {
+        crate::output::write_text(path, &table)?;
+    }
+    if let Some(path) = &args.json {
+        let doc = json!({
+            "schema": "lumen-tradeoff-decompose/1",
+            "scene": args.scene.label(),
+            "size": format!("{}x{}", args.size.0, args.size.1),
+            "quality": quality,
+            "frame_ms": frame_ms,
+            "adapter": {"name": adapter.name, "backend": adapter.backend, "driver": adapter.driver},
+            "reference": {"spp": args.spp, "max_bounces": REFERENCE_BOUNCES},
+            "parts": parts.iter().map(|p| json!({
+                "part": p.name, "compared": p.compared, "flip_mean": p.flip_mean,
+                "psnr_db": p.psnr_db, "relative_mse": p.relative_mse,
+            })).collect::<Vec<_>>(),
+        });
+        let text = serde_json::to_string_pretty(&doc)?;
+        if path.as_os_str() == "-" {
+            crate::output::print(&format!("{text}\n"));
+        } else {
+            crate::output::write_text(path, &text)?;
+        }
     }
     Ok(())
 }
