@@ -10,6 +10,10 @@
 // offsets are rotated per texel by a 4×4 ordered pattern, so 16 neighbouring texels
 // together cover 16 rotations.
 //
+// fs_trace writes (AO, the texel's position relative to the camera in metres), or
+// (-1, 0, 0, 0) on the background, so that the resolve compares positions without
+// reconstructing them.
+//
 // fs_resolve runs at full resolution: with DENOISE, the mean of the 4×4 AO texels around
 // the pixel whose surface lies on the pixel's tangent plane (which averages the 16
 // rotations and upsamples without bleeding across depth edges); without it, the nearest
@@ -95,7 +99,7 @@ fn fs_trace(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = min(vec2<i32>(cell * u32(params.scale)), size - vec2<i32>(1));
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
-        return vec4<f32>(1.0);
+        return vec4<f32>(-1.0, 0.0, 0.0, 0.0);
     }
     let center = vec2<f32>(pixel) + vec2<f32>(0.5);
     let p = world_at(center, depth);
@@ -105,7 +109,7 @@ fn fs_trace(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let z = max(dot(p - camera, view.forward.xyz), 1e-4);
     let radius_px = min(params.radius_m * params.pixels_per_m / z, params.max_radius_px);
     if radius_px < 1.0 {
-        return vec4<f32>(1.0);
+        return vec4<f32>(1.0, p - camera);
     }
     let b = bayer4(cell);
     let slice_noise = (f32(b) + 0.5) / 16.0;
@@ -139,7 +143,7 @@ fn fs_trace(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
         visibility += gtao_slice(projected, horizon);
     }
-    return vec4<f32>(clamp(visibility / f32(SLICES), 0.0, 1.0));
+    return vec4<f32>(clamp(visibility / f32(SLICES), 0.0, 1.0), p - camera);
 }
 
 @fragment
@@ -151,15 +155,16 @@ fn fs_resolve(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let scale = i32(params.scale);
     let last = vec2<i32>(textureDimensions(raw_ao)) - vec2<i32>(1);
-    let full = vec2<i32>(textureDimensions(depth_buffer)) - vec2<i32>(1);
     let cell = min(pixel / scale, last);
+    // The nearest texel's AO (1 where it saw the background).
     let nearest = textureLoad(raw_ao, cell, 0).r;
     if !DENOISE {
-        return vec4<f32>(nearest);
+        return vec4<f32>(select(nearest, 1.0, nearest < 0.0));
     }
-    let p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
+    let camera = view.position_exposure.xyz;
+    let p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth) - camera;
     let n = oct_decode(textureLoad(gbuffer1, pixel, 0).rg);
-    let z = max(dot(p - view.position_exposure.xyz, view.forward.xyz), 1e-4);
+    let z = max(dot(p, view.forward.xyz), 1e-4);
     // A texel counts in full when its surface lies within 1 % of the view depth of the
     // pixel's tangent plane, not at all beyond 3 %.
     let tolerance = 0.01 * z;
@@ -167,14 +172,12 @@ fn fs_resolve(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var weight = 0.0;
     for (var dy = -1; dy <= 2; dy++) {
         for (var dx = -1; dx <= 2; dx++) {
-            let c = clamp(cell + vec2<i32>(dx, dy), vec2<i32>(0), last);
-            let src = min(c * scale, full);
-            let d = textureLoad(depth_buffer, src, 0).r;
-            let off_plane = abs(dot(world_at(vec2<f32>(src) + vec2<f32>(0.5), d) - p, n));
-            let w = select(0.0, clamp(1.5 - 0.5 * off_plane / tolerance, 0.0, 1.0), d > 0.0);
-            sum += w * textureLoad(raw_ao, c, 0).r;
+            let texel = textureLoad(raw_ao, clamp(cell + vec2<i32>(dx, dy), vec2<i32>(0), last), 0);
+            let off_plane = abs(dot(texel.yzw - p, n));
+            let w = select(0.0, clamp(1.5 - 0.5 * off_plane / tolerance, 0.0, 1.0), texel.x >= 0.0);
+            sum += w * texel.x;
             weight += w;
         }
     }
-    return vec4<f32>(select(nearest, sum / weight, weight > 1e-3));
+    return vec4<f32>(select(select(nearest, 1.0, nearest < 0.0), sum / weight, weight > 1e-3));
 }

@@ -72,6 +72,21 @@ fn dfg_integrate(n_dot_v_in: f32, perceptual_roughness: f32, samples: u32) -> ve
 }
 
 // Multiple-scattering energy compensation (Kulla & Conty 2017; Filament).
+// A GGX visible normal for v in the local frame (z = normal), Heitz 2018.
+fn sample_ggx_vndf(v: vec3<f32>, alpha: f32, xi: vec2<f32>) -> vec3<f32> {
+    let vh = safe_normalize(vec3<f32>(alpha * v.x, alpha * v.y, v.z), vec3<f32>(0.0, 0.0, 1.0));
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(-vh.y, vh.x, 0.0) / sqrt(len2), len2 > 0.0);
+    let t2 = cross(vh, t1);
+    let r = sqrt(xi.x);
+    let phi = 2.0 * PI * xi.y;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(1.0 - p1 * p1, 0.0)) + s * r * sin(phi);
+    let nh = t1 * p1 + t2 * p2 + vh * sqrt(max(1.0 - p1 * p1 - p2 * p2, 0.0));
+    return safe_normalize(vec3<f32>(alpha * nh.x, alpha * nh.y, max(nh.z, 0.0)), vec3<f32>(0.0, 0.0, 1.0));
+}
+
 fn energy_compensation(f0: vec3<f32>, dfg: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(1.0) + f0 * (1.0 / max(dfg.x + dfg.y, 1e-4) - 1.0);
 }

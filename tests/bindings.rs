@@ -7,6 +7,8 @@ use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
+use lumen::render::indirect::depth_pyramid;
+use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
 use lumen::render::tonemap;
@@ -122,6 +124,20 @@ fn every_bind_group_list_matches_its_shader() {
             denoise: true,
         }),
         &[(0, ambient_occlusion::RESOLVE)],
+    );
+    check("depth_pyramid.wgsl", &[], &[(0, depth_pyramid::BINDINGS)]);
+    check(
+        "ssr.wgsl",
+        &SsrPass::defs(SsrVariant {
+            rays: 2,
+            steps: 16,
+            environment: true,
+            env_map: true,
+            energy_compensation: true,
+            screen_ao: true,
+            format: wgpu::TextureFormat::Rgba16Float,
+        }),
+        &[(0, reflections::SSR), (1, lighting::ENVIRONMENT)],
     );
     assert_eq!(
         ambient_occlusion::TRACE.bindings,

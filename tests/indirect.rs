@@ -6,7 +6,7 @@
 //! from 2.6 m in front and 1.2 m up. The AO pass's result is read through the occlusion
 //! debug view (display value = AO × 255).
 
-use glam::Vec4Swizzles;
+use glam::{Vec2, Vec4Swizzles};
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
 use lumen::quality::{AoResolution, AoSettings};
@@ -342,4 +342,150 @@ fn every_light_can_cast_shadows_for_the_judge() {
     // The path tracer's frame-visibility mode then tests every light too.
     let traced = trace_scene(&mut app, SIZE).expect("trace scene");
     assert!(traced.lights.iter().all(|l| l.casts_shadows()));
+}
+
+/// A mirror floor (metal, roughness 0) under an emissive sphere of radius 0.3 m at
+/// `SPHERE_AT`, nothing else lit: the floor shows only what the reflection pass adds.
+const SPHERE_AT: Vec3 = Vec3::new(0.3, 0.6, -0.2);
+
+fn mirror(environment: Option<Vec3>, ssr: bool) -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    let floor = app.add_mesh(plane(20.0, 20.0)).expect("floor");
+    let sphere = app.add_mesh(uv_sphere(0.3, 48, 24)).expect("sphere");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(floor),
+        Material::new(Vec3::ONE, 1.0, 0.0),
+        Transform::IDENTITY,
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            emissive: Vec3::splat(2.0),
+            ..Material::new(Vec3::ZERO, 0.0, 1.0)
+        },
+        Transform::from_translation(SPHERE_AT),
+    ));
+    if let Some(radiance) = environment {
+        world.spawn(Environment::uniform(radiance));
+    }
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 1.4, 3.0).looking_at(Vec3::new(0.0, 0.0, -0.3), Vec3::Y),
+    ));
+    world.resource_mut::<Quality>().ssr.enabled = ssr;
+    app
+}
+
+/// The centroid (pixels) of the pixels brighter than `threshold` inside `rows`.
+fn centroid(image: &image::Rgba32FImage, rows: std::ops::Range<u32>, threshold: f32) -> Vec2 {
+    let (mut sum, mut n) = (Vec2::ZERO, 0.0);
+    for (x, y, p) in image.enumerate_pixels() {
+        if rows.contains(&y) && p.0[0] > threshold {
+            sum += Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            n += 1.0;
+        }
+    }
+    assert!(n > 10.0, "no bright pixels in rows {rows:?}");
+    sum / n
+}
+
+#[test]
+fn a_mirror_floor_shows_the_sphere_at_its_mirrored_position() {
+    let mut app = mirror(None, true);
+    let report = app.render_headless(SIZE).expect("frame");
+    assert!(report.plan.runs(PassId::Reflections));
+    assert!(report.plan.runs(PassId::DepthPyramid));
+    let image = app.read_hdr_image().expect("image");
+    let project = |p: Vec3| {
+        let (x, y) = pixel_of(&app, p);
+        Vec2::new(x as f32 + 0.5, y as f32 + 0.5)
+    };
+    // The sphere and its reflection, split at the floor line below the sphere.
+    let contact = project(Vec3::new(SPHERE_AT.x, 0.0, SPHERE_AT.z)).y as u32;
+    let direct = centroid(&image, 0..contact, 0.5);
+    let reflected = centroid(&image, contact..SIZE.1, 0.2);
+    let expected = project(SPHERE_AT * Vec3::new(1.0, -1.0, 1.0));
+    let calibration = direct - project(SPHERE_AT);
+    println!(
+        "direct {direct} ({calibration} from its centre), reflection {reflected}, mirrored centre {expected}"
+    );
+    assert!(
+        calibration.length() < 1.0,
+        "the sphere's own centroid is {calibration} px from its projected centre"
+    );
+    assert!(
+        (reflected - expected).length() <= 2.0,
+        "the reflection's centroid {reflected} is {} px from the mirrored centre {expected}",
+        (reflected - expected).length()
+    );
+    // Without the pass the floor reflects nothing (there is no environment).
+    let mut dark = mirror(None, false);
+    dark.render_headless(SIZE).expect("frame");
+    let unlit = dark.read_hdr_image().expect("image");
+    let (x, y) = (expected.x as u32, expected.y as u32);
+    assert!(unlit.get_pixel(x, y).0[0] < 0.01 && image.get_pixel(x, y).0[0] > 0.2);
+}
+
+#[test]
+fn reflection_rays_that_leave_the_screen_keep_the_environment() {
+    // Looking down at the mirror: every reflected ray leaves the screen upwards.
+    let render = |ssr: bool| {
+        let mut app = mirror(Some(Vec3::splat(0.5)), ssr);
+        app.render_headless(SIZE).expect("frame");
+        app.read_hdr_image().expect("image")
+    };
+    let (with, without) = (render(true), render(false));
+    // The floor's bottom rows: the environment's 0.5 in both, never black.
+    for x in (0..SIZE.0).step_by(9) {
+        let y = SIZE.1 - 2;
+        let (a, b) = (with.get_pixel(x, y).0[0], without.get_pixel(x, y).0[0]);
+        assert!(b > 0.4, "the environment's reflection: {b}");
+        assert!(
+            (a - b).abs() < 0.01,
+            "pixel ({x}, {y}): {a} with SSR, {b} without"
+        );
+    }
+}
+
+#[test]
+fn the_plan_traces_reflections_only_where_a_surface_is_smooth_enough() {
+    // The contact scene's roughest-first materials: floor 0.8, sphere 0.5; the cutoff.
+    let cases = [
+        (0.4, true, false, "no surface smoother than the cutoff"),
+        (0.6, true, true, "ray(s) per pixel"),
+        (0.6, false, false, "--no-ssr"),
+    ];
+    for (cutoff, enabled, runs, reason) in cases {
+        let mut app = scene(None, true);
+        {
+            let world = app.world_mut();
+            let mut quality = world.resource_mut::<Quality>();
+            quality.ssr.max_roughness = cutoff;
+            quality.ssr.enabled = enabled;
+        }
+        let report = app.render_headless(SIZE).expect("frame");
+        let decision = |id: PassId| {
+            report
+                .plan
+                .passes
+                .iter()
+                .find(|(p, _)| *p == id)
+                .map(|(_, d)| d.clone())
+                .expect("registered")
+        };
+        let ssr = decision(PassId::Reflections);
+        assert_eq!(ssr.enabled, runs, "{reason}: {}", ssr.reason);
+        assert!(
+            ssr.reason.contains(reason),
+            "'{reason}' in '{}'",
+            ssr.reason
+        );
+        assert_eq!(decision(PassId::DepthPyramid).enabled, runs);
+        let image = app.read_hdr_image().expect("image");
+        assert!(image.pixels().all(|p| p.0.iter().all(|v| v.is_finite())));
+    }
 }

@@ -13,7 +13,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 22;
+const OUTPUTS: usize = 23;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -210,6 +210,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             ao::combine_occlusion(x, n_dot_h),
         ),
         ao::gtao_multi_bounce(x, base).extend(0.0),
+        ibl::sample_ggx_vndf(
+            Vec3::new(v.x, v.y, v.z.abs() + 1e-3).normalize(),
+            alpha,
+            ibl::hammersley(i as u32 % 64, 64),
+        )
+        .extend(0.0),
     ]
 }
 
@@ -236,6 +242,7 @@ const NAMES: [&str; OUTPUTS] = [
     "gtao_projected_normal | gtao_open_horizons",
     "gtao_slice | gtao_slice_visibility | ao_falloff | combine_occlusion",
     "gtao_multi_bounce",
+    "sample_ggx_vndf",
 ];
 
 /// Focus distance (m) of case `i` for `circle_of_confusion`: mostly ordinary, some at
@@ -250,7 +257,7 @@ fn coc_focus(i: usize) -> f32 {
 }
 
 /// Outputs that are unit vectors (or directions' coordinates).
-const UNIT_VECTORS: [usize; 4] = [7, 11, 13, 16];
+const UNIT_VECTORS: [usize; 5] = [7, 11, 13, 16, 22];
 /// Outputs that are angles from `acos` (or integrals of them), held in absolute terms
 /// with a looser tolerance: near ±1, one rounding of the cosine moves `acos` by
 /// √(2 · 6e-8) ≈ 3.5e-4 rad.

@@ -164,6 +164,29 @@ pub fn energy_compensation(f0: Vec3, dfg: Vec2) -> Vec3 {
     Vec3::ONE + f0 * (1.0 / (dfg.x + dfg.y).max(1e-4) - 1.0)
 }
 
+/// A GGX visible normal (Heitz 2018, "Sampling the GGX Distribution of Visible
+/// Normals") for the view direction `v` in the local frame (z = normal) and width
+/// `alpha`, from the uniform pair `xi`: normals are drawn in proportion to how much of
+/// them `v` sees, D(h)·G₁(v)·max(v·h, 0)/(n·v), so reflected rays waste no samples on
+/// normals facing away.
+pub fn sample_ggx_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
+    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize_or(Vec3::Z);
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = if len2 > 0.0 {
+        Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
+    } else {
+        Vec3::X
+    };
+    let t2 = vh.cross(t1);
+    let r = xi.x.sqrt();
+    let phi = 2.0 * std::f32::consts::PI * xi.y;
+    let p1 = r * phi.cos();
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
+    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
+    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
+}
+
 /// Specular occlusion from ambient occlusion `ao` (Lagarde & de Rousiers 2014, "Moving
 /// Frostbite to PBR"): `saturate((n·v + ao)^(2^(−16α − 1)) − 1 + ao)` with α the GGX width.
 pub fn specular_occlusion(n_dot_v: f32, ao: f32, perceptual_roughness: f32) -> f32 {

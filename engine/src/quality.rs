@@ -124,6 +124,37 @@ impl Default for AoSettings {
     }
 }
 
+/// Screen-space reflections ([`crate::render::indirect::reflections`]): the lit frame
+/// seen in smooth surfaces, traced over a hierarchical depth pyramid. Where a ray misses
+/// or leaves the screen, the environment's reflection stays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SsrSettings {
+    /// On or off.
+    pub enabled: bool,
+    /// Surfaces rougher than this (perceptual roughness) get no traced reflection; the
+    /// reflection fades out over the last quarter below it.
+    pub max_roughness: f32,
+    /// Rays per pixel, 1..=16, importance-sampled from the GGX visible normals.
+    pub rays: u32,
+    /// Iterations per ray of the hierarchical trace, 8..=256.
+    pub steps: u32,
+    /// How far behind a surface in the depth buffer (m) a ray may pass and still count as
+    /// hitting it.
+    pub thickness_m: f32,
+}
+
+impl Default for SsrSettings {
+    fn default() -> Self {
+        SsrSettings {
+            enabled: true,
+            max_roughness: 0.5,
+            rays: 2,
+            steps: 48,
+            thickness_m: 0.3,
+        }
+    }
+}
+
 /// The renderer's quality settings.
 #[derive(Resource, Clone, Copy, Debug, PartialEq)]
 pub struct Quality {
@@ -172,6 +203,8 @@ pub struct Quality {
     pub max_texture_size: u32,
     /// Screen-space ambient occlusion.
     pub ao: AoSettings,
+    /// Screen-space reflections.
+    pub ssr: SsrSettings,
 }
 
 /// Format of the exposed HDR target.
@@ -265,6 +298,10 @@ impl QualityPreset {
                     resolution: AoResolution::Off,
                     ..high.ao
                 },
+                ssr: SsrSettings {
+                    enabled: false,
+                    ..high.ssr
+                },
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -277,6 +314,11 @@ impl QualityPreset {
                     slices: 2,
                     steps: 4,
                     ..high.ao
+                },
+                ssr: SsrSettings {
+                    rays: 1,
+                    steps: 32,
+                    ..high.ssr
                 },
                 ..high
             },
@@ -296,6 +338,12 @@ impl QualityPreset {
                     slices: 4,
                     steps: 8,
                     ..high.ao
+                },
+                ssr: SsrSettings {
+                    max_roughness: 0.7,
+                    rays: 8,
+                    steps: 96,
+                    ..high.ssr
                 },
                 ..high
             },
@@ -321,6 +369,7 @@ impl Default for Quality {
             light_culling: true,
             max_texture_size: 4096,
             ao: AoSettings::default(),
+            ssr: SsrSettings::default(),
         }
     }
 }

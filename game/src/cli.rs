@@ -293,6 +293,21 @@ pub struct SceneArgs {
     /// Single-bounce AO: no multiple-bounce brightening of bright surfaces.
     #[arg(long)]
     pub no_ao_multi_bounce: bool,
+    /// No screen-space reflections: smooth surfaces reflect only the environment.
+    #[arg(long)]
+    pub no_ssr: bool,
+    /// Roughest surface (perceptual roughness 0..1) that gets traced reflections.
+    #[arg(long, value_name = "R", value_parser = parse_unit)]
+    pub ssr_max_roughness: Option<f32>,
+    /// Reflection rays per pixel (1..=16).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub ssr_rays: Option<u32>,
+    /// Iterations per reflection ray over the depth pyramid (8..=256).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(8..=256))]
+    pub ssr_steps: Option<u32>,
+    /// How far (m) behind a surface a reflection ray may pass and still hit it.
+    #[arg(long, value_name = "M", value_parser = parse_positive)]
+    pub ssr_thickness: Option<f32>,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]

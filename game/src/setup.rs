@@ -113,6 +113,21 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if args.no_ao_multi_bounce {
         quality.ao.multi_bounce = false;
     }
+    if args.no_ssr {
+        quality.ssr.enabled = false;
+    }
+    if let Some(r) = args.ssr_max_roughness {
+        quality.ssr.max_roughness = r;
+    }
+    if let Some(n) = args.ssr_rays {
+        quality.ssr.rays = n;
+    }
+    if let Some(n) = args.ssr_steps {
+        quality.ssr.steps = n;
+    }
+    if let Some(m) = args.ssr_thickness {
+        quality.ssr.thickness_m = m;
+    }
 }
 
 /// The command line's camera settings.
@@ -264,6 +279,13 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "radius_m": q.ao.radius_m,
             "denoise": q.ao.denoise,
             "multi_bounce": q.ao.multi_bounce,
+        },
+        "ssr": {
+            "enabled": q.ssr.enabled,
+            "max_roughness": q.ssr.max_roughness,
+            "rays": q.ssr.rays,
+            "steps": q.ssr.steps,
+            "thickness_m": q.ssr.thickness_m,
         },
     })
 }

@@ -21,7 +21,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 22u;
+const OUTPUTS: u32 = 23u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -85,6 +85,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                                  gtao_slice_visibility(-1.5 * x, 1.5 * n_dot_h, 2.0 * k - 1.0),
                                  ao_falloff(2.0 * x, n_dot_h + 0.1), combine_occlusion(x, n_dot_h));
     results[o + 21u] = vec4<f32>(gtao_multi_bounce(x, c.base_metallic.rgb), 0.0);
+    // The view direction in the local frame, above the surface.
+    let local_v = vec3<f32>(c.v.xy, abs(c.v.z) + 1e-3);
+    results[o + 22u] = vec4<f32>(sample_ggx_vndf(normalize(local_v), alpha, hammersley(i % 64u, 64u)), 0.0);
 }
 
 // The same focus distances as coc_focus in tests/shader_parity.rs.

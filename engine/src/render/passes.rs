@@ -9,6 +9,8 @@ use crate::render::exposure::ExposurePass;
 use crate::render::gbuffer::GBufferPass;
 use crate::render::graph::registry::Registry;
 use crate::render::indirect::ambient_occlusion::AoPass;
+use crate::render::indirect::depth_pyramid::DepthPyramidPass;
+use crate::render::indirect::reflections::SsrPass;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
 use crate::render::shadow::pass::ShadowPass;
@@ -22,8 +24,10 @@ pub fn builtin() -> Result<Registry> {
         .with::<ShadowPass>()
         .with::<GBufferPass>()
         .with::<AoPass>()
+        .with::<DepthPyramidPass>()
         .with::<LightCullingPass>()
         .with::<LightingPass>()
+        .with::<SsrPass>()
         .with::<SkyPass>()
         .with::<ExposurePass>()
         .with::<DofPass>()

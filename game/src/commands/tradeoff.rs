@@ -119,6 +119,16 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     knob("--no-ao-multi-bounce", String::new(), &|a| {
         a.no_ao_multi_bounce = true
     });
+    knob("--no-ssr", String::new(), &|a| a.no_ssr = true);
+    for r in [0.25f32, 0.8] {
+        knob("--ssr-max-roughness", r.to_string(), &|a| {
+            a.ssr_max_roughness = Some(r)
+        });
+    }
+    for n in [1u32, 8] {
+        knob("--ssr-rays", n.to_string(), &|a| a.ssr_rays = Some(n));
+    }
+    knob("--ssr-steps", "16".into(), &|a| a.ssr_steps = Some(16));
     out
 }
 

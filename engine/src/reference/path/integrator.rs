@@ -96,25 +96,6 @@ fn g1_ggx(n_dot_x: f32, alpha: f32) -> f32 {
     2.0 * n_dot_x / (n_dot_x + (a2 + (1.0 - a2) * n_dot_x * n_dot_x).sqrt())
 }
 
-/// A GGX visible normal for `v` in the local frame (z = normal), Heitz 2018.
-fn sample_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
-    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize();
-    let len2 = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if len2 > 0.0 {
-        Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
-    } else {
-        Vec3::X
-    };
-    let t2 = vh.cross(t1);
-    let r = xi.x.sqrt();
-    let phi = 2.0 * PI * xi.y;
-    let p1 = r * phi.cos();
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize()
-}
-
 /// The BSDF at a hit, in a local frame around the shading normal.
 struct Bsdf {
     frame: Mat3,
@@ -200,7 +181,7 @@ impl Bsdf {
         let choose = rng.uniform();
         let xi = rng.pair();
         let local_l = if choose < self.p_specular {
-            let h = sample_vndf(local_v, self.alpha, xi);
+            let h = crate::ibl::sample_ggx_vndf(local_v, self.alpha, xi);
             2.0 * local_v.dot(h) * h - local_v
         } else {
             let d = concentric_disk(xi);
@@ -492,7 +473,7 @@ mod tests {
         let v = Vec3::new(0.6, 0.0, 0.8);
         for alpha in [0.01f32, 0.25, 1.0] {
             for _ in 0..1000 {
-                let h = sample_vndf(v, alpha, rng.pair());
+                let h = crate::ibl::sample_ggx_vndf(v, alpha, rng.pair());
                 assert!(h.is_normalized() && h.z >= 0.0, "{h}");
                 assert!(v.dot(h) >= -1e-5, "visible normals face v");
             }

@@ -31,9 +31,14 @@ impl PassId {
     pub const AmbientOcclusion: PassId = PassId::new("ao");
 }
 
-/// Format of the AO targets: visibility 0..1 in 8 bits (steps of 1/255, below the noise
+/// Format of the resolved AO: visibility 0..1 in 8 bits (steps of 1/255, below the noise
 /// of any slice count).
 pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// Format of the traced AO: visibility and the texel's position relative to the camera
+/// (m), which the resolve's plane test reads instead of reconstructing it (16-bit floats:
+/// 0.05 % of the distance, well inside the test's 1 % tolerance).
+pub const RAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The resolved ambient occlusion at full resolution: the fraction (0..1) of
 /// cosine-weighted indirect light that reaches each pixel.
@@ -205,18 +210,21 @@ impl AoPass {
             "ao",
             &gpu.shaders.compose("gtao.wgsl", &AoPass::defs(variant))?,
         )?;
-        let pipeline = |i: usize, entry: &str| {
+        let pipeline = |i: usize, entry: &str, format: wgpu::TextureFormat| {
             fullscreen_pipeline(
                 gpu,
                 entry,
                 Some(&self.pipeline_layouts[i]),
                 &module,
                 ("vs_fullscreen", entry),
-                &[AO_FORMAT],
+                &[format],
                 None,
             )
         };
-        let pair = [pipeline(0, "fs_trace")?, pipeline(1, "fs_resolve")?];
+        let pair = [
+            pipeline(0, "fs_trace", RAW_FORMAT)?,
+            pipeline(1, "fs_resolve", AO_FORMAT)?,
+        ];
         self.pipelines.insert(variant, pair);
         Ok(())
     }
@@ -253,7 +261,7 @@ pub fn prepare_ao(
         .is_none_or(|(size, s, _)| *size != t.size || *s != scale)
     {
         let size = (t.size.0.div_ceil(scale), t.size.1.div_ceil(scale));
-        pass.raw = Some((t.size, scale, Target::new(&gpu, "ao raw", size, AO_FORMAT)));
+        pass.raw = Some((t.size, scale, Target::new(&gpu, "ao raw", size, RAW_FORMAT)));
         pass.bind_groups = None;
     }
     let height = t.size.1 as f32;

@@ -1,0 +1,427 @@
+//! Screen-space reflections (`shaders/ssr.wgsl`): what smooth surfaces see of the lit
+//! frame, traced over the [depth pyramid](super::depth_pyramid) with rays importance-
+//! sampled from the GGX visible normals (Heitz 2018), and written into the HDR target
+//! (the lit frame, read from a copy, plus the traced reflection in place of the
+//! environment's where the rays hit (one bounce: the frame as
+//! lighting left it). A ray that misses, points below the surface or leaves the screen
+//! keeps the environment's reflection.
+//!
+//! It runs only when the frame has a surface smoother than the cutoff
+//! ([`crate::quality::SsrSettings::max_roughness`]) and the adapter can render the
+//! pyramid's 32-bit float levels.
+
+use crate::error::Result;
+use crate::quality::Quality;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{
+    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
+};
+use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::ibl::Ibl;
+use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::indirect::depth_pyramid::{DEPTH_PYRAMID, DepthPyramidPass, PYRAMID_FORMAT};
+use crate::render::lighting::ENVIRONMENT;
+use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
+use crate::render::targets::{RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::{ScheduleSystem, SystemParam};
+use std::collections::HashMap;
+use wgpu::util::DeviceExt;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Screen-space reflections.
+    pub const Reflections: PassId = PassId::new("ssr");
+}
+
+/// Group 0 of the reflection pass: the view, its parameters, the G-buffer, the pyramid
+/// and the copy of the lit frame. Group 1 is the lighting pass's [`ENVIRONMENT`].
+pub const SSR: BindGroupSpec = BindGroupSpec {
+    label: "ssr",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("params", Binding::Uniform),
+        ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer0", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+        ("gbuffer2", Binding::TextureLoad),
+        ("pyramid", Binding::TextureLoad),
+        ("scene_color", Binding::TextureLoad),
+    ],
+};
+
+/// The reflection shader variant.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SsrVariant {
+    /// Rays per pixel.
+    pub rays: u32,
+    /// Trace iterations per ray.
+    pub steps: u32,
+    /// An environment to fall back to, from an image (else a uniform colour).
+    pub environment: bool,
+    /// The environment is an image.
+    pub env_map: bool,
+    /// The specular weight includes energy compensation, as lighting's does.
+    pub energy_compensation: bool,
+    /// The AO pass's occlusion enters the specular occlusion, as in lighting.
+    pub screen_ao: bool,
+    /// The HDR target's format.
+    pub format: wgpu::TextureFormat,
+}
+
+/// `SsrParams` of `ssr.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    max_roughness: f32,
+    thickness_m: f32,
+    levels: f32,
+    pad: f32,
+}
+
+/// Why reflections are not traced this frame, if they are not.
+pub fn skip_reason(world: &World) -> Option<String> {
+    let ssr = world.resource::<Quality>().ssr;
+    let frame = world.resource::<ExtractedFrame>();
+    if !ssr.enabled {
+        return Some("screen-space reflections are off (--no-ssr)".into());
+    }
+    if frame.instances.is_empty() {
+        return Some("nothing is drawn".into());
+    }
+    // A roughness map can only lower a material's roughness factor.
+    let smoothest = frame
+        .instances
+        .iter()
+        .map(|i| i.params[1])
+        .fold(f32::INFINITY, f32::min);
+    if frame.material_maps.is_empty() && smoothest > ssr.max_roughness {
+        return Some(format!(
+            "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
+            ssr.max_roughness
+        ));
+    }
+    let gpu = world.resource::<Gpu>();
+    if !gpu
+        .adapter
+        .get_texture_format_features(PYRAMID_FORMAT)
+        .allowed_usages
+        .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+    {
+        return Some("the adapter cannot render the depth pyramid's R32Float".into());
+    }
+    None
+}
+
+impl FramePass for SsrPass {
+    const ID: PassId = PassId::Reflections;
+    const READS: &'static [Slot] = &[
+        DEPTH,
+        GBUFFER_BASE_COLOR,
+        GBUFFER_NORMAL,
+        GBUFFER_EMISSIVE,
+        DEPTH_PYRAMID,
+        AMBIENT_OCCLUSION,
+        HDR,
+    ];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = SsrVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(SsrPass::new(gpu))
+    }
+
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<SsrVariant> {
+        let quality = world.resource::<Quality>();
+        let frame = world.resource::<ExtractedFrame>();
+        let ssr = quality.ssr;
+        let env = frame.environment.as_ref();
+        let variant = SsrVariant {
+            rays: ssr.rays.clamp(1, 16),
+            steps: ssr.steps.clamp(8, 256),
+            environment: env.is_some(),
+            env_map: env.is_some_and(|e| e.image.is_some()),
+            energy_compensation: quality.energy_compensation,
+            screen_ao: plan.runs(PassId::AmbientOcclusion),
+            format: quality.hdr_precision.format(),
+        };
+        let skip = skip_reason(world);
+        let reason = skip.clone().unwrap_or_else(|| {
+            format!(
+                "{} ray(s) per pixel, {} steps, roughness ≤ {:.2}, thickness {:.2} m",
+                variant.rays, variant.steps, ssr.max_roughness, ssr.thickness_m
+            )
+        });
+        let fallback = Decision::new(
+            "reflection fallback",
+            skip.is_none(),
+            if variant.environment {
+                "the environment where a ray misses"
+            } else {
+                "no environment: a ray that misses reflects nothing"
+            },
+        );
+        PassDecision {
+            runs: skip.is_none(),
+            reason,
+            features: vec![fallback],
+            variant,
+        }
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_ssr.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        ssr_pass.into_configs()
+    }
+}
+
+/// The generations of what the bind groups were built from.
+type Generations = [u64; 4];
+
+/// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
+#[derive(Resource)]
+pub struct SsrPass {
+    layouts: [wgpu::BindGroupLayout; 2],
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<SsrVariant, wgpu::RenderPipeline>,
+    params: wgpu::Buffer,
+    color: Option<Target>,
+    bind_groups: Option<(Generations, [wgpu::BindGroup; 2])>,
+}
+
+impl SsrPass {
+    /// Creates the layouts; pipelines compile per variant on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layouts = [SSR.layout(gpu), ENVIRONMENT.layout(gpu)];
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ssr"),
+                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1])],
+                immediate_size: 0,
+            });
+        SsrPass {
+            layouts,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            params: gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("ssr params"),
+                    contents: &[0; std::mem::size_of::<Params>()],
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                }),
+            color: None,
+            bind_groups: None,
+        }
+    }
+
+    /// The shader defs of `variant`.
+    pub fn defs(variant: SsrVariant) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("RAYS", variant.rays),
+            ShaderDef::U32("STEPS", variant.steps),
+            ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
+            ShaderDef::Bool("ENV_MAP", variant.env_map),
+            ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
+            ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
+        ]
+    }
+
+    fn pipeline(&mut self, gpu: &Gpu, variant: SsrVariant) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let module = create_module(
+            gpu,
+            "ssr",
+            &gpu.shaders.compose("ssr.wgsl", &SsrPass::defs(variant))?,
+        )?;
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "ssr",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            &[variant.format],
+            None,
+        )?;
+        self.pipelines.insert(variant, pipeline);
+        Ok(())
+    }
+}
+
+/// Everything the reflection pass binds besides its own resources.
+#[derive(SystemParam)]
+pub struct SsrInputs<'w> {
+    quality: Res<'w, Quality>,
+    buffers: Res<'w, SceneBuffers>,
+    targets: Res<'w, RenderTargets>,
+    ibl: Res<'w, Ibl>,
+    pyramid: Res<'w, DepthPyramidPass>,
+}
+
+/// Compiles the variant, sizes the copy of the lit frame, writes the parameters and
+/// builds the bind groups.
+pub fn prepare_ssr(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    inputs: SsrInputs,
+    mut pass: ResMut<SsrPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let SsrInputs {
+        quality,
+        buffers,
+        targets,
+        ibl,
+        pyramid,
+    } = inputs;
+    let (Some(&variant), Some(t), Some(p)) = (
+        plan.variant::<SsrPass>(),
+        targets.current.as_ref(),
+        pyramid.pyramid.as_ref(),
+    ) else {
+        return;
+    };
+    if let Err(e) = pass.pipeline(&gpu, variant) {
+        errors.0.push(e);
+        return;
+    }
+    if pass.color.as_ref().is_none_or(|c| {
+        c.texture.size() != t.get(HDR).map_or(c.texture.size(), |h| h.texture.size())
+            || c.texture.format() != t.hdr_format
+    }) {
+        pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
+        pass.bind_groups = None;
+    }
+    let ssr = quality.ssr;
+    let params = Params {
+        max_roughness: ssr.max_roughness.clamp(0.0, 1.0),
+        thickness_m: if ssr.thickness_m.is_finite() {
+            ssr.thickness_m.max(0.0)
+        } else {
+            0.0
+        },
+        levels: p.texture.mip_level_count() as f32,
+        pad: 0.0,
+    };
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    let key = [
+        t.generation,
+        buffers.generation,
+        pyramid.generation,
+        ibl.generation,
+    ];
+    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let (Some([depth, g0, g1, g2, ao]), Some(color)) = (
+        t.views([
+            DEPTH,
+            GBUFFER_BASE_COLOR,
+            GBUFFER_NORMAL,
+            GBUFFER_EMISSIVE,
+            AMBIENT_OCCLUSION,
+        ]),
+        pass.color.as_ref(),
+    ) else {
+        return;
+    };
+    use wgpu::BindingResource::{Sampler, TextureView};
+    let main = SSR.group(
+        &gpu,
+        &pass.layouts[0],
+        vec![
+            buffers.view.as_entire_binding(),
+            pass.params.as_entire_binding(),
+            TextureView(depth),
+            TextureView(g0),
+            TextureView(g1),
+            TextureView(g2),
+            TextureView(&p.view),
+            TextureView(&color.view),
+        ],
+    );
+    let environment = ENVIRONMENT.group(
+        &gpu,
+        &pass.layouts[1],
+        vec![
+            ibl.uniform.as_entire_binding(),
+            TextureView(ibl.cube_view()),
+            Sampler(&ibl.sampler),
+            TextureView(ibl.lut_view()),
+            TextureView(ao),
+        ],
+    );
+    match main.and_then(|m| Ok([m, environment?])) {
+        Ok(groups) => pass.bind_groups = Some((key, groups)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the copy of the lit frame and the pass that writes it back with its
+/// reflections (no blending: f32 targets are not blendable).
+pub fn ssr_pass(
+    plan: Res<FramePlan>,
+    pass: Res<SsrPass>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some(color), Some((_, [main, environment]))) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        pass.color.as_ref(),
+        pass.bind_groups.as_ref(),
+    ) else {
+        return;
+    };
+    let (Some(hdr), Some(pipeline)) = (
+        t.get(HDR),
+        plan.variant::<SsrPass>()
+            .and_then(|v| pass.pipelines.get(v)),
+    ) else {
+        return;
+    };
+    encoder.copy_texture_to_texture(
+        hdr.texture.as_image_copy(),
+        color.texture.as_image_copy(),
+        hdr.texture.size(),
+    );
+    let scope = timer.begin_pass(PassId::Reflections);
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ssr"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &hdr.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(pipeline);
+        rp.set_bind_group(0, main, &[]);
+        rp.set_bind_group(1, environment, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+}

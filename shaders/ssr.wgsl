@@ -1,0 +1,208 @@
+// Screen-space reflections (engine/src/render/indirect/reflections.rs): per pixel
+// smoother than the cutoff, RAYS reflected rays importance-sampled from the GGX visible
+// normals (sample_ggx_vndf), each traced over the depth pyramid (Uludag 2014): a ray
+// skips a level-k texel when it stays in front of that texel's nearest depth, climbs a
+// level after each skip and descends where it may cross a surface; at level 0 a crossing
+// within THICKNESS metres behind the surface is a hit. A hit returns the lit frame
+// there (one bounce); a miss, a ray below the surface or one leaving the screen returns
+// the environment's prefiltered radiance, which lighting already added.
+//
+// The pass writes the lit frame (read from its copy) plus W · (L̄ − E): W the split-sum specular weight
+// lighting used for environment light (F0·A + B, energy compensation, specular
+// occlusion), E that environment radiance and L̄ the rays' mean. Where every ray misses
+// it adds nothing: the reflection falls back to the environment, never to black.
+//
+// Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
+// SCREEN_AO (bool), as the lighting pass compiles them.
+#import common
+#import brdf
+#import color
+#import encoding
+#import ibl
+#import bindings
+#import fullscreen
+#import ambient_occlusion
+
+struct SsrParams {
+    // Perceptual roughness above which nothing is traced.
+    max_roughness: f32,
+    // How far (m) behind a surface a ray may pass and still hit it.
+    thickness_m: f32,
+    // Levels of the depth pyramid.
+    levels: f32,
+    pad: f32,
+}
+
+// Group 0 (SSR in reflections.rs).
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var<uniform> params: SsrParams;
+@group(0) @binding(2) var depth_buffer: texture_2d<f32>;
+@group(0) @binding(3) var gbuffer0: texture_2d<f32>;
+@group(0) @binding(4) var gbuffer1: texture_2d<f32>;
+@group(0) @binding(5) var gbuffer2: texture_2d<f32>;
+@group(0) @binding(6) var pyramid: texture_2d<f32>;
+@group(0) @binding(7) var scene_color: texture_2d<f32>;
+
+// Group 1, indirect light, as the lighting pass binds it (lighting::ENVIRONMENT).
+@group(1) @binding(0) var<uniform> environment: EnvironmentUniform;
+@group(1) @binding(1) var env_cube: texture_cube<f32>;
+@group(1) @binding(2) var env_sampler: sampler;
+@group(1) @binding(3) var brdf_lut: texture_2d<f32>;
+@group(1) @binding(4) var screen_ao: texture_2d<f32>;
+
+fn world_at(px: vec2<f32>, depth: f32) -> vec3<f32> {
+    let ndc = vec2<f32>(px.x * view.viewport.z * 2.0 - 1.0, 1.0 - px.y * view.viewport.w * 2.0);
+    let h = view.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}
+
+// Pixel position (xy) and depth (z) of world point `w`.
+fn screen_of(w: vec3<f32>) -> vec3<f32> {
+    let clip = view.clip_from_world * vec4<f32>(w, 1.0);
+    let ndc = clip.xyz / clip.w;
+    return vec3<f32>(vec2<f32>(ndc.x + 1.0, 1.0 - ndc.y) * 0.5 * view.viewport.xy, ndc.z);
+}
+
+// An orthonormal basis with n as its third column (Duff et al. 2017).
+fn basis(n: vec3<f32>) -> mat3x3<f32> {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return mat3x3<f32>(
+        vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        vec3<f32>(b, s + n.y * n.y * a, -n.y),
+        n,
+    );
+}
+
+// The environment's prefiltered radiance towards `dir` for perceptual roughness `r`,
+// as lighting samples it (0 without an environment).
+fn environment_radiance(dir: vec3<f32>, r: f32) -> vec3<f32> {
+    if !HAS_ENVIRONMENT {
+        return vec3<f32>(0.0);
+    }
+    if ENV_MAP {
+        let d = rotate_y(dir, -environment.params.y);
+        return textureSampleLevel(env_cube, env_sampler, d, r * environment.params.z).rgb * environment.params.x;
+    }
+    return environment.uniform_radiance.rgb;
+}
+
+// The pixel a ray from world point `p` along `l` hits, and 1 in z; 0 in z for a miss.
+fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    let camera = view.position_exposure.xyz;
+    let z0 = dot(p - camera, view.forward.xyz);
+    let towards = dot(l, view.forward.xyz);
+    // Long enough to cross the screen; a ray towards the camera stops at a tenth of the
+    // point's depth, in front of the near plane.
+    let length_m = select(1.0e3, min(1.0e3, 0.9 * z0 / max(-towards, 1e-6)), towards < 0.0);
+    let s0 = screen_of(p);
+    let s1 = screen_of(p + l * length_m);
+    var d = s1 - s0;
+    let span = max(abs(d.x), abs(d.y));
+    if !(span >= 1.0) {
+        return vec3<f32>(0.0);
+    }
+    d = d / span;
+    // Where the ray leaves the screen, in pixels along it.
+    let size = view.viewport.xy;
+    let to_edge = select((vec2<f32>(0.0) - s0.xy) / d.xy, (size - s0.xy) / d.xy, d.xy > vec2<f32>(0.0));
+    let t_max = min(span, min(select(1e9, to_edge.x, d.x != 0.0), select(1e9, to_edge.y, d.y != 0.0)));
+    let top = i32(params.levels) - 1;
+    var level = 0;
+    var t = 1.5;
+    for (var i = 0u; i < STEPS; i++) {
+        if t >= t_max {
+            break;
+        }
+        let pos = s0 + d * t;
+        let cell_size = f32(1 << u32(level));
+        let cell = floor(pos.xy / cell_size);
+        let bound = (cell + select(vec2<f32>(0.0), vec2<f32>(1.0), d.xy > vec2<f32>(0.0))) * cell_size;
+        let tb = (bound - s0.xy) / d.xy;
+        let t_exit = max(min(select(1e9, tb.x, d.x != 0.0), select(1e9, tb.y, d.y != 0.0)), t + 1e-3);
+        let nearest = textureLoad(pyramid, vec2<i32>(cell), level).r;
+        let ray_far = min(s0.z + d.z * t, s0.z + d.z * t_exit);
+        if ray_far > nearest {
+            // In front of everything under this texel: skip it, and look wider.
+            t = t_exit + 1e-3;
+            level = min(level + 1, top);
+        } else if level > 0 {
+            level -= 1;
+        } else {
+            // At one pixel, behind its surface: a hit if within the thickness.
+            let px = vec2<i32>(cell);
+            let surface = world_at(vec2<f32>(px) + vec2<f32>(0.5), nearest);
+            let ray = world_at(vec2<f32>(px) + vec2<f32>(0.5), max(ray_far, 1e-7));
+            let behind = dot(ray - surface, view.forward.xyz);
+            if behind <= params.thickness_m {
+                return vec3<f32>(vec2<f32>(px), 1.0);
+            }
+            t = t_exit + 1e-3;
+        }
+    }
+    return vec3<f32>(0.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
+    let lit = textureLoad(scene_color, pixel, 0);
+    let depth = textureLoad(depth_buffer, pixel, 0).r;
+    if depth <= 0.0 {
+        return lit;
+    }
+    let g0 = textureLoad(gbuffer0, pixel, 0);
+    let g1 = textureLoad(gbuffer1, pixel, 0);
+    let g2 = textureLoad(gbuffer2, pixel, 0);
+    let r = clamp_perceptual_roughness(g1.b);
+    if r > params.max_roughness {
+        return lit;
+    }
+    // Fades out over the last quarter below the cutoff.
+    let fade = clamp((params.max_roughness - r) / (0.25 * params.max_roughness), 0.0, 1.0);
+    let base = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
+    let n = oct_decode(g1.rg);
+    let p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
+    let v = safe_normalize(view.position_exposure.xyz - p, n);
+    let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    // The split-sum weight lighting gave environment light.
+    let f0 = compute_f0(base, g1.a, g2.a);
+    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
+    var energy = vec3<f32>(1.0);
+    if ENERGY_COMPENSATION {
+        energy = energy_compensation(f0, dfg);
+    }
+    var ao = unpack_occlusion(g0.a);
+    if SCREEN_AO {
+        ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
+    }
+    let weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, r);
+    let fallback = environment_radiance(2.0 * dot(n, v) * n - v, r);
+    // Rays: GGX visible normals, a Hammersley set rotated per pixel.
+    let frame = basis(n);
+    let local_v = transpose(frame) * v;
+    let alpha = perceptual_roughness_to_alpha(r);
+    let rotation = fract(52.9829189 * fract(dot(frag.xy, vec2<f32>(0.06711056, 0.00583715))));
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < RAYS; k++) {
+        let xi = fract(hammersley(k, RAYS) + vec2<f32>(rotation, 0.5 * rotation));
+        let h = frame * sample_ggx_vndf(local_v, alpha, xi);
+        let l = reflect(-v, h);
+        var radiance = fallback;
+        if dot(l, n) > 0.0 {
+            let hit = trace(p + n * (1e-3 * length(p - view.position_exposure.xyz)), l);
+            if hit.z > 0.0 {
+                // Hits near the screen's edges blend into the environment.
+                let border = min(min(hit.x, hit.y), min(view.viewport.x - hit.x, view.viewport.y - hit.y));
+                let keep = clamp(border / (0.05 * view.viewport.y), 0.0, 1.0);
+                let seen = textureLoad(scene_color, vec2<i32>(hit.xy), 0).rgb;
+                radiance = mix(fallback, seen, keep);
+            }
+        }
+        sum += radiance;
+    }
+    let added = weight * fade * (sum / f32(RAYS) - fallback);
+    let color = max(lit.rgb + select(added, vec3<f32>(0.0), added != added), vec3<f32>(0.0));
+    return vec4<f32>(min(color, vec3<f32>(65504.0)), lit.a);
+}
