@@ -147,9 +147,9 @@ impl Default for SsrSettings {
     fn default() -> Self {
         SsrSettings {
             enabled: true,
-            max_roughness: 0.5,
-            rays: 2,
-            steps: 48,
+            max_roughness: 0.35,
+            rays: 1,
+            steps: 32,
             thickness_m: 0.3,
         }
     }
@@ -316,8 +316,8 @@ impl QualityPreset {
                     ..high.ao
                 },
                 ssr: SsrSettings {
-                    rays: 1,
-                    steps: 32,
+                    max_roughness: 0.2,
+                    steps: 24,
                     ..high.ssr
                 },
                 ..high

@@ -55,8 +55,10 @@ pub struct Pyramid {
 #[derive(Resource)]
 pub struct DepthPyramidPass {
     layout: wgpu::BindGroupLayout,
-    copy: wgpu::RenderPipeline,
-    reduce: wgpu::RenderPipeline,
+    pipeline_layout: wgpu::PipelineLayout,
+    /// The copy and reduce pipelines, compiled on first use: an adapter that cannot
+    /// render R32Float (GL) never runs the pass and never compiles them.
+    pipelines: Option<[wgpu::RenderPipeline; 2]>,
     /// The pyramid, once a frame has needed it; bumped `generation` when it is remade.
     pub pyramid: Option<Pyramid>,
     /// Bumped when the pyramid or the depth it copies is recreated.
@@ -71,7 +73,7 @@ impl FramePass for DepthPyramidPass {
     type Variant = ();
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
-        DepthPyramidPass::new(gpu)
+        Ok(DepthPyramidPass::new(gpu))
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
@@ -97,8 +99,8 @@ impl FramePass for DepthPyramidPass {
 }
 
 impl DepthPyramidPass {
-    /// Compiles the two pipelines.
-    pub fn new(gpu: &Gpu) -> Result<Self> {
+    /// Creates the layouts; the pipelines compile when the pass first runs.
+    pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
             .device
@@ -107,6 +109,20 @@ impl DepthPyramidPass {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
+        DepthPyramidPass {
+            layout,
+            pipeline_layout,
+            pipelines: None,
+            pyramid: None,
+            generation: 0,
+            depth_generation: 0,
+        }
+    }
+
+    fn pipelines(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.pipelines.is_some() {
+            return Ok(());
+        }
         let module = create_module(
             gpu,
             "depth pyramid",
@@ -116,21 +132,15 @@ impl DepthPyramidPass {
             fullscreen_pipeline(
                 gpu,
                 entry,
-                Some(&pipeline_layout),
+                Some(&self.pipeline_layout),
                 &module,
                 ("vs_fullscreen", entry),
                 &[PYRAMID_FORMAT],
                 None,
             )
         };
-        Ok(DepthPyramidPass {
-            copy: pipeline("fs_copy")?,
-            reduce: pipeline("fs_reduce")?,
-            layout,
-            pyramid: None,
-            generation: 0,
-            depth_generation: 0,
-        })
+        self.pipelines = Some([pipeline("fs_copy")?, pipeline("fs_reduce")?]);
+        Ok(())
     }
 }
 
@@ -152,6 +162,10 @@ pub fn prepare_pyramid(
     let Some(depth) = t.view(DEPTH) else {
         return;
     };
+    if let Err(e) = pass.pipelines(&gpu) {
+        errors.0.push(e);
+        return;
+    }
     if pass.pyramid.as_ref().is_some_and(|p| p.size == t.size)
         && pass.depth_generation == t.generation
     {
@@ -216,13 +230,17 @@ pub fn prepare_pyramid(
 /// Records the copy of the depth buffer into level 0 and one reduction per level above.
 pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(p)) = (encoder.as_mut(), pass.pyramid.as_ref()) else {
+    let (Some(encoder), Some(p), Some([copy, reduce])) = (
+        encoder.as_mut(),
+        pass.pyramid.as_ref(),
+        pass.pipelines.as_ref(),
+    ) else {
         return;
     };
     let scope = timer.begin_pass(PassId::DepthPyramid);
     let last = p.levels.len().saturating_sub(1);
     for (level, (view, group)) in p.levels.iter().zip(&p.groups).enumerate() {
-        let pipeline = if level == 0 { &pass.copy } else { &pass.reduce };
+        let pipeline = if level == 0 { copy } else { reduce };
         // The pass's GPU time: from the start of the first level to the end of the last.
         let writes = timer
             .render_writes(&scope)

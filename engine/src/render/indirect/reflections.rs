@@ -1,10 +1,10 @@
 //! Screen-space reflections (`shaders/ssr.wgsl`): what smooth surfaces see of the lit
 //! frame, traced over the [depth pyramid](super::depth_pyramid) with rays importance-
-//! sampled from the GGX visible normals (Heitz 2018), and written into the HDR target
-//! (the lit frame, read from a copy, plus the traced reflection in place of the
-//! environment's where the rays hit (one bounce: the frame as
-//! lighting left it). A ray that misses, points below the surface or leaves the screen
-//! keeps the environment's reflection.
+//! sampled from the GGX visible normals (Heitz 2018), and written into the HDR target:
+//! the lit frame, read from a copy, with the traced reflection in place of the
+//! environment's where the rays hit (one bounce: the frame as lighting left it). A ray
+//! that misses, points below the surface or leaves the screen keeps the environment's
+//! reflection.
 //!
 //! It runs only when the frame has a surface smoother than the cutoff
 //! ([`crate::quality::SsrSettings::max_roughness`]) and the adapter can render the
