@@ -47,11 +47,7 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     println!("FLIP low {}, ultra {}", flip("low"), flip("ultra"));
     assert!(flip("ultra") < flip("low"));
     // The reference was cached for the next run.
-    assert!(
-        dir.path()
-            .join("out/reference-cache/spheres-64x36-16spp-8b.exr")
-            .is_file()
-    );
+    assert_eq!(cached(dir.path(), "-64x36-16spp-8b.exr").len(), 1);
     let table = std::fs::read_to_string(dir.path().join("t.md")).expect("markdown");
     // Header, separator and 34 rows.
     assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 36);
@@ -113,7 +109,12 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
     let names: Vec<&str> = parts.iter().filter_map(|p| p["part"].as_str()).collect();
     assert_eq!(
         names,
-        ["implementation", "unshadowed lights", "transport", "total"]
+        [
+            "implementation",
+            "unshadowed lights",
+            "indirect light",
+            "total"
+        ]
     );
     let flip = |name: &str| {
         parts
@@ -126,22 +127,60 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
         let f = flip(name);
         assert!(f.is_finite() && (0.0..=1.0).contains(&f), "{name}: {f}");
     }
-    // spheres' point lights below the floor cast no shadow in the frame, and its metals
-    // reflect a floor the frame does not transport: both parts are far from 0.
+    // spheres' point lights below the floor cast no shadow in the frame, and its
+    // reference has light bouncing off the floor that the frame does not transport:
+    // both parts are far from 0.
     println!(
-        "implementation {}, unshadowed {}, transport {}, total {}",
+        "implementation {}, unshadowed {}, indirect {}, total {}",
         flip("implementation"),
         flip("unshadowed lights"),
-        flip("transport"),
+        flip("indirect light"),
         flip("total")
     );
     assert!(flip("unshadowed lights") > 0.01);
-    assert!(flip("transport") > flip("implementation"));
+    assert!(flip("indirect light") > flip("implementation"));
     // Three references, each cached under its own name.
     for name in ["1b-frame", "1b", "8b"] {
-        let cached = dir.path().join(format!(
-            "out/reference-cache/spheres-64x36-16spp-{name}.exr"
-        ));
-        assert!(cached.is_file(), "{}", cached.display());
+        let suffix = format!("-64x36-16spp-{name}.exr");
+        assert_eq!(cached(dir.path(), &suffix).len(), 1, "{suffix}");
     }
+}
+
+/// The cached references of `spheres` in `dir` whose names end with `suffix`.
+fn cached(dir: &std::path::Path, suffix: &str) -> Vec<String> {
+    std::fs::read_dir(dir.join("out/reference-cache"))
+        .expect("the cache folder")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.starts_with("spheres-") && n.ends_with(suffix))
+        .collect()
+}
+
+#[test]
+fn references_of_one_scene_with_different_options_are_cached_apart() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for extra in [&[][..], &["--env-color", "0.2,0.2,0.2"][..]] {
+        let mut args = vec![
+            "tradeoff",
+            "spheres",
+            "--decompose",
+            "--size",
+            "32x18",
+            "--spp",
+            "4",
+            "--frames",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args(&args)
+            .current_dir(dir.path())
+            .output()
+            .expect("lumen runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    assert_eq!(cached(dir.path(), "-32x18-4spp-8b.exr").len(), 2);
 }

@@ -148,8 +148,9 @@ pub const FULL_REFERENCE: ReferenceKind = ReferenceKind {
     visibility: LightVisibility::Physical,
 };
 
-/// The reference of `scene` at `size` and `spp`: from the cache when it holds it, else
-/// path-traced (Smith height-correlated visibility and energy compensation: Lumen's most
+/// The reference of `scene` at `size` and `spp`: from the cache (keyed by the scene's
+/// name, a hash of its options, the size, samples, bounces and visibility) when it holds
+/// it, else path-traced (Smith height-correlated visibility and energy compensation: Lumen's most
 /// accurate BRDF) and cached.
 fn reference(
     scene: &SceneArgs,
@@ -172,8 +173,16 @@ fn reference(
         }
         LightVisibility::AsFrame => "-frame",
     };
+    // The scene's options (environment, exposure, …) change the image as much as its
+    // name: they are hashed into the file name.
+    let options = {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        format!("{scene:?}").hash(&mut h);
+        h.finish() as u32
+    };
     let cache = PathBuf::from("out/reference-cache").join(format!(
-        "{}-{}x{}-{}spp-{}b{visibility}.exr",
+        "{}-{options:08x}-{}x{}-{}spp-{}b{visibility}.exr",
         scene.label(),
         size.0,
         size.1,
@@ -347,13 +356,15 @@ struct Part {
 }
 
 /// `--decompose`: splits the frame's error against the full reference into what its
-/// shading gets wrong, what its unshadowed lights cost and what it does not transport.
+/// shading gets wrong (its direct light against the direct-light reference with the
+/// frame's light visibility), what its unshadowed lights cost, what indirect light is
+/// worth in the scene, and the total, which holds what the frame does not transport.
 fn decompose(args: &TradeoffArgs) -> Result<()> {
     let direct = |visibility| ReferenceKind {
         bounces: 1,
         visibility,
     };
-    let (direct_frame, tonemapper, _) = reference(
+    let (direct_reference, tonemapper, _) = reference(
         &args.scene,
         args.size,
         args.spp,
@@ -369,12 +380,21 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     .context("the direct-light reference")?;
     let (full, _, _) =
         reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
+    // The frame as configured, and its direct-light part: the same frame without the
+    // passes that add indirect light (AO and reflections).
     let mut app = App::headless()?;
     build_scene(&mut app, &args.scene)?;
     let samples = measure(&mut app, args.size, 3, args.frames, &|_| {})?;
     let frame_ms = Summary::of(&samples.iter().map(|s| s.frame_ms).collect::<Vec<_>>())
         .map_or(f64::NAN, |s| s.median);
     let frame = app.read_hdr_image()?;
+    let mut direct_app = App::headless()?;
+    let mut direct_args = args.scene.clone();
+    direct_args.ao = Some(lumen::quality::AoResolution::Off);
+    direct_args.no_ssr = true;
+    build_scene(&mut direct_app, &direct_args)?;
+    direct_app.render_headless(args.size)?;
+    let direct_frame = direct_app.read_hdr_image()?;
     let part = |name, compared, a: &image::Rgba32FImage, b: &image::Rgba32FImage| -> Result<Part> {
         let (flip_mean, psnr_db, relative_mse) = errors(a, b, tonemapper)?;
         Ok(Part {
@@ -388,25 +408,25 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let parts = [
         part(
             "implementation",
-            "the frame against direct light with the frame's light visibility",
-            &frame,
+            "the frame without AO and reflections against direct light with the frame's light visibility",
             &direct_frame,
+            &direct_reference,
         )?,
         part(
             "unshadowed lights",
             "direct light with the frame's visibility against physical visibility",
-            &direct_frame,
+            &direct_reference,
             &direct_physical,
         )?,
         part(
-            "transport",
-            "direct light against all light (8 bounces), both physical",
+            "indirect light",
+            "direct light against all light (8 bounces), both physical: what the scene's indirect light is worth",
             &direct_physical,
             &full,
         )?,
         part(
             "total",
-            "the frame against the full reference",
+            "the frame against the full reference: what it does not transport, and the rest",
             &frame,
             &full,
         )?,
