@@ -308,6 +308,32 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
             .text("shadow resolution ×"),
     );
     ui.add(egui::Slider::new(&mut v.max_cascades, 1..=4).text("cascades"));
+    ui.checkbox(&mut v.all_lights_cast_shadows, "every light casts shadows");
+    combo(
+        ui,
+        "ambient occlusion",
+        &mut v.ao.resolution,
+        &lumen::quality::AoResolution::ALL,
+        |r| r.name(),
+    );
+    ui.add(egui::Slider::new(&mut v.ao.slices, 1..=8).text("AO slices"));
+    ui.add(egui::Slider::new(&mut v.ao.steps, 1..=32).text("AO steps"));
+    ui.add(
+        egui::Slider::new(&mut v.ao.radius_m, 0.05..=10.0)
+            .logarithmic(true)
+            .text("AO radius (m)"),
+    );
+    ui.checkbox(&mut v.ao.denoise, "AO filter");
+    ui.checkbox(&mut v.ao.multi_bounce, "AO multiple bounce");
+    ui.checkbox(&mut v.ssr.enabled, "screen-space reflections");
+    ui.add(egui::Slider::new(&mut v.ssr.max_roughness, 0.0..=1.0).text("SSR max roughness"));
+    ui.add(egui::Slider::new(&mut v.ssr.rays, 1..=16).text("SSR rays"));
+    ui.add(egui::Slider::new(&mut v.ssr.steps, 8..=256).text("SSR steps"));
+    ui.add(
+        egui::Slider::new(&mut v.ssr.thickness_m, 0.01..=5.0)
+            .logarithmic(true)
+            .text("SSR thickness (m)"),
+    );
     ui.checkbox(&mut v.energy_compensation, "energy compensation");
     ui.checkbox(&mut v.light_culling, "light culling");
     ui.add(
