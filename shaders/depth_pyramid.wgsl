@@ -3,29 +3,43 @@
 // surface) of the texels it covers in the level below, so a ray that stays in front of
 // a level-k texel's value passes in front of everything under it.
 //
-// fs_copy reads the depth buffer; fs_reduce reads the level below (its only mip).
-#import fullscreen
+// The levels are stored one after the other in a storage buffer, each row by row, as
+// the bits of the depths: depths are ≥ 0, whose bit patterns order as the numbers do, so
+// the maximum of the bits is the bits of the maximum. (A mip chain of an R32Float or
+// R32Uint texture does not serve every backend: GL cannot render R32Float, and reads an
+// integer texture's upper mips as 0.) One dispatch per level, in order.
+#import pyramid_layout
 
-@group(0) @binding(0) var source: texture_2d<f32>;
+@group(0) @binding(0) var depth_buffer: texture_2d<f32>;
+@group(0) @binding(1) var<uniform> levels: PyramidLayout;
+// The level this dispatch writes (x).
+@group(0) @binding(2) var<uniform> step: vec4<u32>;
+@group(0) @binding(3) var<storage, read_write> pyramid: array<u32>;
 
-@fragment
-fn fs_copy(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(textureLoad(source, vec2<i32>(frag.xy), 0).r, 0.0, 0.0, 0.0);
-}
-
-// The texels (2x, 2y) to (2x + 1, 2y + 1) of the level below, and its last row and column
-// too where that level's size is odd and this texel is the last one, so nothing is lost.
-@fragment
-fn fs_reduce(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let below = vec2<i32>(textureDimensions(source));
-    let base = vec2<i32>(frag.xy) * 2;
-    let extra = select(vec2<i32>(1), vec2<i32>(2), ((below & vec2<i32>(1)) == vec2<i32>(1)) & (base + vec2<i32>(3) > below));
-    var nearest = 0.0;
-    for (var dy = 0; dy <= extra.y; dy++) {
-        for (var dx = 0; dx <= extra.x; dx++) {
-            let q = min(base + vec2<i32>(dx, dy), below - vec2<i32>(1));
-            nearest = max(nearest, textureLoad(source, q, 0).r);
+@compute @workgroup_size(8, 8)
+fn cs_build(@builtin(global_invocation_id) id: vec3<u32>) {
+    let level = step.x;
+    let l = levels.levels[level];
+    if id.x >= l.y || id.y >= l.z {
+        return;
+    }
+    var nearest = 0u;
+    if level == 0u {
+        nearest = bitcast<u32>(max(textureLoad(depth_buffer, vec2<i32>(id.xy), 0).r, 0.0));
+    } else {
+        // The texels (2x, 2y) to (2x + 1, 2y + 1) of the level below, and its last row
+        // and column too where its size is odd and this texel is the last one.
+        let below = levels.levels[level - 1u];
+        let size = vec2<u32>(below.y, below.z);
+        let base = id.xy * 2u;
+        let odd = ((size & vec2<u32>(1u)) == vec2<u32>(1u)) & (base + vec2<u32>(3u) > size);
+        let extra = select(vec2<u32>(1u), vec2<u32>(2u), odd);
+        for (var dy = 0u; dy <= extra.y; dy++) {
+            for (var dx = 0u; dx <= extra.x; dx++) {
+                let q = min(base + vec2<u32>(dx, dy), size - vec2<u32>(1u));
+                nearest = max(nearest, pyramid[below.x + q.y * size.x + q.x]);
+            }
         }
     }
-    return vec4<f32>(nearest, 0.0, 0.0, 0.0);
+    pyramid[l.x + id.y * l.y + id.x] = nearest;
 }

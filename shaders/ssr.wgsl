@@ -2,8 +2,9 @@
 // smoother than the cutoff, RAYS reflected rays importance-sampled from the GGX visible
 // normals (sample_ggx_vndf), each traced over the depth pyramid (Uludag 2014): a ray
 // skips a level-k texel when it stays in front of that texel's nearest depth, climbs a
-// level after each skip and descends where it may cross a surface; at level 0 a crossing
-// within THICKNESS metres behind the surface is a hit. A hit returns the lit frame
+// level after each skip and descends where it may cross a surface; at level 0 a ray
+// that crosses the surface within the pixel, or enters it at most `thickness_m` behind
+// the surface, hits it. A hit returns the lit frame
 // there (one bounce); a miss, a ray below the surface or one leaving the screen returns
 // the environment's prefiltered radiance, which lighting already added.
 //
@@ -22,15 +23,15 @@
 #import bindings
 #import fullscreen
 #import ambient_occlusion
+#import pyramid_layout
 
 struct SsrParams {
     // Perceptual roughness above which nothing is traced.
     max_roughness: f32,
     // How far (m) behind a surface a ray may pass and still hit it.
     thickness_m: f32,
-    // Levels of the depth pyramid.
-    levels: f32,
-    pad: f32,
+    pad0: f32,
+    pad1: f32,
 }
 
 // Group 0 (SSR in reflections.rs).
@@ -40,8 +41,9 @@ struct SsrParams {
 @group(0) @binding(3) var gbuffer0: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer1: texture_2d<f32>;
 @group(0) @binding(5) var gbuffer2: texture_2d<f32>;
-@group(0) @binding(6) var pyramid: texture_2d<f32>;
+@group(0) @binding(6) var<storage, read> pyramid: array<u32>;
 @group(0) @binding(7) var scene_color: texture_2d<f32>;
+@group(0) @binding(8) var<uniform> pyramid_layout: PyramidLayout;
 
 // Group 1, indirect light, as the lighting pass binds it (lighting::ENVIRONMENT).
 @group(1) @binding(0) var<uniform> environment: EnvironmentUniform;
@@ -88,6 +90,13 @@ fn environment_radiance(dir: vec3<f32>, r: f32) -> vec3<f32> {
     return environment.uniform_radiance.rgb;
 }
 
+// The nearest depth of texel `cell` of pyramid level `level`.
+fn pyramid_depth(cell: vec2<i32>, level: i32) -> f32 {
+    let l = pyramid_layout.levels[level];
+    let c = clamp(cell, vec2<i32>(0), vec2<i32>(i32(l.y), i32(l.z)) - vec2<i32>(1));
+    return bitcast<f32>(pyramid[l.x + u32(c.y) * l.y + u32(c.x)]);
+}
+
 // The pixel a ray from world point `p` along `l` hits, and 1 in z; 0 in z for a miss.
 fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let camera = view.position_exposure.xyz;
@@ -108,7 +117,7 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     let size = view.viewport.xy;
     let to_edge = select((vec2<f32>(0.0) - s0.xy) / d.xy, (size - s0.xy) / d.xy, d.xy > vec2<f32>(0.0));
     let t_max = min(span, min(select(1e9, to_edge.x, d.x != 0.0), select(1e9, to_edge.y, d.y != 0.0)));
-    let top = i32(params.levels) - 1;
+    let top = i32(pyramid_layout.count.x) - 1;
     var level = 0;
     var t = 1.5;
     for (var i = 0u; i < STEPS; i++) {
@@ -121,8 +130,9 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
         let bound = (cell + select(vec2<f32>(0.0), vec2<f32>(1.0), d.xy > vec2<f32>(0.0))) * cell_size;
         let tb = (bound - s0.xy) / d.xy;
         let t_exit = max(min(select(1e9, tb.x, d.x != 0.0), select(1e9, tb.y, d.y != 0.0)), t + 1e-3);
-        let nearest = textureLoad(pyramid, vec2<i32>(cell), level).r;
+        let nearest = pyramid_depth(vec2<i32>(cell), level);
         let ray_far = min(s0.z + d.z * t, s0.z + d.z * t_exit);
+        let ray_near = max(s0.z + d.z * t, s0.z + d.z * t_exit);
         if ray_far > nearest {
             // In front of everything under this texel: skip it, and look wider.
             t = t_exit + 1e-3;
@@ -130,12 +140,19 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
         } else if level > 0 {
             level -= 1;
         } else {
-            // At one pixel, behind its surface: a hit if within the thickness.
+            // At one pixel whose surface the ray reaches: a hit if it crosses the surface
+            // within the pixel, or is behind it by at most the thickness when it enters.
+            // A surface the ray would meet from behind (its normal along the ray) is the
+            // far side of something the ray passes behind, not what it sees.
             let px = vec2<i32>(cell);
+            let facing = dot(oct_decode(textureLoad(gbuffer1, px, 0).rg), l) < 0.0;
+            if facing && ray_near >= nearest {
+                return vec3<f32>(vec2<f32>(px), 1.0);
+            }
             let surface = world_at(vec2<f32>(px) + vec2<f32>(0.5), nearest);
-            let ray = world_at(vec2<f32>(px) + vec2<f32>(0.5), max(ray_far, 1e-7));
+            let ray = world_at(vec2<f32>(px) + vec2<f32>(0.5), max(ray_near, 1e-7));
             let behind = dot(ray - surface, view.forward.xyz);
-            if behind <= params.thickness_m {
+            if facing && behind <= params.thickness_m {
                 return vec3<f32>(vec2<f32>(px), 1.0);
             }
             t = t_exit + 1e-3;
@@ -156,7 +173,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let g1 = textureLoad(gbuffer1, pixel, 0);
     let g2 = textureLoad(gbuffer2, pixel, 0);
     let r = clamp_perceptual_roughness(g1.b);
-    if r > params.max_roughness {
+    // A pixel clamped to the f16 maximum no longer holds the environment term to replace.
+    if r > params.max_roughness || any(lit.rgb >= vec3<f32>(65000.0)) {
         return lit;
     }
     // Fades out over the last quarter below the cutoff.

@@ -64,7 +64,17 @@ fn render_png_with_json_report() {
     );
     let passes = report["passes"].as_array().cloned().unwrap_or_default();
     let names: Vec<_> = passes.iter().filter_map(|p| p["name"].as_str()).collect();
-    assert_eq!(names, ["shadow", "gbuffer", "lighting", "tonemap"]);
+    assert_eq!(
+        names,
+        [
+            "shadow",
+            "gbuffer",
+            "depth pyramid",
+            "lighting",
+            "ssr",
+            "tonemap"
+        ]
+    );
     for p in &passes {
         assert!(p["cpu_ms"].as_f64().is_some_and(|v| v >= 0.0), "{p}");
         assert!(
@@ -448,8 +458,9 @@ fn hdri(name: &str) -> String {
 #[test]
 fn environment_flags() {
     let dir = tmp();
-    // The furnace from the command line: a linear EXR of exactly 1.0 everywhere. AO is
-    // off: it treats occluders as absorbing, and a furnace's are lossless.
+    // The furnace from the command line: a linear EXR of exactly 1.0 everywhere. AO and
+    // reflections are off: this checks the BRDF alone (AO treats the lossless occluders
+    // as absorbing).
     let out = lumen(
         &[
             "render",
@@ -457,6 +468,7 @@ fn environment_flags() {
             "furnace",
             "--ao",
             "off",
+            "--no-ssr",
             "--exposure",
             "1",
             "--size",

@@ -66,7 +66,10 @@ const CASES: &[Case] = &[
         "shadows-pcss",
         &["--scene", "shadows", "--shadow-filter", "pcss"],
     ),
-    case("furnace", &["--scene", "furnace", "--ao", "off"]),
+    case(
+        "furnace",
+        &["--scene", "furnace", "--ao", "off", "--no-ssr"],
+    ),
     case("dof", &["--scene", "dof"]),
     case("lights", &["--scene", "lights"]),
     case("extremes", &["--scene", "extremes"]),

@@ -393,7 +393,17 @@ fn passes_follow_the_scene() {
     assert_eq!(feature("spot lights"), Some(false));
     assert!(report.plan.runs(PassId::GBuffer));
     let names: Vec<_> = report.passes.iter().map(|p| p.name).collect();
-    assert_eq!(names, ["shadow", "gbuffer", "lighting", "tonemap"]);
+    assert_eq!(
+        names,
+        [
+            "shadow",
+            "gbuffer",
+            "depth pyramid",
+            "lighting",
+            "ssr",
+            "tonemap"
+        ]
+    );
     assert!(
         report
             .passes

@@ -13,6 +13,7 @@
 use crate::error::{Error, Result};
 use crate::ibl::{sh_project, sh_uniform};
 use crate::quality::Quality;
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameErrors;
@@ -61,6 +62,23 @@ struct Params {
     source_size: f32,
     pad: [f32; 3],
 }
+
+/// The bind group of indirect light that the lighting and reflection passes share: the
+/// environment (split-sum image-based lighting) and the AO pass's occlusion.
+pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
+    label: "lighting: environment",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("environment", Binding::Uniform),
+        (
+            "env_cube",
+            Binding::Sampled(wgpu::TextureViewDimension::Cube),
+        ),
+        ("env_sampler", Binding::Sampler),
+        ("brdf_lut", Binding::Sampled(wgpu::TextureViewDimension::D2)),
+        ("screen_ao", Binding::TextureLoad),
+    ],
+};
 
 /// The GPU side of image-based lighting.
 #[derive(Resource)]

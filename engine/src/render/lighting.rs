@@ -250,22 +250,9 @@ pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// Group 2: indirect light: the environment (split-sum image-based lighting) and the AO
-/// pass's occlusion.
-pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
-    label: "lighting: environment",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("environment", Binding::Uniform),
-        (
-            "env_cube",
-            Binding::Sampled(wgpu::TextureViewDimension::Cube),
-        ),
-        ("env_sampler", Binding::Sampler),
-        ("brdf_lut", Binding::Sampled(wgpu::TextureViewDimension::D2)),
-        ("screen_ao", Binding::TextureLoad),
-    ],
-};
+/// Group 2: indirect light (defined beside the environment it binds, and shared with the
+/// reflection pass).
+pub use crate::render::ibl::ENVIRONMENT;
 
 /// The lighting pass's bind groups, in group order.
 pub const GROUPS: [BindGroupSpec; 3] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT];

@@ -1,24 +1,30 @@
-//! The depth pyramid (`shaders/depth_pyramid.wgsl`): the depth buffer and, above it, mip
+//! The depth pyramid (`shaders/depth_pyramid.wgsl`): the depth buffer and, above it,
 //! levels that each hold the nearest depth of the texels they cover (reversed Z: the
 //! largest value). Screen-space reflections trace over it hierarchically (Uludag 2014,
 //! "Hi-Z Screen-Space Cone-Traced Reflections", GPU Pro 5): a ray skips a whole texel of a
 //! high level when it stays in front of that texel's nearest surface.
 //!
+//! The levels live one after the other in a storage buffer ([`PyramidLayout`]), built by
+//! one compute dispatch per level. A mip chain does not serve every backend: GL cannot
+//! render R32Float, and reads the upper mips of an R32Uint texture as 0.
+//!
 //! It runs only when screen-space reflections do (the same conditions,
-//! [`crate::render::indirect::reflections::skip_reason`]).
+//! [`reflections_skip_reason`]).
 
 use crate::error::Result;
+use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::reflections;
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
+use wgpu::util::DeviceExt;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -26,28 +32,70 @@ impl PassId {
     pub const DepthPyramid: PassId = PassId::new("depth pyramid");
 }
 
-/// Format of the pyramid: the depth buffer's 32-bit float.
-pub const PYRAMID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// The most levels a pyramid has (a side of up to 32768 pixels).
+pub const MAX_LEVELS: usize = 16;
 
 /// The pyramid, which the pass owns and keeps between frames.
 pub const DEPTH_PYRAMID: Slot = Slot::owned("depth pyramid");
 
-/// The bindings of both steps: the level they read.
+/// The bindings of the build: the depth buffer, the layout, the level a dispatch writes
+/// and the pyramid.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     label: "depth pyramid",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("source", Binding::TextureLoad)],
+    visibility: wgpu::ShaderStages::COMPUTE,
+    bindings: &[
+        ("depth_buffer", Binding::TextureLoad),
+        ("levels", Binding::Uniform),
+        ("step", Binding::Uniform),
+        ("pyramid", Binding::StorageReadWrite),
+    ],
 };
 
-/// The pyramid's texture, its per-level views and the groups that read each level.
+/// `PyramidLayout` of `pyramid_layout.wgsl`: per level, its first element in the
+/// buffer, width and height; and the number of levels.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct PyramidLayout {
+    /// (first element, width, height, 0) per level.
+    pub levels: [[u32; 4]; MAX_LEVELS],
+    /// (number of levels, 0, 0, 0).
+    pub count: [u32; 4],
+}
+
+impl PyramidLayout {
+    /// The levels over a depth buffer of `size`: each half the one below (rounded
+    /// down, at least 1), down to 1×1, packed one after the other; and the number of
+    /// elements in all.
+    pub fn new(size: (u32, u32)) -> (PyramidLayout, u64) {
+        let mut layout = PyramidLayout {
+            levels: [[0; 4]; MAX_LEVELS],
+            count: [0; 4],
+        };
+        let (mut w, mut h) = (size.0.max(1), size.1.max(1));
+        let mut offset = 0u64;
+        for (k, level) in layout.levels.iter_mut().enumerate() {
+            *level = [offset as u32, w, h, 0];
+            offset += u64::from(w) * u64::from(h);
+            layout.count[0] = k as u32 + 1;
+            if w == 1 && h == 1 {
+                break;
+            }
+            (w, h) = ((w / 2).max(1), (h / 2).max(1));
+        }
+        (layout, offset)
+    }
+}
+
+/// The pyramid's buffers and the groups that build each level.
 pub struct Pyramid {
     /// Size of level 0 (the frame's).
     pub size: (u32, u32),
-    /// The texture, every level.
-    pub texture: wgpu::Texture,
-    /// A view of every level (what the tracer binds).
-    pub view: wgpu::TextureView,
-    levels: Vec<wgpu::TextureView>,
+    /// The levels' layout (a uniform buffer of [`PyramidLayout`]).
+    pub layout: wgpu::Buffer,
+    /// The levels (u32 depth bits).
+    pub buffer: wgpu::Buffer,
+    /// Levels, in order.
+    pub levels: u32,
     groups: Vec<wgpu::BindGroup>,
 }
 
@@ -56,12 +104,13 @@ pub struct Pyramid {
 pub struct DepthPyramidPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    /// The copy and reduce pipelines, compiled on first use: an adapter that cannot
-    /// render R32Float (GL) never runs the pass and never compiles them.
-    pipelines: Option<[wgpu::RenderPipeline; 2]>,
-    /// The pyramid, once a frame has needed it; bumped `generation` when it is remade.
+    /// Compiled when the pass first runs.
+    pipeline: Option<wgpu::ComputePipeline>,
+    /// One uniform per level: the level its dispatch writes.
+    steps: Vec<wgpu::Buffer>,
+    /// The pyramid, once a frame has needed it.
     pub pyramid: Option<Pyramid>,
-    /// Bumped when the pyramid or the depth it copies is recreated.
+    /// Bumped when the pyramid is remade, so users rebuild their bind groups.
     pub generation: u64,
     depth_generation: u64,
 }
@@ -77,7 +126,7 @@ impl FramePass for DepthPyramidPass {
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
-        match reflections::skip_reason(world) {
+        match reflections_skip_reason(world) {
             Some(reason) => {
                 PassDecision::new(false, format!("no reflections to trace: {reason}"), ())
             }
@@ -99,7 +148,8 @@ impl FramePass for DepthPyramidPass {
 }
 
 impl DepthPyramidPass {
-    /// Creates the layouts; the pipelines compile when the pass first runs.
+    /// Creates the layouts and the per-level uniforms; the pipeline compiles when the
+    /// pass first runs.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
         let pipeline_layout = gpu
@@ -109,18 +159,29 @@ impl DepthPyramidPass {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
+        let steps = (0..MAX_LEVELS as u32)
+            .map(|level| {
+                gpu.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("depth pyramid level"),
+                        contents: bytemuck::bytes_of(&[level, 0, 0, 0]),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    })
+            })
+            .collect();
         DepthPyramidPass {
             layout,
             pipeline_layout,
-            pipelines: None,
+            pipeline: None,
+            steps,
             pyramid: None,
             generation: 0,
             depth_generation: 0,
         }
     }
 
-    fn pipelines(&mut self, gpu: &Gpu) -> Result<()> {
-        if self.pipelines.is_some() {
+    fn pipeline(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.pipeline.is_some() {
             return Ok(());
         }
         let module = create_module(
@@ -128,28 +189,57 @@ impl DepthPyramidPass {
             "depth pyramid",
             &gpu.shaders.compose("depth_pyramid.wgsl", &[])?,
         )?;
-        let pipeline = |entry: &str| {
-            fullscreen_pipeline(
-                gpu,
-                entry,
-                Some(&self.pipeline_layout),
-                &module,
-                ("vs_fullscreen", entry),
-                &[PYRAMID_FORMAT],
-                None,
-            )
-        };
-        self.pipelines = Some([pipeline("fs_copy")?, pipeline("fs_reduce")?]);
+        let pipeline = gpu.checked("depth pyramid pipeline", |device| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("depth pyramid"),
+                layout: Some(&self.pipeline_layout),
+                module: &module,
+                entry_point: Some("cs_build"),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })?;
+        self.pipeline = Some(pipeline);
         Ok(())
     }
 }
 
-/// The number of levels of a pyramid over `size`: down to 1×1.
-pub fn level_count(size: (u32, u32)) -> u32 {
-    32 - size.0.max(size.1).max(1).leading_zeros()
+/// Why screen-space reflections, the pyramid's only user, are not traced this frame, if
+/// they are not ([`crate::render::indirect::reflections`] decides with it too).
+pub fn reflections_skip_reason(world: &World) -> Option<String> {
+    let ssr = world.resource::<Quality>().ssr;
+    let frame = world.resource::<ExtractedFrame>();
+    if !ssr.enabled {
+        return Some("screen-space reflections are off (--no-ssr)".into());
+    }
+    if frame.instances.is_empty() {
+        return Some("nothing is drawn".into());
+    }
+    // A roughness map can only lower a material's roughness factor.
+    let smoothest = frame
+        .instances
+        .iter()
+        .map(|i| i.params[1])
+        .fold(f32::INFINITY, f32::min);
+    if frame.material_maps.is_empty() && smoothest > ssr.max_roughness {
+        return Some(format!(
+            "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
+            ssr.max_roughness
+        ));
+    }
+    let gpu = world.resource::<Gpu>();
+    if !gpu
+        .adapter
+        .get_downlevel_capabilities()
+        .flags
+        .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+    {
+        return Some("the adapter has no compute shaders to build the depth pyramid".into());
+    }
+    None
 }
 
-/// (Re)creates the pyramid at the frame's size and the groups that read each level.
+/// (Re)creates the pyramid at the frame's size and the groups that build each level.
 pub fn prepare_pyramid(
     gpu: Res<Gpu>,
     targets: Res<RenderTargets>,
@@ -162,7 +252,7 @@ pub fn prepare_pyramid(
     let Some(depth) = t.view(DEPTH) else {
         return;
     };
-    if let Err(e) = pass.pipelines(&gpu) {
+    if let Err(e) = pass.pipeline(&gpu) {
         errors.0.push(e);
         return;
     }
@@ -171,43 +261,32 @@ pub fn prepare_pyramid(
     {
         return;
     }
-    let levels = level_count(t.size);
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+    let (layout, elements) = PyramidLayout::new(t.size);
+    let layout_buffer = gpu
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("depth pyramid layout"),
+            contents: bytemuck::bytes_of(&layout),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("depth pyramid"),
-        size: wgpu::Extent3d {
-            width: t.size.0,
-            height: t.size.1,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: levels,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: PYRAMID_FORMAT,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
+        size: elements * 4,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
     });
-    let level_views: Vec<wgpu::TextureView> = (0..levels)
-        .map(|level| {
-            texture.create_view(&wgpu::TextureViewDescriptor {
-                label: Some("depth pyramid level"),
-                base_mip_level: level,
-                mip_level_count: Some(1),
-                ..Default::default()
-            })
-        })
-        .collect();
+    let levels = layout.count[0];
     let mut groups = Vec::with_capacity(levels as usize);
-    // Level 0 reads the depth buffer; level k the level below.
-    for level in 0..levels as usize {
-        let source = if level == 0 {
-            depth
-        } else {
-            &level_views[level - 1]
-        };
+    for step in &pass.steps[..levels as usize] {
         match BINDINGS.group(
             &gpu,
             &pass.layout,
-            vec![wgpu::BindingResource::TextureView(source)],
+            vec![
+                wgpu::BindingResource::TextureView(depth),
+                layout_buffer.as_entire_binding(),
+                step.as_entire_binding(),
+                buffer.as_entire_binding(),
+            ],
         ) {
             Ok(g) => groups.push(g),
             Err(e) => {
@@ -218,70 +297,61 @@ pub fn prepare_pyramid(
     }
     pass.pyramid = Some(Pyramid {
         size: t.size,
-        view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
-        texture,
-        levels: level_views,
+        layout: layout_buffer,
+        buffer,
+        levels,
         groups,
     });
     pass.depth_generation = t.generation;
     pass.generation += 1;
 }
 
-/// Records the copy of the depth buffer into level 0 and one reduction per level above.
+/// Records one dispatch per level, level 0 first (each reads the one below it).
 pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(p), Some([copy, reduce])) = (
+    let (Some(encoder), Some(p), Some(pipeline)) = (
         encoder.as_mut(),
         pass.pyramid.as_ref(),
-        pass.pipelines.as_ref(),
+        pass.pipeline.as_ref(),
     ) else {
         return;
     };
+    let (layout, _) = PyramidLayout::new(p.size);
     let scope = timer.begin_pass(PassId::DepthPyramid);
-    let last = p.levels.len().saturating_sub(1);
-    for (level, (view, group)) in p.levels.iter().zip(&p.groups).enumerate() {
-        let pipeline = if level == 0 { copy } else { reduce };
-        // The pass's GPU time: from the start of the first level to the end of the last.
-        let writes = timer
-            .render_writes(&scope)
-            .filter(|_| level == 0 || level == last)
-            .map(|w| wgpu::RenderPassTimestampWrites {
-                query_set: w.query_set,
-                beginning_of_pass_write_index: w
-                    .beginning_of_pass_write_index
-                    .filter(|_| level == 0),
-                end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| level == last),
-            });
-        record_level(encoder, view, pipeline, group, writes);
+    {
+        let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("depth pyramid"),
+            timestamp_writes: timer.compute_writes(&scope),
+        });
+        cp.set_pipeline(pipeline);
+        for (group, level) in p.groups.iter().zip(&layout.levels) {
+            cp.set_bind_group(0, group, &[]);
+            cp.dispatch_workgroups(level[1].div_ceil(8), level[2].div_ceil(8), 1);
+        }
     }
     timer.end_pass(scope);
 }
 
-/// One level: a full-screen triangle into `view`.
-fn record_level(
-    encoder: &mut wgpu::CommandEncoder,
-    view: &wgpu::TextureView,
-    pipeline: &wgpu::RenderPipeline,
-    group: &wgpu::BindGroup,
-    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
-) {
-    let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("depth pyramid level"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
-    rp.set_pipeline(pipeline);
-    rp.set_bind_group(0, group, &[]);
-    rp.draw(0..3, 0..1);
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_halve_down_to_one_texel_and_pack_without_gaps() {
+        let (layout, elements) = PyramidLayout::new((1280, 720));
+        let count = layout.count[0] as usize;
+        assert_eq!(count, 11, "1280 → 640 → … → 1");
+        assert_eq!(layout.levels[0], [0, 1280, 720, 0]);
+        assert_eq!(layout.levels[1], [1280 * 720, 640, 360, 0]);
+        assert_eq!(&layout.levels[count - 1][1..3], &[1, 1]);
+        let sum: u64 = layout.levels[..count]
+            .iter()
+            .map(|l| u64::from(l[1]) * u64::from(l[2]))
+            .sum();
+        assert_eq!(sum, elements);
+        let (one, n) = PyramidLayout::new((1, 1));
+        assert_eq!((one.count[0], n), (1, 1));
+        let (big, _) = PyramidLayout::new((32768, 3));
+        assert_eq!(big.count[0] as usize, MAX_LEVELS);
+    }
 }

@@ -7,8 +7,8 @@
 //! reflection.
 //!
 //! It runs only when the frame has a surface smoother than the cutoff
-//! ([`crate::quality::SsrSettings::max_roughness`]) and the adapter can render the
-//! pyramid's 32-bit float levels.
+//! ([`crate::quality::SsrSettings::max_roughness`]); the reasons are
+//! [`reflections_skip_reason`].
 
 use crate::error::Result;
 use crate::quality::Quality;
@@ -20,10 +20,11 @@ use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::ibl::Ibl;
+use crate::render::ibl::{ENVIRONMENT, Ibl};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
-use crate::render::indirect::depth_pyramid::{DEPTH_PYRAMID, DepthPyramidPass, PYRAMID_FORMAT};
-use crate::render::lighting::ENVIRONMENT;
+use crate::render::indirect::depth_pyramid::{
+    DEPTH_PYRAMID, DepthPyramidPass, reflections_skip_reason,
+};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -52,8 +53,9 @@ pub const SSR: BindGroupSpec = BindGroupSpec {
         ("gbuffer0", Binding::TextureLoad),
         ("gbuffer1", Binding::TextureLoad),
         ("gbuffer2", Binding::TextureLoad),
-        ("pyramid", Binding::TextureLoad),
+        ("pyramid", Binding::Storage),
         ("scene_color", Binding::TextureLoad),
+        ("pyramid_layout", Binding::Uniform),
     ],
 };
 
@@ -82,42 +84,7 @@ pub struct SsrVariant {
 struct Params {
     max_roughness: f32,
     thickness_m: f32,
-    levels: f32,
-    pad: f32,
-}
-
-/// Why reflections are not traced this frame, if they are not.
-pub fn skip_reason(world: &World) -> Option<String> {
-    let ssr = world.resource::<Quality>().ssr;
-    let frame = world.resource::<ExtractedFrame>();
-    if !ssr.enabled {
-        return Some("screen-space reflections are off (--no-ssr)".into());
-    }
-    if frame.instances.is_empty() {
-        return Some("nothing is drawn".into());
-    }
-    // A roughness map can only lower a material's roughness factor.
-    let smoothest = frame
-        .instances
-        .iter()
-        .map(|i| i.params[1])
-        .fold(f32::INFINITY, f32::min);
-    if frame.material_maps.is_empty() && smoothest > ssr.max_roughness {
-        return Some(format!(
-            "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
-            ssr.max_roughness
-        ));
-    }
-    let gpu = world.resource::<Gpu>();
-    if !gpu
-        .adapter
-        .get_texture_format_features(PYRAMID_FORMAT)
-        .allowed_usages
-        .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
-    {
-        return Some("the adapter cannot render the depth pyramid's R32Float".into());
-    }
-    None
+    pad: [f32; 2],
 }
 
 impl FramePass for SsrPass {
@@ -152,7 +119,7 @@ impl FramePass for SsrPass {
             screen_ao: plan.runs(PassId::AmbientOcclusion),
             format: quality.hdr_precision.format(),
         };
-        let skip = skip_reason(world);
+        let skip = reflections_skip_reason(world);
         let reason = skip.clone().unwrap_or_else(|| {
             format!(
                 "{} ray(s) per pixel, {} steps, roughness ≤ {:.2}, thickness {:.2} m",
@@ -313,8 +280,7 @@ pub fn prepare_ssr(
         } else {
             0.0
         },
-        levels: p.texture.mip_level_count() as f32,
-        pad: 0.0,
+        pad: [0.0; 2],
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
@@ -350,8 +316,9 @@ pub fn prepare_ssr(
             TextureView(g0),
             TextureView(g1),
             TextureView(g2),
-            TextureView(&p.view),
+            p.buffer.as_entire_binding(),
             TextureView(&color.view),
+            p.layout.as_entire_binding(),
         ],
     );
     let environment = ENVIRONMENT.group(
