@@ -13,6 +13,10 @@
 // occlusion), E that environment radiance and L̄ the rays' mean. Where every ray misses
 // it adds nothing: the reflection falls back to the environment, never to black.
 //
+// At full resolution fs_main writes the frame with its reflections. At half resolution
+// fs_trace_half traces one pixel per 2×2 block into a half-size target, and
+// fs_composite_half adds each block's reflection to the pixels on the same surface.
+//
 // Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
 // SCREEN_AO (bool), as the lighting pass compiles them.
 #import common
@@ -51,6 +55,9 @@ struct SsrParams {
 @group(1) @binding(2) var env_sampler: sampler;
 @group(1) @binding(3) var brdf_lut: texture_2d<f32>;
 @group(1) @binding(4) var screen_ao: texture_2d<f32>;
+
+// Group 2 of the half-resolution composite (SSR_HALF): what the trace step added.
+@group(2) @binding(0) var half_added: texture_2d<f32>;
 
 fn world_at(px: vec2<f32>, depth: f32) -> vec3<f32> {
     let ndc = vec2<f32>(px.x * view.viewport.z * 2.0 - 1.0, 1.0 - px.y * view.viewport.w * 2.0);
@@ -161,21 +168,21 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-@fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let pixel = vec2<i32>(frag.xy);
-    let lit = textureLoad(scene_color, pixel, 0);
+// What the reflection adds at `pixel` (lit: the lit frame there): W · fade · (L̄ − E), or
+// nothing where the pixel is background, too rough or saturated. `noise` seeds the
+// per-pixel rotation of the rays.
+fn reflection_added(pixel: vec2<i32>, lit: vec3<f32>, noise: vec2<f32>) -> vec3<f32> {
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
-        return lit;
+        return vec3<f32>(0.0);
     }
     let g0 = textureLoad(gbuffer0, pixel, 0);
     let g1 = textureLoad(gbuffer1, pixel, 0);
     let g2 = textureLoad(gbuffer2, pixel, 0);
     let r = clamp_perceptual_roughness(g1.b);
     // A pixel clamped to the f16 maximum no longer holds the environment term to replace.
-    if r > params.max_roughness || any(lit.rgb >= vec3<f32>(65000.0)) {
-        return lit;
+    if r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) {
+        return vec3<f32>(0.0);
     }
     // Fades out over the last quarter below the cutoff.
     let fade = clamp((params.max_roughness - r) / (0.25 * params.max_roughness), 0.0, 1.0);
@@ -201,7 +208,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let frame = basis(n);
     let local_v = transpose(frame) * v;
     let alpha = perceptual_roughness_to_alpha(r);
-    let rotation = fract(52.9829189 * fract(dot(frag.xy, vec2<f32>(0.06711056, 0.00583715))));
+    let rotation = fract(52.9829189 * fract(dot(noise, vec2<f32>(0.06711056, 0.00583715))));
     var sum = vec3<f32>(0.0);
     for (var k = 0u; k < RAYS; k++) {
         let xi = fract(hammersley(k, RAYS) + vec2<f32>(rotation, 0.5 * rotation));
@@ -221,6 +228,43 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         sum += radiance;
     }
     let added = weight * fade * (sum / f32(RAYS) - fallback);
-    let color = max(lit.rgb + select(added, vec3<f32>(0.0), added != added), vec3<f32>(0.0));
-    return vec4<f32>(min(color, vec3<f32>(65504.0)), lit.a);
+    return select(added, vec3<f32>(0.0), added != added);
+}
+
+// The lit frame plus `added`, kept finite and inside the f16 range.
+fn with_reflection(lit: vec4<f32>, added: vec3<f32>) -> vec4<f32> {
+    return vec4<f32>(min(max(lit.rgb + added, vec3<f32>(0.0)), vec3<f32>(65504.0)), lit.a);
+}
+
+// Full resolution: every pixel traces its own rays.
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
+    let lit = textureLoad(scene_color, pixel, 0);
+    return with_reflection(lit, reflection_added(pixel, lit.rgb, frag.xy));
+}
+
+// Half resolution, step 1: the reflection of the top-left pixel of each 2×2 block.
+@fragment
+fn fs_trace_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let size = vec2<i32>(textureDimensions(depth_buffer));
+    let pixel = min(vec2<i32>(frag.xy) * 2, size - vec2<i32>(1));
+    let lit = textureLoad(scene_color, pixel, 0);
+    return vec4<f32>(reflection_added(pixel, lit.rgb, frag.xy), 0.0);
+}
+
+// Half resolution, step 2: each pixel takes its block's reflection when both lie on one
+// surface (depths within 1 %; reversed-Z depth is 1/distance up to a factor), else none.
+@fragment
+fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
+    let lit = textureLoad(scene_color, pixel, 0);
+    let size = vec2<i32>(textureDimensions(depth_buffer));
+    let cell = min(pixel / 2, vec2<i32>(textureDimensions(half_added)) - vec2<i32>(1));
+    let depth = textureLoad(depth_buffer, pixel, 0).r;
+    let source = textureLoad(depth_buffer, min(cell * 2, size - vec2<i32>(1)), 0).r;
+    if depth <= 0.0 || abs(depth - source) > 0.01 * depth {
+        return lit;
+    }
+    return with_reflection(lit, textureLoad(half_added, cell, 0).rgb);
 }

@@ -136,8 +136,13 @@ fn every_bind_group_list_matches_its_shader() {
             energy_compensation: true,
             screen_ao: true,
             format: wgpu::TextureFormat::Rgba16Float,
+            half: true,
         }),
-        &[(0, reflections::SSR), (1, lighting::ENVIRONMENT)],
+        &[
+            (0, reflections::SSR),
+            (1, lighting::ENVIRONMENT),
+            (2, reflections::SSR_HALF),
+        ],
     );
     assert_eq!(
         ambient_occlusion::TRACE.bindings,

@@ -395,7 +395,17 @@ fn centroid(image: &image::Rgba32FImage, rows: std::ops::Range<u32>, threshold: 
 
 #[test]
 fn a_mirror_floor_shows_the_sphere_at_its_mirrored_position() {
+    for half in [true, false] {
+        mirrored_at_resolution(half);
+    }
+}
+
+fn mirrored_at_resolution(half: bool) {
     let mut app = mirror(None, true);
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .ssr
+        .half_resolution = half;
     let report = app.render_headless(SIZE).expect("frame");
     assert!(report.plan.runs(PassId::Reflections));
     assert!(report.plan.runs(PassId::DepthPyramid));
@@ -456,7 +466,7 @@ fn the_plan_traces_reflections_only_where_a_surface_is_smooth_enough() {
     // The contact scene's roughest-first materials: floor 0.8, sphere 0.5; the cutoff.
     let cases = [
         (0.4, true, false, "no surface smoother than the cutoff"),
-        (0.6, true, true, "ray(s) per pixel"),
+        (0.6, true, true, "ray(s) per 2×2 pixels"),
         (0.6, false, false, "--no-ssr"),
     ];
     for (cutoff, enabled, runs, reason) in cases {

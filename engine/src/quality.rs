@@ -141,6 +141,9 @@ pub struct SsrSettings {
     /// How far behind a surface in the depth buffer (m) a ray may pass and still count as
     /// hitting it.
     pub thickness_m: f32,
+    /// Trace one pixel per 2×2 block and give its reflection to the block's pixels on the
+    /// same surface (else every pixel traces its own).
+    pub half_resolution: bool,
 }
 
 impl Default for SsrSettings {
@@ -151,6 +154,7 @@ impl Default for SsrSettings {
             rays: 1,
             steps: 32,
             thickness_m: 0.3,
+            half_resolution: true,
         }
     }
 }
@@ -343,6 +347,7 @@ impl QualityPreset {
                     max_roughness: 0.7,
                     rays: 8,
                     steps: 96,
+                    half_resolution: false,
                     ..high.ssr
                 },
                 ..high

@@ -305,6 +305,9 @@ pub struct SceneArgs {
     /// Iterations per reflection ray over the depth pyramid (8..=256).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(8..=256))]
     pub ssr_steps: Option<u32>,
+    /// Where reflections are traced: half (one pixel per 2×2 block, default) or full.
+    #[arg(long, value_name = "RES", value_parser = parse_ssr_resolution)]
+    pub ssr_resolution: Option<bool>,
     /// How far (m) behind a surface a reflection ray may pass and still hit it.
     #[arg(long, value_name = "M", value_parser = parse_positive)]
     pub ssr_thickness: Option<f32>,
@@ -638,6 +641,16 @@ fn parse_light_visibility(s: &str) -> Result<lumen::reference::path::LightVisibi
 fn parse_ao_resolution(s: &str) -> Result<lumen::quality::AoResolution, String> {
     lumen::quality::AoResolution::from_name(s)
         .ok_or_else(|| format!("unknown AO resolution '{s}' (use off, half, full)"))
+}
+
+fn parse_ssr_resolution(s: &str) -> Result<bool, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "half" => Ok(true),
+        "full" => Ok(false),
+        _ => Err(format!(
+            "unknown reflection resolution '{s}' (use half, full)"
+        )),
+    }
 }
 
 fn parse_light_shadows(s: &str) -> Result<bool, String> {

@@ -128,6 +128,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(m) = args.ssr_thickness {
         quality.ssr.thickness_m = m;
     }
+    if let Some(half) = args.ssr_resolution {
+        quality.ssr.half_resolution = half;
+    }
 }
 
 /// The command line's camera settings.
@@ -286,6 +289,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "rays": q.ssr.rays,
             "steps": q.ssr.steps,
             "thickness_m": q.ssr.thickness_m,
+            "resolution": if q.ssr.half_resolution { "half" } else { "full" },
         },
     })
 }

@@ -129,6 +129,9 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
         knob("--ssr-rays", n.to_string(), &|a| a.ssr_rays = Some(n));
     }
     knob("--ssr-steps", "16".into(), &|a| a.ssr_steps = Some(16));
+    knob("--ssr-resolution", "full".into(), &|a| {
+        a.ssr_resolution = Some(false)
+    });
     out
 }
 

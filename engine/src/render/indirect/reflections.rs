@@ -59,6 +59,16 @@ pub const SSR: BindGroupSpec = BindGroupSpec {
     ],
 };
 
+/// Group 2 of the half-resolution composite: what the half-resolution trace added.
+pub const SSR_HALF: BindGroupSpec = BindGroupSpec {
+    label: "ssr half",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("half_added", Binding::TextureLoad)],
+};
+
+/// Format of the half-resolution reflections (what they add, rgb; may be negative).
+pub const HALF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
 /// The reflection shader variant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct SsrVariant {
@@ -76,6 +86,8 @@ pub struct SsrVariant {
     pub screen_ao: bool,
     /// The HDR target's format.
     pub format: wgpu::TextureFormat,
+    /// Traced at half resolution, then composited.
+    pub half: bool,
 }
 
 /// `SsrParams` of `ssr.wgsl`.
@@ -118,12 +130,17 @@ impl FramePass for SsrPass {
             energy_compensation: quality.energy_compensation,
             screen_ao: plan.runs(PassId::AmbientOcclusion),
             format: quality.hdr_precision.format(),
+            half: ssr.half_resolution,
         };
         let skip = reflections_skip_reason(world);
         let reason = skip.clone().unwrap_or_else(|| {
             format!(
-                "{} ray(s) per pixel, {} steps, roughness ≤ {:.2}, thickness {:.2} m",
-                variant.rays, variant.steps, ssr.max_roughness, ssr.thickness_m
+                "{} ray(s) per {}, {} steps, roughness ≤ {:.2}, thickness {:.2} m",
+                variant.rays,
+                if variant.half { "2×2 pixels" } else { "pixel" },
+                variant.steps,
+                ssr.max_roughness,
+                ssr.thickness_m
             )
         });
         let fallback = Decision::new(
@@ -158,28 +175,39 @@ type Generations = [u64; 4];
 /// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
 #[derive(Resource)]
 pub struct SsrPass {
-    layouts: [wgpu::BindGroupLayout; 2],
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<SsrVariant, wgpu::RenderPipeline>,
+    layouts: [wgpu::BindGroupLayout; 3],
+    /// Groups 0 and 1 (full resolution, half-resolution trace); and 0 to 2 (composite).
+    pipeline_layouts: [wgpu::PipelineLayout; 2],
+    /// Per variant: the full-resolution pipeline, or the trace and composite pipelines.
+    pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
     color: Option<Target>,
-    bind_groups: Option<(Generations, [wgpu::BindGroup; 2])>,
+    /// What the half-resolution trace adds, at half size.
+    half: Option<Target>,
+    bind_groups: Option<(Generations, [wgpu::BindGroup; 3])>,
 }
 
 impl SsrPass {
     /// Creates the layouts; pipelines compile per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layouts = [SSR.layout(gpu), ENVIRONMENT.layout(gpu)];
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("ssr"),
-                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1])],
-                immediate_size: 0,
-            });
+        let layouts = [
+            SSR.layout(gpu),
+            ENVIRONMENT.layout(gpu),
+            SSR_HALF.layout(gpu),
+        ];
+        let pipeline_layouts = [2, 3].map(|groups| {
+            let bind_group_layouts: Vec<Option<&wgpu::BindGroupLayout>> =
+                layouts[..groups].iter().map(Some).collect();
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("ssr"),
+                    bind_group_layouts: &bind_group_layouts,
+                    immediate_size: 0,
+                })
+        });
         SsrPass {
             layouts,
-            pipeline_layout,
+            pipeline_layouts,
             pipelines: HashMap::new(),
             params: gpu
                 .device
@@ -189,6 +217,7 @@ impl SsrPass {
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
             color: None,
+            half: None,
             bind_groups: None,
         }
     }
@@ -214,16 +243,26 @@ impl SsrPass {
             "ssr",
             &gpu.shaders.compose("ssr.wgsl", &SsrPass::defs(variant))?,
         )?;
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "ssr",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[variant.format],
-            None,
-        )?;
-        self.pipelines.insert(variant, pipeline);
+        let pipeline = |layout: usize, entry: &str, format| {
+            fullscreen_pipeline(
+                gpu,
+                entry,
+                Some(&self.pipeline_layouts[layout]),
+                &module,
+                ("vs_fullscreen", entry),
+                &[format],
+                None,
+            )
+        };
+        let pipelines = if variant.half {
+            vec![
+                pipeline(0, "fs_trace_half", HALF_FORMAT)?,
+                pipeline(1, "fs_composite_half", variant.format)?,
+            ]
+        } else {
+            vec![pipeline(0, "fs_main", variant.format)?]
+        };
+        self.pipelines.insert(variant, pipelines);
         Ok(())
     }
 }
@@ -270,6 +309,8 @@ pub fn prepare_ssr(
             || c.texture.format() != t.hdr_format
     }) {
         pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
+        let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
+        pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
         pass.bind_groups = None;
     }
     let ssr = quality.ssr;
@@ -293,7 +334,7 @@ pub fn prepare_ssr(
     if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
-    let (Some([depth, g0, g1, g2, ao]), Some(color)) = (
+    let (Some([depth, g0, g1, g2, ao]), Some(color), Some(half)) = (
         t.views([
             DEPTH,
             GBUFFER_BASE_COLOR,
@@ -302,6 +343,7 @@ pub fn prepare_ssr(
             AMBIENT_OCCLUSION,
         ]),
         pass.color.as_ref(),
+        pass.half.as_ref(),
     ) else {
         return;
     };
@@ -332,14 +374,16 @@ pub fn prepare_ssr(
             TextureView(ao),
         ],
     );
-    match main.and_then(|m| Ok([m, environment?])) {
+    let half = SSR_HALF.group(&gpu, &pass.layouts[2], vec![TextureView(&half.view)]);
+    match main.and_then(|m| Ok([m, environment?, half?])) {
         Ok(groups) => pass.bind_groups = Some((key, groups)),
         Err(e) => errors.0.push(e),
     }
 }
 
 /// Records the copy of the lit frame and the pass that writes it back with its
-/// reflections (no blending: f32 targets are not blendable).
+/// reflections (no blending: f32 targets are not blendable); at half resolution, the
+/// trace into the half-size target first.
 pub fn ssr_pass(
     plan: Res<FramePlan>,
     pass: Res<SsrPass>,
@@ -347,15 +391,16 @@ pub fn ssr_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(color), Some((_, [main, environment]))) = (
+    let (Some(encoder), Some(t), Some(color), Some(half), Some((_, groups))) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.color.as_ref(),
+        pass.half.as_ref(),
         pass.bind_groups.as_ref(),
     ) else {
         return;
     };
-    let (Some(hdr), Some(pipeline)) = (
+    let (Some(hdr), Some(pipelines)) = (
         t.get(HDR),
         plan.variant::<SsrPass>()
             .and_then(|v| pass.pipelines.get(v)),
@@ -367,12 +412,30 @@ pub fn ssr_pass(
         color.texture.as_image_copy(),
         hdr.texture.size(),
     );
-    let scope = timer.begin_pass(PassId::Reflections);
+    // Full resolution: one step into the HDR target. Half: the trace into the half-size
+    // target, then the composite (which also binds group 2) into the HDR target.
+    let steps: Vec<(&wgpu::RenderPipeline, &wgpu::TextureView, usize)> = match pipelines.as_slice()
     {
+        [full] => vec![(full, &hdr.view, 2)],
+        [trace, composite] => vec![(trace, &half.view, 2), (composite, &hdr.view, 3)],
+        _ => return,
+    };
+    let last = steps.len() - 1;
+    let scope = timer.begin_pass(PassId::Reflections);
+    for (i, (pipeline, target, group_count)) in steps.into_iter().enumerate() {
+        // The pass's GPU time: from the start of its first step to the end of its last.
+        let writes = timer
+            .render_writes(&scope)
+            .filter(|_| i == 0 || i == last)
+            .map(|w| wgpu::RenderPassTimestampWrites {
+                query_set: w.query_set,
+                beginning_of_pass_write_index: w.beginning_of_pass_write_index.filter(|_| i == 0),
+                end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| i == last),
+            });
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("ssr"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &hdr.view,
+                view: target,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
@@ -381,13 +444,14 @@ pub fn ssr_pass(
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: timer.render_writes(&scope),
+            timestamp_writes: writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
         rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, main, &[]);
-        rp.set_bind_group(1, environment, &[]);
+        for (index, group) in groups[..group_count].iter().enumerate() {
+            rp.set_bind_group(index as u32, group, &[]);
+        }
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);

@@ -326,6 +326,7 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
     ui.checkbox(&mut v.ao.denoise, "AO filter");
     ui.checkbox(&mut v.ao.multi_bounce, "AO multiple bounce");
     ui.checkbox(&mut v.ssr.enabled, "screen-space reflections");
+    ui.checkbox(&mut v.ssr.half_resolution, "SSR at half resolution");
     ui.add(egui::Slider::new(&mut v.ssr.max_roughness, 0.0..=1.0).text("SSR max roughness"));
     ui.add(egui::Slider::new(&mut v.ssr.rays, 1..=16).text("SSR rays"));
     ui.add(egui::Slider::new(&mut v.ssr.steps, 8..=256).text("SSR steps"));
