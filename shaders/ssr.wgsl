@@ -14,8 +14,9 @@
 // it adds nothing: the reflection falls back to the environment, never to black.
 //
 // At full resolution fs_main writes the frame with its reflections. At half resolution
-// fs_trace_half traces one pixel per 2×2 block into a half-size target, and
-// fs_composite_half adds each block's reflection to the pixels on the same surface.
+// fs_trace_half traces one pixel per 2×2 block into a half-size target (the hits' mean
+// light and the fraction that hit), and fs_composite_half gives them to the block's
+// pixels on the same surface, each with its own weight and environment term.
 //
 // Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
 // SCREEN_AO (bool), as the lighting pass compiles them.
@@ -56,7 +57,7 @@ struct SsrParams {
 @group(1) @binding(3) var brdf_lut: texture_2d<f32>;
 @group(1) @binding(4) var screen_ao: texture_2d<f32>;
 
-// Group 2 of the half-resolution composite (SSR_HALF): what the trace step added.
+// Group 2 of the half-resolution composite (SSR_HALF): the trace step's hits.
 @group(2) @binding(0) var half_added: texture_2d<f32>;
 
 fn world_at(px: vec2<f32>, depth: f32) -> vec3<f32> {
@@ -168,32 +169,43 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// What the reflection adds at `pixel` (lit: the lit frame there): W · fade · (L̄ − E), or
-// nothing where the pixel is background, too rough or saturated. `noise` seeds the
-// per-pixel rotation of the rays.
-fn reflection_added(pixel: vec2<i32>, lit: vec3<f32>, noise: vec2<f32>) -> vec3<f32> {
+// The terms of `pixel`'s reflection that do not depend on the rays: the split-sum
+// weight lighting gave environment light times the roughness fade (rgb), and the
+// environment radiance E it used. Zero weight where the pixel is background, too rough or
+// saturated (a pixel clamped to the f16 maximum no longer holds the term to replace).
+struct Terms {
+    weight: vec3<f32>,
+    fallback: vec3<f32>,
+    n: vec3<f32>,
+    v: vec3<f32>,
+    p: vec3<f32>,
+    r: f32,
+}
+
+fn reflection_terms(pixel: vec2<i32>, lit: vec3<f32>) -> Terms {
+    var t: Terms;
+    t.weight = vec3<f32>(0.0);
+    t.fallback = vec3<f32>(0.0);
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
-        return vec3<f32>(0.0);
+        return t;
     }
     let g0 = textureLoad(gbuffer0, pixel, 0);
     let g1 = textureLoad(gbuffer1, pixel, 0);
     let g2 = textureLoad(gbuffer2, pixel, 0);
-    let r = clamp_perceptual_roughness(g1.b);
-    // A pixel clamped to the f16 maximum no longer holds the environment term to replace.
-    if r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) {
-        return vec3<f32>(0.0);
+    t.r = clamp_perceptual_roughness(g1.b);
+    if t.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) {
+        return t;
     }
     // Fades out over the last quarter below the cutoff.
-    let fade = clamp((params.max_roughness - r) / (0.25 * params.max_roughness), 0.0, 1.0);
+    let fade = clamp((params.max_roughness - t.r) / (0.25 * params.max_roughness), 0.0, 1.0);
     let base = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
-    let n = oct_decode(g1.rg);
-    let p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
-    let v = safe_normalize(view.position_exposure.xyz - p, n);
-    let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
-    // The split-sum weight lighting gave environment light.
+    t.n = oct_decode(g1.rg);
+    t.p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
+    t.v = safe_normalize(view.position_exposure.xyz - t.p, t.n);
+    let n_dot_v = max(dot(t.n, t.v), MIN_N_DOT_V);
     let f0 = compute_f0(base, g1.a, g2.a);
-    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
+    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, t.r), 0.0).rg;
     var energy = vec3<f32>(1.0);
     if ENERGY_COMPENSATION {
         energy = energy_compensation(f0, dfg);
@@ -202,38 +214,46 @@ fn reflection_added(pixel: vec2<i32>, lit: vec3<f32>, noise: vec2<f32>) -> vec3<
     if SCREEN_AO {
         ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
     }
-    let weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, r);
-    let fallback = environment_radiance(2.0 * dot(n, v) * n - v, r);
-    // Rays: GGX visible normals, a Hammersley set rotated per pixel.
-    let frame = basis(n);
-    let local_v = transpose(frame) * v;
-    let alpha = perceptual_roughness_to_alpha(r);
+    t.weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, t.r) * fade;
+    t.fallback = environment_radiance(2.0 * dot(t.n, t.v) * t.n - t.v, t.r);
+    return t;
+}
+
+// The rays of a pixel with terms `t`: the mean over rays of the lit frame where they hit
+// (rgb; blended out near the screen's edges), and the fraction of the rays that hit (a).
+// `noise` seeds the per-pixel rotation of the rays.
+fn reflection_hits(t: Terms, noise: vec2<f32>) -> vec4<f32> {
+    if all(t.weight == vec3<f32>(0.0)) {
+        return vec4<f32>(0.0);
+    }
+    let frame = basis(t.n);
+    let local_v = transpose(frame) * t.v;
+    let alpha = perceptual_roughness_to_alpha(t.r);
     let rotation = fract(52.9829189 * fract(dot(noise, vec2<f32>(0.06711056, 0.00583715))));
-    var sum = vec3<f32>(0.0);
+    var sum = vec4<f32>(0.0);
     for (var k = 0u; k < RAYS; k++) {
         let xi = fract(hammersley(k, RAYS) + vec2<f32>(rotation, 0.5 * rotation));
         let h = frame * sample_ggx_vndf(local_v, alpha, xi);
-        let l = reflect(-v, h);
-        var radiance = fallback;
-        if dot(l, n) > 0.0 {
-            let hit = trace(p + n * (1e-3 * length(p - view.position_exposure.xyz)), l);
+        let l = reflect(-t.v, h);
+        if dot(l, t.n) > 0.0 {
+            let hit = trace(t.p + t.n * (1e-3 * length(t.p - view.position_exposure.xyz)), l);
             if hit.z > 0.0 {
                 // Hits near the screen's edges blend into the environment.
                 let border = min(min(hit.x, hit.y), min(view.viewport.x - hit.x, view.viewport.y - hit.y));
                 let keep = clamp(border / (0.05 * view.viewport.y), 0.0, 1.0);
-                let seen = textureLoad(scene_color, vec2<i32>(hit.xy), 0).rgb;
-                radiance = mix(fallback, seen, keep);
+                sum += vec4<f32>(textureLoad(scene_color, vec2<i32>(hit.xy), 0).rgb, 1.0) * keep;
             }
         }
-        sum += radiance;
     }
-    let added = weight * fade * (sum / f32(RAYS) - fallback);
-    return select(added, vec3<f32>(0.0), added != added);
+    return sum / f32(RAYS);
 }
 
-// The lit frame plus `added`, kept finite and inside the f16 range.
-fn with_reflection(lit: vec4<f32>, added: vec3<f32>) -> vec4<f32> {
-    return vec4<f32>(min(max(lit.rgb + added, vec3<f32>(0.0)), vec3<f32>(65504.0)), lit.a);
+// The lit frame plus W · (L̄ − E), where L̄ takes the hits' light and E for the rest:
+// W · (hits − fraction · E). Kept finite and inside the f16 range.
+fn with_reflection(lit: vec4<f32>, t: Terms, hits: vec4<f32>) -> vec4<f32> {
+    let added = t.weight * (hits.rgb - hits.a * t.fallback);
+    let safe = select(added, vec3<f32>(0.0), added != added);
+    return vec4<f32>(min(max(lit.rgb + safe, vec3<f32>(0.0)), vec3<f32>(65504.0)), lit.a);
 }
 
 // Full resolution: every pixel traces its own rays.
@@ -241,20 +261,22 @@ fn with_reflection(lit: vec4<f32>, added: vec3<f32>) -> vec4<f32> {
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let lit = textureLoad(scene_color, pixel, 0);
-    return with_reflection(lit, reflection_added(pixel, lit.rgb, frag.xy));
+    let t = reflection_terms(pixel, lit.rgb);
+    return with_reflection(lit, t, reflection_hits(t, frag.xy));
 }
 
-// Half resolution, step 1: the reflection of the top-left pixel of each 2×2 block.
+// Half resolution, step 1: the hits of the top-left pixel of each 2×2 block.
 @fragment
 fn fs_trace_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<i32>(textureDimensions(depth_buffer));
     let pixel = min(vec2<i32>(frag.xy) * 2, size - vec2<i32>(1));
     let lit = textureLoad(scene_color, pixel, 0);
-    return vec4<f32>(reflection_added(pixel, lit.rgb, frag.xy), 0.0);
+    return reflection_hits(reflection_terms(pixel, lit.rgb), frag.xy);
 }
 
-// Half resolution, step 2: each pixel takes its block's reflection when both lie on one
-// surface (depths within 1 %; reversed-Z depth is 1/distance up to a factor), else none.
+// Half resolution, step 2: each pixel takes its block's hits when both lie on one
+// surface (depths within 1 %; reversed-Z depth is 1/distance up to a factor), with its
+// own weight and environment term; else no traced reflection.
 @fragment
 fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
@@ -266,5 +288,5 @@ fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
     if depth <= 0.0 || abs(depth - source) > 0.01 * depth {
         return lit;
     }
-    return with_reflection(lit, textureLoad(half_added, cell, 0).rgb);
+    return with_reflection(lit, reflection_terms(pixel, lit.rgb), textureLoad(half_added, cell, 0));
 }

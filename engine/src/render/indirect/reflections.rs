@@ -59,14 +59,15 @@ pub const SSR: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// Group 2 of the half-resolution composite: what the half-resolution trace added.
+/// Group 2 of the half-resolution composite: the half-resolution trace's hits.
 pub const SSR_HALF: BindGroupSpec = BindGroupSpec {
     label: "ssr half",
     visibility: wgpu::ShaderStages::FRAGMENT,
     bindings: &[("half_added", Binding::TextureLoad)],
 };
 
-/// Format of the half-resolution reflections (what they add, rgb; may be negative).
+/// Format of the half-resolution hits: their mean light (rgb) and the fraction of rays
+/// that hit (a).
 pub const HALF_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The reflection shader variant.
@@ -182,7 +183,7 @@ pub struct SsrPass {
     pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
     color: Option<Target>,
-    /// What the half-resolution trace adds, at half size.
+    /// The half-resolution trace's hits, at half size.
     half: Option<Target>,
     bind_groups: Option<(Generations, [wgpu::BindGroup; 3])>,
 }
