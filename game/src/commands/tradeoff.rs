@@ -336,12 +336,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
                 "flip_mean": r.flip_mean, "psnr_db": r.psnr_db, "relative_mse": r.relative_mse,
             })).collect::<Vec<_>>(),
         });
-        let text = serde_json::to_string_pretty(&doc)?;
-        if path.as_os_str() == "-" {
-            crate::output::print(&format!("{text}\n"));
-        } else {
-            crate::output::write_text(path, &text)?;
-        }
+        write_json(path, &doc)?;
     }
     if let Some(path) = &args.plot {
         plot(path, &title, &rows)?;
@@ -474,14 +469,20 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
                 "psnr_db": p.psnr_db, "relative_mse": p.relative_mse,
             })).collect::<Vec<_>>(),
         });
-        let text = serde_json::to_string_pretty(&doc)?;
-        if path.as_os_str() == "-" {
-            crate::output::print(&format!("{text}\n"));
-        } else {
-            crate::output::write_text(path, &text)?;
-        }
+        write_json(path, &doc)?;
     }
     Ok(())
+}
+
+/// Writes `doc` as pretty JSON to `path`, or to standard output for "-".
+fn write_json(path: &Path, doc: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(doc)?;
+    if path.as_os_str() == "-" {
+        crate::output::print(&format!("{text}\n"));
+        Ok(())
+    } else {
+        crate::output::write_text(path, &text)
+    }
 }
 
 /// The table: one row per configuration.

@@ -77,11 +77,7 @@ pub fn render(
     options: &ReferenceOptions,
     progress: &(dyn Fn(u32) + Sync),
 ) -> Traced {
-    let size = Vec2::new(options.size.0.max(1) as f32, options.size.1.max(1) as f32);
-    accumulate(options, progress, &|pixel, rng| {
-        let jitter = rng.pair();
-        let lens = rng.pair();
-        let (origin, dir) = scene.camera_ray(pixel + jitter, size, lens);
+    along_camera_rays(scene, options, progress, &|origin, dir, rng| {
         scene.radiance(origin, dir, options.max_bounces.max(1), rng)
     })
 }
@@ -96,12 +92,25 @@ pub fn render_ambient_occlusion(
     radius_m: f32,
     progress: &(dyn Fn(u32) + Sync),
 ) -> Traced {
+    along_camera_rays(scene, options, progress, &|origin, dir, rng| {
+        Vec3::splat(scene.ambient_occlusion(origin, dir, radius_m, rng))
+    })
+}
+
+/// [`accumulate`] of `sample(origin, direction, rng)` along one camera ray per sample,
+/// through a uniformly jittered position in the pixel and a lens sample.
+fn along_camera_rays(
+    scene: &TraceScene,
+    options: &ReferenceOptions,
+    progress: &(dyn Fn(u32) + Sync),
+    sample: &(dyn Fn(Vec3, Vec3, &mut Rng) -> Vec3 + Sync),
+) -> Traced {
     let size = Vec2::new(options.size.0.max(1) as f32, options.size.1.max(1) as f32);
     accumulate(options, progress, &|pixel, rng| {
         let jitter = rng.pair();
         let lens = rng.pair();
         let (origin, dir) = scene.camera_ray(pixel + jitter, size, lens);
-        Vec3::splat(scene.ambient_occlusion(origin, dir, radius_m, rng))
+        sample(origin, dir, rng)
     })
 }
 

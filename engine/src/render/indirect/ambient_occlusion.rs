@@ -126,7 +126,8 @@ impl FramePass for AoPass {
             steps: ao.steps.clamp(1, 32),
             denoise: ao.denoise,
         };
-        let reason = skip_reason(&ao, frame).map_or_else(
+        let skip = skip_reason(&ao, frame);
+        let reason = skip.map_or_else(
             || {
                 format!(
                     "GTAO at {} resolution, {} slices × {} steps, radius {:.2} m, {}",
@@ -139,7 +140,7 @@ impl FramePass for AoPass {
             },
             String::from,
         );
-        PassDecision::new(skip_reason(&ao, frame).is_none(), reason, variant)
+        PassDecision::new(skip.is_none(), reason, variant)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {

@@ -94,8 +94,8 @@ pub struct Pyramid {
     pub layout: wgpu::Buffer,
     /// The levels (u32 depth bits).
     pub buffer: wgpu::Buffer,
-    /// Levels, in order.
-    pub levels: u32,
+    /// Where each level lies in `buffer`.
+    levels: PyramidLayout,
     groups: Vec<wgpu::BindGroup>,
 }
 
@@ -275,9 +275,9 @@ pub fn prepare_pyramid(
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
-    let levels = layout.count[0];
-    let mut groups = Vec::with_capacity(levels as usize);
-    for step in &pass.steps[..levels as usize] {
+    let count = layout.count[0] as usize;
+    let mut groups = Vec::with_capacity(count);
+    for step in &pass.steps[..count] {
         match BINDINGS.group(
             &gpu,
             &pass.layout,
@@ -299,7 +299,7 @@ pub fn prepare_pyramid(
         size: t.size,
         layout: layout_buffer,
         buffer,
-        levels,
+        levels: layout,
         groups,
     });
     pass.depth_generation = t.generation;
@@ -316,7 +316,6 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
     ) else {
         return;
     };
-    let (layout, _) = PyramidLayout::new(p.size);
     let scope = timer.begin_pass(PassId::DepthPyramid);
     {
         let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -324,7 +323,7 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
             timestamp_writes: timer.compute_writes(&scope),
         });
         cp.set_pipeline(pipeline);
-        for (group, level) in p.groups.iter().zip(&layout.levels) {
+        for (group, level) in p.groups.iter().zip(&p.levels.levels) {
             cp.set_bind_group(0, group, &[]);
             cp.dispatch_workgroups(level[1].div_ceil(8), level[2].div_ceil(8), 1);
         }

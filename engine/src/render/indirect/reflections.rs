@@ -305,10 +305,16 @@ pub fn prepare_ssr(
         errors.0.push(e);
         return;
     }
-    if pass.color.as_ref().is_none_or(|c| {
-        c.texture.size() != t.get(HDR).map_or(c.texture.size(), |h| h.texture.size())
-            || c.texture.format() != t.hdr_format
-    }) {
+    let size = wgpu::Extent3d {
+        width: t.size.0,
+        height: t.size.1,
+        depth_or_array_layers: 1,
+    };
+    if pass
+        .color
+        .as_ref()
+        .is_none_or(|c| c.texture.size() != size || c.texture.format() != t.hdr_format)
+    {
         pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
         let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
         pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
