@@ -14,6 +14,22 @@ fn rotate_y(d: vec3<f32>, angle: f32) -> vec3<f32> {
     return vec3<f32>(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
 }
 
+// The nine real SH basis functions of bands 0–2 at unit direction d (the order sh_irradiance
+// expects).
+fn sh_basis(d: vec3<f32>) -> array<f32, 9> {
+    return array<f32, 9>(
+        0.282095,
+        0.488603 * d.y,
+        0.488603 * d.z,
+        0.488603 * d.x,
+        1.092548 * d.x * d.y,
+        1.092548 * d.y * d.z,
+        0.315392 * (3.0 * d.z * d.z - 1.0),
+        1.092548 * d.x * d.z,
+        0.546274 * (d.x * d.x - d.y * d.y),
+    );
+}
+
 // Irradiance from 9 SH coefficients (rgb in xyz), clamped ≥ 0 (Ramamoorthi & Hanrahan 2001).
 fn sh_irradiance(sh: array<vec4<f32>, 9>, n: vec3<f32>) -> vec3<f32> {
     let a0 = PI;

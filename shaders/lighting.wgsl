@@ -10,7 +10,9 @@
 // HAS_ENVIRONMENT and ENV_MAP (image-based lighting from an image or a uniform colour),
 // ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe),
 // SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
-// multiple-bounce fit).
+// multiple-bounce fit), IRRADIANCE_VOLUME (diffuse indirect light from the probe grid,
+// volume_lookup.wgsl, in place of the environment's irradiance once a capture pass has
+// completed).
 //
 // Shadowed lights come first within their kind and get their own loop: software
 // rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
@@ -31,6 +33,7 @@
 #import shadows
 #import light_tiles
 #import ambient_occlusion
+#import volume_lookup
 
 // Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
@@ -184,16 +187,18 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
     var dfg = vec2<f32>(1.0, 0.0);
-    if ENERGY_COMPENSATION || HAS_ENVIRONMENT {
+    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME {
         dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
     }
     if ENERGY_COMPENSATION {
         specular_energy = energy_compensation(f0, dfg);
     }
-    if HAS_ENVIRONMENT {
+    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME {
         // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
         // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
-        // surface in a uniform environment returns exactly that environment.
+        // surface in a uniform environment returns exactly that environment. Inside an
+        // irradiance volume whose first capture pass is done, the irradiance comes from
+        // its probes (pre-exposed here), which saw the environment and the lit scene.
         // Occlusion of indirect light only: the material's, and the AO pass's where it
         // runs (the smaller of the two, combine_occlusion).
         var ao = unpack_occlusion(g0.a);
@@ -206,12 +211,21 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             }
         }
         let e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
-        let rotation = environment.params.y;
-        let irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
-        var prefiltered = environment.uniform_radiance.rgb;
-        if ENV_MAP {
-            let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
-            prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
+        var irradiance = vec3<f32>(0.0);
+        var prefiltered = vec3<f32>(0.0);
+        if HAS_ENVIRONMENT {
+            let rotation = environment.params.y;
+            irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
+            prefiltered = environment.uniform_radiance.rgb;
+            if ENV_MAP {
+                let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
+                prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
+            }
+        }
+        if IRRADIANCE_VOLUME {
+            if volume.origin_ready.w > 0.5 {
+                irradiance = volume_irradiance(world, n, v) * view.position_exposure.w;
+            }
         }
         let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao;
         color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);

@@ -19,6 +19,7 @@ use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleLabel};
 use bevy_ecs::system::ScheduleSystem;
+use crate::render::capture::VolumeStatus;
 use std::path::Path;
 use std::time::Instant;
 
@@ -68,6 +69,9 @@ pub struct FrameReport {
     pub notes: Vec<String>,
     /// What automatic exposure metered (after this frame; empty for other modes).
     pub metered: MeteredExposure,
+    /// The irradiance volume: its grid, the capture passes done, and the probe captures
+    /// run before this frame.
+    pub volume: VolumeStatus,
 }
 
 /// A render target of the frame that can be read back with [`App::read_target`].
@@ -104,6 +108,9 @@ pub struct App {
     /// The last frame size that passed [`check_size`]: a size is checked once, not every
     /// frame.
     checked_size: Option<(u32, u32)>,
+    /// Capture at most `GiSettings::probes_per_frame` probes before each frame (the viewer,
+    /// `bench`) instead of converging the irradiance volume before it (still renders).
+    progressive_probes: bool,
 }
 
 impl Default for App {
@@ -130,6 +137,7 @@ impl App {
             last_frame: None,
             shader_fallback: None,
             checked_size: None,
+            progressive_probes: false,
         }
     }
 
@@ -234,6 +242,14 @@ impl App {
     /// it) instead of the real time between frames; `None` goes back to real time.
     pub fn set_fixed_delta(&mut self, delta_s: Option<f32>) {
         self.fixed_delta = delta_s.filter(|d| d.is_finite() && *d >= 0.0);
+    }
+
+    /// Spreads the irradiance volume's captures over frames, at most
+    /// [`crate::quality::GiSettings::probes_per_frame`] probes before each (on), or
+    /// converges it before the next frame (off, the default: every still frame sees a
+    /// converged volume).
+    pub fn set_progressive_probes(&mut self, progressive: bool) {
+        self.progressive_probes = progressive;
     }
 
     /// Runs your [`Update`] systems once.
@@ -361,6 +377,12 @@ impl App {
         self.world.run_schedule(PostUpdate);
         stage("propagate", t);
 
+        let t = Instant::now();
+        let per_frame = self.world.get_resource::<Quality>().map_or(0, |q| q.gi.probes_per_frame);
+        let budget = (self.progressive_probes && per_frame > 0).then_some(per_frame);
+        let volume = crate::render::capture::update_irradiance_volume(&mut self.world, budget)?;
+        stage("probes", t);
+
         self.world
             .insert_resource(FrameOutput { size, view, format });
         self.world.resource_mut::<FrameErrors>().0.clear();
@@ -431,6 +453,7 @@ impl App {
                 .clone(),
             notes: camera.notes.clone(),
             metered: *self.world.resource::<MeteredExposure>(),
+            volume,
         })
     }
 

@@ -33,6 +33,7 @@ pub mod encoding;
 pub mod error;
 pub mod files;
 pub mod ibl;
+pub mod irradiance_volume;
 pub mod limits;
 pub mod punctual;
 pub mod quality;
@@ -57,7 +58,7 @@ pub mod prelude {
     pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
         Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
-        EquirectImage, Exposure, GlobalTransform, LightColor, LuminousIntensity, Material, Mesh3d,
+        EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor, LuminousIntensity, Material, Mesh3d,
         MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight, Projection,
         ShadowSettings, SpotLight, Transform,
     };

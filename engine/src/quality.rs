@@ -209,6 +209,44 @@ pub struct Quality {
     pub ao: AoSettings,
     /// Screen-space reflections.
     pub ssr: SsrSettings,
+    /// Diffuse global illumination from an irradiance volume.
+    pub gi: GiSettings,
+}
+
+/// Diffuse global illumination from an irradiance volume
+/// ([`crate::render::indirect::irradiance_volume`]): probes on a grid capture the lit
+/// scene around them, and every point inside the grid takes its diffuse indirect light
+/// from them. Each capture pass renders six low-resolution views per probe through the
+/// frame's own shadow, G-buffer and lighting passes; the lighting of a pass includes the
+/// probe light of the one before, so each pass adds one bounce.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GiSettings {
+    /// On or off. Off, no probe is placed or captured and environment irradiance stays.
+    pub enabled: bool,
+    /// Probes along the longest side of a volume that gives no spacing of its own (the
+    /// automatic one, or an [`crate::scene::IrradianceVolume`] with `spacing_m: None`),
+    /// 1..=16.
+    pub density: u32,
+    /// Side of each captured cube face, in pixels, 4..=64.
+    pub face_size: u32,
+    /// Capture passes, 1..=4: the first brings light that bounced once (and the
+    /// environment, occluded); each further pass one bounce more.
+    pub bounces: u32,
+    /// Probes captured per frame while the volume converges in the viewer and `bench`
+    /// (0: all of them at once). A still render always converges before its frame.
+    pub probes_per_frame: u32,
+}
+
+impl Default for GiSettings {
+    fn default() -> Self {
+        GiSettings {
+            enabled: true,
+            density: 4,
+            face_size: 16,
+            bounces: 2,
+            probes_per_frame: 8,
+        }
+    }
 }
 
 /// Format of the exposed HDR target.
@@ -306,6 +344,10 @@ impl QualityPreset {
                     enabled: false,
                     ..high.ssr
                 },
+                gi: GiSettings {
+                    enabled: false,
+                    ..high.gi
+                },
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -323,6 +365,12 @@ impl QualityPreset {
                     max_roughness: 0.2,
                     steps: 24,
                     ..high.ssr
+                },
+                gi: GiSettings {
+                    density: 3,
+                    face_size: 8,
+                    bounces: 1,
+                    ..high.gi
                 },
                 ..high
             },
@@ -350,6 +398,13 @@ impl QualityPreset {
                     half_resolution: false,
                     ..high.ssr
                 },
+                gi: GiSettings {
+                    density: 6,
+                    face_size: 32,
+                    bounces: 3,
+                    probes_per_frame: 16,
+                    ..high.gi
+                },
                 ..high
             },
         }
@@ -375,6 +430,7 @@ impl Default for Quality {
             max_texture_size: 4096,
             ao: AoSettings::default(),
             ssr: SsrSettings::default(),
+            gi: GiSettings::default(),
         }
     }
 }

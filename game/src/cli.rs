@@ -311,6 +311,24 @@ pub struct SceneArgs {
     /// How far (m) behind a surface a reflection ray may pass and still hit it.
     #[arg(long, value_name = "M", value_parser = parse_positive)]
     pub ssr_thickness: Option<f32>,
+    /// Diffuse global illumination from an irradiance volume: on (default from `medium`)
+    /// or off.
+    #[arg(long, value_name = "ON", value_parser = parse_on_off)]
+    pub gi: Option<bool>,
+    /// Probes along the longest side of an irradiance volume without its own spacing
+    /// (1..=16).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub gi_density: Option<u32>,
+    /// Side in pixels of each cube face a probe captures (4..=64).
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(4..=64))]
+    pub gi_face: Option<u32>,
+    /// Capture passes of the irradiance volume, one bounce each (1..=4).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4))]
+    pub gi_bounces: Option<u32>,
+    /// Probes captured per frame in `view` and `bench` while the volume converges (0: all
+    /// at once).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
+    pub gi_budget: Option<u32>,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]
@@ -641,6 +659,14 @@ fn parse_light_visibility(s: &str) -> Result<lumen::reference::path::LightVisibi
 fn parse_ao_resolution(s: &str) -> Result<lumen::quality::AoResolution, String> {
     lumen::quality::AoResolution::from_name(s)
         .ok_or_else(|| format!("unknown AO resolution '{s}' (use off, half, full)"))
+}
+
+fn parse_on_off(s: &str) -> Result<bool, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => Err(format!("'{s}': expected on or off")),
+    }
 }
 
 fn parse_ssr_resolution(s: &str) -> Result<bool, String> {

@@ -131,6 +131,21 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(half) = args.ssr_resolution {
         quality.ssr.half_resolution = half;
     }
+    if let Some(on) = args.gi {
+        quality.gi.enabled = on;
+    }
+    if let Some(n) = args.gi_density {
+        quality.gi.density = n;
+    }
+    if let Some(n) = args.gi_face {
+        quality.gi.face_size = n;
+    }
+    if let Some(n) = args.gi_bounces {
+        quality.gi.bounces = n;
+    }
+    if let Some(n) = args.gi_budget {
+        quality.gi.probes_per_frame = n;
+    }
 }
 
 /// The command line's camera settings.
@@ -290,6 +305,13 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "steps": q.ssr.steps,
             "thickness_m": q.ssr.thickness_m,
             "resolution": if q.ssr.half_resolution { "half" } else { "full" },
+        },
+        "gi": {
+            "enabled": q.gi.enabled,
+            "density": q.gi.density,
+            "face_size": q.gi.face_size,
+            "bounces": q.gi.bounces,
+            "probes_per_frame": q.gi.probes_per_frame,
         },
     })
 }

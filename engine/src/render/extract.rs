@@ -8,7 +8,7 @@ use crate::color::Tonemapper;
 use crate::error::Error;
 use crate::punctual::spot_scale_offset;
 use crate::quality::Quality;
-use crate::render::frame::{FrameErrors, FrameOutput};
+use crate::render::frame::{CaptureView, FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
 use crate::render::shadow_views::{
     CameraForShadows, ShadowView, directional_views, point_views, spot_view,
@@ -286,6 +286,7 @@ pub fn extract_frame(
     quality: Res<Quality>,
     metered: Res<crate::render::frame::MeteredExposure>,
     output: Res<FrameOutput>,
+    capture: Option<Res<CaptureView>>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -304,6 +305,17 @@ pub fn extract_frame(
         ));
         return;
     };
+    // A probe capture looks from the probe, through a centred 90° frustum.
+    let capture_transform = capture.as_deref().map(|c| GlobalTransform(c.world_from_view));
+    let camera_transform = capture_transform.as_ref().unwrap_or(camera_transform);
+    let projection = match capture.as_deref() {
+        Some(c) => crate::scene::Projection {
+            fov_y_rad: c.fov_y_rad,
+            shift: glam::Vec2::ZERO,
+            ..camera.projection
+        },
+        None => camera.projection,
+    };
     let resolved = camera.resolve_exposure(metered.ev100);
     let exposure = resolved.multiplier;
     let view_from_world = camera_transform.0.inverse();
@@ -313,10 +325,10 @@ pub fn extract_frame(
         ));
         return;
     }
-    let clip_from_view = camera.projection.matrix(aspect);
+    let clip_from_view = projection.matrix(aspect);
     let clip_from_world = clip_from_view * view_from_world;
     let position = camera_transform.translation();
-    let fov_y = camera.projection.fov_y_rad;
+    let fov_y = projection.fov_y_rad;
     let focal_length_m = camera.lens.focal_length_m(fov_y);
     let (lens, mut notes) = camera.lens.clamped(focal_length_m);
     notes.extend(resolved.notes);
@@ -460,10 +472,10 @@ pub fn extract_frame(
     frame.shadow_counts = ShadowCounts::default();
     let shadow_camera = CameraForShadows {
         world_from_view: camera_transform.0,
-        fov_y: camera.projection.fov_y_rad,
+        fov_y: projection.fov_y_rad,
         aspect,
-        near: camera.projection.near_m.max(1e-4),
-        far: camera.projection.far_m,
+        near: projection.near_m.max(1e-4),
+        far: projection.far_m,
     };
 
     // Lights: directional, point, spot.

@@ -50,3 +50,14 @@ impl Default for FrameDelta {
         FrameDelta(1.0 / 60.0)
     }
 }
+
+/// Present while a probe capture renders: extraction uses this view instead of the active
+/// camera's (a 90° square frustum looking along one cube-face axis), with the camera's
+/// own exposure and clip distances.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct CaptureView {
+    /// World from view (the probe's position, looking along the face's axis).
+    pub world_from_view: glam::Mat4,
+    /// Vertical field of view (rad): π/2 for a cube face.
+    pub fov_y_rad: f32,
+}

@@ -41,6 +41,7 @@ pub struct GBufferVariants {
 
 impl FramePass for GBufferPass {
     const ID: PassId = PassId::GBuffer;
+    const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[];
     const WRITES: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH];
     type Variant = GBufferVariants;

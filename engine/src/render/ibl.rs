@@ -626,7 +626,7 @@ pub fn prepare_ibl(
     ibl.last_steps.clear();
     let exposure = frame.camera.as_ref().map_or(1.0, |c| c.exposure);
     let env = frame.environment.as_ref();
-    if env.is_some() || quality.energy_compensation {
+    if env.is_some() || quality.energy_compensation || quality.gi.enabled {
         match ibl.ensure_lut(&gpu, quality.brdf_lut_size, quality.brdf_lut_samples) {
             Ok(Some(ms)) => ibl.last_steps.push(("brdf lut".into(), ms)),
             Ok(None) => {}

@@ -62,6 +62,7 @@ pub struct LightCullingVariant {
 
 impl FramePass for LightCullingPass {
     const ID: PassId = PassId::LightCulling;
+    const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[DEPTH];
     const WRITES: &'static [Slot] = &[LIGHT_TILES];
     type Variant = LightCullingVariant;

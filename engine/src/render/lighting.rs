@@ -17,6 +17,7 @@ use crate::render::graph::slots::{
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::indirect::irradiance_volume::IrradianceVolumeGpu;
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
@@ -59,6 +60,8 @@ pub struct LightingVariant {
     pub screen_ao: bool,
     /// Its multiple-bounce fit.
     pub ao_multi_bounce: bool,
+    /// Diffuse indirect light from the irradiance volume's probes.
+    pub irradiance_volume: bool,
     /// Unshadowed point and spot lights come from the tile lists of the culling pass.
     pub light_culling: bool,
     /// Every light fits the uniform copy of the light array (read from it, not from the
@@ -70,6 +73,7 @@ pub struct LightingVariant {
 
 impl FramePass for LightingPass {
     const ID: PassId = PassId::Lighting;
+    const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[
         GBUFFER_BASE_COLOR,
         GBUFFER_NORMAL,
@@ -146,6 +150,18 @@ impl FramePass for LightingPass {
                 "off: single-scattering GGX"
             },
         );
+        let volume = world.resource::<IrradianceVolumeGpu>();
+        let irradiance_volume = Decision::new(
+            "irradiance volume",
+            volume.grid.is_some() && instances > 0,
+            match volume.grid {
+                None => volume.skip_reason.clone(),
+                Some(g) => format!(
+                    "{}×{}×{} probes, {} of {} capture passes done",
+                    g.counts.x, g.counts.y, g.counts.z, volume.completed_passes, g.bounces
+                ),
+            },
+        );
         let screen_ao = plan.runs(PassId::AmbientOcclusion) && environment.enabled;
         let ambient_occlusion = Decision::new(
             "ambient occlusion",
@@ -172,6 +188,7 @@ impl FramePass for LightingPass {
             energy_compensation: energy_compensation.enabled,
             screen_ao,
             ao_multi_bounce: screen_ao && quality.ao.multi_bounce,
+            irradiance_volume: irradiance_volume.enabled,
             light_culling: plan.runs(PassId::LightCulling),
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views
@@ -187,6 +204,7 @@ impl FramePass for LightingPass {
                 visibility,
                 shadow_lookups,
                 environment,
+                irradiance_volume,
                 ambient_occlusion,
                 energy_compensation,
             ],
@@ -206,10 +224,13 @@ impl FramePass for LightingPass {
 /// The generations of the resources a bind group was built from (unused places 0).
 type BindingGenerations = [u64; 3];
 
+/// Bind groups of the lighting pass, each with the generations it was built from.
+type BindGroups = [Option<(BindingGenerations, wgpu::BindGroup)>; 4];
+
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
 pub struct LightingPass {
-    layouts: [wgpu::BindGroupLayout; 3],
+    layouts: [wgpu::BindGroupLayout; 4],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
     /// Whether the adapter can depth-test against the depth buffer the shader reads
@@ -217,7 +238,7 @@ pub struct LightingPass {
     /// before shading.
     depth_test: bool,
     /// Each group with the generations of the resources it was built from.
-    bind_groups: [Option<(BindingGenerations, wgpu::BindGroup)>; 3],
+    bind_groups: BindGroups,
 }
 
 /// Group 0: the view and the G-buffer.
@@ -254,8 +275,11 @@ pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
 /// reflection pass).
 pub use crate::render::ibl::ENVIRONMENT;
 
+/// Group 3: the irradiance volume (defined beside it).
+pub use crate::render::indirect::irradiance_volume::PROBES;
+
 /// The lighting pass's bind groups, in group order.
-pub const GROUPS: [BindGroupSpec; 3] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT];
+pub const GROUPS: [BindGroupSpec; 4] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT, PROBES];
 
 impl LightingPass {
     /// Creates the bind group layout; pipelines are compiled per variant on first use.
@@ -265,7 +289,12 @@ impl LightingPass {
             .device
             .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("lighting"),
-                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1]), Some(&layouts[2])],
+                bind_group_layouts: &[
+                    Some(&layouts[0]),
+                    Some(&layouts[1]),
+                    Some(&layouts[2]),
+                    Some(&layouts[3]),
+                ],
                 immediate_size: 0,
             });
         LightingPass {
@@ -277,7 +306,7 @@ impl LightingPass {
                 .get_downlevel_capabilities()
                 .flags
                 .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL),
-            bind_groups: [None, None, None],
+            bind_groups: [None, None, None, None],
         }
     }
 
@@ -298,6 +327,7 @@ impl LightingPass {
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
             ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
+            ShaderDef::Bool("IRRADIANCE_VOLUME", variant.irradiance_volume),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
             ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
@@ -364,6 +394,7 @@ pub struct LightingInputs<'w> {
     shadows: Res<'w, ShadowPass>,
     ibl: Res<'w, Ibl>,
     culling: Res<'w, LightCullingPass>,
+    volume: Res<'w, IrradianceVolumeGpu>,
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group when targets,
@@ -381,6 +412,7 @@ pub fn prepare_lighting(
         shadows,
         ibl,
         culling,
+        volume,
     } = inputs;
     let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
     else {
@@ -399,10 +431,11 @@ pub fn prepare_lighting(
         errors.0.push(e);
         return;
     }
-    let keys: [BindingGenerations; 3] = [
+    let keys: [BindingGenerations; 4] = [
         [t.generation, buffers.generation, 0],
         [buffers.generation, shadows.generation, culling.generation],
         [ibl.generation, t.generation, 0],
+        [volume.generation, 0, 0],
     ];
     let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
         use wgpu::BindingResource::{Sampler, TextureView};
@@ -425,12 +458,16 @@ pub fn prepare_lighting(
                 TextureView(&shadows.atlas.view),
                 shadows.views_uniform.as_entire_binding(),
             ],
-            _ => vec![
+            2 => vec![
                 ibl.uniform.as_entire_binding(),
                 TextureView(ibl.cube_view()),
                 Sampler(&ibl.sampler),
                 TextureView(ibl.lut_view()),
                 TextureView(ao),
+            ],
+            _ => vec![
+                volume.uniform.as_entire_binding(),
+                volume.read_records().as_entire_binding(),
             ],
         }
     };
@@ -462,7 +499,7 @@ pub fn lighting_pass(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let [Some((_, g0)), Some((_, g1)), Some((_, g2))] = &pass.bind_groups else {
+    let [Some((_, g0)), Some((_, g1)), Some((_, g2)), Some((_, g3))] = &pass.bind_groups else {
         return;
     };
     let (Some(encoder), Some([hdr, depth]), Some(pipeline)) = (
@@ -504,7 +541,7 @@ pub fn lighting_pass(
             multiview_mask: None,
         });
         rp.set_pipeline(pipeline);
-        for (i, group) in [g0, g1, g2].into_iter().enumerate() {
+        for (i, group) in [g0, g1, g2, g3].into_iter().enumerate() {
             rp.set_bind_group(i as u32, group, &[]);
         }
         rp.draw(0..3, 0..1);

@@ -10,6 +10,7 @@
 //! timing. The built-in passes are listed in [`passes`].
 
 pub mod bindings;
+pub mod capture;
 pub mod debug_view;
 pub mod device;
 pub mod dof;
@@ -38,7 +39,8 @@ pub mod tonemap;
 
 use crate::error::Result;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleLabel;
+use bevy_ecs::schedule::{ScheduleConfigs, ScheduleLabel};
+use bevy_ecs::system::ScheduleSystem;
 use device::Gpu;
 use frame::{FrameEncoder, FrameErrors, FrameOutput};
 use graph::FramePlan;
@@ -52,9 +54,21 @@ pub struct ExtractSchedule;
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RenderSchedule;
 
+/// Plans, prepares and records one probe capture: the passes that make lit radiance
+/// ([`graph::FramePass::CAPTURE`]), then the reduction of the captured face into the
+/// probe ([`indirect::irradiance_volume`]).
+#[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
+pub struct CaptureSchedule;
+
 /// Asks every registered pass whether it runs this frame.
 fn plan_frame(world: &mut World) {
     let plan = world.resource::<Registry>().plan(world);
+    *world.resource_mut::<FramePlan>() = plan;
+}
+
+/// Asks the capture passes whether they run in this capture.
+fn plan_capture(world: &mut World) {
+    let plan = world.resource::<Registry>().capture_subset().plan(world);
     *world.resource_mut::<FramePlan>() = plan;
 }
 
@@ -119,21 +133,39 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     Ok(())
 }
 
-/// (Re)builds the [`RenderSchedule`] from the world's [`Registry`].
+/// The systems every pass's preparation needs, after `plan`.
+fn shared_preparation(
+    plan: ScheduleConfigs<ScheduleSystem>,
+) -> Vec<ScheduleConfigs<ScheduleSystem>> {
+    vec![
+        plan,
+        prepare_targets.into_configs(),
+        scene_buffers::prepare_scene_buffers.into_configs(),
+        material_maps::prepare_material_maps.into_configs(),
+        ibl::prepare_ibl.into_configs(),
+    ]
+}
+
+/// (Re)builds the [`RenderSchedule`] and the [`CaptureSchedule`] from the world's
+/// [`Registry`].
 pub fn build_render_schedule(world: &mut World) {
+    let registry = world.resource::<Registry>().clone();
     let mut render = Schedule::new(RenderSchedule);
-    world.resource::<Registry>().add_systems(
+    registry.add_systems(
         &mut render,
-        vec![
-            plan_frame.into_configs(),
-            prepare_targets.into_configs(),
-            scene_buffers::prepare_scene_buffers.into_configs(),
-            material_maps::prepare_material_maps.into_configs(),
-            ibl::prepare_ibl.into_configs(),
-        ],
+        shared_preparation(plan_frame.into_configs()),
         begin_frame.into_configs(),
+        Vec::new(),
     );
     world.add_schedule(render);
+    let mut capture = Schedule::new(CaptureSchedule);
+    registry.capture_subset().add_systems(
+        &mut capture,
+        shared_preparation(plan_capture.into_configs()),
+        begin_frame.into_configs(),
+        vec![indirect::irradiance_volume::record_capture_reduce.into_configs()],
+    );
+    world.add_schedule(capture);
 }
 
 /// (Re)creates every pass from the current sources of `gpu.shaders`, compiling the
@@ -150,5 +182,6 @@ pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
     let registry = world.resource::<Registry>().clone();
     registry.create_passes(world, gpu)?;
     world.insert_resource(ibl);
+    world.insert_resource(indirect::irradiance_volume::IrradianceVolumeGpu::new(gpu)?);
     Ok(())
 }

@@ -33,6 +33,7 @@ pub struct SkyVariant {
 
 impl FramePass for SkyPass {
     const ID: PassId = PassId::Sky;
+    const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[DEPTH];
     const WRITES: &'static [Slot] = &[HDR];
     type Variant = SkyVariant;

@@ -78,12 +78,19 @@ impl FrameTargets {
 
 /// The frame's targets, created on first use and recreated when the output size or the
 /// HDR format changes. A target no pass uses this frame is kept for the next frames that
-/// use it.
+/// use it. Probe captures render through a second set, swapped in while they run
+/// ([`crate::render::indirect::irradiance_volume`]).
 #[derive(Resource, Default)]
 pub struct RenderTargets {
     /// Current targets, if any frame was prepared.
     pub current: Option<FrameTargets>,
-    generation: u64,
+}
+
+/// A generation no set of targets has had: unique across every [`RenderTargets`], so a
+/// bind group built for one set is never mistaken for another's.
+fn next_generation() -> u64 {
+    static GENERATION: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    GENERATION.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl RenderTargets {
@@ -101,11 +108,10 @@ impl RenderTargets {
             .as_ref()
             .is_none_or(|t| t.size != size || t.hdr_format != hdr_format)
         {
-            self.generation += 1;
             self.current = Some(FrameTargets {
                 size,
                 hdr_format,
-                generation: self.generation,
+                generation: next_generation(),
                 targets: Vec::new(),
             });
         }
@@ -123,8 +129,7 @@ impl RenderTargets {
                 TargetFormat::Fixed(f) => f,
                 TargetFormat::Hdr => hdr_format,
             };
-            self.generation += 1;
-            current.generation = self.generation;
+            current.generation = next_generation();
             current
                 .targets
                 .push((slot, Target::new(gpu, slot.name, size, format)));

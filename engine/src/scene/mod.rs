@@ -9,6 +9,7 @@ pub mod environment;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod probes;
 pub mod shadow;
 pub mod texture;
 pub mod transform;
@@ -18,6 +19,7 @@ pub use environment::{Background, Environment, EnvironmentSource, EquirectImage}
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::Material;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
+pub use probes::IrradianceVolume;
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
 pub use texture::{
     ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot, Textures,

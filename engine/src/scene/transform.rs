@@ -128,7 +128,11 @@ pub fn propagate_transforms(
             continue;
         };
         let world = parent_matrix * transform.to_matrix();
-        global.0 = world;
+        // Written only when it moved, so `Changed<GlobalTransform>` means a move (probe
+        // captures restart on it).
+        if global.0 != world {
+            global.0 = world;
+        }
         if let Some(children) = children {
             stack.extend(children.iter().map(|child| (child, world)));
         }

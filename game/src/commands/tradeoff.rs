@@ -132,6 +132,14 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     knob("--ssr-resolution", "full".into(), &|a| {
         a.ssr_resolution = Some(false)
     });
+    knob("--gi", "off".into(), &|a| a.gi = Some(false));
+    for n in [2u32, 8] {
+        knob("--gi-density", n.to_string(), &|a| a.gi_density = Some(n));
+    }
+    knob("--gi-face", "8".into(), &|a| a.gi_face = Some(8));
+    for n in [1u32, 3] {
+        knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
+    }
     out
 }
 

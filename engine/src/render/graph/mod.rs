@@ -127,6 +127,11 @@ pub trait FramePass: Resource + Sized {
     const READS: &'static [Slot];
     /// The slots it writes (a slot it reads and writes is in both lists).
     const WRITES: &'static [Slot];
+    /// Whether it also runs when a probe captures the lit scene around it
+    /// ([`crate::render::indirect::irradiance_volume`]): the passes that make lit HDR
+    /// radiance (shadows, G-buffer, light culling, lighting, sky) do; screen-space,
+    /// exposure and post-processing passes do not.
+    const CAPTURE: bool = false;
     /// Its shader variant key: what `decide` selects for the frame, as a named struct.
     type Variant: std::fmt::Debug + Send + Sync + 'static;
 

@@ -34,6 +34,8 @@ pub struct PassEntry {
     pub reads: &'static [Slot],
     /// The slots it writes.
     pub writes: &'static [Slot],
+    /// Whether it runs in probe captures ([`FramePass::CAPTURE`]).
+    pub capture: bool,
     create: fn(&mut World, &Gpu) -> Result<()>,
     decide: fn(&World, &mut FramePlan),
     prepare: OptionalSystems,
@@ -58,6 +60,7 @@ impl PassEntry {
             id: P::ID,
             reads: P::READS,
             writes: P::WRITES,
+            capture: P::CAPTURE,
             create: |world, gpu| {
                 let pass = P::create(world, gpu)?;
                 world.insert_resource(pass);
@@ -156,6 +159,13 @@ impl Registry {
         Ok(Registry { entries: order })
     }
 
+    /// The passes that run in probe captures, in the same order.
+    pub fn capture_subset(&self) -> Registry {
+        Registry {
+            entries: self.entries.iter().filter(|e| e.capture).copied().collect(),
+        }
+    }
+
     /// Creates every pass's resource in `world`.
     pub fn create_passes(&self, world: &mut World, gpu: &Gpu) -> Result<()> {
         for e in &self.entries {
@@ -190,13 +200,14 @@ impl Registry {
     /// Adds the passes' systems to `schedule`, after `before_prepare` (the systems every
     /// pass's preparation needs) and around `begin_frame`: the passes' prepare systems in
     /// execution order, then `begin_frame`, then each pass's record systems (or, when it
-    /// does not run, its `skipped` systems). Every system of a pass runs only when the
-    /// plan says the pass runs.
+    /// does not run, its `skipped` systems), then `after_record`. Every system of a pass
+    /// runs only when the plan says the pass runs.
     pub fn add_systems(
         &self,
         schedule: &mut Schedule,
         before_prepare: Vec<ScheduleConfigs<ScheduleSystem>>,
         begin_frame: ScheduleConfigs<ScheduleSystem>,
+        after_record: Vec<ScheduleConfigs<ScheduleSystem>>,
     ) {
         let mut steps: Vec<ScheduleConfigs<ScheduleSystem>> = before_prepare;
         for e in &self.entries {
@@ -211,6 +222,7 @@ impl Registry {
                 steps.push(skipped.run_if(not(pass_runs(e.id))));
             }
         }
+        steps.extend(after_record);
         for (i, step) in steps.into_iter().enumerate() {
             schedule.add_systems(step.in_set(Step(i)));
             if i > 0 {

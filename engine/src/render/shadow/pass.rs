@@ -80,6 +80,7 @@ pub struct ShadowVariant;
 
 impl FramePass for ShadowPass {
     const ID: PassId = PassId::Shadow;
+    const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[];
     const WRITES: &'static [Slot] = &[SHADOW_ATLAS];
     type Variant = ShadowVariant;

@@ -232,10 +232,15 @@ impl Viewer {
 
         let mut panel = Panel::new(adapter);
         let (mut app, open) = match self.scene.take() {
-            Some(WindowScene::Ready(app)) => (*app, Vec::new()),
+            Some(WindowScene::Ready(app)) => {
+                let mut app = *app;
+                app.set_progressive_probes(true);
+                (app, Vec::new())
+            }
             Some(WindowScene::Args(args)) => {
                 let mut app = App::new();
                 app.attach_gpu(gpu.clone())?;
+                app.set_progressive_probes(true);
                 build_scene(&mut app, &args.scene)?;
                 (app, args.open.clone())
             }

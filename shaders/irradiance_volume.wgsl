@@ -1,0 +1,50 @@
+// Irradiance-volume formulas, the same as engine/src/irradiance_volume.rs (same names):
+// DDGI's probe weights (Majercik et al. 2019) and the cube and octahedral bookkeeping of
+// probe captures.
+#import encoding
+
+const OCT_SIDE: u32 = 8u;
+const MOMENT_SHARPNESS: f32 = 50.0;
+const BACKFACE_FLOOR: f32 = 0.2;
+const SELF_SHADOW_BIAS: f32 = 0.3;
+
+// ((1 + n·d)/2)² + BACKFACE_FLOOR, for a probe in unit direction `to_probe`.
+fn backface_weight(to_probe: vec3<f32>, n: vec3<f32>) -> f32 {
+    let t = (1.0 + dot(to_probe, n)) * 0.5;
+    return t * t + BACKFACE_FLOOR;
+}
+
+// Chebyshev's bound on the visibility of a point at `distance` (m) from a probe whose
+// distances in that direction have mean `mean` (m) and mean square `mean_sq` (m²), cubed.
+fn chebyshev_visibility(mean: f32, mean_sq: f32, distance: f32) -> f32 {
+    if !(distance > mean) {
+        return 1.0;
+    }
+    let variance = max(abs(mean_sq - mean * mean), 1e-6);
+    let d = distance - mean;
+    let p = variance / (variance + d * d);
+    return max(p * p * p, 0.0);
+}
+
+// Solid angle (sr) of a cube-face texel centred at face coordinates xy in [−1, 1]².
+fn cube_texel_solid_angle(xy: vec2<f32>, size: f32) -> f32 {
+    let texel = 2.0 / size;
+    let r2 = 1.0 + xy.x * xy.x + xy.y * xy.y;
+    return texel * texel / (r2 * sqrt(r2));
+}
+
+// Weight of a distance captured along `ray` in the moment texel of direction `texel`.
+fn moment_weight(texel: vec3<f32>, ray: vec3<f32>) -> f32 {
+    return pow(max(dot(texel, ray), 0.0), MOMENT_SHARPNESS);
+}
+
+// Continuous texel coordinates of direction d in an OCT_SIDE² map (centres at k + 0.5).
+fn oct_texel_coordinate(d: vec3<f32>) -> vec2<f32> {
+    return (oct_encode(d) * 0.5 + vec2<f32>(0.5)) * f32(OCT_SIDE);
+}
+
+// The direction of the centre of moment texel (x, y).
+fn oct_texel_direction(texel: vec2<u32>) -> vec3<f32> {
+    let uv = (vec2<f32>(texel) + vec2<f32>(0.5)) / f32(OCT_SIDE);
+    return oct_decode(uv * 2.0 - vec2<f32>(1.0));
+}

@@ -1,0 +1,68 @@
+// Reduces one captured cube face of an irradiance probe (the capture's lit HDR and depth)
+// into the probe's record: radiance projected on 9 SH coefficients, each texel weighted by
+// its solid angle, and the distance moments of the octahedral map (DDGI, Majercik et al.
+// 2019). One workgroup per face; thread t owns moment texel t and, for t < 9, SH
+// coefficient t. Face 0 starts the record afresh; faces 1–5 add to it.
+#import common
+#import bindings
+#import encoding
+#import ibl
+#import irradiance_volume
+
+struct CaptureParams {
+    // Probe index, face 0–5, vec4s per record, unused.
+    probe_face_stride: vec4<u32>,
+    // Largest distance a moment stores (m), unused ×3.
+    range: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> view: View;
+@group(0) @binding(1) var hdr: texture_2d<f32>;
+@group(0) @binding(2) var depth_buffer: texture_2d<f32>;
+@group(0) @binding(3) var<uniform> params: CaptureParams;
+@group(0) @binding(4) var<storage, read_write> probes: array<vec4<f32>>;
+
+fn unproject(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
+    let h = view.world_from_clip * vec4<f32>(ndc, depth, 1.0);
+    return h.xyz / h.w;
+}
+
+@compute @workgroup_size(64)
+fn cs_reduce(@builtin(local_invocation_index) t: u32) {
+    let size = textureDimensions(hdr);
+    let origin = view.position_exposure.xyz;
+    let exposure = max(view.position_exposure.w, 1e-30);
+    let range = params.range.x;
+    let texel_dir = oct_texel_direction(vec2<u32>(t % OCT_SIDE, t / OCT_SIDE));
+    var moments = vec4<f32>(0.0);
+    var sh = vec3<f32>(0.0);
+    for (var y = 0u; y < size.y; y++) {
+        for (var x = 0u; x < size.x; x++) {
+            let ndc = vec2<f32>(
+                (f32(x) + 0.5) / f32(size.x) * 2.0 - 1.0,
+                1.0 - (f32(y) + 0.5) / f32(size.y) * 2.0,
+            );
+            let dir = safe_normalize(unproject(ndc, 0.5) - origin, vec3<f32>(0.0, 0.0, -1.0));
+            let depth = textureLoad(depth_buffer, vec2<u32>(x, y), 0).r;
+            var distance = range;
+            if depth > 0.0 {
+                distance = min(length(unproject(ndc, depth) - origin), range);
+            }
+            let solid_angle = cube_texel_solid_angle(ndc, f32(size.x));
+            if t < 9u {
+                var basis = sh_basis(dir);
+                let radiance = textureLoad(hdr, vec2<u32>(x, y), 0).rgb / exposure;
+                sh += radiance * (basis[t] * solid_angle);
+            }
+            let w = moment_weight(texel_dir, dir) * solid_angle;
+            moments += vec4<f32>(w * distance, w * distance * distance, w, 0.0);
+        }
+    }
+    let base = params.probe_face_stride.x * params.probe_face_stride.z;
+    let fresh = params.probe_face_stride.y == 0u;
+    if t < 9u {
+        probes[base + t] = select(probes[base + t], vec4<f32>(0.0), fresh) + vec4<f32>(sh, 0.0);
+    }
+    let m = base + 9u + t;
+    probes[m] = select(probes[m], vec4<f32>(0.0), fresh) + moments;
+}
