@@ -4,6 +4,7 @@
 #import encoding
 
 const OCT_SIDE: u32 = 8u;
+const IRRADIANCE_SIDE: u32 = 6u;
 const MOMENT_SHARPNESS: f32 = 50.0;
 const BACKFACE_FLOOR: f32 = 0.2;
 const SELF_SHADOW_BIAS: f32 = 0.3;
@@ -38,13 +39,14 @@ fn moment_weight(texel: vec3<f32>, ray: vec3<f32>) -> f32 {
     return pow(max(dot(texel, ray), 0.0), MOMENT_SHARPNESS);
 }
 
-// Continuous texel coordinates of direction d in an OCT_SIDE² map (centres at k + 0.5).
-fn oct_texel_coordinate(d: vec3<f32>) -> vec2<f32> {
-    return (oct_encode(d) * 0.5 + vec2<f32>(0.5)) * f32(OCT_SIDE);
+// Atlas position (texels) at which a bilinear read of direction d reads the probe tile
+// whose first texel is tile_origin: a side² octahedral map inside a one-texel border.
+fn atlas_position(tile_origin: vec2<f32>, side: f32, d: vec3<f32>) -> vec2<f32> {
+    return tile_origin + vec2<f32>(1.0) + (oct_encode(d) * 0.5 + vec2<f32>(0.5)) * side;
 }
 
-// The direction of the centre of moment texel (x, y).
-fn oct_texel_direction(texel: vec2<u32>) -> vec3<f32> {
-    let uv = (vec2<f32>(texel) + vec2<f32>(0.5)) / f32(OCT_SIDE);
+// The direction of the centre of texel (x, y) of a side² octahedral map.
+fn oct_texel_direction(texel: vec2<u32>, side: u32) -> vec3<f32> {
+    let uv = (vec2<f32>(texel) + vec2<f32>(0.5)) / f32(side);
     return oct_decode(uv * 2.0 - vec2<f32>(1.0));
 }

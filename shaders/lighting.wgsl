@@ -224,7 +224,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {
-                irradiance = volume_irradiance(world, n, v) * view.position_exposure.w;
+                irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
             }
         }
         let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao;

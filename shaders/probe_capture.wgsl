@@ -33,7 +33,7 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
     let origin = view.position_exposure.xyz;
     let exposure = max(view.position_exposure.w, 1e-30);
     let range = params.range.x;
-    let texel_dir = oct_texel_direction(vec2<u32>(t % OCT_SIDE, t / OCT_SIDE));
+    let texel_dir = oct_texel_direction(vec2<u32>(t % OCT_SIDE, t / OCT_SIDE), OCT_SIDE);
     var moments = vec4<f32>(0.0);
     var sh = vec3<f32>(0.0);
     for (var y = 0u; y < size.y; y++) {

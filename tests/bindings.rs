@@ -8,6 +8,7 @@ use lumen::quality::ShadowFilter;
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
+use lumen::render::indirect::irradiance_volume;
 use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
@@ -70,6 +71,7 @@ fn every_bind_group_list_matches_its_shader() {
         energy_compensation: true,
         screen_ao: true,
         ao_multi_bounce: true,
+        irradiance_volume: true,
         light_culling: true,
         uniform_lights: true,
         uniform_shadow_views: true,
@@ -81,8 +83,15 @@ fn every_bind_group_list_matches_its_shader() {
             (0, lighting::VIEW_AND_GBUFFER),
             (1, lighting::LIGHTS_AND_SHADOWS),
             (2, lighting::ENVIRONMENT),
+            (3, lighting::PROBES),
         ],
     );
+    check(
+        "probe_capture.wgsl",
+        &[],
+        &[(0, irradiance_volume::CAPTURE)],
+    );
+    check("probe_bake.wgsl", &[], &[(0, irradiance_volume::BAKE)]);
     check(
         "gbuffer.wgsl",
         &[],

@@ -377,6 +377,12 @@ impl App {
         self.world.run_schedule(PostUpdate);
         stage("propagate", t);
 
+        // The capture reads the frame's aspect ratio (directional cascades follow it).
+        self.world.insert_resource(FrameOutput {
+            size,
+            view: None,
+            format,
+        });
         let t = Instant::now();
         let per_frame = self.world.get_resource::<Quality>().map_or(0, |q| q.gi.probes_per_frame);
         let budget = (self.progressive_probes && per_frame > 0).then_some(per_frame);

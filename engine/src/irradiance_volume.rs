@@ -16,6 +16,9 @@ use glam::{UVec3, Vec2, Vec3};
 
 /// Side of each probe's octahedral map of distance moments, in texels.
 pub const OCT_SIDE: u32 = 8;
+/// Side of each probe's octahedral map of irradiance in the lighting's atlas, in texels
+/// (irradiance varies slowly: DDGI uses 6).
+pub const IRRADIANCE_SIDE: u32 = 6;
 /// Most probes along one axis of a grid; a volume that would need more gets a wider
 /// spacing.
 pub const MAX_PROBES_PER_AXIS: u32 = 16;
@@ -102,15 +105,18 @@ pub fn moment_weight(texel: Vec3, ray: Vec3) -> f32 {
     texel.dot(ray).max(0.0).powf(MOMENT_SHARPNESS)
 }
 
-/// Continuous coordinates, in texels of an [`OCT_SIDE`]² map, of direction `d`: texel
-/// centres at integer + 0.5.
-pub fn oct_texel_coordinate(d: Vec3) -> Vec2 {
-    (crate::encoding::oct_encode(d) * 0.5 + Vec2::splat(0.5)) * OCT_SIDE as f32
+/// Position, in texels of an atlas of probe tiles, at which a bilinear lookup of direction
+/// `d` reads the tile whose first texel is `tile_origin`: each tile is an octahedral map of
+/// `side`² texels inside a one-texel border that repeats its edge, so a bilinear read never
+/// reaches the next tile.
+pub fn atlas_position(tile_origin: Vec2, side: f32, d: Vec3) -> Vec2 {
+    tile_origin + Vec2::ONE + (crate::encoding::oct_encode(d) * 0.5 + Vec2::splat(0.5)) * side
 }
 
-/// The direction of the centre of moment texel `texel` (x, y).
-pub fn oct_texel_direction(texel: (u32, u32)) -> Vec3 {
-    let uv = (Vec2::new(texel.0 as f32, texel.1 as f32) + Vec2::splat(0.5)) / OCT_SIDE as f32;
+/// The direction of the centre of texel `texel` (x, y) of an octahedral map of `side`²
+/// texels.
+pub fn oct_texel_direction(texel: (u32, u32), side: u32) -> Vec3 {
+    let uv = (Vec2::new(texel.0 as f32, texel.1 as f32) + Vec2::splat(0.5)) / side as f32;
     crate::encoding::oct_decode(uv * 2.0 - Vec2::ONE)
 }
 
@@ -158,12 +164,16 @@ mod tests {
     }
 
     #[test]
-    fn oct_texels_round_trip() {
-        for y in 0..OCT_SIDE {
-            for x in 0..OCT_SIDE {
-                let d = oct_texel_direction((x, y));
-                let c = oct_texel_coordinate(d);
-                assert!((c - Vec2::new(x as f32 + 0.5, y as f32 + 0.5)).length() < 1e-3);
+    fn atlas_lookups_land_on_their_texel_centres() {
+        let origin = Vec2::new(16.0, 8.0);
+        for side in [IRRADIANCE_SIDE, OCT_SIDE] {
+            for y in 0..side {
+                for x in 0..side {
+                    let d = oct_texel_direction((x, y), side);
+                    let c = atlas_position(origin, side as f32, d);
+                    let centre = origin + Vec2::new(x as f32 + 1.5, y as f32 + 1.5);
+                    assert!((c - centre).length() < 1e-3, "{c} vs {centre}");
+                }
             }
         }
         assert!((backface_weight(Vec3::Y, Vec3::Y) - 1.2).abs() < 1e-6);

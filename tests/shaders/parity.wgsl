@@ -8,6 +8,7 @@
 #import ibl
 #import camera
 #import ambient_occlusion
+#import irradiance_volume
 
 struct Case {
     n: vec4<f32>,
@@ -21,7 +22,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 23u;
+const OUTPUTS: u32 = 26u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -88,6 +89,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     // The view direction in the local frame, above the surface.
     let local_v = vec3<f32>(c.v.xy, abs(c.v.z) + 1e-3);
     results[o + 22u] = vec4<f32>(sample_ggx_vndf(normalize(local_v), alpha, hammersley(i % 64u, 64u)), 0.0);
+    results[o + 23u] = vec4<f32>(backface_weight(c.v.xyz, c.n.xyz),
+                                 chebyshev_visibility(x * 2.0, x * x * 4.0 + k * 0.1, n_dot_h * 4.0),
+                                 cube_texel_solid_angle(vec2<f32>(2.0 * x - 1.0, 2.0 * n_dot_h - 1.0), 16.0),
+                                 moment_weight(c.n.xyz, c.l.xyz));
+    var basis = sh_basis(c.n.xyz);
+    results[o + 24u] = vec4<f32>(oct_texel_direction(vec2<u32>(i % 8u, (i / 8u) % 8u), 6u + i % 3u), basis[8]);
+    results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 
 // The same focus distances as coc_focus in tests/shader_parity.rs.

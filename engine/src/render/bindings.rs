@@ -29,6 +29,8 @@ pub enum Binding {
     Sampler,
     /// A comparison sampler.
     ComparisonSampler,
+    /// A 2D storage texture of this format that the shader writes.
+    StorageTexture(wgpu::TextureFormat),
 }
 
 impl Binding {
@@ -70,6 +72,11 @@ impl Binding {
             Binding::ComparisonSampler => {
                 wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)
             }
+            Binding::StorageTexture(format) => wgpu::BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            },
         }
     }
 }

@@ -13,6 +13,7 @@ use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
+use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::RenderTargets;
 use crate::render::{CaptureSchedule, ExtractSchedule};
 use bevy_ecs::prelude::*;
@@ -49,6 +50,11 @@ pub struct VolumeStatus {
 pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Result<VolumeStatus> {
     let start = Instant::now();
     let changed = world.run_system_cached(scene_changed).unwrap_or(true);
+    // The atlas may hold views of casters that have moved since the last round.
+    world.resource_mut::<ShadowPass>().captured_views = None;
+    let camera_aspect = world
+        .get_resource::<FrameOutput>()
+        .map_or(1.0, |o| o.size.0 as f32 / o.size.1.max(1) as f32);
     let gi = world.resource::<crate::quality::Quality>().gi;
     let grid = grid_for(world, &gi);
     let gpu = world.resource::<Gpu>().clone();
@@ -71,10 +77,17 @@ pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Resul
     while !world.resource::<IrradianceVolumeGpu>().converged() && left != Some(0) {
         let probe = world.resource::<IrradianceVolumeGpu>().next_probe;
         for face in 0..FACES.len() as u32 {
-            capture_face(world, &gpu, probe, face)?;
+            capture_face(world, &gpu, probe, face, camera_aspect)?;
             faces += 1;
         }
-        world.resource_mut::<IrradianceVolumeGpu>().probe_done(&gpu);
+        let exposure = world
+            .resource::<crate::render::extract::ExtractedFrame>()
+            .camera
+            .as_ref()
+            .map_or(1.0, |c| c.exposure);
+        world
+            .resource_mut::<IrradianceVolumeGpu>()
+            .probe_done(&gpu, exposure)?;
         left = left.map(|l| l - 1);
     }
     if faces > 0 {
@@ -100,7 +113,13 @@ pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Resul
 }
 
 /// Renders face `face` of probe `probe` and records its reduction; submits.
-fn capture_face(world: &mut World, gpu: &Gpu, probe: u32, face: u32) -> Result<()> {
+fn capture_face(
+    world: &mut World,
+    gpu: &Gpu,
+    probe: u32,
+    face: u32,
+    camera_aspect: f32,
+) -> Result<()> {
     let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
     let Some(grid) = volume.grid else {
         return Ok(());
@@ -113,6 +132,7 @@ fn capture_face(world: &mut World, gpu: &Gpu, probe: u32, face: u32) -> Result<(
     world.insert_resource(CaptureView {
         world_from_view: view_from_world.inverse(),
         fov_y_rad: std::f32::consts::FRAC_PI_2,
+        camera_aspect,
     });
     world.insert_resource(FrameOutput {
         size: (grid.face_size, grid.face_size),

@@ -306,6 +306,7 @@ pub fn extract_frame(
         return;
     };
     // A probe capture looks from the probe, through a centred 90° frustum.
+    let main_transform = camera_transform;
     let capture_transform = capture.as_deref().map(|c| GlobalTransform(c.world_from_view));
     let camera_transform = capture_transform.as_ref().unwrap_or(camera_transform);
     let projection = match capture.as_deref() {
@@ -470,12 +471,23 @@ pub fn extract_frame(
     let shadows_on = quality.shadows && !frame.casters.is_empty() && frame.receivers > 0;
     frame.shadow_views.clear();
     frame.shadow_counts = ShadowCounts::default();
-    let shadow_camera = CameraForShadows {
-        world_from_view: camera_transform.0,
-        fov_y: projection.fov_y_rad,
-        aspect,
-        near: projection.near_m.max(1e-4),
-        far: projection.far_m,
+    // Captures fit directional cascades to the camera's frustum, not to theirs: every
+    // face of every probe then shares one set of shadow views, drawn once per update.
+    let shadow_camera = match capture.as_deref() {
+        Some(c) => CameraForShadows {
+            world_from_view: main_transform.0,
+            fov_y: camera.projection.fov_y_rad,
+            aspect: c.camera_aspect,
+            near: camera.projection.near_m.max(1e-4),
+            far: camera.projection.far_m,
+        },
+        None => CameraForShadows {
+            world_from_view: camera_transform.0,
+            fov_y: projection.fov_y_rad,
+            aspect,
+            near: projection.near_m.max(1e-4),
+            far: projection.far_m,
+        },
     };
 
     // Lights: directional, point, spot.

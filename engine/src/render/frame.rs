@@ -60,4 +60,7 @@ pub struct CaptureView {
     pub world_from_view: glam::Mat4,
     /// Vertical field of view (rad): π/2 for a cube face.
     pub fov_y_rad: f32,
+    /// Width / height of the camera's own frame: directional shadow cascades are fitted
+    /// to the camera's frustum, not the capture's.
+    pub camera_aspect: f32,
 }

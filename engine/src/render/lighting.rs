@@ -467,7 +467,9 @@ pub fn prepare_lighting(
             ],
             _ => vec![
                 volume.uniform.as_entire_binding(),
-                volume.read_records().as_entire_binding(),
+                TextureView(volume.irradiance_atlas()),
+                TextureView(volume.moment_atlas()),
+                Sampler(&volume.sampler),
             ],
         }
     };

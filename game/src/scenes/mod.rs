@@ -1,6 +1,6 @@
 //! The built-in demo and test scenes.
 
-mod cornell;
+pub mod cornell;
 mod dof;
 mod extremes;
 mod furnace;

@@ -1,16 +1,19 @@
-//! The irradiance volume on the GPU: the probe records, the grid's uniform, and the
-//! reduction of each captured cube face into its probe (`shaders/probe_capture.wgsl`).
-//! The lighting pass reads the records through [`PROBES`] (`shaders/volume_lookup.wgsl`);
-//! the formulas are in [`crate::irradiance_volume`].
+//! The irradiance volume on the GPU: the probe records, the reduction of each captured cube
+//! face into its probe (`shaders/probe_capture.wgsl`), and the bake of the records into
+//! the two atlases the lighting pass samples (`shaders/probe_bake.wgsl`) through
+//! [`PROBES`] (`shaders/volume_lookup.wgsl`). The formulas are in
+//! [`crate::irradiance_volume`].
 //!
 //! Probes are captured by rendering the frame's own capture passes from each probe
-//! ([`crate::render::capture`]). Two record buffers alternate: a capture pass writes one
-//! while the lighting (of the frame, and of the captures themselves) reads the other, so
-//! the light of pass k includes the probe light of pass k − 1: one more bounce per pass.
+//! ([`crate::render::capture`]). A capture pass accumulates into the records while the
+//! lighting (of the frame, and of the captures themselves) samples the atlases baked at the
+//! end of the previous pass, so the light of pass k includes the probe light of pass k − 1:
+//! one more bounce per pass. The atlases (DDGI's layout) make the lookup two bilinear
+//! samples per probe: sixteen per pixel.
 
 use crate::error::Result;
 use crate::irradiance_volume::{
-    OCT_SIDE, probe_counts, probe_origin, probe_spacing,
+    IRRADIANCE_SIDE, OCT_SIDE, probe_counts, probe_origin, probe_spacing,
 };
 use crate::quality::GiSettings;
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -30,13 +33,36 @@ use glam::{UVec3, Vec3};
 /// vec4s per probe record: 9 SH coefficients, then the moment texels.
 pub const RECORD_STRIDE: u32 = 9 + OCT_SIDE * OCT_SIDE;
 
-/// The lighting pass's group 3: the grid and the probe records it reads.
+/// Format of both atlases.
+pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The lighting pass's group 3: the grid and the atlases it samples.
 pub const PROBES: BindGroupSpec = BindGroupSpec {
     label: "lighting: probes",
     visibility: wgpu::ShaderStages::FRAGMENT,
     bindings: &[
         ("volume", Binding::Uniform),
-        ("volume_probes", Binding::Storage),
+        (
+            "probe_irradiance",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "probe_moments",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("probe_sampler", Binding::Sampler),
+    ],
+};
+
+/// The bindings of the bake of the records into the atlases.
+pub const BAKE: BindGroupSpec = BindGroupSpec {
+    label: "probe bake",
+    visibility: wgpu::ShaderStages::COMPUTE,
+    bindings: &[
+        ("params", Binding::Uniform),
+        ("probes", Binding::Storage),
+        ("irradiance_atlas", Binding::StorageTexture(ATLAS_FORMAT)),
+        ("moment_atlas", Binding::StorageTexture(ATLAS_FORMAT)),
     ],
 };
 
@@ -59,10 +85,67 @@ pub const CAPTURE: BindGroupSpec = BindGroupSpec {
 pub struct GpuVolume {
     /// Corner probe (m), and 1 once a capture pass has completed.
     pub origin_ready: [f32; 4],
-    /// Spacing per axis (m), and the largest distance a moment stores (m).
-    pub spacing_range: [f32; 4],
-    /// Probes per axis, and [`RECORD_STRIDE`].
-    pub counts_stride: [u32; 4],
+    /// Spacing per axis (m), and the exposure the irradiance atlas was baked with.
+    pub spacing_exposure: [f32; 4],
+    /// Probes per axis, and probe tiles per atlas row.
+    pub counts_tiles: [u32; 4],
+    /// 1 / size in texels of the irradiance atlas (xy) and the moment atlas (zw).
+    pub texel_sizes: [f32; 4],
+}
+
+/// `BakeParams` of `probe_bake.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct BakeParams {
+    probes_tiles_stride: [u32; 4],
+    exposure_range: [f32; 4],
+}
+
+/// Probe tiles per atlas row for `probes` probes (a square-ish atlas), and rows.
+pub fn atlas_tiles(probes: u32) -> (u32, u32) {
+    let per_row = (probes.max(1) as f32).sqrt().ceil() as u32;
+    (per_row, probes.max(1).div_ceil(per_row))
+}
+
+/// The two atlases of a grid of `probes` probes: irradiance (tiles of
+/// ([`IRRADIANCE_SIDE`] + 2)²) and moments (tiles of ([`OCT_SIDE`] + 2)²).
+struct Atlases {
+    irradiance: wgpu::TextureView,
+    moments: wgpu::TextureView,
+    irradiance_size: (u32, u32),
+    moments_size: (u32, u32),
+}
+
+impl Atlases {
+    fn new(gpu: &Gpu, probes: u32) -> Atlases {
+        let (per_row, rows) = atlas_tiles(probes);
+        let make = |label, tile: u32| {
+            let size = (per_row * tile, rows * tile);
+            let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: ATLAS_FORMAT,
+                usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            (texture.create_view(&Default::default()), size)
+        };
+        let (irradiance, irradiance_size) = make("probe irradiance atlas", IRRADIANCE_SIDE + 2);
+        let (moments, moments_size) = make("probe moment atlas", OCT_SIDE + 2);
+        Atlases {
+            irradiance,
+            moments,
+            irradiance_size,
+            moments_size,
+        }
+    }
 }
 
 /// `CaptureParams` of `probe_capture.wgsl`.
@@ -193,19 +276,24 @@ pub fn scene_changed(
     !changed.is_empty() || removed || quality.is_changed() || meshes.is_changed()
 }
 
-/// The volume's GPU state: records, uniform, the reduction pipeline, and where the
-/// capture stands.
+/// The volume's GPU state: records, atlases, uniform, the reduction and bake pipelines,
+/// and where the capture stands.
 #[derive(Resource)]
 pub struct IrradianceVolumeGpu {
-    pipeline: wgpu::ComputePipeline,
+    reduce: wgpu::ComputePipeline,
     capture_layout: wgpu::BindGroupLayout,
+    bake: wgpu::ComputePipeline,
+    bake_layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
+    bake_params: wgpu::Buffer,
     /// The grid uniform ([`GpuVolume`]).
     pub uniform: wgpu::Buffer,
-    records: [wgpu::Buffer; 2],
+    records: wgpu::Buffer,
+    atlases: Atlases,
+    /// A linear, clamped sampler for the atlases.
+    pub sampler: wgpu::Sampler,
     capacity: u32,
-    read: usize,
-    /// Bumped whenever the records the lighting reads change buffer.
+    /// Bumped whenever the records or atlases are recreated.
     pub generation: u64,
     /// The grid in use, if any.
     pub grid: Option<Grid>,
@@ -215,8 +303,10 @@ pub struct IrradianceVolumeGpu {
     pub completed_passes: u32,
     /// The next probe to capture in the current pass.
     pub next_probe: u32,
-    /// Whether the records the lighting reads hold a completed pass.
+    /// Whether the atlases hold a completed pass.
     pub ready: bool,
+    /// The exposure the irradiance atlas was baked with.
+    baked_exposure: f32,
     /// The face being captured (probe, face), while a capture runs.
     pub capturing: Option<(u32, u32)>,
     /// The targets captures render into (swapped with the frame's while one runs).
@@ -230,34 +320,44 @@ fn record_buffer(gpu: &Gpu, probes: u32) -> wgpu::Buffer {
     gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("irradiance probes"),
         size: u64::from(probes.max(1)) * u64::from(RECORD_STRIDE) * 16,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     })
 }
 
+fn compute(
+    gpu: &Gpu,
+    label: &str,
+    file: &str,
+    entry: &str,
+    layout: &wgpu::BindGroupLayout,
+) -> Result<wgpu::ComputePipeline> {
+    let source = gpu.shaders.compose(file, &[])?;
+    let module = create_module(gpu, label, &source)?;
+    let pipeline_layout = gpu
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        });
+    gpu.checked(&format!("{label} pipeline"), |device| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
+}
+
 impl IrradianceVolumeGpu {
-    /// Compiles the reduction and creates one-probe records.
+    /// Compiles the reduction and the bake, and creates one-probe records and atlases.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let source = gpu.shaders.compose("probe_capture.wgsl", &[])?;
-        let module = create_module(gpu, "probe capture", &source)?;
         let capture_layout = CAPTURE.layout(gpu);
-        let layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("probe capture"),
-                bind_group_layouts: &[Some(&capture_layout)],
-                immediate_size: 0,
-            });
-        let pipeline = gpu.checked("probe capture pipeline", |device| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("probe capture"),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some("cs_reduce"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })?;
+        let bake_layout = BAKE.layout(gpu);
         let uniform = |label, size| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -266,55 +366,75 @@ impl IrradianceVolumeGpu {
                 mapped_at_creation: false,
             })
         };
-        Ok(IrradianceVolumeGpu {
-            pipeline,
+        let volume = IrradianceVolumeGpu {
+            reduce: compute(
+                gpu,
+                "probe capture",
+                "probe_capture.wgsl",
+                "cs_reduce",
+                &capture_layout,
+            )?,
             capture_layout,
+            bake: compute(gpu, "probe bake", "probe_bake.wgsl", "cs_bake", &bake_layout)?,
+            bake_layout,
             params: uniform(
                 "probe capture params",
                 std::mem::size_of::<CaptureParams>() as u64,
             ),
+            bake_params: uniform("probe bake params", std::mem::size_of::<BakeParams>() as u64),
             uniform: uniform("irradiance volume", std::mem::size_of::<GpuVolume>() as u64),
-            records: [record_buffer(gpu, 1), record_buffer(gpu, 1)],
+            records: record_buffer(gpu, 1),
+            atlases: Atlases::new(gpu, 1),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("probe atlases"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
             capacity: 1,
-            read: 0,
             generation: 1,
             grid: None,
             skip_reason: "not placed yet".into(),
             completed_passes: 0,
             next_probe: 0,
             ready: false,
+            baked_exposure: 1.0,
             capturing: None,
             capture_targets: RenderTargets::default(),
             capture_group: None,
             faces_captured: 0,
-        })
+        };
+        volume.write_uniform(gpu);
+        Ok(volume)
     }
 
-    /// The records the lighting reads.
-    pub fn read_records(&self) -> &wgpu::Buffer {
-        &self.records[self.read]
+    /// The irradiance atlas the lighting samples.
+    pub fn irradiance_atlas(&self) -> &wgpu::TextureView {
+        &self.atlases.irradiance
     }
 
-    /// Uses `grid` (or none) from now on: the records are reallocated when they are too
-    /// small, and capture starts over with nothing ready.
+    /// The moment atlas the lighting samples.
+    pub fn moment_atlas(&self) -> &wgpu::TextureView {
+        &self.atlases.moments
+    }
+
+    /// Uses `grid` (or none) from now on: records and atlases are reallocated when the
+    /// probe count changes, and capture starts over with nothing ready.
     pub fn set_grid(&mut self, gpu: &Gpu, grid: Option<Grid>) {
-        if let Some(g) = grid
-            && g.len() > self.capacity
-        {
-            self.capacity = g.len();
-            self.records = [
-                record_buffer(gpu, self.capacity),
-                record_buffer(gpu, self.capacity),
-            ];
+        let probes = grid.map_or(1, |g| g.len());
+        if probes > self.capacity || grid.map(|g| g.len()) != self.grid.map(|g| g.len()) {
+            self.capacity = self.capacity.max(probes);
+            self.records = record_buffer(gpu, self.capacity);
+            self.atlases = Atlases::new(gpu, probes);
+            self.generation += 1;
         }
         self.grid = grid;
         self.ready = false;
-        self.generation += 1;
         self.restart();
         self.write_uniform(gpu);
     }
 
-    /// Starts capturing from the first pass again (the scene changed). The records read
+    /// Starts capturing from the first pass again (the scene changed). The atlases read
     /// now stay in use until the first new pass completes.
     pub fn restart(&mut self) {
         self.completed_passes = 0;
@@ -327,18 +447,58 @@ impl IrradianceVolumeGpu {
     }
 
     /// Called after probe `next_probe` was captured: moves on, and at the end of a pass
-    /// makes its records the ones the lighting reads.
-    pub fn probe_done(&mut self, gpu: &Gpu) {
-        let Some(grid) = self.grid else { return };
+    /// bakes the records into the atlases (irradiance pre-exposed by `exposure`) and
+    /// submits the bake.
+    pub fn probe_done(&mut self, gpu: &Gpu, exposure: f32) -> Result<()> {
+        let Some(grid) = self.grid else {
+            return Ok(());
+        };
         self.next_probe += 1;
-        if self.next_probe >= grid.len() {
-            self.next_probe = 0;
-            self.completed_passes += 1;
-            self.read = 1 - self.read;
-            self.ready = true;
-            self.generation += 1;
-            self.write_uniform(gpu);
+        if self.next_probe < grid.len() {
+            return Ok(());
         }
+        self.next_probe = 0;
+        self.completed_passes += 1;
+        self.ready = true;
+        self.baked_exposure = if exposure.is_finite() && exposure > 0.0 {
+            exposure
+        } else {
+            1.0
+        };
+        let (per_row, _) = atlas_tiles(grid.len());
+        let params = BakeParams {
+            probes_tiles_stride: [grid.len(), per_row, RECORD_STRIDE, 0],
+            exposure_range: [self.baked_exposure, grid.range_m(), 0.0, 0.0],
+        };
+        gpu.queue
+            .write_buffer(&self.bake_params, 0, bytemuck::bytes_of(&params));
+        let group = BAKE.group(
+            gpu,
+            &self.bake_layout,
+            vec![
+                self.bake_params.as_entire_binding(),
+                self.records.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&self.atlases.irradiance),
+                wgpu::BindingResource::TextureView(&self.atlases.moments),
+            ],
+        )?;
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("probe bake"),
+            });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("probe bake"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.bake);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(grid.len(), 1, 1);
+        }
+        self.write_uniform(gpu);
+        gpu.checked("probe bake", |_| gpu.queue.submit([encoder.finish()]))?;
+        Ok(())
     }
 
     fn write_uniform(&self, gpu: &Gpu) {
@@ -349,10 +509,15 @@ impl IrradianceVolumeGpu {
             face_size: 4,
             bounces: 1,
         });
+        let (per_row, _) = atlas_tiles(g.len());
+        let inverse = |(w, h): (u32, u32)| [1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32];
+        let [iw, ih] = inverse(self.atlases.irradiance_size);
+        let [mw, mh] = inverse(self.atlases.moments_size);
         let data = GpuVolume {
             origin_ready: g.origin.extend(if self.ready { 1.0 } else { 0.0 }).into(),
-            spacing_range: g.spacing.extend(g.range_m()).into(),
-            counts_stride: g.counts.extend(RECORD_STRIDE).into(),
+            spacing_exposure: g.spacing.extend(self.baked_exposure).into(),
+            counts_tiles: g.counts.extend(per_row).into(),
+            texel_sizes: [iw, ih, mw, mh],
         };
         gpu.queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&data));
@@ -377,7 +542,6 @@ pub fn record_capture_reduce(
     let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {
         return;
     };
-    let write = 1 - volume.read;
     let key = [t.generation, buffers.generation, volume.generation];
     if volume.capture_group.as_ref().is_none_or(|(k, _)| *k != key) {
         let group = CAPTURE.group(
@@ -388,7 +552,7 @@ pub fn record_capture_reduce(
                 wgpu::BindingResource::TextureView(hdr),
                 wgpu::BindingResource::TextureView(depth),
                 volume.params.as_entire_binding(),
-                volume.records[write].as_entire_binding(),
+                volume.records.as_entire_binding(),
             ],
         );
         match group {
@@ -413,7 +577,7 @@ pub fn record_capture_reduce(
         label: Some("probe capture reduce"),
         timestamp_writes: None,
     });
-    pass.set_pipeline(&volume.pipeline);
+    pass.set_pipeline(&volume.reduce);
     pass.set_bind_group(0, group, &[]);
     pass.dispatch_workgroups(1, 1, 1);
 }

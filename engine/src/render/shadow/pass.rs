@@ -8,12 +8,12 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors};
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
-use crate::render::shadow_views::{frustum_planes, sphere_in_frustum};
+use crate::render::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
 use crate::render::targets::Target;
 use crate::scene::{MeshHandle, Vertex};
 use bevy_ecs::prelude::*;
@@ -56,6 +56,10 @@ pub struct ShadowPass {
     pub layout: AtlasLayout,
     /// Bumped whenever the atlas or the view buffer is recreated.
     pub generation: u64,
+    /// The views the atlas holds when a probe capture drew it last (`None` after the
+    /// frame's own shadow pass, and before each round of captures): a capture with the
+    /// same views reuses the atlas.
+    pub captured_views: Option<Vec<ShadowView>>,
 }
 
 /// The shadow pass's bind group: each view's matrix at a dynamic offset.
@@ -93,6 +97,17 @@ impl FramePass for ShadowPass {
         let frame = world.resource::<ExtractedFrame>();
         let sc = frame.shadow_counts;
         let views = frame.shadow_views.len();
+        let reused = world.resource::<ShadowPass>().captured_views.as_deref();
+        if views > 0
+            && world.contains_resource::<CaptureView>()
+            && reused == Some(frame.shadow_views.as_slice())
+        {
+            return PassDecision::new(
+                false,
+                "probe capture: the atlas already holds these views",
+                ShadowVariant,
+            );
+        }
         let reason = if views > 0 {
             format!(
                 "{views} view(s): {} directional (cascades), {} spot, {} point light(s) (6 faces each); {} caster(s)",
@@ -220,6 +235,7 @@ impl ShadowPass {
                 halvings: 0,
             },
             generation: 0,
+            captured_views: None,
         })
     }
 }
@@ -376,10 +392,14 @@ pub fn prepare_shadows(
 
 /// Records the shadow pass: one render pass over the atlas, one viewport per view.
 pub fn shadow_pass(
-    pass: Res<ShadowPass>,
+    mut pass: ResMut<ShadowPass>,
     buffers: Res<SceneBuffers>,
+    frame: Res<ExtractedFrame>,
+    capture: Option<Res<CaptureView>>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
+    pass.captured_views = capture.is_some().then(|| frame.shadow_views.clone());
+    let pass = &*pass;
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some((_, bind_group))) =
         (encoder.as_mut(), pass.caster_bind_group.as_ref())

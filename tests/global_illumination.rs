@@ -1,0 +1,295 @@
+//! Diffuse global illumination from the irradiance volume: colour bleeding in `cornell`
+//! against the path tracer, capture bookkeeping (a converged volume is not captured again
+//! until the scene changes; progressive capture spreads probes over frames), the plan's
+//! reasons, and robustness at the extremes (no mesh, a probe inside a mesh, a box of zero
+//! size, one probe, bounds that are not finite).
+
+mod common;
+
+use glam::Vec4Swizzles;
+use lumen::assets::procedural::{cuboid, plane, uv_sphere};
+use lumen::prelude::*;
+use lumen::quality::GiSettings;
+use lumen::reference::path::{ReferenceOptions, render};
+use lumen::render::extract::ExtractedFrame;
+use lumen::scene::IrradianceVolume;
+use lumen::trace_input::trace_scene;
+use lumen_game::scenes::cornell::{CORNELL_ROOM, CORNELL_WHITE};
+
+/// The pixel where world point `p` appears in the last frame.
+fn pixel_of(app: &App, p: Vec3, size: (u32, u32)) -> (u32, u32) {
+    let camera = app
+        .world()
+        .resource::<ExtractedFrame>()
+        .camera
+        .clone()
+        .expect("camera");
+    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
+    let ndc = clip.xy() / clip.w;
+    (
+        ((ndc.x * 0.5 + 0.5) * size.0 as f32) as u32,
+        ((0.5 - ndc.y * 0.5) * size.1 as f32) as u32,
+    )
+}
+
+/// Red ÷ green of the summed 3×3 windows around `pixels` of `image`.
+fn red_to_green(image: &image::Rgba32FImage, pixels: &[(u32, u32)]) -> f32 {
+    let (mut r, mut g) = (0.0, 0.0);
+    for &(x, y) in pixels {
+        for dy in 0..3 {
+            for dx in 0..3 {
+                let p = image.get_pixel(x + dx - 1, y + dy - 1).0;
+                r += p[0];
+                g += p[1];
+            }
+        }
+    }
+    r / g
+}
+
+/// Within this fraction of the reference's red-to-green ratio (the bound).
+const RATIO_TOLERANCE: f32 = 0.15;
+
+#[test]
+fn cornell_colour_bleeding_matches_the_path_tracer() {
+    let size = (64, 64);
+    let mut app = common::app_with("cornell");
+    let traced = trace_scene(&mut app, size).expect("trace scene");
+    let options = ReferenceOptions {
+        size,
+        samples_per_pixel: 256,
+        max_bounces: 8,
+        seed: 5,
+    };
+    let truth = render(&traced, &options, &|_| {}).image;
+    let report = app.render_headless(size).expect("frame");
+    assert_eq!(report.volume.passes, (2, 2), "{:?}", report.volume);
+    let with_gi = app.read_hdr_image().expect("hdr");
+    // The white back wall, 5 cm from the red wall (x = room width), at four heights.
+    let pixels: Vec<(u32, u32)> = [0.15, 0.25, 0.35, 0.45]
+        .iter()
+        .map(|&y| {
+            pixel_of(
+                &app,
+                Vec3::new(CORNELL_ROOM.x - 0.05, y, CORNELL_ROOM.z - 0.001),
+                size,
+            )
+        })
+        .collect();
+    app.world_mut().resource_mut::<Quality>().gi.enabled = false;
+    app.render_headless(size).expect("frame without GI");
+    let without = app.read_hdr_image().expect("hdr");
+    let reference = red_to_green(&truth, &pixels);
+    let gi = red_to_green(&with_gi, &pixels);
+    let direct = red_to_green(&without, &pixels);
+    println!(
+        "red/green on the back wall by the red wall: reference {reference:.3}, with GI {gi:.3}, without {direct:.3}, white {:.3}",
+        CORNELL_WHITE.x / CORNELL_WHITE.y
+    );
+    assert!(
+        (gi / reference - 1.0).abs() <= RATIO_TOLERANCE,
+        "with GI {gi:.3} against the reference's {reference:.3}"
+    );
+    // The check can fail: without bounce light the wall keeps its own colour.
+    assert!(
+        (direct / reference - 1.0).abs() > RATIO_TOLERANCE,
+        "without GI {direct:.3} against the reference's {reference:.3}"
+    );
+}
+
+/// A floor, a sphere and a box in sunlight, a camera, and a 2×1×2 volume of small
+/// captures (one pass).
+fn small_scene() -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    let floor = app.add_mesh(plane(10.0, 10.0)).expect("floor");
+    let sphere = app.add_mesh(uv_sphere(0.5, 32, 16)).expect("sphere");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(floor),
+        Material::new(Vec3::splat(0.6), 0.0, 0.8),
+        Transform::IDENTITY,
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material::new(Vec3::new(0.8, 0.2, 0.1), 0.0, 0.5),
+        Transform::from_xyz(0.0, 0.5, 0.0),
+    ));
+    world.spawn((
+        DirectionalLight {
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(1.0, 2.0, 1.5).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Ev100(12.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 1.5, 4.0).looking_at(Vec3::new(0.0, 0.4, 0.0), Vec3::Y),
+    ));
+    world.spawn(IrradianceVolume {
+        min: Vec3::new(-1.0, 0.2, -1.0),
+        max: Vec3::new(1.0, 1.2, 1.0),
+        spacing_m: Some(1.0),
+    });
+    world.resource_mut::<Quality>().gi = GiSettings {
+        face_size: 8,
+        bounces: 1,
+        ..GiSettings::default()
+    };
+    app
+}
+
+const SIZE: (u32, u32) = (48, 32);
+
+fn assert_finite(app: &App) {
+    let hdr = app.read_hdr_image().expect("hdr");
+    let bad = hdr.pixels().filter(|p| !p.0.iter().all(|v| v.is_finite())).count();
+    assert_eq!(bad, 0, "{bad} pixels are not finite");
+}
+
+fn volume_reason(report: &FrameReport) -> (bool, String) {
+    let d = report
+        .plan
+        .features
+        .iter()
+        .find(|d| d.name == "irradiance volume")
+        .expect("the plan has an irradiance-volume decision");
+    (d.enabled, d.reason.clone())
+}
+
+#[test]
+fn a_converged_volume_is_captured_again_only_when_the_scene_changes() {
+    let mut app = small_scene();
+    let first = app.render_headless(SIZE).expect("frame");
+    assert_eq!(first.volume.counts, glam::UVec3::new(2, 1, 2));
+    assert_eq!(first.volume.faces_captured, 4 * 6);
+    assert_eq!(first.volume.passes, (1, 1));
+    let again = app.render_headless(SIZE).expect("frame");
+    assert_eq!(again.volume.faces_captured, 0, "nothing changed");
+    // The camera is not part of what the probes see.
+    let camera = app
+        .world_mut()
+        .query_filtered::<Entity, With<Camera>>()
+        .single(app.world())
+        .expect("one camera");
+    app.world_mut()
+        .entity_mut(camera)
+        .insert(Transform::from_xyz(1.0, 1.5, 4.0).looking_at(Vec3::ZERO, Vec3::Y));
+    let moved_camera = app.render_headless(SIZE).expect("frame");
+    assert_eq!(moved_camera.volume.faces_captured, 0, "only the camera moved");
+    // A mesh that moves is.
+    let sphere = app
+        .world_mut()
+        .query_filtered::<Entity, (With<Mesh3d>, Without<Camera>)>()
+        .iter(app.world())
+        .nth(1)
+        .expect("the sphere");
+    app.world_mut()
+        .entity_mut(sphere)
+        .insert(Transform::from_xyz(0.3, 0.5, 0.0));
+    let moved = app.render_headless(SIZE).expect("frame");
+    assert_eq!(moved.volume.faces_captured, 4 * 6, "the sphere moved");
+}
+
+#[test]
+fn progressive_capture_spreads_probes_over_frames() {
+    let mut app = small_scene();
+    app.set_progressive_probes(true);
+    {
+        let mut quality = app.world_mut().resource_mut::<Quality>();
+        quality.gi.probes_per_frame = 1;
+        quality.gi.bounces = 2;
+    }
+    let mut captured = Vec::new();
+    for _ in 0..10 {
+        let report = app.render_headless(SIZE).expect("frame");
+        captured.push((report.volume.faces_captured, report.volume.passes.0));
+    }
+    // Four probes, two passes, one probe per frame: eight frames of six faces.
+    let faces: Vec<u32> = captured.iter().map(|c| c.0).collect();
+    assert_eq!(faces, [6, 6, 6, 6, 6, 6, 6, 6, 0, 0], "{captured:?}");
+    assert_eq!(captured[3].1, 1, "the first pass completes on frame 4");
+    assert_eq!(captured[7].1, 2);
+}
+
+#[test]
+fn bounce_light_brightens_the_shadow_under_the_sphere() {
+    let mut app = small_scene();
+    app.render_headless(SIZE).expect("frame");
+    let at = pixel_of(&app, Vec3::new(-0.35, 0.01, -0.2), SIZE);
+    let lit = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
+    app.world_mut().resource_mut::<Quality>().gi.enabled = false;
+    let report = app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        volume_reason(&report),
+        (false, "global illumination off (--gi off)".into())
+    );
+    let dark = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
+    println!("floor in the sphere's shadow at {at:?}: with GI {lit:?}, without {dark:?}");
+    assert!(lit[1] > dark[1] * 1.5 + 1e-3, "{lit:?} vs {dark:?}");
+}
+
+#[test]
+fn no_nan_at_the_extremes() {
+    // No mesh at all: no volume, with its reason.
+    let mut app = App::headless().expect("a GPU adapter");
+    app.world_mut().spawn((Camera::default(), Transform::from_xyz(0.0, 0.0, 3.0)));
+    let report = app.render_headless(SIZE).expect("empty frame");
+    assert_eq!(
+        volume_reason(&report),
+        (false, "no mesh to place probes around".into())
+    );
+    assert_finite(&app);
+
+    let volumes = [
+        // A probe inside a closed box.
+        ("probe inside a mesh", Vec3::new(2.0, 0.5, 0.0), Vec3::new(2.0, 0.5, 0.0), None, 1),
+        // A box of zero size: one probe.
+        ("zero-size volume", Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, 1.5, 0.0), None, 1),
+        // A spacing wider than the box: one probe.
+        ("1×1×1 grid", Vec3::new(-1.0, 0.2, -1.0), Vec3::new(1.0, 1.2, 1.0), Some(100.0), 1),
+    ];
+    for (label, min, max, spacing_m, probes) in volumes {
+        let mut app = small_scene();
+        let cube = app.add_mesh(cuboid(Vec3::ONE)).expect("box");
+        let world = app.world_mut();
+        world.spawn((
+            Mesh3d(cube),
+            Material::new(Vec3::splat(0.7), 0.0, 0.6),
+            Transform::from_xyz(2.0, 0.5, 0.0),
+        ));
+        let volume = world
+            .query_filtered::<Entity, With<IrradianceVolume>>()
+            .single(world)
+            .expect("volume");
+        world.entity_mut(volume).insert(IrradianceVolume {
+            min,
+            max,
+            spacing_m,
+        });
+        let report = app.render_headless(SIZE).expect(label);
+        let c = report.volume.counts;
+        assert_eq!(c.x * c.y * c.z, probes, "{label}");
+        assert_eq!(report.volume.passes, (1, 1), "{label}");
+        assert_finite(&app);
+    }
+
+    let mut app = small_scene();
+    let world = app.world_mut();
+    let volume = world
+        .query_filtered::<Entity, With<IrradianceVolume>>()
+        .single(world)
+        .expect("volume");
+    world.entity_mut(volume).insert(IrradianceVolume::new(
+        Vec3::splat(f32::NAN),
+        Vec3::ONE,
+    ));
+    let report = app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        volume_reason(&report),
+        (false, "the IrradianceVolume's bounds are not finite".into())
+    );
+    assert_finite(&app);
+}
