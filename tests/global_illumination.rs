@@ -215,10 +215,11 @@ fn progressive_capture_spreads_probes_over_frames() {
 }
 
 #[test]
-fn bounce_light_brightens_the_shadow_under_the_sphere() {
+fn bounce_light_brightens_the_sphere_s_shadowed_underside() {
     let mut app = small_scene();
     app.render_headless(SIZE).expect("frame");
-    let at = pixel_of(&app, Vec3::new(-0.35, 0.01, -0.2), SIZE);
+    // On the sphere's lower front, turned away from the sun and towards the lit floor.
+    let at = pixel_of(&app, Vec3::new(0.0, 0.1, 0.3), SIZE);
     let lit = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
     app.world_mut().resource_mut::<Quality>().gi.enabled = false;
     let report = app.render_headless(SIZE).expect("frame");
@@ -227,8 +228,9 @@ fn bounce_light_brightens_the_shadow_under_the_sphere() {
         (false, "global illumination off (--gi off)".into())
     );
     let dark = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
-    println!("floor in the sphere's shadow at {at:?}: with GI {lit:?}, without {dark:?}");
-    assert!(lit[1] > dark[1] * 1.5 + 1e-3, "{lit:?} vs {dark:?}");
+    println!("the sphere's underside at {at:?}: with GI {lit:?}, without {dark:?}");
+    let sum = |p: [f32; 4]| p[0] + p[1] + p[2];
+    assert!(sum(lit) > sum(dark) * 1.5 + 1e-2, "{lit:?} vs {dark:?}");
 }
 
 #[test]
