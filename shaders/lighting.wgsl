@@ -12,7 +12,8 @@
 // SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
 // multiple-bounce fit), IRRADIANCE_VOLUME (diffuse indirect light from the probe grid,
 // volume_lookup.wgsl, in place of the environment's irradiance once a capture pass has
-// completed).
+// completed), REFLECTION_PROBES (specular indirect light from the reflection probes,
+// probe_reflections.wgsl, blended with the environment's).
 //
 // Shadowed lights come first within their kind and get their own loop: software
 // rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
@@ -34,6 +35,7 @@
 #import light_tiles
 #import ambient_occlusion
 #import volume_lookup
+#import probe_reflections
 
 // Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
@@ -187,13 +189,13 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
     var dfg = vec2<f32>(1.0, 0.0);
-    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME {
+    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
         dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
     }
     if ENERGY_COMPENSATION {
         specular_energy = energy_compensation(f0, dfg);
     }
-    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME {
+    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
         // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
         // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
         // surface in a uniform environment returns exactly that environment. Inside an
@@ -221,6 +223,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
                 let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
                 prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
             }
+        }
+        if REFLECTION_PROBES {
+            prefiltered = probe_reflection(world, 2.0 * dot(n, v) * n - v, r, prefiltered, view.position_exposure.w);
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {

@@ -6,7 +6,8 @@
 // that crosses the surface within the pixel, or enters it at most `thickness_m` behind
 // the surface, hits it. A hit returns the lit frame
 // there (one bounce); a miss, a ray below the surface or one leaving the screen returns
-// the environment's prefiltered radiance, which lighting already added.
+// the reflection probes' prefiltered radiance (REFLECTION_PROBES) blended with the
+// environment's, as lighting already added it.
 //
 // The pass writes the lit frame (read from its copy) plus W · (L̄ − E): W the split-sum specular weight
 // lighting used for environment light (F0·A + B, energy compensation, specular
@@ -19,7 +20,8 @@
 // pixels on the same surface, each with its own weight and environment term.
 //
 // Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
-// SCREEN_AO (bool), as the lighting pass compiles them.
+// SCREEN_AO, REFLECTION_PROBES (bool), as the lighting pass compiles them. Group 3 is the
+// lighting pass's (volume_lookup.wgsl declares the volume's bindings, unused here).
 #import common
 #import brdf
 #import color
@@ -28,6 +30,8 @@
 #import bindings
 #import fullscreen
 #import ambient_occlusion
+#import volume_lookup
+#import probe_reflections
 #import pyramid_layout
 
 struct SsrParams {
@@ -215,7 +219,11 @@ fn reflection_terms(pixel: vec2<i32>, lit: vec3<f32>) -> Terms {
         ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
     }
     t.weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, t.r) * fade;
-    t.fallback = environment_radiance(2.0 * dot(t.n, t.v) * t.n - t.v, t.r);
+    let reflected = 2.0 * dot(t.n, t.v) * t.n - t.v;
+    t.fallback = environment_radiance(reflected, t.r);
+    if REFLECTION_PROBES {
+        t.fallback = probe_reflection(t.p, reflected, t.r, t.fallback, view.position_exposure.w);
+    }
     return t;
 }
 

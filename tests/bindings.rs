@@ -9,6 +9,7 @@ use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
 use lumen::render::indirect::irradiance_volume;
+use lumen::render::indirect::reflection_probes;
 use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
@@ -72,6 +73,7 @@ fn every_bind_group_list_matches_its_shader() {
         screen_ao: true,
         ao_multi_bounce: true,
         irradiance_volume: true,
+        reflection_probes: true,
         light_culling: true,
         uniform_lights: true,
         uniform_shadow_views: true,
@@ -92,6 +94,11 @@ fn every_bind_group_list_matches_its_shader() {
         &[(0, irradiance_volume::CAPTURE)],
     );
     check("probe_bake.wgsl", &[], &[(0, irradiance_volume::BAKE)]);
+    check(
+        "reflection_capture.wgsl",
+        &[],
+        &[(0, reflection_probes::FACE_COPY)],
+    );
     check(
         "gbuffer.wgsl",
         &[],
@@ -144,6 +151,7 @@ fn every_bind_group_list_matches_its_shader() {
             env_map: true,
             energy_compensation: true,
             screen_ao: true,
+            reflection_probes: true,
             format: wgpu::TextureFormat::Rgba16Float,
             half: true,
         }),
@@ -151,6 +159,7 @@ fn every_bind_group_list_matches_its_shader() {
             (0, reflections::SSR),
             (1, lighting::ENVIRONMENT),
             (2, reflections::SSR_HALF),
+            (3, lighting::PROBES),
         ],
     );
     assert_eq!(

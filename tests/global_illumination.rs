@@ -63,7 +63,12 @@ fn cornell_colour_bleeding_matches_the_path_tracer() {
     };
     let truth = render(&traced, &options, &|_| {}).image;
     let report = app.render_headless(size).expect("frame");
-    assert_eq!(report.volume.passes, (2, 2), "{:?}", report.volume);
+    assert_eq!(
+        report.probes.volume.passes,
+        (2, 2),
+        "{:?}",
+        report.probes.volume
+    );
     let with_gi = app.read_hdr_image().expect("hdr");
     // The white back wall, 5 cm from the red wall (x = room width), at four heights.
     let pixels: Vec<(u32, u32)> = [0.15, 0.25, 0.35, 0.45]
@@ -145,7 +150,10 @@ const SIZE: (u32, u32) = (48, 32);
 
 fn assert_finite(app: &App) {
     let hdr = app.read_hdr_image().expect("hdr");
-    let bad = hdr.pixels().filter(|p| !p.0.iter().all(|v| v.is_finite())).count();
+    let bad = hdr
+        .pixels()
+        .filter(|p| !p.0.iter().all(|v| v.is_finite()))
+        .count();
     assert_eq!(bad, 0, "{bad} pixels are not finite");
 }
 
@@ -163,11 +171,11 @@ fn volume_reason(report: &FrameReport) -> (bool, String) {
 fn a_converged_volume_is_captured_again_only_when_the_scene_changes() {
     let mut app = small_scene();
     let first = app.render_headless(SIZE).expect("frame");
-    assert_eq!(first.volume.counts, glam::UVec3::new(2, 1, 2));
-    assert_eq!(first.volume.faces_captured, 4 * 6);
-    assert_eq!(first.volume.passes, (1, 1));
+    assert_eq!(first.probes.volume.counts, glam::UVec3::new(2, 1, 2));
+    assert_eq!(first.probes.volume.faces_captured, 4 * 6);
+    assert_eq!(first.probes.volume.passes, (1, 1));
     let again = app.render_headless(SIZE).expect("frame");
-    assert_eq!(again.volume.faces_captured, 0, "nothing changed");
+    assert_eq!(again.probes.volume.faces_captured, 0, "nothing changed");
     // The camera is not part of what the probes see.
     let camera = app
         .world_mut()
@@ -178,7 +186,10 @@ fn a_converged_volume_is_captured_again_only_when_the_scene_changes() {
         .entity_mut(camera)
         .insert(Transform::from_xyz(1.0, 1.5, 4.0).looking_at(Vec3::ZERO, Vec3::Y));
     let moved_camera = app.render_headless(SIZE).expect("frame");
-    assert_eq!(moved_camera.volume.faces_captured, 0, "only the camera moved");
+    assert_eq!(
+        moved_camera.probes.volume.faces_captured, 0,
+        "only the camera moved"
+    );
     // A mesh that moves is.
     let sphere = app
         .world_mut()
@@ -190,7 +201,11 @@ fn a_converged_volume_is_captured_again_only_when_the_scene_changes() {
         .entity_mut(sphere)
         .insert(Transform::from_xyz(0.3, 0.5, 0.0));
     let moved = app.render_headless(SIZE).expect("frame");
-    assert_eq!(moved.volume.faces_captured, 4 * 6, "the sphere moved");
+    assert_eq!(
+        moved.probes.volume.faces_captured,
+        4 * 6,
+        "the sphere moved"
+    );
 }
 
 #[test]
@@ -205,7 +220,10 @@ fn progressive_capture_spreads_probes_over_frames() {
     let mut captured = Vec::new();
     for _ in 0..10 {
         let report = app.render_headless(SIZE).expect("frame");
-        captured.push((report.volume.faces_captured, report.volume.passes.0));
+        captured.push((
+            report.probes.volume.faces_captured,
+            report.probes.volume.passes.0,
+        ));
     }
     // Four probes, two passes, one probe per frame: eight frames of six faces.
     let faces: Vec<u32> = captured.iter().map(|c| c.0).collect();
@@ -237,7 +255,8 @@ fn bounce_light_brightens_the_sphere_s_shadowed_underside() {
 fn no_nan_at_the_extremes() {
     // No mesh at all: no volume, with its reason.
     let mut app = App::headless().expect("a GPU adapter");
-    app.world_mut().spawn((Camera::default(), Transform::from_xyz(0.0, 0.0, 3.0)));
+    app.world_mut()
+        .spawn((Camera::default(), Transform::from_xyz(0.0, 0.0, 3.0)));
     let report = app.render_headless(SIZE).expect("empty frame");
     assert_eq!(
         volume_reason(&report),
@@ -247,11 +266,29 @@ fn no_nan_at_the_extremes() {
 
     let volumes = [
         // A probe inside a closed box.
-        ("probe inside a mesh", Vec3::new(2.0, 0.5, 0.0), Vec3::new(2.0, 0.5, 0.0), None, 1),
+        (
+            "probe inside a mesh",
+            Vec3::new(2.0, 0.5, 0.0),
+            Vec3::new(2.0, 0.5, 0.0),
+            None,
+            1,
+        ),
         // A box of zero size: one probe.
-        ("zero-size volume", Vec3::new(0.0, 1.5, 0.0), Vec3::new(0.0, 1.5, 0.0), None, 1),
+        (
+            "zero-size volume",
+            Vec3::new(0.0, 1.5, 0.0),
+            Vec3::new(0.0, 1.5, 0.0),
+            None,
+            1,
+        ),
         // A spacing wider than the box: one probe.
-        ("1×1×1 grid", Vec3::new(-1.0, 0.2, -1.0), Vec3::new(1.0, 1.2, 1.0), Some(100.0), 1),
+        (
+            "1×1×1 grid",
+            Vec3::new(-1.0, 0.2, -1.0),
+            Vec3::new(1.0, 1.2, 1.0),
+            Some(100.0),
+            1,
+        ),
     ];
     for (label, min, max, spacing_m, probes) in volumes {
         let mut app = small_scene();
@@ -272,9 +309,9 @@ fn no_nan_at_the_extremes() {
             spacing_m,
         });
         let report = app.render_headless(SIZE).expect(label);
-        let c = report.volume.counts;
+        let c = report.probes.volume.counts;
         assert_eq!(c.x * c.y * c.z, probes, "{label}");
-        assert_eq!(report.volume.passes, (1, 1), "{label}");
+        assert_eq!(report.probes.volume.passes, (1, 1), "{label}");
         assert_finite(&app);
     }
 
@@ -284,10 +321,9 @@ fn no_nan_at_the_extremes() {
         .query_filtered::<Entity, With<IrradianceVolume>>()
         .single(world)
         .expect("volume");
-    world.entity_mut(volume).insert(IrradianceVolume::new(
-        Vec3::splat(f32::NAN),
-        Vec3::ONE,
-    ));
+    world
+        .entity_mut(volume)
+        .insert(IrradianceVolume::new(Vec3::splat(f32::NAN), Vec3::ONE));
     let report = app.render_headless(SIZE).expect("frame");
     assert_eq!(
         volume_reason(&report),

@@ -6,8 +6,8 @@ mod common;
 
 use glam::{Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;
-use lumen::irradiance_volume as gi;
 use lumen::brdf::{self, Surface, VisibilityModel};
+use lumen::irradiance_volume as gi;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;

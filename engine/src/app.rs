@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::quality::Quality;
+use crate::render::capture::ProbeStatus;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::exposure::ExposurePass;
 use crate::render::extract::ExtractedFrame;
@@ -19,7 +20,6 @@ use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleLabel};
 use bevy_ecs::system::ScheduleSystem;
-use crate::render::capture::VolumeStatus;
 use std::path::Path;
 use std::time::Instant;
 
@@ -69,9 +69,9 @@ pub struct FrameReport {
     pub notes: Vec<String>,
     /// What automatic exposure metered (after this frame; empty for other modes).
     pub metered: MeteredExposure,
-    /// The irradiance volume: its grid, the capture passes done, and the probe captures
-    /// run before this frame.
-    pub volume: VolumeStatus,
+    /// The irradiance volume and the reflection probes: what is placed, the captures run
+    /// before this frame, and their time.
+    pub probes: ProbeStatus,
 }
 
 /// A render target of the frame that can be read back with [`App::read_target`].
@@ -384,9 +384,12 @@ impl App {
             format,
         });
         let t = Instant::now();
-        let per_frame = self.world.get_resource::<Quality>().map_or(0, |q| q.gi.probes_per_frame);
+        let per_frame = self
+            .world
+            .get_resource::<Quality>()
+            .map_or(0, |q| q.gi.probes_per_frame);
         let budget = (self.progressive_probes && per_frame > 0).then_some(per_frame);
-        let volume = crate::render::capture::update_irradiance_volume(&mut self.world, budget)?;
+        let probes = crate::render::capture::update_probes(&mut self.world, budget)?;
         stage("probes", t);
 
         self.world
@@ -459,7 +462,7 @@ impl App {
                 .clone(),
             notes: camera.notes.clone(),
             metered: *self.world.resource::<MeteredExposure>(),
-            volume,
+            probes,
         })
     }
 

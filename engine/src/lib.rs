@@ -38,6 +38,7 @@ pub mod limits;
 pub mod punctual;
 pub mod quality;
 pub mod reference;
+pub mod reflection_probe;
 pub mod render;
 pub mod scene;
 pub mod trace_input;
@@ -58,9 +59,9 @@ pub mod prelude {
     pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
         Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
-        EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor, LuminousIntensity, Material, Mesh3d,
-        MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight, Projection,
-        ShadowSettings, SpotLight, Transform,
+        EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor, LuminousIntensity,
+        Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight,
+        Projection, ReflectionProbe, ShadowSettings, SpotLight, Transform,
     };
     pub use bevy_ecs::hierarchy::ChildOf;
     pub use bevy_ecs::prelude::*;

@@ -211,6 +211,8 @@ pub struct Quality {
     pub ssr: SsrSettings,
     /// Diffuse global illumination from an irradiance volume.
     pub gi: GiSettings,
+    /// Reflection probes.
+    pub reflection_probes: ReflectionProbeSettings,
 }
 
 /// Diffuse global illumination from an irradiance volume
@@ -245,6 +247,26 @@ impl Default for GiSettings {
             face_size: 16,
             bounces: 2,
             probes_per_frame: 8,
+        }
+    }
+}
+
+/// Reflection probes ([`crate::render::indirect::reflection_probes`]): cube maps of the lit
+/// scene captured through the frame's own passes and prefiltered like an environment, for
+/// the specular reflections the environment cannot give (the floor in a metal sphere).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReflectionProbeSettings {
+    /// On or off. Off, no probe is placed or captured.
+    pub enabled: bool,
+    /// Side of each captured cube face, in pixels, 16..=256 (a power of two).
+    pub face_size: u32,
+}
+
+impl Default for ReflectionProbeSettings {
+    fn default() -> Self {
+        ReflectionProbeSettings {
+            enabled: true,
+            face_size: 64,
         }
     }
 }
@@ -348,6 +370,10 @@ impl QualityPreset {
                     enabled: false,
                     ..high.gi
                 },
+                reflection_probes: ReflectionProbeSettings {
+                    enabled: false,
+                    ..high.reflection_probes
+                },
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -371,6 +397,10 @@ impl QualityPreset {
                     face_size: 8,
                     bounces: 1,
                     ..high.gi
+                },
+                reflection_probes: ReflectionProbeSettings {
+                    face_size: 32,
+                    ..high.reflection_probes
                 },
                 ..high
             },
@@ -405,6 +435,10 @@ impl QualityPreset {
                     probes_per_frame: 16,
                     ..high.gi
                 },
+                reflection_probes: ReflectionProbeSettings {
+                    face_size: 128,
+                    ..high.reflection_probes
+                },
                 ..high
             },
         }
@@ -431,6 +465,7 @@ impl Default for Quality {
             ao: AoSettings::default(),
             ssr: SsrSettings::default(),
             gi: GiSettings::default(),
+            reflection_probes: ReflectionProbeSettings::default(),
         }
     }
 }

@@ -329,6 +329,13 @@ pub struct SceneArgs {
     /// at once).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     pub gi_budget: Option<u32>,
+    /// Reflection probes: on (default from `medium`) or off.
+    #[arg(long, value_name = "ON", value_parser = parse_on_off)]
+    pub reflection_probes: Option<bool>,
+    /// Side in pixels of each cube face a reflection probe captures (16..=256, rounded up to
+    /// a power of two).
+    #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=256))]
+    pub reflection_probe_size: Option<u32>,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]

@@ -146,6 +146,12 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(n) = args.gi_budget {
         quality.gi.probes_per_frame = n;
     }
+    if let Some(on) = args.reflection_probes {
+        quality.reflection_probes.enabled = on;
+    }
+    if let Some(n) = args.reflection_probe_size {
+        quality.reflection_probes.face_size = n;
+    }
 }
 
 /// The command line's camera settings.
@@ -312,6 +318,10 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "face_size": q.gi.face_size,
             "bounces": q.gi.bounces,
             "probes_per_frame": q.gi.probes_per_frame,
+        },
+        "reflection_probes": {
+            "enabled": q.reflection_probes.enabled,
+            "face_size": q.reflection_probes.face_size,
         },
     })
 }

@@ -1,18 +1,22 @@
 //! Probe captures: the lit scene seen from a probe, rendered by the frame's own capture
 //! passes ([`crate::render::graph::FramePass::CAPTURE`]: shadows, G-buffer, light culling,
-//! lighting, sky) into six square 90° views, each reduced into the probe's record
-//! ([`crate::render::indirect::irradiance_volume`]).
+//! lighting, sky) into six square 90° views. Each view is reduced into an irradiance
+//! probe's record ([`crate::render::indirect::irradiance_volume`]) or copied into a
+//! reflection probe's cube ([`crate::render::indirect::reflection_probes`]).
 //!
 //! A capture runs the [`ExtractSchedule`] with a [`CaptureView`] in place of the camera,
 //! then the [`CaptureSchedule`], into targets of its own (swapped in, so the frame's
 //! targets survive), and submits; the GPU works through the faces while the next one is
-//! recorded. The camera's exposure pre-exposes the capture as it does the frame, and the
-//! reduction divides it out, so probe light is stored in physical units.
+//! recorded. The camera's exposure pre-exposes the capture as it does the frame; probe
+//! light keeps that exposure beside it, so the frame rescales it to its own.
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
-use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::ibl::{Ibl, face_strip};
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
+use crate::render::indirect::reflection_probes::{CapturedProbe, ReflectionProbesGpu, probes_for};
 use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::RenderTargets;
 use crate::render::{CaptureSchedule, ExtractSchedule};
@@ -30,7 +34,7 @@ pub const FACES: [(Vec3, Vec3); 6] = [
     (Vec3::NEG_Z, Vec3::Y),
 ];
 
-/// What the volume did before a frame.
+/// What the irradiance volume did before a frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct VolumeStatus {
     /// Probes along each axis (zero without a volume).
@@ -39,15 +43,36 @@ pub struct VolumeStatus {
     pub passes: (u32, u32),
     /// Cube faces captured before this frame.
     pub faces_captured: u32,
-    /// Time those captures took (ms, CPU and GPU, waited for).
-    pub capture_ms: f64,
     /// Why there is no volume, when there is none.
     pub skip_reason: Option<String>,
 }
 
-/// Places the scene's irradiance volume, restarts its capture when the scene changed, and
-/// captures up to `budget` probes (`None`: until it converges).
-pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Result<VolumeStatus> {
+/// What the reflection probes did before a frame.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ReflectionStatus {
+    /// Probes placed.
+    pub probes: u32,
+    /// Probes captured (and prefiltered) before this frame.
+    pub captured: u32,
+    /// Why there are no probes, when there are none.
+    pub skip_reason: Option<String>,
+}
+
+/// What the probes did before a frame, and how long it took.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ProbeStatus {
+    /// The irradiance volume.
+    pub volume: VolumeStatus,
+    /// The reflection probes.
+    pub reflections: ReflectionStatus,
+    /// Time the captures took (ms, CPU and GPU, waited for).
+    pub capture_ms: f64,
+}
+
+/// Places the scene's irradiance volume and reflection probes, restarts their captures
+/// when the scene changed, and captures: up to `budget` irradiance probes and, once the
+/// volume has converged, one reflection probe (`None`: everything, until both converge).
+pub fn update_probes(world: &mut World, budget: Option<u32>) -> Result<ProbeStatus> {
     let start = Instant::now();
     let changed = world.run_system_cached(scene_changed).unwrap_or(true);
     // The atlas may hold views of casters that have moved since the last round.
@@ -55,13 +80,45 @@ pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Resul
     let camera_aspect = world
         .get_resource::<FrameOutput>()
         .map_or(1.0, |o| o.size.0 as f32 / o.size.1.max(1) as f32);
+    let gpu = world.resource::<Gpu>().clone();
+    let volume = update_volume(world, &gpu, changed, budget, camera_aspect)?;
+    let reflections = update_reflections(world, &gpu, changed, budget, camera_aspect)?;
+    if volume.faces_captured > 0 || reflections.captured > 0 {
+        gpu.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map_err(|e| Error::Gpu(format!("waiting for probe captures: {e}")))?;
+    }
+    Ok(ProbeStatus {
+        volume,
+        reflections,
+        capture_ms: start.elapsed().as_secs_f64() * 1e3,
+    })
+}
+
+fn camera_exposure(world: &World) -> f32 {
+    world
+        .resource::<ExtractedFrame>()
+        .camera
+        .as_ref()
+        .map_or(1.0, |c| c.exposure)
+}
+
+fn update_volume(
+    world: &mut World,
+    gpu: &Gpu,
+    changed: bool,
+    budget: Option<u32>,
+    camera_aspect: f32,
+) -> Result<VolumeStatus> {
     let gi = world.resource::<crate::quality::Quality>().gi;
     let grid = grid_for(world, &gi);
-    let gpu = world.resource::<Gpu>().clone();
     let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
     let wanted = grid.as_ref().ok().copied();
     if volume.grid != wanted {
-        volume.set_grid(&gpu, wanted);
+        volume.set_grid(gpu, wanted);
     } else if changed {
         volume.restart();
     }
@@ -75,28 +132,28 @@ pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Resul
     let mut left = budget.map(|b| b.max(1));
     let mut faces = 0;
     while !world.resource::<IrradianceVolumeGpu>().converged() && left != Some(0) {
-        let probe = world.resource::<IrradianceVolumeGpu>().next_probe;
+        let volume = world.resource::<IrradianceVolumeGpu>();
+        let (Some(grid), probe) = (volume.grid, volume.next_probe) else {
+            break;
+        };
         for face in 0..FACES.len() as u32 {
-            capture_face(world, &gpu, probe, face, camera_aspect)?;
+            let view = capture_view(grid.position(probe), face, camera_aspect);
+            capture_face(
+                world,
+                gpu,
+                CaptureView {
+                    target: CaptureTarget::IrradianceProbe(probe),
+                    ..view
+                },
+                grid.face_size,
+            )?;
             faces += 1;
         }
-        let exposure = world
-            .resource::<crate::render::extract::ExtractedFrame>()
-            .camera
-            .as_ref()
-            .map_or(1.0, |c| c.exposure);
+        let exposure = camera_exposure(world);
         world
             .resource_mut::<IrradianceVolumeGpu>()
-            .probe_done(&gpu, exposure)?;
+            .probe_done(gpu, exposure)?;
         left = left.map(|l| l - 1);
-    }
-    if faces > 0 {
-        gpu.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })
-            .map_err(|e| Error::Gpu(format!("waiting for probe captures: {e}")))?;
     }
     let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
     volume.faces_captured += u64::from(faces);
@@ -107,35 +164,116 @@ pub fn update_irradiance_volume(world: &mut World, budget: Option<u32>) -> Resul
             volume.grid.map_or(0, |g| g.bounces),
         ),
         faces_captured: faces,
-        capture_ms: start.elapsed().as_secs_f64() * 1e3,
         skip_reason: None,
     })
 }
 
-/// Renders face `face` of probe `probe` and records its reduction; submits.
-fn capture_face(
+fn update_reflections(
     world: &mut World,
     gpu: &Gpu,
-    probe: u32,
-    face: u32,
+    changed: bool,
+    budget: Option<u32>,
     camera_aspect: f32,
-) -> Result<()> {
-    let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
-    let Some(grid) = volume.grid else {
-        return Ok(());
-    };
+) -> Result<ReflectionStatus> {
+    let quality = *world.resource::<crate::quality::Quality>();
+    let placed = probes_for(world, &quality.reflection_probes);
+    let mut probes = world.resource_mut::<ReflectionProbesGpu>();
+    match &placed {
+        Ok(p) => probes.place(gpu, p.clone()),
+        Err(reason) => {
+            probes.place(gpu, Vec::new());
+            probes.skip_reason = reason.clone();
+            return Ok(ReflectionStatus {
+                skip_reason: Some(reason.clone()),
+                ..ReflectionStatus::default()
+            });
+        }
+    }
+    if changed {
+        probes.stale.iter_mut().for_each(|s| *s = true);
+    }
+    let placed_count = probes.placed.len() as u32;
+    // Probes see the volume's light: they wait for it to converge.
+    if !world.resource::<IrradianceVolumeGpu>().converged() {
+        return Ok(ReflectionStatus {
+            probes: placed_count,
+            ..ReflectionStatus::default()
+        });
+    }
+    let size = quality
+        .reflection_probes
+        .face_size
+        .clamp(16, 256)
+        .next_power_of_two();
+    let mut captured = 0;
+    while let Some(slot) = world.resource::<ReflectionProbesGpu>().next_stale() {
+        if budget.is_some() && captured > 0 {
+            break;
+        }
+        let placed = world.resource::<ReflectionProbesGpu>().placed[slot];
+        world.resource_mut::<ReflectionProbesGpu>().strip = Some(face_strip(gpu, size));
+        for face in 0..FACES.len() as u32 {
+            let view = capture_view(placed.position, face, camera_aspect);
+            capture_face(
+                world,
+                gpu,
+                CaptureView {
+                    target: CaptureTarget::ReflectionProbe(slot as u32),
+                    ..view
+                },
+                size,
+            )?;
+        }
+        let exposure = camera_exposure(world);
+        let Some(strip) = world.resource_mut::<ReflectionProbesGpu>().strip.take() else {
+            break;
+        };
+        let cube = world.resource_mut::<Ibl>().prefilter_strip(
+            gpu,
+            strip,
+            size,
+            quality.ibl_samples,
+            None,
+        )?;
+        world.resource_mut::<ReflectionProbesGpu>().set_captured(
+            gpu,
+            slot,
+            CapturedProbe {
+                placed,
+                cube,
+                exposure,
+            },
+        );
+        captured += 1;
+    }
+    Ok(ReflectionStatus {
+        probes: placed_count,
+        captured,
+        skip_reason: None,
+    })
+}
+
+/// The view of cube face `face` from `position`.
+fn capture_view(position: Vec3, face: u32, camera_aspect: f32) -> CaptureView {
     let (axis, up) = FACES[face as usize];
-    let view_from_world = Mat4::look_to_rh(grid.position(probe), axis, up);
-    volume.capturing = Some((probe, face));
-    let mut targets = std::mem::take(&mut volume.capture_targets);
-    std::mem::swap(&mut targets, &mut *world.resource_mut::<RenderTargets>());
-    world.insert_resource(CaptureView {
-        world_from_view: view_from_world.inverse(),
+    CaptureView {
+        world_from_view: Mat4::look_to_rh(position, axis, up).inverse(),
         fov_y_rad: std::f32::consts::FRAC_PI_2,
         camera_aspect,
-    });
+        target: CaptureTarget::IrradianceProbe(0),
+        face,
+    }
+}
+
+/// Renders one face through the capture schedule (which records its reduction or copy)
+/// and submits it.
+fn capture_face(world: &mut World, gpu: &Gpu, view: CaptureView, size: u32) -> Result<()> {
+    let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
+    let mut targets = std::mem::take(&mut volume.capture_targets);
+    std::mem::swap(&mut targets, &mut *world.resource_mut::<RenderTargets>());
+    world.insert_resource(view);
     world.insert_resource(FrameOutput {
-        size: (grid.face_size, grid.face_size),
+        size: (size, size),
         view: None,
         format: wgpu::TextureFormat::Rgba8Unorm,
     });
@@ -146,13 +284,12 @@ fn capture_face(
     }
     let encoder = world.resource_mut::<FrameEncoder>().encoder.take();
     std::mem::swap(&mut targets, &mut *world.resource_mut::<RenderTargets>());
-    let mut volume = world.resource_mut::<IrradianceVolumeGpu>();
-    volume.capture_targets = targets;
-    volume.capturing = None;
+    world.resource_mut::<IrradianceVolumeGpu>().capture_targets = targets;
     world.remove_resource::<CaptureView>();
     if let Some(e) = world.resource_mut::<FrameErrors>().0.drain(..).next() {
         return Err(Error::Gpu(format!(
-            "capturing probe {probe}, face {face}: {e}"
+            "capturing {:?}, face {}: {e}",
+            view.target, view.face
         )));
     }
     if let Some(encoder) = encoder {

@@ -307,7 +307,9 @@ pub fn extract_frame(
     };
     // A probe capture looks from the probe, through a centred 90° frustum.
     let main_transform = camera_transform;
-    let capture_transform = capture.as_deref().map(|c| GlobalTransform(c.world_from_view));
+    let capture_transform = capture
+        .as_deref()
+        .map(|c| GlobalTransform(c.world_from_view));
     let camera_transform = capture_transform.as_ref().unwrap_or(camera_transform);
     let projection = match capture.as_deref() {
         Some(c) => crate::scene::Projection {

@@ -63,4 +63,17 @@ pub struct CaptureView {
     /// Width / height of the camera's own frame: directional shadow cascades are fitted
     /// to the camera's frustum, not the capture's.
     pub camera_aspect: f32,
+    /// What the capture is for.
+    pub target: CaptureTarget,
+    /// The cube face, 0–5 (+x, −x, +y, −y, +z, −z).
+    pub face: u32,
+}
+
+/// What a probe capture feeds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaptureTarget {
+    /// Probe `i` of the irradiance volume.
+    IrradianceProbe(u32),
+    /// Reflection probe slot `i`.
+    ReflectionProbe(u32),
 }

@@ -63,6 +63,20 @@ struct Params {
     pad: [f32; 3],
 }
 
+/// A cube map's source pyramid and its GGX prefiltering ([`Ibl::prefilter_strip`]).
+pub struct PrefilteredCube {
+    /// The GGX-prefiltered cube: mip m for perceptual roughness m / (mips − 1).
+    pub specular: wgpu::Texture,
+    /// A cube view of all its mips.
+    pub view: wgpu::TextureView,
+    /// Number of prefiltered mips.
+    pub mips: u32,
+    /// The source cube (mip pyramid).
+    pub source: wgpu::Texture,
+    /// How long each step took (ms).
+    pub steps: Vec<(&'static str, f64)>,
+}
+
 /// The bind group of indirect light that the lighting and reflection passes share: the
 /// environment (split-sum image-based lighting) and the AO pass's occlusion.
 pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
@@ -156,7 +170,7 @@ fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
 
 /// A face strip: the six faces of one cube mip of `size`² texels side by side in a 2D
 /// texture, written by the preprocessing shaders and copied into the cube.
-fn face_strip(gpu: &Gpu, size: u32) -> wgpu::Texture {
+pub fn face_strip(gpu: &Gpu, size: u32) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some("environment face strip"),
         size: wgpu::Extent3d {
@@ -351,6 +365,121 @@ impl Ibl {
         pass.dispatch_workgroups(groups, groups, 6);
     }
 
+    /// Builds the mip pyramid of a cube whose level 0 is `strip` (six faces of `size`²
+    /// texels side by side, as the preprocessing shaders write them) and prefilters it with
+    /// `samples` GGX samples per texel: steps 4 and 5 of the module's list, for an
+    /// environment image and for a reflection probe's capture alike. `progress`, when
+    /// given, numbers the steps (first, total) for the progress callback.
+    pub fn prefilter_strip(
+        &mut self,
+        gpu: &Gpu,
+        strip: wgpu::Texture,
+        size: u32,
+        samples: u32,
+        progress: Option<(u32, u32)>,
+    ) -> Result<PrefilteredCube> {
+        let (first_step, total) = progress.unwrap_or((0, 0));
+        let report = progress.is_some();
+        let source_mips = size.ilog2() + 1;
+        let mips = source_mips.min(MAX_PREFILTERED_MIPS);
+        let base = Params {
+            size,
+            mip: 0,
+            mips: 0,
+            samples,
+            source_size: size as f32,
+            pad: [0.0; 3],
+        };
+        let source = cube_texture(gpu, "environment source cube", size, source_mips);
+        if report {
+            self.report("cube mips", first_step, total);
+        }
+        let mut strip = strip;
+        let ms = Ibl::run(gpu, "cube mips", |encoder| {
+            copy_strip_to_cube(encoder, &strip, &source, 0, size);
+            for mip in 1..source_mips {
+                let level_size = (size >> mip).max(1);
+                let next = face_strip(gpu, level_size);
+                Ibl::dispatch(
+                    gpu,
+                    encoder,
+                    &self.downsample,
+                    Params {
+                        size: level_size,
+                        mip,
+                        ..base
+                    },
+                    &[
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: wgpu::BindingResource::TextureView(
+                                &strip.create_view(&Default::default()),
+                            ),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 6,
+                            resource: wgpu::BindingResource::TextureView(
+                                &next.create_view(&Default::default()),
+                            ),
+                        },
+                    ],
+                );
+                copy_strip_to_cube(encoder, &next, &source, mip, level_size);
+                strip = next;
+            }
+        })?;
+        let mut steps = vec![("cube mips", ms)];
+        let specular = cube_texture(gpu, "environment specular cube", size, mips);
+        let source_cube = cube_view(&source);
+        // One submission per mip, so that a large environment reports progress.
+        let mut ms = 0.0;
+        for mip in 0..mips {
+            if report {
+                self.report("ggx prefilter", first_step + 1 + mip, total);
+            }
+            ms += Ibl::run(gpu, "ggx prefilter", |encoder| {
+                Ibl::dispatch(
+                    gpu,
+                    encoder,
+                    &self.prefilter,
+                    Params {
+                        size: size >> mip,
+                        mip,
+                        mips,
+                        ..base
+                    },
+                    &[
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&layer_view(
+                                &specular, mip,
+                            )),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::Sampler(&self.sampler),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::TextureView(&source_cube),
+                        },
+                    ],
+                );
+            })?;
+        }
+        if report {
+            self.report("done", total, total);
+        }
+        steps.push(("ggx prefilter", ms));
+        Ok(PrefilteredCube {
+            view: cube_view(&specular),
+            specular,
+            mips,
+            source,
+            steps,
+        })
+    }
+
     /// Prefilters `image` (once per image and sample count; later calls return the cached
     /// result) and records the time of each step.
     pub fn prepare_image(
@@ -368,9 +497,7 @@ impl Ibl {
         }
         let mut steps: Vec<(&'static str, f64)> = Vec::new();
         let size = (image.width / 4).next_power_of_two().clamp(32, 1024);
-        let source_mips = size.ilog2() + 1;
-        let mips = source_mips.min(MAX_PREFILTERED_MIPS);
-        let total = 4 + mips;
+        let total = 4 + (size.ilog2() + 1).min(MAX_PREFILTERED_MIPS);
         self.report("upload", 0, total);
 
         let t = Instant::now();
@@ -429,7 +556,6 @@ impl Ibl {
         // previous strip. This is for GL, where a cube can be neither sampled as a 2D array
         // nor copied from, and where sampling mip n−1 of a texture sets its level range to
         // n−1 so that an image store into mip n of the same texture is dropped.
-        let source = cube_texture(gpu, "environment source cube", size, source_mips);
         let equirect_view = equirect.create_view(&Default::default());
         let base = Params {
             size,
@@ -439,7 +565,7 @@ impl Ibl {
             source_size: size as f32,
             pad: [0.0; 3],
         };
-        let mut strip = face_strip(gpu, size);
+        let strip = face_strip(gpu, size);
         let ms = Ibl::run(gpu, "equirect to cube", |encoder| {
             Ibl::dispatch(
                 gpu,
@@ -463,93 +589,19 @@ impl Ibl {
                     },
                 ],
             );
-            copy_strip_to_cube(encoder, &strip, &source, 0, size);
         })?;
         steps.push(("equirect to cube", ms));
-
-        self.report("cube mips", 3, total);
-        let ms = Ibl::run(gpu, "cube mips", |encoder| {
-            for mip in 1..source_mips {
-                let level_size = (size >> mip).max(1);
-                let next = face_strip(gpu, level_size);
-                Ibl::dispatch(
-                    gpu,
-                    encoder,
-                    &self.downsample,
-                    Params {
-                        size: level_size,
-                        mip,
-                        ..base
-                    },
-                    &[
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: wgpu::BindingResource::TextureView(
-                                &strip.create_view(&Default::default()),
-                            ),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 6,
-                            resource: wgpu::BindingResource::TextureView(
-                                &next.create_view(&Default::default()),
-                            ),
-                        },
-                    ],
-                );
-                copy_strip_to_cube(encoder, &next, &source, mip, level_size);
-                strip = next;
-            }
-        })?;
-        steps.push(("cube mips", ms));
-
-        let specular = cube_texture(gpu, "environment specular cube", size, mips);
-        let source_cube = cube_view(&source);
-        // One submission per mip, so that a large environment reports progress.
-        let mut ms = 0.0;
-        for mip in 0..mips {
-            self.report("ggx prefilter", 4 + mip, total);
-            ms += Ibl::run(gpu, "ggx prefilter", |encoder| {
-                Ibl::dispatch(
-                    gpu,
-                    encoder,
-                    &self.prefilter,
-                    Params {
-                        size: size >> mip,
-                        mip,
-                        mips,
-                        ..base
-                    },
-                    &[
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&layer_view(
-                                &specular, mip,
-                            )),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::Sampler(&self.sampler),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: wgpu::BindingResource::TextureView(&source_cube),
-                        },
-                    ],
-                );
-            })?;
-        }
-        self.report("done", total, total);
-        steps.push(("ggx prefilter", ms));
-        let view = cube_view(&specular);
+        let prefiltered = self.prefilter_strip(gpu, strip, size, samples, Some((3, total)))?;
+        steps.extend(prefiltered.steps);
         self.cache.insert(
             key,
             PreparedEnvironment {
-                specular,
-                view,
-                mips,
+                specular: prefiltered.specular,
+                view: prefiltered.view,
+                mips: prefiltered.mips,
                 sh,
                 steps,
-                source,
+                source: prefiltered.source,
             },
         );
         self.cache
@@ -626,7 +678,11 @@ pub fn prepare_ibl(
     ibl.last_steps.clear();
     let exposure = frame.camera.as_ref().map_or(1.0, |c| c.exposure);
     let env = frame.environment.as_ref();
-    if env.is_some() || quality.energy_compensation || quality.gi.enabled {
+    if env.is_some()
+        || quality.energy_compensation
+        || quality.gi.enabled
+        || quality.reflection_probes.enabled
+    {
         match ibl.ensure_lut(&gpu, quality.brdf_lut_size, quality.brdf_lut_samples) {
             Ok(Some(ms)) => ibl.last_steps.push(("brdf lut".into(), ms)),
             Ok(None) => {}

@@ -17,7 +17,8 @@ use crate::render::graph::slots::{
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::ibl::Ibl;
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
-use crate::render::indirect::irradiance_volume::IrradianceVolumeGpu;
+use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, probe_bindings};
+use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
@@ -62,6 +63,8 @@ pub struct LightingVariant {
     pub ao_multi_bounce: bool,
     /// Diffuse indirect light from the irradiance volume's probes.
     pub irradiance_volume: bool,
+    /// Specular indirect light from reflection probes.
+    pub reflection_probes: bool,
     /// Unshadowed point and spot lights come from the tile lists of the culling pass.
     pub light_culling: bool,
     /// Every light fits the uniform copy of the light array (read from it, not from the
@@ -162,6 +165,20 @@ impl FramePass for LightingPass {
                 ),
             },
         );
+        let reflections = world.resource::<ReflectionProbesGpu>();
+        let captured = reflections.captured.iter().flatten().count();
+        let reflection_probes = Decision::new(
+            "reflection probes",
+            captured > 0 && instances > 0,
+            if reflections.placed.is_empty() {
+                reflections.skip_reason.clone()
+            } else {
+                format!(
+                    "{} placed, {captured} captured (parallax-corrected boxes)",
+                    reflections.placed.len()
+                )
+            },
+        );
         let screen_ao = plan.runs(PassId::AmbientOcclusion) && environment.enabled;
         let ambient_occlusion = Decision::new(
             "ambient occlusion",
@@ -189,6 +206,7 @@ impl FramePass for LightingPass {
             screen_ao,
             ao_multi_bounce: screen_ao && quality.ao.multi_bounce,
             irradiance_volume: irradiance_volume.enabled,
+            reflection_probes: reflection_probes.enabled,
             light_culling: plan.runs(PassId::LightCulling),
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views
@@ -205,6 +223,7 @@ impl FramePass for LightingPass {
                 shadow_lookups,
                 environment,
                 irradiance_volume,
+                reflection_probes,
                 ambient_occlusion,
                 energy_compensation,
             ],
@@ -328,6 +347,7 @@ impl LightingPass {
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
             ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
             ShaderDef::Bool("IRRADIANCE_VOLUME", variant.irradiance_volume),
+            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
             ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
@@ -395,6 +415,7 @@ pub struct LightingInputs<'w> {
     ibl: Res<'w, Ibl>,
     culling: Res<'w, LightCullingPass>,
     volume: Res<'w, IrradianceVolumeGpu>,
+    reflections: Res<'w, ReflectionProbesGpu>,
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group when targets,
@@ -413,6 +434,7 @@ pub fn prepare_lighting(
         ibl,
         culling,
         volume,
+        reflections,
     } = inputs;
     let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
     else {
@@ -435,7 +457,10 @@ pub fn prepare_lighting(
         [t.generation, buffers.generation, 0],
         [buffers.generation, shadows.generation, culling.generation],
         [ibl.generation, t.generation, 0],
-        [volume.generation, 0, 0],
+        {
+            let [v, r] = probe_bindings(&volume, &reflections).0;
+            [v, r, 0]
+        },
     ];
     let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
         use wgpu::BindingResource::{Sampler, TextureView};
@@ -465,12 +490,7 @@ pub fn prepare_lighting(
                 TextureView(ibl.lut_view()),
                 TextureView(ao),
             ],
-            _ => vec![
-                volume.uniform.as_entire_binding(),
-                TextureView(volume.irradiance_atlas()),
-                TextureView(volume.moment_atlas()),
-                Sampler(&volume.sampler),
-            ],
+            _ => probe_bindings(&volume, &reflections).1,
         }
     };
     for (i, key) in keys.into_iter().enumerate() {

@@ -163,7 +163,10 @@ pub fn build_render_schedule(world: &mut World) {
         &mut capture,
         shared_preparation(plan_capture.into_configs()),
         begin_frame.into_configs(),
-        vec![indirect::irradiance_volume::record_capture_reduce.into_configs()],
+        vec![
+            indirect::irradiance_volume::record_capture_reduce.into_configs(),
+            indirect::reflection_probes::record_face_copy.into_configs(),
+        ],
     );
     world.add_schedule(capture);
 }
@@ -183,5 +186,6 @@ pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
     registry.create_passes(world, gpu)?;
     world.insert_resource(ibl);
     world.insert_resource(indirect::irradiance_volume::IrradianceVolumeGpu::new(gpu)?);
+    world.insert_resource(indirect::reflection_probes::ReflectionProbesGpu::new(gpu)?);
     Ok(())
 }

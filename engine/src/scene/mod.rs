@@ -19,7 +19,7 @@ pub use environment::{Background, Environment, EnvironmentSource, EquirectImage}
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::Material;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
-pub use probes::IrradianceVolume;
+pub use probes::{IrradianceVolume, ReflectionProbe};
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
 pub use texture::{
     ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot, Textures,

@@ -35,3 +35,35 @@ impl IrradianceVolume {
         }
     }
 }
+
+/// A reflection probe ([`crate::render::indirect::reflection_probes`]): the lit scene seen
+/// from the entity's position (its `Transform`), captured into a cube map and prefiltered
+/// like an environment. Smooth and glossy surfaces inside its box reflect it instead of
+/// the environment, with the reflected ray corrected for the box's parallax (the box
+/// stands in for the room's walls).
+///
+/// Without one, when [`crate::quality::ReflectionProbeSettings::enabled`] is on, Lumen
+/// places one at the centre of all meshes' bounds (the automatic rule in
+/// `docs/src/indirect.md`); spawning one replaces that rule. At most two probes are used:
+/// the two whose boxes hold the camera or lie nearest to it. Where two boxes overlap, their
+/// reflections blend by their weights.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct ReflectionProbe {
+    /// Half the size of the box of influence along each world axis (m), centred on the
+    /// probe. Surfaces outside it do not see the probe; over the outer `blend_m` metres
+    /// inside its faces, the probe's weight falls to 0.
+    pub half_extents: glam::Vec3,
+    /// Width (m) of the band inside the box's faces over which the probe fades out.
+    pub blend_m: f32,
+}
+
+impl ReflectionProbe {
+    /// A probe whose box reaches `half_extents` metres from it along each axis, fading over
+    /// the outer tenth of its smallest half-extent.
+    pub fn new(half_extents: glam::Vec3) -> ReflectionProbe {
+        ReflectionProbe {
+            half_extents,
+            blend_m: 0.1 * half_extents.min_element().max(0.0),
+        }
+    }
+}

@@ -140,6 +140,12 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     for n in [1u32, 3] {
         knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
     }
+    knob("--reflection-probes", "off".into(), &|a| {
+        a.reflection_probes = Some(false)
+    });
+    knob("--reflection-probe-size", "128".into(), &|a| {
+        a.reflection_probe_size = Some(128)
+    });
     out
 }
 

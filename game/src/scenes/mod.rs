@@ -7,7 +7,7 @@ mod furnace;
 mod lights;
 mod plane;
 mod shadows;
-mod spheres;
+pub mod spheres;
 
 use lumen::App;
 

@@ -42,6 +42,13 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         Vec3::new(-3.5, -4.0, -1.2),
         Vec3::new(3.5, 3.0, 1.2),
     ));
+    // One reflection probe among the spheres, half-way between the middle sphere and the
+    // one below it (the automatic probe would sit inside the middle sphere), its box the
+    // floor's 20 m × 20 m and up to the top row.
+    world.spawn((
+        ReflectionProbe::new(Vec3::new(10.0, 3.5, 10.0)),
+        Transform::from_xyz(0.0, -0.5, 0.0),
+    ));
     for (x, y) in [(-5.0, 5.0), (5.0, 5.0), (-5.0, -5.0), (5.0, -5.0)] {
         world.spawn((
             PointLight {

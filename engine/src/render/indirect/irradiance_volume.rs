@@ -18,7 +18,7 @@ use crate::irradiance_volume::{
 use crate::quality::GiSettings;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
@@ -36,9 +36,11 @@ pub const RECORD_STRIDE: u32 = 9 + OCT_SIDE * OCT_SIDE;
 /// Format of both atlases.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// The lighting pass's group 3: the grid and the atlases it samples.
+/// Group 3 of the lighting and reflection passes: the irradiance volume's grid and the
+/// atlases it samples (bindings 0–3, `volume_lookup.wgsl`), then the reflection probes
+/// (4–7, `probe_reflections.wgsl`, [`crate::render::indirect::reflection_probes`]).
 pub const PROBES: BindGroupSpec = BindGroupSpec {
-    label: "lighting: probes",
+    label: "probes",
     visibility: wgpu::ShaderStages::FRAGMENT,
     bindings: &[
         ("volume", Binding::Uniform),
@@ -51,8 +53,39 @@ pub const PROBES: BindGroupSpec = BindGroupSpec {
             Binding::Sampled(wgpu::TextureViewDimension::D2),
         ),
         ("probe_sampler", Binding::Sampler),
+        ("reflection_probes", Binding::Uniform),
+        (
+            "probe_cube_0",
+            Binding::Sampled(wgpu::TextureViewDimension::Cube),
+        ),
+        (
+            "probe_cube_1",
+            Binding::Sampled(wgpu::TextureViewDimension::Cube),
+        ),
+        ("probe_cube_sampler", Binding::Sampler),
     ],
 };
+
+/// The resources of [`PROBES`], in order, and the generations they were made from.
+pub fn probe_bindings<'a>(
+    volume: &'a IrradianceVolumeGpu,
+    reflections: &'a crate::render::indirect::reflection_probes::ReflectionProbesGpu,
+) -> ([u64; 2], Vec<wgpu::BindingResource<'a>>) {
+    use wgpu::BindingResource::{Sampler, TextureView};
+    (
+        [volume.generation, reflections.generation],
+        vec![
+            volume.uniform.as_entire_binding(),
+            TextureView(volume.irradiance_atlas()),
+            TextureView(volume.moment_atlas()),
+            Sampler(&volume.sampler),
+            reflections.uniform.as_entire_binding(),
+            TextureView(reflections.cube(0)),
+            TextureView(reflections.cube(1)),
+            Sampler(&reflections.sampler),
+        ],
+    )
+}
 
 /// The bindings of the bake of the records into the atlases.
 pub const BAKE: BindGroupSpec = BindGroupSpec {
@@ -177,7 +210,9 @@ impl Grid {
     pub fn new(min: Vec3, max: Vec3, spacing_m: Option<f32>, gi: &GiSettings) -> Grid {
         let (lo, hi) = (min.min(max), min.max(max));
         let extent = hi - lo;
-        let density = gi.density.clamp(1, crate::irradiance_volume::MAX_PROBES_PER_AXIS);
+        let density = gi
+            .density
+            .clamp(1, crate::irradiance_volume::MAX_PROBES_PER_AXIS);
         let spacing_m = spacing_m
             .filter(|s| s.is_finite() && *s > 0.0)
             .unwrap_or(extent.max_element() / density as f32);
@@ -307,8 +342,6 @@ pub struct IrradianceVolumeGpu {
     pub ready: bool,
     /// The exposure the irradiance atlas was baked with.
     baked_exposure: f32,
-    /// The face being captured (probe, face), while a capture runs.
-    pub capturing: Option<(u32, u32)>,
     /// The targets captures render into (swapped with the frame's while one runs).
     pub capture_targets: RenderTargets,
     capture_group: Option<([u64; 3], wgpu::BindGroup)>,
@@ -375,13 +408,22 @@ impl IrradianceVolumeGpu {
                 &capture_layout,
             )?,
             capture_layout,
-            bake: compute(gpu, "probe bake", "probe_bake.wgsl", "cs_bake", &bake_layout)?,
+            bake: compute(
+                gpu,
+                "probe bake",
+                "probe_bake.wgsl",
+                "cs_bake",
+                &bake_layout,
+            )?,
             bake_layout,
             params: uniform(
                 "probe capture params",
                 std::mem::size_of::<CaptureParams>() as u64,
             ),
-            bake_params: uniform("probe bake params", std::mem::size_of::<BakeParams>() as u64),
+            bake_params: uniform(
+                "probe bake params",
+                std::mem::size_of::<BakeParams>() as u64,
+            ),
             uniform: uniform("irradiance volume", std::mem::size_of::<GpuVolume>() as u64),
             records: record_buffer(gpu, 1),
             atlases: Atlases::new(gpu, 1),
@@ -399,7 +441,6 @@ impl IrradianceVolumeGpu {
             next_probe: 0,
             ready: false,
             baked_exposure: 1.0,
-            capturing: None,
             capture_targets: RenderTargets::default(),
             capture_group: None,
             faces_captured: 0,
@@ -530,13 +571,20 @@ pub fn record_capture_reduce(
     gpu: Res<Gpu>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
+    capture: Option<Res<CaptureView>>,
     mut volume: ResMut<IrradianceVolumeGpu>,
     mut encoder: ResMut<FrameEncoder>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    let (Some((probe, face)), Some(grid), Some(t)) =
-        (volume.capturing, volume.grid, targets.current.as_ref())
+    let Some(CaptureView {
+        target: CaptureTarget::IrradianceProbe(probe),
+        face,
+        ..
+    }) = capture.as_deref().copied()
     else {
+        return;
+    };
+    let (Some(grid), Some(t)) = (volume.grid, targets.current.as_ref()) else {
         return;
     };
     let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {

@@ -1,10 +1,11 @@
 //! The passes of indirect light: what the frame adds to direct lighting so that light
 //! arriving from other surfaces and from the environment is occluded and reflected.
 //! Screen-space ambient occlusion ([`ambient_occlusion`]), screen-space reflections
-//! ([`reflections`]) over the [`depth_pyramid`], and diffuse global illumination from the
-//! probes of an [`irradiance_volume`].
+//! ([`reflections`]) over the [`depth_pyramid`], diffuse global illumination from the
+//! probes of an [`irradiance_volume`], and [`reflection_probes`].
 
 pub mod ambient_occlusion;
 pub mod depth_pyramid;
 pub mod irradiance_volume;
+pub mod reflection_probes;
 pub mod reflections;

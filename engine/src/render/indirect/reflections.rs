@@ -25,6 +25,8 @@ use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::indirect::depth_pyramid::{
     DEPTH_PYRAMID, DepthPyramidPass, reflections_skip_reason,
 };
+use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
+use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -85,6 +87,8 @@ pub struct SsrVariant {
     pub energy_compensation: bool,
     /// The AO pass's occlusion enters the specular occlusion, as in lighting.
     pub screen_ao: bool,
+    /// Rays that miss fall back to the reflection probes (then the environment).
+    pub reflection_probes: bool,
     /// The HDR target's format.
     pub format: wgpu::TextureFormat,
     /// Traced at half resolution, then composited.
@@ -130,6 +134,11 @@ impl FramePass for SsrPass {
             env_map: env.is_some_and(|e| e.image.is_some()),
             energy_compensation: quality.energy_compensation,
             screen_ao: plan.runs(PassId::AmbientOcclusion),
+            reflection_probes: world
+                .resource::<ReflectionProbesGpu>()
+                .captured
+                .iter()
+                .any(Option::is_some),
             format: quality.hdr_precision.format(),
             half: ssr.half_resolution,
         };
@@ -147,10 +156,10 @@ impl FramePass for SsrPass {
         let fallback = Decision::new(
             "reflection fallback",
             skip.is_none(),
-            if variant.environment {
-                "the environment where a ray misses"
-            } else {
-                "no environment: a ray that misses reflects nothing"
+            match (variant.reflection_probes, variant.environment) {
+                (true, _) => "the reflection probes, then the environment, where a ray misses",
+                (false, true) => "the environment where a ray misses",
+                (false, false) => "no probe or environment: a ray that misses reflects nothing",
             },
         );
         PassDecision {
@@ -171,13 +180,21 @@ impl FramePass for SsrPass {
 }
 
 /// The generations of what the bind groups were built from.
-type Generations = [u64; 4];
+type Generations = [u64; 6];
+
+/// An empty group: group 2 of the steps that do not read the half-resolution hits.
+const NO_GROUP: BindGroupSpec = BindGroupSpec {
+    label: "ssr: none",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[],
+};
 
 /// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
 #[derive(Resource)]
 pub struct SsrPass {
-    layouts: [wgpu::BindGroupLayout; 3],
-    /// Groups 0 and 1 (full resolution, half-resolution trace); and 0 to 2 (composite).
+    layouts: [wgpu::BindGroupLayout; 5],
+    /// Groups 0, 1, nothing and 3 (full resolution, half-resolution trace); 0 to 3
+    /// (composite).
     pipeline_layouts: [wgpu::PipelineLayout; 2],
     /// Per variant: the full-resolution pipeline, or the trace and composite pipelines.
     pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
@@ -185,7 +202,7 @@ pub struct SsrPass {
     color: Option<Target>,
     /// The half-resolution trace's hits, at half size.
     half: Option<Target>,
-    bind_groups: Option<(Generations, [wgpu::BindGroup; 3])>,
+    bind_groups: Option<(Generations, [wgpu::BindGroup; 5])>,
 }
 
 impl SsrPass {
@@ -195,10 +212,12 @@ impl SsrPass {
             SSR.layout(gpu),
             ENVIRONMENT.layout(gpu),
             SSR_HALF.layout(gpu),
+            PROBES.layout(gpu),
+            NO_GROUP.layout(gpu),
         ];
-        let pipeline_layouts = [2, 3].map(|groups| {
+        let pipeline_layouts = [[0, 1, 4, 3], [0, 1, 2, 3]].map(|groups| {
             let bind_group_layouts: Vec<Option<&wgpu::BindGroupLayout>> =
-                layouts[..groups].iter().map(Some).collect();
+                groups.iter().map(|&g| Some(&layouts[g])).collect();
             gpu.device
                 .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some("ssr"),
@@ -232,6 +251,7 @@ impl SsrPass {
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
+            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes),
         ]
     }
 
@@ -276,6 +296,8 @@ pub struct SsrInputs<'w> {
     targets: Res<'w, RenderTargets>,
     ibl: Res<'w, Ibl>,
     pyramid: Res<'w, DepthPyramidPass>,
+    volume: Res<'w, IrradianceVolumeGpu>,
+    reflections: Res<'w, ReflectionProbesGpu>,
 }
 
 /// Compiles the variant, sizes the copy of the lit frame, writes the parameters and
@@ -293,6 +315,8 @@ pub fn prepare_ssr(
         targets,
         ibl,
         pyramid,
+        volume,
+        reflections,
     } = inputs;
     let (Some(&variant), Some(t), Some(p)) = (
         plan.variant::<SsrPass>(),
@@ -332,11 +356,14 @@ pub fn prepare_ssr(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    let (probe_generations, probe_resources) = probe_bindings(&volume, &reflections);
     let key = [
         t.generation,
         buffers.generation,
         pyramid.generation,
         ibl.generation,
+        probe_generations[0],
+        probe_generations[1],
     ];
     if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
@@ -382,7 +409,9 @@ pub fn prepare_ssr(
         ],
     );
     let half = SSR_HALF.group(&gpu, &pass.layouts[2], vec![TextureView(&half.view)]);
-    match main.and_then(|m| Ok([m, environment?, half?])) {
+    let probes = PROBES.group(&gpu, &pass.layouts[3], probe_resources);
+    let none = NO_GROUP.group(&gpu, &pass.layouts[4], Vec::new());
+    match main.and_then(|m| Ok([m, environment?, half?, probes?, none?])) {
         Ok(groups) => pass.bind_groups = Some((key, groups)),
         Err(e) => errors.0.push(e),
     }
@@ -420,16 +449,25 @@ pub fn ssr_pass(
         hdr.texture.size(),
     );
     // Full resolution: one step into the HDR target. Half: the trace into the half-size
-    // target, then the composite (which also binds group 2) into the HDR target.
-    let steps: Vec<(&wgpu::RenderPipeline, &wgpu::TextureView, usize)> = match pipelines.as_slice()
-    {
-        [full] => vec![(full, &hdr.view, 2)],
-        [trace, composite] => vec![(trace, &half.view, 2), (composite, &hdr.view, 3)],
+    // target, then the composite (whose group 2 is the trace's hits) into the HDR target.
+    let [main, environment, hits, probes, none] = groups;
+    let without_hits = [main, environment, none, probes];
+    let with_hits = [main, environment, hits, probes];
+    let steps: Vec<(
+        &wgpu::RenderPipeline,
+        &wgpu::TextureView,
+        [&wgpu::BindGroup; 4],
+    )> = match pipelines.as_slice() {
+        [full] => vec![(full, &hdr.view, without_hits)],
+        [trace, composite] => vec![
+            (trace, &half.view, without_hits),
+            (composite, &hdr.view, with_hits),
+        ],
         _ => return,
     };
     let last = steps.len() - 1;
     let scope = timer.begin_pass(PassId::Reflections);
-    for (i, (pipeline, target, group_count)) in steps.into_iter().enumerate() {
+    for (i, (pipeline, target, step_groups)) in steps.into_iter().enumerate() {
         // The pass's GPU time: from the start of its first step to the end of its last.
         let writes = timer
             .render_writes(&scope)
@@ -456,7 +494,7 @@ pub fn ssr_pass(
             multiview_mask: None,
         });
         rp.set_pipeline(pipeline);
-        for (index, group) in groups[..group_count].iter().enumerate() {
+        for (index, group) in step_groups.into_iter().enumerate() {
             rp.set_bind_group(index as u32, group, &[]);
         }
         rp.draw(0..3, 0..1);
