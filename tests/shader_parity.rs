@@ -8,13 +8,14 @@ use glam::{Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;
 use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::irradiance_volume as gi;
+use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 26;
+const OUTPUTS: usize = 27;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -230,6 +231,14 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             let basis = ibl::sh_basis(n);
             Vec4::new(t.x, t.y, basis[1], basis[6])
         },
+        rp::parallax_corrected(
+            v * 2.0,
+            l,
+            Vec3::new(-3.0, -2.5, -4.0),
+            Vec3::new(3.5, 2.0, 3.0),
+            n,
+        )
+        .extend(rp::box_weight(v * 3.0, n, Vec3::new(2.5, 2.0, 3.0), k)),
     ]
 }
 
@@ -260,6 +269,7 @@ const NAMES: [&str; OUTPUTS] = [
     "backface_weight | chebyshev_visibility | cube_texel_solid_angle | moment_weight",
     "oct_texel_direction | sh_basis",
     "atlas_position | sh_basis",
+    "parallax_corrected | box_weight",
 ];
 
 /// Focus distance (m) of case `i` for `circle_of_confusion`: mostly ordinary, some at
@@ -383,9 +393,7 @@ fn wgsl_functions_match_their_rust_twins() {
                 // relative error of its argument by 50.
                 let tolerance = if k == 15 {
                     1e-2
-                } else if k == 23 {
-                    2e-3
-                } else if ANGLES.contains(&k) {
+                } else if k == 23 || ANGLES.contains(&k) {
                     2e-3
                 } else {
                     2e-4

@@ -82,7 +82,8 @@ pub fn backface_weight(to_probe: Vec3, n: Vec3) -> f32 {
 /// the distances the probe saw in that direction; cubed, as in DDGI, to sharpen the
 /// transition. 1 when the point is no farther than the mean.
 pub fn chebyshev_visibility(mean: f32, mean_sq: f32, distance: f32) -> f32 {
-    if !(distance > mean) {
+    // NaN distances count as visible, as in the WGSL twin.
+    if distance.partial_cmp(&mean) != Some(std::cmp::Ordering::Greater) {
         return 1.0;
     }
     let variance = (mean_sq - mean * mean).abs().max(1e-6);

@@ -31,7 +31,7 @@ pub fn parallax_corrected(p: Vec3, dir: Vec3, box_min: Vec3, box_max: Vec3, prob
 pub fn box_weight(p: Vec3, center: Vec3, half_extents: Vec3, blend_m: f32) -> f32 {
     let inside = half_extents - (p - center).abs();
     let depth = inside.min_element();
-    if !(depth > 0.0) {
+    if depth.is_nan() || depth <= 0.0 {
         return 0.0;
     }
     (depth / blend_m.max(1e-6)).min(1.0)

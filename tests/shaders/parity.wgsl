@@ -9,6 +9,7 @@
 #import camera
 #import ambient_occlusion
 #import irradiance_volume
+#import reflection_probe
 
 struct Case {
     n: vec4<f32>,
@@ -22,7 +23,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 26u;
+const OUTPUTS: u32 = 27u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -95,6 +96,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                                  moment_weight(c.n.xyz, c.l.xyz));
     var basis = sh_basis(c.n.xyz);
     results[o + 24u] = vec4<f32>(oct_texel_direction(vec2<u32>(i % 8u, (i / 8u) % 8u), 6u + i % 3u), basis[8]);
+    results[o + 26u] = vec4<f32>(parallax_corrected(c.v.xyz * 2.0, c.l.xyz, vec3<f32>(-3.0, -2.5, -4.0), vec3<f32>(3.5, 2.0, 3.0), c.n.xyz),
+                                 box_weight(c.v.xyz * 3.0, c.n.xyz, vec3<f32>(2.5, 2.0, 3.0), k));
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

@@ -25,7 +25,7 @@ use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::RenderTargets;
 use crate::scene::{
     Camera, DirectionalLight, Environment, GlobalTransform, IrradianceVolume, Material,
-    MaterialMaps, Mesh3d, Meshes, PointLight, ShadowSettings, SpotLight,
+    MaterialMaps, Mesh3d, Meshes, PointLight, ReflectionProbe, ShadowSettings, SpotLight,
 };
 use bevy_ecs::prelude::*;
 use glam::{UVec3, Vec3};
@@ -282,27 +282,28 @@ pub fn grid_for(world: &mut World, gi: &GiSettings) -> std::result::Result<Grid,
     }
 }
 
+/// The filter of entities whose change a probe capture sees.
+type SceneChange = (
+    Without<Camera>,
+    Or<(
+        Changed<GlobalTransform>,
+        Changed<Mesh3d>,
+        Changed<Material>,
+        Changed<MaterialMaps>,
+        Changed<DirectionalLight>,
+        Changed<PointLight>,
+        Changed<SpotLight>,
+        Changed<ShadowSettings>,
+        Changed<Environment>,
+        Changed<IrradianceVolume>,
+        Changed<ReflectionProbe>,
+    )>,
+);
+
 /// Whether anything a capture sees changed since the last call: meshes, materials,
 /// transforms (the camera's excepted), lights, the environment, the volume or the quality.
 pub fn scene_changed(
-    changed: Query<
-        (),
-        (
-            Without<Camera>,
-            Or<(
-                Changed<GlobalTransform>,
-                Changed<Mesh3d>,
-                Changed<Material>,
-                Changed<MaterialMaps>,
-                Changed<DirectionalLight>,
-                Changed<PointLight>,
-                Changed<SpotLight>,
-                Changed<ShadowSettings>,
-                Changed<Environment>,
-                Changed<IrradianceVolume>,
-            )>,
-        ),
-    >,
+    changed: Query<(), SceneChange>,
     mut removed: RemovedComponents<Mesh3d>,
     quality: Res<crate::quality::Quality>,
     meshes: Res<Meshes>,
