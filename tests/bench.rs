@@ -113,7 +113,15 @@ fn bench_writes_a_complete_consistent_report() {
         .collect();
     assert_eq!(
         stages,
-        ["update", "propagate", "extract", "record", "submit", "wait"]
+        [
+            "update",
+            "propagate",
+            "probes",
+            "extract",
+            "record",
+            "submit",
+            "wait"
+        ]
     );
     let passes = r["passes"].as_array().cloned().unwrap_or_default();
     let names: Vec<&str> = passes.iter().filter_map(|p| p["name"].as_str()).collect();

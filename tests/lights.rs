@@ -17,6 +17,12 @@ fn lights_app(count: u32) -> App {
         .insert_resource(LightsSceneOptions { count });
     let info = lumen_game::scenes::find("lights").expect("scene");
     (info.build)(&mut app).expect("scene builds");
+    // The probes off: these tests hold the frame's light paths to 1e-6, and probe light
+    // passes through captures' f16 targets, where two exact paths can round one step
+    // apart (measured: 1e-4 of the peak between the uniform and storage paths).
+    let mut quality = app.world_mut().resource_mut::<Quality>();
+    quality.gi.enabled = false;
+    quality.reflection_probes.enabled = false;
     app
 }
 

@@ -49,7 +49,8 @@ pub struct SceneStats {
 pub struct FrameReport {
     /// Per-pass CPU recording time and GPU time.
     pub passes: Vec<PassTiming>,
-    /// CPU time of each stage of the frame, in ms: `propagate`, `extract`, `record`
+    /// CPU time of each stage of the frame, in ms: `propagate`, `probes` (probe captures,
+    /// waited for), `extract`, `record`
     /// (plan, prepare and record every pass), `submit`, `wait` (for the GPU).
     pub stages: Vec<(&'static str, f64)>,
     /// Wall time of the whole frame in ms, from propagation to the GPU finishing.
@@ -383,6 +384,10 @@ impl App {
             view: None,
             format,
         });
+        self.world
+            .resource_mut::<crate::render::ibl::Ibl>()
+            .last_steps
+            .clear();
         let t = Instant::now();
         let per_frame = self
             .world

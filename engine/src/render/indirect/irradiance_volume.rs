@@ -339,8 +339,13 @@ pub struct IrradianceVolumeGpu {
     pub completed_passes: u32,
     /// The next probe to capture in the current pass.
     pub next_probe: u32,
-    /// Whether the atlases hold a completed pass.
+    /// Whether the atlases hold a completed pass (of this scene or, after a change, of the
+    /// previous one: the frame keeps showing it while the volume converges again).
     pub ready: bool,
+    /// Whether the uniform is set for captures, which read the atlases only once a pass of
+    /// the current round has completed, so that a converged volume does not depend on what
+    /// the scene was before it changed.
+    capturing: bool,
     /// The exposure the irradiance atlas was baked with.
     baked_exposure: f32,
     /// The targets captures render into (swapped with the frame's while one runs).
@@ -441,6 +446,7 @@ impl IrradianceVolumeGpu {
             completed_passes: 0,
             next_probe: 0,
             ready: false,
+            capturing: false,
             baked_exposure: 1.0,
             capture_targets: RenderTargets::default(),
             capture_group: None,
@@ -543,6 +549,13 @@ impl IrradianceVolumeGpu {
         Ok(())
     }
 
+    /// Sets the uniform for captures (`true`, before them) or for the frame (`false`,
+    /// after them).
+    pub fn set_capturing(&mut self, gpu: &Gpu, capturing: bool) {
+        self.capturing = capturing;
+        self.write_uniform(gpu);
+    }
+
     fn write_uniform(&self, gpu: &Gpu) {
         let g = self.grid.unwrap_or(Grid {
             origin: Vec3::ZERO,
@@ -556,7 +569,14 @@ impl IrradianceVolumeGpu {
         let [iw, ih] = inverse(self.atlases.irradiance_size);
         let [mw, mh] = inverse(self.atlases.moments_size);
         let data = GpuVolume {
-            origin_ready: g.origin.extend(if self.ready { 1.0 } else { 0.0 }).into(),
+            origin_ready: {
+                let ready = if self.capturing {
+                    self.completed_passes > 0
+                } else {
+                    self.ready
+                };
+                g.origin.extend(if ready { 1.0 } else { 0.0 }).into()
+            },
             spacing_exposure: g.spacing.extend(self.baked_exposure).into(),
             counts_tiles: g.counts.extend(per_row).into(),
             texel_sizes: [iw, ih, mw, mh],
