@@ -205,6 +205,24 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
         assert_eq!(report.probes.reflections.captured, 1, "{label}");
         assert_finite(&app);
     }
+    // No probe of its own and automatic placement off: no probe work, with the reason.
+    let mut app = small_scene();
+    let world = app.world_mut();
+    let probe = world
+        .query_filtered::<Entity, With<ReflectionProbe>>()
+        .single(world)
+        .expect("probe");
+    world.despawn(probe);
+    world.resource_mut::<Quality>().reflection_probes.auto_place = false;
+    let report = app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        decision(&report),
+        (
+            false,
+            "no ReflectionProbe, and automatic placement is off".into()
+        )
+    );
+    assert_eq!(report.probes.reflections.captured, 0);
     // No mesh at all: no probe, with its reason.
     let mut app = App::headless().expect("a GPU adapter");
     app.world_mut()

@@ -237,6 +237,9 @@ pub struct GiSettings {
     /// Probes captured per frame while the volume converges in the viewer and `bench`
     /// (0: all of them at once). A still render always converges before its frame.
     pub probes_per_frame: u32,
+    /// Place a volume around all meshes when the scene has no
+    /// [`crate::scene::IrradianceVolume`]; off, only the scene's own volume is used.
+    pub auto_place: bool,
 }
 
 impl Default for GiSettings {
@@ -247,6 +250,7 @@ impl Default for GiSettings {
             face_size: 16,
             bounces: 2,
             probes_per_frame: 8,
+            auto_place: true,
         }
     }
 }
@@ -260,6 +264,9 @@ pub struct ReflectionProbeSettings {
     pub enabled: bool,
     /// Side of each captured cube face, in pixels, 16..=256 (a power of two).
     pub face_size: u32,
+    /// Place a probe among all meshes when the scene has no
+    /// [`crate::scene::ReflectionProbe`]; off, only the scene's own probes are used.
+    pub auto_place: bool,
 }
 
 impl Default for ReflectionProbeSettings {
@@ -267,6 +274,7 @@ impl Default for ReflectionProbeSettings {
         ReflectionProbeSettings {
             enabled: true,
             face_size: 64,
+            auto_place: true,
         }
     }
 }

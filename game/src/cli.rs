@@ -329,6 +329,9 @@ pub struct SceneArgs {
     /// at once).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
     pub gi_budget: Option<u32>,
+    /// No automatic irradiance volume or reflection probe: only those the scene places.
+    #[arg(long)]
+    pub no_auto_probes: bool,
     /// Reflection probes: on (default from `medium`) or off.
     #[arg(long, value_name = "ON", value_parser = parse_on_off)]
     pub reflection_probes: Option<bool>,

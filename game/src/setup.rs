@@ -146,6 +146,10 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(n) = args.gi_budget {
         quality.gi.probes_per_frame = n;
     }
+    if args.no_auto_probes {
+        quality.gi.auto_place = false;
+        quality.reflection_probes.auto_place = false;
+    }
     if let Some(on) = args.reflection_probes {
         quality.reflection_probes.enabled = on;
     }
@@ -318,10 +322,12 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "face_size": q.gi.face_size,
             "bounces": q.gi.bounces,
             "probes_per_frame": q.gi.probes_per_frame,
+            "auto_place": q.gi.auto_place,
         },
         "reflection_probes": {
             "enabled": q.reflection_probes.enabled,
             "face_size": q.reflection_probes.face_size,
+            "auto_place": q.reflection_probes.auto_place,
         },
     })
 }

@@ -393,7 +393,8 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let (full, _, _) =
         reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
     // The frame as configured, and its direct-light part: the same frame without the
-    // passes that add indirect light (AO and reflections).
+    // passes that add indirect light (AO, reflections, the irradiance volume and the
+    // reflection probes).
     let mut app = App::headless()?;
     build_scene(&mut app, &args.scene)?;
     let samples = measure(&mut app, args.size, 3, args.frames, &|_| {})?;
@@ -404,6 +405,8 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let mut direct_args = args.scene.clone();
     direct_args.ao = Some(lumen::quality::AoResolution::Off);
     direct_args.no_ssr = true;
+    direct_args.gi = Some(false);
+    direct_args.reflection_probes = Some(false);
     build_scene(&mut direct_app, &direct_args)?;
     direct_app.render_headless(args.size)?;
     let direct_frame = direct_app.read_hdr_image()?;
@@ -420,7 +423,7 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let parts = [
         part(
             "implementation",
-            "the frame without AO and reflections against direct light with the frame's light visibility",
+            "the frame without AO, reflections and probes against direct light with the frame's light visibility",
             &direct_frame,
             &direct_reference,
         )?,

@@ -112,6 +112,9 @@ pub fn probes_for(
         ranked.truncate(MAX_REFLECTION_PROBES);
         return Ok(ranked);
     }
+    if !settings.auto_place {
+        return Err("no ReflectionProbe, and automatic placement is off".into());
+    }
     let placed: Vec<_> = world
         .query::<(&Mesh3d, &GlobalTransform)>()
         .iter(world)
