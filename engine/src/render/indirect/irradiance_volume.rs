@@ -8,8 +8,8 @@
 //! ([`crate::render::capture`]). A capture pass accumulates into the records while the
 //! lighting (of the frame, and of the captures themselves) samples the atlases baked at the
 //! end of the previous pass, so the light of pass k includes the probe light of pass k − 1:
-//! one more bounce per pass. The atlases (DDGI's layout) make the lookup two reads per
-//! probe (a bilinear irradiance sample and a moment texel): sixteen per pixel.
+//! one more bounce per pass. The atlases (DDGI's layout) make the lookup two bilinear
+//! samples per probe: sixteen per pixel.
 
 use crate::error::Result;
 use crate::irradiance_volume::{
