@@ -176,3 +176,18 @@ impl Meshes {
         self.meshes.is_empty()
     }
 }
+
+/// The world-space box around every placed mesh (a [`Mesh3d`] with a
+/// [`crate::scene::GlobalTransform`]), or `None` when there is none.
+pub fn scene_bounds(world: &mut World) -> Option<Aabb> {
+    let placed: Vec<_> = world
+        .query::<(&Mesh3d, &crate::scene::GlobalTransform)>()
+        .iter(world)
+        .map(|(mesh, t)| (mesh.0, t.0))
+        .collect();
+    let meshes = world.resource::<Meshes>();
+    placed
+        .iter()
+        .filter_map(|(mesh, m)| meshes.get(*mesh)?.bounds()?.transformed(m))
+        .reduce(|a, b| a.union(&b))
+}

@@ -269,16 +269,7 @@ pub fn grid_for(world: &mut World, gi: &GiSettings) -> std::result::Result<Grid,
     if !gi.auto_place {
         return Err("no IrradianceVolume, and automatic placement is off".into());
     }
-    let placed: Vec<_> = world
-        .query::<(&Mesh3d, &GlobalTransform)>()
-        .iter(world)
-        .map(|(mesh, t)| (mesh.0, t.0))
-        .collect();
-    let meshes = world.resource::<Meshes>();
-    let bounds = placed
-        .iter()
-        .filter_map(|(mesh, m)| meshes.get(*mesh)?.bounds()?.transformed(m))
-        .reduce(|a, b| a.union(&b));
+    let bounds = crate::scene::mesh::scene_bounds(world);
     match bounds {
         Some(b) => Ok(Grid::new(b.min, b.max, None, gi)),
         None => Err("no mesh to place probes around".into()),

@@ -13,7 +13,7 @@ use crate::render::graph::slots::HDR;
 use crate::render::ibl::{CUBE_FORMAT, PrefilteredCube};
 use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
-use crate::scene::{Camera, GlobalTransform, Mesh3d, Meshes, ReflectionProbe};
+use crate::scene::{Camera, GlobalTransform, ReflectionProbe};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 
@@ -115,16 +115,7 @@ pub fn probes_for(
     if !settings.auto_place {
         return Err("no ReflectionProbe, and automatic placement is off".into());
     }
-    let placed: Vec<_> = world
-        .query::<(&Mesh3d, &GlobalTransform)>()
-        .iter(world)
-        .map(|(mesh, t)| (mesh.0, t.0))
-        .collect();
-    let meshes = world.resource::<Meshes>();
-    let bounds = placed
-        .iter()
-        .filter_map(|(mesh, m)| meshes.get(*mesh)?.bounds()?.transformed(m))
-        .reduce(|a, b| a.union(&b));
+    let bounds = crate::scene::mesh::scene_bounds(world);
     match bounds {
         Some(b) => {
             let half = ((b.max - b.min) * 0.5).max(Vec3::splat(1e-3));
