@@ -101,6 +101,14 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             "preprocessing": first.preprocessing.iter().map(|(step, ms)| json!({
                 "step": step, "ms": ms,
             })).collect::<Vec<_>>(),
+            "probes": {
+                "volume_probes": first.probes.volume.counts.to_array(),
+                "volume_passes": first.probes.volume.passes.0,
+                "faces_captured": first.probes.volume.faces_captured,
+                "reflection_probes": first.probes.reflections.probes,
+                "reflection_probes_captured": first.probes.reflections.captured,
+                "capture_ms": first.probes.capture_ms,
+            },
             "stats": {
                 "instances": report.stats.instances,
                 "draws": report.stats.draws,
@@ -148,6 +156,21 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                 .map(|(step, ms)| format!("{step} {ms:.1} ms"))
                 .collect();
             let _ = writeln!(text, "one-off preprocessing: {}", steps.join(", "));
+        }
+        let probes = &first.probes;
+        if probes.volume.faces_captured > 0 || probes.reflections.captured > 0 {
+            let c = probes.volume.counts;
+            let _ = writeln!(
+                text,
+                "probe captures: {}×{}×{} irradiance probes ({} passes, {} faces), {} reflection probe(s): {:.1} ms",
+                c.x,
+                c.y,
+                c.z,
+                probes.volume.passes.0,
+                probes.volume.faces_captured,
+                probes.reflections.captured,
+                probes.capture_ms
+            );
         }
         let _ = writeln!(text, "wrote {}", out.display());
         crate::output::print(&text);
