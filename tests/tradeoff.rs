@@ -113,7 +113,8 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
             "implementation",
             "unshadowed lights",
             "indirect light",
-            "total"
+            "total",
+            "reference noise"
         ]
     );
     let flip = |name: &str| {
@@ -139,8 +140,10 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
     );
     assert!(flip("unshadowed lights") > 0.01);
     assert!(flip("indirect light") > flip("implementation"));
-    // Three references, each cached under its own name.
-    for name in ["1b-frame", "1b", "8b"] {
+    // The reference's own noise at 16 spp is far from 0.
+    assert!(flip("reference noise") > 0.01);
+    // Four references, each cached under its own name.
+    for name in ["1b-frame", "1b", "8b", "8b-seed1"] {
         let suffix = format!("-64x36-16spp-{name}.exr");
         assert_eq!(cached(dir.path(), &suffix).len(), 1, "{suffix}");
     }

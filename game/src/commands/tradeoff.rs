@@ -157,12 +157,16 @@ pub struct ReferenceKind {
     pub bounces: u32,
     /// Every light's shadow (physical) or only those the frame draws.
     pub visibility: LightVisibility,
+    /// The path tracer's seed: 0 for the references the rows are judged against, another
+    /// for a second, independent estimate of the same image (its noise).
+    pub seed: u64,
 }
 
 /// The ground truth the rows are judged against: 8 bounces, physical visibility.
 pub const FULL_REFERENCE: ReferenceKind = ReferenceKind {
     bounces: REFERENCE_BOUNCES,
     visibility: LightVisibility::Physical,
+    seed: 0,
 };
 
 /// The reference of `scene` at `size` and `spp`: from the cache (keyed by the scene's
@@ -198,8 +202,13 @@ fn reference(
         format!("{scene:?}").hash(&mut h);
         h.finish() as u32
     };
+    let seed = if kind.seed == 0 {
+        String::new()
+    } else {
+        format!("-seed{}", kind.seed)
+    };
     let cache = PathBuf::from("out/reference-cache").join(format!(
-        "{}-{options:08x}-{}x{}-{}spp-{}b{visibility}.exr",
+        "{}-{options:08x}-{}x{}-{}spp-{}b{visibility}{seed}.exr",
         scene.label(),
         size.0,
         size.1,
@@ -230,7 +239,7 @@ fn reference(
         size,
         samples_per_pixel: spp,
         max_bounces: kind.bounces,
-        seed: 0,
+        seed: kind.seed,
     };
     let result = render(&traced, &options, &|rows| bar.set_position(u64::from(rows)));
     bar.finish_and_clear();
@@ -375,6 +384,7 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let direct = |visibility| ReferenceKind {
         bounces: 1,
         visibility,
+        seed: 0,
     };
     let (direct_reference, tonemapper, _) = reference(
         &args.scene,
@@ -392,6 +402,16 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     .context("the direct-light reference")?;
     let (full, _, _) =
         reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
+    let (second, _, _) = reference(
+        &args.scene,
+        args.size,
+        args.spp,
+        ReferenceKind {
+            seed: 1,
+            ..FULL_REFERENCE
+        },
+    )
+    .context("the second reference (another seed)")?;
     // The frame as configured, and its direct-light part: the same frame without the
     // passes that add indirect light (AO, reflections, the irradiance volume and the
     // reflection probes).
@@ -443,6 +463,12 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
             "total",
             "the frame against the full reference: what it does not transport, and the rest",
             &frame,
+            &full,
+        )?,
+        part(
+            "reference noise",
+            "the full reference against a second one traced with another seed: the judge's own noise, below which no frame can be measured",
+            &second,
             &full,
         )?,
     ];
