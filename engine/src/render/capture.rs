@@ -6,8 +6,8 @@
 //!
 //! A capture runs the [`ExtractSchedule`] with a [`CaptureView`] in place of the camera,
 //! then the [`CaptureSchedule`], into targets of its own (swapped in, so the frame's
-//! targets survive), and submits; the GPU works through the faces while the next one is
-//! recorded. The camera's exposure pre-exposes the capture as it does the frame; probe
+//! targets survive), and submits; the GPU works through a probe's faces while the next
+//! ones are recorded, and each probe is waited for before the next begins. The camera's exposure pre-exposes the capture as it does the frame; probe
 //! light keeps that exposure beside it, so the frame rescales it to its own.
 
 use crate::error::{Error, Result};
@@ -95,18 +95,25 @@ pub fn update_probes(world: &mut World, budget: Option<u32>) -> Result<ProbeStat
         .set_capturing(&gpu, false);
     let (volume, reflections) = updated?;
     if volume.faces_captured > 0 || reflections.captured > 0 {
-        gpu.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })
-            .map_err(|e| Error::Gpu(format!("waiting for probe captures: {e}")))?;
+        wait_for_gpu(&gpu)?;
     }
     Ok(ProbeStatus {
         volume,
         reflections,
         capture_ms: start.elapsed().as_secs_f64() * 1e3,
     })
+}
+
+/// Waits until the GPU has done every submitted capture: once per probe, so that at most
+/// six faces are in flight at a time.
+fn wait_for_gpu(gpu: &Gpu) -> Result<()> {
+    gpu.device
+        .poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: None,
+        })
+        .map(|_| ())
+        .map_err(|e| Error::Gpu(format!("waiting for probe captures: {e}")))
 }
 
 fn camera_exposure(world: &World) -> f32 {
@@ -160,6 +167,7 @@ fn update_volume(
             )?;
             faces += 1;
         }
+        wait_for_gpu(gpu)?;
         let exposure = camera_exposure(world);
         world
             .resource_mut::<IrradianceVolumeGpu>()
