@@ -6,31 +6,13 @@
 
 mod common;
 
-use glam::Vec4Swizzles;
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
 use lumen::quality::GiSettings;
 use lumen::reference::path::{ReferenceOptions, render};
-use lumen::render::extract::ExtractedFrame;
 use lumen::scene::IrradianceVolume;
 use lumen::trace_input::trace_scene;
 use lumen_game::scenes::cornell::{CORNELL_ROOM, CORNELL_WHITE};
-
-/// The pixel where world point `p` appears in the last frame.
-fn pixel_of(app: &App, p: Vec3, size: (u32, u32)) -> (u32, u32) {
-    let camera = app
-        .world()
-        .resource::<ExtractedFrame>()
-        .camera
-        .clone()
-        .expect("camera");
-    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
-    let ndc = clip.xy() / clip.w;
-    (
-        ((ndc.x * 0.5 + 0.5) * size.0 as f32) as u32,
-        ((0.5 - ndc.y * 0.5) * size.1 as f32) as u32,
-    )
-}
 
 /// Red ÷ green of the summed 3×3 windows around `pixels` of `image`.
 fn red_to_green(image: &image::Rgba32FImage, pixels: &[(u32, u32)]) -> f32 {
@@ -74,7 +56,7 @@ fn cornell_colour_bleeding_matches_the_path_tracer() {
     let pixels: Vec<(u32, u32)> = [0.15, 0.25, 0.35, 0.45]
         .iter()
         .map(|&y| {
-            pixel_of(
+            common::pixel_of(
                 &app,
                 Vec3::new(CORNELL_ROOM.x - 0.05, y, CORNELL_ROOM.z - 0.001),
                 size,
@@ -147,15 +129,6 @@ fn small_scene() -> App {
 }
 
 const SIZE: (u32, u32) = (48, 32);
-
-fn assert_finite(app: &App) {
-    let hdr = app.read_hdr_image().expect("hdr");
-    let bad = hdr
-        .pixels()
-        .filter(|p| !p.0.iter().all(|v| v.is_finite()))
-        .count();
-    assert_eq!(bad, 0, "{bad} pixels are not finite");
-}
 
 fn volume_reason(report: &FrameReport) -> (bool, String) {
     let d = report
@@ -237,7 +210,7 @@ fn bounce_light_brightens_the_sphere_s_shadowed_underside() {
     let mut app = small_scene();
     app.render_headless(SIZE).expect("frame");
     // On the sphere's lower front, turned away from the sun and towards the lit floor.
-    let at = pixel_of(&app, Vec3::new(0.0, 0.1, 0.3), SIZE);
+    let at = common::pixel_of(&app, Vec3::new(0.0, 0.1, 0.3), SIZE);
     let lit = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
     app.world_mut().resource_mut::<Quality>().gi.enabled = false;
     let report = app.render_headless(SIZE).expect("frame");
@@ -262,7 +235,7 @@ fn no_nan_at_the_extremes() {
         volume_reason(&report),
         (false, "no mesh to place probes around".into())
     );
-    assert_finite(&app);
+    common::assert_finite(&app);
 
     let volumes = [
         // A probe inside a closed box.
@@ -312,7 +285,7 @@ fn no_nan_at_the_extremes() {
         let c = report.probes.volume.counts;
         assert_eq!(c.x * c.y * c.z, probes, "{label}");
         assert_eq!(report.probes.volume.passes, (1, 1), "{label}");
-        assert_finite(&app);
+        common::assert_finite(&app);
     }
 
     let mut app = small_scene();
@@ -329,5 +302,5 @@ fn no_nan_at_the_extremes() {
         volume_reason(&report),
         (false, "the IrradianceVolume's bounds are not finite".into())
     );
-    assert_finite(&app);
+    common::assert_finite(&app);
 }

@@ -5,28 +5,11 @@
 
 mod common;
 
-use glam::Vec4Swizzles;
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
 use lumen::reference::path::{ReferenceOptions, render};
-use lumen::render::extract::ExtractedFrame;
 use lumen::trace_input::trace_scene;
 use lumen_game::scenes::spheres::{SPHERE_RADIUS, sphere_center};
-
-fn pixel_of(app: &App, p: Vec3, size: (u32, u32)) -> (u32, u32) {
-    let camera = app
-        .world()
-        .resource::<ExtractedFrame>()
-        .camera
-        .clone()
-        .expect("camera");
-    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
-    let ndc = clip.xy() / clip.w;
-    (
-        ((ndc.x * 0.5 + 0.5) * size.0 as f32) as u32,
-        ((0.5 - ndc.y * 0.5) * size.1 as f32) as u32,
-    )
-}
 
 /// Within this fraction of the reference.
 const TOLERANCE: f32 = 0.35;
@@ -64,7 +47,7 @@ fn the_floor_appears_in_the_metal_spheres() {
             for side in [-30f32, 0.0, 30.0] {
                 let (b, a) = (below.to_radians(), side.to_radians());
                 let n = Vec3::new(b.cos() * a.sin(), -b.sin(), b.cos() * a.cos());
-                let at = pixel_of(&app, sphere_center(i, 6) + SPHERE_RADIUS * n, size);
+                let at = common::pixel_of(&app, sphere_center(i, 6) + SPHERE_RADIUS * n, size);
                 let sum = |image: &image::Rgba32FImage| {
                     let p = image.get_pixel(at.0, at.1).0;
                     p[0] + p[1] + p[2]
@@ -120,15 +103,6 @@ fn small_scene() -> App {
 }
 
 const SIZE: (u32, u32) = (48, 32);
-
-fn assert_finite(app: &App) {
-    let hdr = app.read_hdr_image().expect("hdr");
-    let bad = hdr
-        .pixels()
-        .filter(|p| !p.0.iter().all(|v| v.is_finite()))
-        .count();
-    assert_eq!(bad, 0, "{bad} pixels are not finite");
-}
 
 fn decision(report: &FrameReport) -> (bool, String) {
     let d = report
@@ -203,7 +177,7 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
         ));
         let report = app.render_headless(SIZE).expect(label);
         assert_eq!(report.probes.reflections.captured, 1, "{label}");
-        assert_finite(&app);
+        common::assert_finite(&app);
     }
     // No probe of its own and automatic placement off: no probe work, with the reason.
     let mut app = small_scene();
@@ -232,7 +206,7 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
         decision(&report),
         (false, "no mesh to place a probe among".into())
     );
-    assert_finite(&app);
+    common::assert_finite(&app);
 }
 /// A mirror sphere on a floor, a red wall to its left, and a probe above and in front:
 /// the probe's reflection of the floor (below) and of the wall (left) against the path
@@ -303,7 +277,7 @@ fn a_mirror_sphere_reflects_what_the_path_tracer_sees() {
         ("floor, below", Vec3::new(0.0, -0.6, 0.8)),
         ("red wall, left", Vec3::new(-0.7, 0.0, 0.7)),
     ] {
-        let at = pixel_of(&app, Vec3::new(0.0, 0.5, 0.0) + 0.5 * n.normalize(), size);
+        let at = common::pixel_of(&app, Vec3::new(0.0, 0.5, 0.0) + 0.5 * n.normalize(), size);
         let (p, r, o) = (
             with_probe.get_pixel(at.0, at.1).0,
             truth.get_pixel(at.0, at.1).0,

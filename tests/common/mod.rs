@@ -154,3 +154,30 @@ impl Drop for Xvfb {
         let _ = self.child.wait();
     }
 }
+
+/// The pixel of a `size` frame where world point `p` appeared in the last frame.
+pub fn pixel_of(app: &App, p: glam::Vec3, size: (u32, u32)) -> (u32, u32) {
+    use glam::Vec4Swizzles;
+    let camera = app
+        .world()
+        .resource::<lumen::render::extract::ExtractedFrame>()
+        .camera
+        .clone()
+        .expect("camera");
+    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
+    let ndc = clip.xy() / clip.w;
+    (
+        ((ndc.x * 0.5 + 0.5) * size.0 as f32) as u32,
+        ((0.5 - ndc.y * 0.5) * size.1 as f32) as u32,
+    )
+}
+
+/// Panics unless every channel of the last frame's HDR image is finite.
+pub fn assert_finite(app: &App) {
+    let hdr = app.read_hdr_image().expect("hdr");
+    let bad = hdr
+        .pixels()
+        .filter(|p| !p.0.iter().all(|v| v.is_finite()))
+        .count();
+    assert_eq!(bad, 0, "{bad} pixels are not finite");
+}

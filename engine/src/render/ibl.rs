@@ -142,7 +142,8 @@ fn compute_pipeline(
     })
 }
 
-fn cube_texture(gpu: &Gpu, label: &str, size: u32, mips: u32) -> wgpu::Texture {
+/// An `Rgba16Float` cube texture of `size`² faces and `mips` mips.
+pub fn cube_texture(gpu: &Gpu, label: &str, size: u32, mips: u32) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -162,7 +163,8 @@ fn cube_texture(gpu: &Gpu, label: &str, size: u32, mips: u32) -> wgpu::Texture {
     })
 }
 
-fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+/// A cube view of all of `texture`'s mips.
+pub fn cube_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::Cube),
         ..Default::default()

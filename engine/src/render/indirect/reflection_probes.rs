@@ -10,7 +10,7 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::ibl::{CUBE_FORMAT, PrefilteredCube};
+use crate::render::ibl::{CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view};
 use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
 use crate::scene::{Camera, GlobalTransform, ReflectionProbe};
@@ -187,20 +187,6 @@ impl ReflectionProbesGpu {
                 mapped_at_creation: false,
             })
         };
-        let dummy = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("no reflection probe"),
-            size: wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 6,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: CUBE_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
         let probes = ReflectionProbesGpu {
             copy,
             copy_layout,
@@ -209,10 +195,7 @@ impl ReflectionProbesGpu {
                 "reflection probes",
                 std::mem::size_of::<GpuReflectionProbes>() as u64,
             ),
-            dummy: dummy.create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::Cube),
-                ..Default::default()
-            }),
+            dummy: cube_view(&cube_texture(gpu, "no reflection probe", 1, 1)),
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("reflection probes"),
                 mag_filter: wgpu::FilterMode::Linear,
