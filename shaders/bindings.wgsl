@@ -18,6 +18,9 @@ struct View {
     shadowed_counts: vec4<u32>,
     // Camera forward direction (xyz): view depth for cascade selection.
     forward: vec4<f32>,
+    // Geometric specular anti-aliasing: variance scale σ² (x), threshold κ (y); this
+    // frame's camera jitter in pixels (zw).
+    antialiasing: vec4<f32>,
 }
 
 // One drawn object (storage buffer, indexed by instance_index).

@@ -30,6 +30,33 @@ fn perceptual_roughness_to_alpha(perceptual_roughness: f32) -> f32 {
     return r * r;
 }
 
+// Largest shortfall of a unit normal's length that 8-bit storage alone causes (√3/255).
+const NORMAL_QUANTIZATION: f32 = 0.0068;
+
+// Toksvig's variance of the normals averaged into one filtered normal-map texel
+// (Toksvig 2005): σ² = (1 − |n̄|)/|n̄|, 0 within NORMAL_QUANTIZATION of unit length.
+fn toksvig_variance(normal_length: f32) -> f32 {
+    if !(normal_length == normal_length) {
+        return 0.0;
+    }
+    return max(1.0 - normal_length - NORMAL_QUANTIZATION, 0.0) / max(normal_length, 1e-4);
+}
+
+// Geometric specular anti-aliasing (Tokuyoshi & Kaplanyan 2019, isotropic form):
+// α'² = min(α² + min(2 (σ² |∂n|² + σ²_Toksvig), κ), 1), with |∂n|² = |∂n/∂x|² + |∂n/∂y|².
+// The roughness comes back exactly as given where nothing widens.
+fn specular_aa_roughness(perceptual_roughness: f32, normal_variation: f32, normal_length: f32,
+                         variance: f32, threshold: f32) -> f32 {
+    let alpha = perceptual_roughness_to_alpha(perceptual_roughness);
+    let alpha2 = alpha * alpha;
+    let kernel = max(min(2.0 * (variance * normal_variation + toksvig_variance(normal_length)), threshold), 0.0);
+    let widened = min(alpha2 + kernel, 1.0);
+    if !(widened == widened) || widened <= alpha2 {
+        return perceptual_roughness;
+    }
+    return sqrt(sqrt(widened));
+}
+
 // GGX / Trowbridge-Reitz, D = α² / (π ((n·h)²(α² − 1) + 1)²) (Walter et al. 2007),
 // with the denominator as (n·h)² α² + |n × h|² to avoid cancellation (Filament).
 fn d_ggx(alpha: f32, n_dot_h: f32, n_cross_h_length_squared: f32) -> f32 {

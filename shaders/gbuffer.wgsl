@@ -5,6 +5,9 @@
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
 //   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
 //   depth    Depth32Float   : reversed Z
+// Header constant: SPECULAR_AA (geometric specular anti-aliasing widens the stored
+// roughness where the normal varies across the pixel, and where a normal-map texel
+// averages diverging normals).
 #import common
 #import brdf
 #import color
@@ -47,7 +50,8 @@ fn instance_normal_matrix(inst: InstanceInput) -> mat3x3<f32> {
 // The material is resolved once per vertex and passed flat, not read from the instance
 // buffer per fragment: 34 → 23 ms for `spheres` at 1280×720 on lavapipe.
 struct VertexOutput {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the motion-vector pass redraws moved instances over this depth.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world_normal: vec3<f32>,
     @location(1) @interpolate(flat) base_color_ao: vec4<f32>,
     @location(2) @interpolate(flat) emissive_specular: vec4<f32>,
@@ -80,6 +84,20 @@ struct GBufferOutput {
 // Largest finite f16, the limit of the Rgba16Float targets.
 const F16_MAX: f32 = 65504.0;
 
+// The roughness to store: widened by geometric specular anti-aliasing (when compiled
+// in) from the screen-space derivatives of the geometric normal `ng` and the length of
+// the filtered normal-map texel (1 without one). Every fragment of the quad calls this,
+// so the derivatives are taken in uniform control flow.
+fn stored_roughness(perceptual_roughness: f32, ng: vec3<f32>, normal_length: f32) -> f32 {
+    if !SPECULAR_AA {
+        return perceptual_roughness;
+    }
+    let dx = dpdx(ng);
+    let dy = dpdy(ng);
+    return specular_aa_roughness(perceptual_roughness, dot(dx, dx) + dot(dy, dy), normal_length,
+                                 view.antialiasing.x, view.antialiasing.y);
+}
+
 @fragment
 fn fs_main(in: VertexOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
     // Back faces reach here only for double-sided materials: light them from the side
@@ -87,7 +105,8 @@ fn fs_main(in: VertexOutput, @builtin(front_facing) front: bool) -> GBufferOutpu
     let n = safe_normalize(select(-in.world_normal, in.world_normal, front), vec3<f32>(0.0, 0.0, 1.0));
     var out: GBufferOutput;
     out.base_color_ao = in.base_color_ao;
-    out.normal_roughness_metallic = vec4<f32>(oct_encode(n), in.roughness_metallic);
+    let roughness = stored_roughness(in.roughness_metallic.x, n, 1.0);
+    out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, in.roughness_metallic.y);
     out.emissive_specular = in.emissive_specular;
     return out;
 }
@@ -125,7 +144,8 @@ struct Maps {
 @group(1) @binding(10) var emissive_sampler: sampler;
 
 struct TexturedOutput {
-    @builtin(position) clip: vec4<f32>,
+    // Invariant: the motion-vector pass redraws moved instances over this depth.
+    @builtin(position) @invariant clip: vec4<f32>,
     @location(0) world_normal: vec3<f32>,
     @location(1) world_tangent: vec4<f32>,
     @location(2) uv0: vec2<f32>,
@@ -163,6 +183,11 @@ fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> 
 
 @fragment
 fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
+    // Derivatives first, before the alpha test's discard can leave the quad.
+    let sign = select(-1.0, 1.0, front);
+    let ng = safe_normalize(in.world_normal * sign, vec3<f32>(0.0, 0.0, 1.0));
+    let dng_dx = dpdx(ng);
+    let dng_dy = dpdy(ng);
     let base_texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
     let base = in.base_color * base_texel;
     if maps.params.z >= 0.0 && base.a < maps.params.z {
@@ -179,18 +204,23 @@ fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBuffe
 
     // glTF: the geometric normal and tangent, flipped for back faces of double-sided
     // materials; bitangent = cross(normal, tangent) × w.
-    let sign = select(-1.0, 1.0, front);
-    let ng = safe_normalize(in.world_normal * sign, vec3<f32>(0.0, 0.0, 1.0));
     var n = ng;
+    var normal_length = 1.0;
     if maps.extra.y != 0u {
         let t = safe_normalize(in.world_tangent.xyz - ng * dot(ng, in.world_tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
         let b = cross(ng, t) * select(-1.0, 1.0, in.world_tangent.w >= 0.0);
         let tn = (normal_texel * 2.0 - 1.0) * vec3<f32>(maps.params.x, maps.params.x, 1.0);
         n = safe_normalize(t * tn.x + b * tn.y + ng * tn.z, ng);
+        // The filtered texel's own length, before the normal scale changes it.
+        normal_length = length(normal_texel * 2.0 - 1.0);
     }
 
     let metallic = clamp(in.params.x * mr.b, 0.0, 1.0);
-    let roughness = clamp_perceptual_roughness(in.params.y * mr.g);
+    var roughness = clamp_perceptual_roughness(in.params.y * mr.g);
+    if SPECULAR_AA {
+        roughness = specular_aa_roughness(roughness, dot(dng_dx, dng_dx) + dot(dng_dy, dng_dy),
+                                          normal_length, view.antialiasing.x, view.antialiasing.y);
+    }
     let occlusion = in.emissive_occlusion.w * (1.0 + maps.params.y * (occlusion_texel - 1.0));
     let emissive = min(in.emissive_occlusion.rgb * emissive_texel, vec3<f32>(F16_MAX));
     let rgb = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));

@@ -5,6 +5,7 @@
 
 use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
+use lumen::render::antialiasing::{accumulate, copy, fxaa};
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
@@ -101,9 +102,13 @@ fn every_bind_group_list_matches_its_shader() {
     );
     check(
         "gbuffer.wgsl",
-        &[],
+        &[ShaderDef::Bool("SPECULAR_AA", true)],
         &[(0, gbuffer::VIEW), (1, material_maps::BINDINGS)],
     );
+    check("accumulate.wgsl", &[], &[(0, accumulate::BINDINGS)]);
+    check("copy.wgsl", &[], &[(0, copy::BINDINGS)]);
+    check("fxaa_prepare.wgsl", &[], &[(0, fxaa::PREPARE_BINDINGS)]);
+    check("fxaa.wgsl", &[], &[(0, fxaa::BINDINGS)]);
     check("shadow.wgsl", &[], &[(0, shadow::pass::CASTERS)]);
     check(
         "sky.wgsl",

@@ -6,6 +6,7 @@ mod common;
 
 use glam::{Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;
+use lumen::antialiasing as aa;
 use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::irradiance_volume as gi;
 use lumen::reflection_probe as rp;
@@ -15,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 27;
+const OUTPUTS: usize = 33;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -239,6 +240,28 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             n,
         )
         .extend(rp::box_weight(v * 3.0, n, Vec3::new(2.5, 2.0, 3.0), k)),
+        Vec4::new(
+            brdf::specular_aa_roughness(r, x * x * 4.0, 1.0, 0.15, 0.2),
+            brdf::specular_aa_roughness(r, 0.0, 0.5 + 0.5 * n_dot_h, 0.15, k),
+            brdf::toksvig_variance(0.5 + 0.5 * x),
+            brdf::specular_aa_roughness(r, 0.0, 1.0, 0.15, 0.2),
+        ),
+        aa::running_mean(
+            base.extend(x),
+            Vec4::new(n.x, n.y, n.z, k) * 3.0,
+            if i.is_multiple_of(4) { 1.0 } else { n_dot_h },
+        ),
+        {
+            let c = base * (x * 40.0);
+            let k3 = aa::compress_hdr(c);
+            k3.extend(aa::fxaa_luma(k3))
+        },
+        aa::expand_hdr(aa::compress_hdr(base * (x * 40.0))).extend(0.0),
+        {
+            let y = aa::rgb_to_ycocg(base);
+            aa::ycocg_to_rgb(y * Vec3::new(1.0, 0.5, 2.0)).extend(y.y)
+        },
+        aa::clip_towards_mean(v, base * 0.2, Vec3::new(0.1, 0.2, 0.3) * (k + 0.01)).extend(0.0),
     ]
 }
 
@@ -270,6 +293,12 @@ const NAMES: [&str; OUTPUTS] = [
     "oct_texel_direction | sh_basis",
     "atlas_position | sh_basis",
     "parallax_corrected | box_weight",
+    "specular_aa_roughness | toksvig_variance",
+    "running_mean",
+    "compress_hdr | fxaa_luma",
+    "expand_hdr",
+    "rgb_to_ycocg | ycocg_to_rgb",
+    "clip_towards_mean",
 ];
 
 /// Focus distance (m) of case `i` for `circle_of_confusion`: mostly ordinary, some at

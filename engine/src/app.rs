@@ -2,7 +2,9 @@
 //! renderer. The one type a script needs.
 
 use crate::error::{Error, Result};
-use crate::quality::Quality;
+use crate::quality::{AaMethod, MAX_ACCUMULATE, Quality};
+use crate::render::antialiasing::accumulate::SubFrame;
+use crate::render::antialiasing::taa::{TAA_FRAMES, TaaState, history_change};
 use crate::render::capture::ProbeStatus;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::exposure::ExposurePass;
@@ -10,6 +12,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
 use crate::render::graph::registry::Registry;
 use crate::render::graph::{FramePass, FramePlan, PassId, Slot, slots};
+use crate::render::jitter::Jitter;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::shadow::pass::ShadowPass;
@@ -73,6 +76,13 @@ pub struct FrameReport {
     /// The irradiance volume and the reflection probes: what is placed, the captures run
     /// before this frame, and their time.
     pub probes: ProbeStatus,
+    /// Jittered renders averaged into this image (`--accumulate`; 1 for one render).
+    /// The pass and stage times are their sums.
+    pub accumulated: u32,
+    /// Frames temporal anti-aliasing rendered into this image: [`TAA_FRAMES`] for a
+    /// still render (converged), 1 per frame in the viewer and `bench`, 0 without TAA.
+    /// The pass and stage times are their sums.
+    pub temporal_frames: u32,
 }
 
 /// A render target of the frame that can be read back with [`App::read_target`].
@@ -112,6 +122,11 @@ pub struct App {
     /// Capture at most `GiSettings::probes_per_frame` probes before each frame (the viewer,
     /// `bench`) instead of converging the irradiance volume before it (still renders).
     progressive_probes: bool,
+    /// With TAA, render one frame per call (the viewer, `bench`) instead of converging a
+    /// still image from a fresh history in each call.
+    progressive_taa: bool,
+    /// [`App::camera_cut`] was called: the next frame resets the TAA history.
+    pending_cut: bool,
 }
 
 impl Default for App {
@@ -139,6 +154,8 @@ impl App {
             shader_fallback: None,
             checked_size: None,
             progressive_probes: false,
+            progressive_taa: false,
+            pending_cut: false,
         }
     }
 
@@ -251,6 +268,19 @@ impl App {
     /// converged volume).
     pub fn set_progressive_probes(&mut self, progressive: bool) {
         self.progressive_probes = progressive;
+    }
+
+    /// With `--aa taa`: render one frame per call, blending it with the history of the
+    /// earlier calls (on: the viewer, `bench`), or converge a still image in each call
+    /// from a fresh history ([`TAA_FRAMES`] jittered frames; off, the default).
+    pub fn set_progressive_taa(&mut self, progressive: bool) {
+        self.progressive_taa = progressive;
+    }
+
+    /// Tells temporal anti-aliasing that the camera jumped: the next frame starts a new
+    /// history instead of reprojecting the old one.
+    pub fn camera_cut(&mut self) {
+        self.pending_cut = true;
     }
 
     /// Runs your [`Update`] systems once.
@@ -399,42 +429,84 @@ impl App {
 
         self.world
             .insert_resource(FrameOutput { size, view, format });
-        self.world.resource_mut::<FrameErrors>().0.clear();
-        let t = Instant::now();
-        self.world.run_schedule(ExtractSchedule);
-        stage("extract", t);
-        self.take_errors()?;
-
-        let t = Instant::now();
-        self.world.run_schedule(RenderSchedule);
-        stage("record", t);
-        let taken = self.world.resource_mut::<FrameEncoder>().encoder.take();
-        self.take_errors()?;
-        let mut encoder =
-            taken.ok_or_else(|| Error::Gpu("the frame recorded no commands".into()))?;
-
-        let t = Instant::now();
-        self.world
-            .resource::<FrameEncoder>()
-            .timer
-            .resolve(&mut encoder);
-        let index = gpu.checked("frame", |_| gpu.queue.submit([encoder.finish()]))?;
-        stage("submit", t);
-
-        let t = Instant::now();
-        gpu.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: Some(index),
-                timeout: None,
-            })
-            .map_err(|e| Error::Gpu(format!("waiting for the frame: {e}")))?;
-        stage("wait", t);
-        let passes = self
+        // `--accumulate N`: N renders, each jittered inside the pixel, averaged by the
+        // accumulate pass; their stage and pass times add up.
+        // `--aa taa`: frames blended with the reprojected history; a still render
+        // converges from a fresh history in this call.
+        let aa = self
             .world
-            .resource_mut::<FrameEncoder>()
-            .timer
-            .collect(&gpu);
+            .get_resource::<Quality>()
+            .map(|q| q.aa)
+            .unwrap_or_default();
+        let count = aa.accumulate.clamp(1, MAX_ACCUMULATE);
+        let taa = aa.method == AaMethod::Taa && count == 1;
+        let change = self.world.run_system_cached(history_change).ok().flatten();
+        let mut reset = match (std::mem::take(&mut self.pending_cut), change) {
+            (true, _) => Some("camera cut".to_string()),
+            (false, Some(why)) => Some(why.to_string()),
+            (false, None) => None,
+        };
+        if taa && !self.progressive_taa {
+            reset = Some("a still image converges from its own history".into());
+        }
+        let temporal_frames = match (taa, self.progressive_taa) {
+            (false, _) => 0,
+            (true, true) => 1,
+            (true, false) => TAA_FRAMES,
+        };
+        let mut state = self.world.remove_resource::<TaaState>().unwrap_or_default();
+        if state.size.is_some_and(|s| s != size) && reset.is_none() {
+            reset = Some("resized".into());
+        }
+        if reset.is_some() || !taa {
+            state.frame = 0;
+        }
+        state.reset = reset;
+        let renders = count.max(temporal_frames);
+        let mut passes: Vec<PassTiming> = Vec::new();
+        for index in 0..renders {
+            self.world.insert_resource(SubFrame {
+                index: if taa { 0 } else { index },
+                count: if taa { 1 } else { count },
+            });
+            self.world.insert_resource(if count > 1 {
+                Jitter::halton(index)
+            } else if taa {
+                Jitter::halton(state.frame % TAA_FRAMES)
+            } else {
+                Jitter::default()
+            });
+            self.world.insert_resource(state.clone());
+            let timings = self.render_sub_frame(&gpu, &mut stage)?;
+            state.frame = if taa { state.frame + 1 } else { 0 };
+            state.reset = None;
+            state.size = Some(size);
+            state.exposure = self
+                .world
+                .resource::<ExtractedFrame>()
+                .camera
+                .as_ref()
+                .map(|c| c.exposure);
+            for p in timings {
+                match passes.iter_mut().find(|q| q.name == p.name) {
+                    Some(q) => {
+                        q.cpu_ms += p.cpu_ms;
+                        q.gpu_ms = q.gpu_ms.zip(p.gpu_ms).map(|(a, b)| a + b);
+                    }
+                    None => passes.push(p),
+                }
+            }
+        }
+        self.world.insert_resource(state);
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
+        let mut merged: Vec<(&'static str, f64)> = Vec::new();
+        for (name, ms) in stages.drain(..) {
+            match merged.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, total)) => *total += ms,
+                None => merged.push((name, ms)),
+            }
+        }
+        let stages = merged;
 
         if self.world.resource::<FramePlan>().runs(PassId::Exposure)
             && self.world.resource::<ExposurePass>().ran
@@ -468,7 +540,49 @@ impl App {
             notes: camera.notes.clone(),
             metered: *self.world.resource::<MeteredExposure>(),
             probes,
+            accumulated: count,
+            temporal_frames,
         })
+    }
+
+    /// Extracts, records, submits and waits for one render of the frame; returns its
+    /// pass timings.
+    fn render_sub_frame(
+        &mut self,
+        gpu: &Gpu,
+        stage: &mut impl FnMut(&'static str, Instant),
+    ) -> Result<Vec<PassTiming>> {
+        self.world.resource_mut::<FrameErrors>().0.clear();
+        let t = Instant::now();
+        self.world.run_schedule(ExtractSchedule);
+        stage("extract", t);
+        self.take_errors()?;
+
+        let t = Instant::now();
+        self.world.run_schedule(RenderSchedule);
+        stage("record", t);
+        let taken = self.world.resource_mut::<FrameEncoder>().encoder.take();
+        self.take_errors()?;
+        let mut encoder =
+            taken.ok_or_else(|| Error::Gpu("the frame recorded no commands".into()))?;
+
+        let t = Instant::now();
+        self.world
+            .resource::<FrameEncoder>()
+            .timer
+            .resolve(&mut encoder);
+        let index = gpu.checked("frame", |_| gpu.queue.submit([encoder.finish()]))?;
+        stage("submit", t);
+
+        let t = Instant::now();
+        gpu.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(index),
+                timeout: None,
+            })
+            .map_err(|e| Error::Gpu(format!("waiting for the frame: {e}")))?;
+        stage("wait", t);
+        Ok(self.world.resource_mut::<FrameEncoder>().timer.collect(gpu))
     }
 
     /// The EV100 automatic exposure has adapted to, which the next frame uses; `None`

@@ -73,6 +73,53 @@ pub fn perceptual_roughness_to_alpha(perceptual_roughness: f32) -> f32 {
     r * r
 }
 
+/// Largest shortfall of a unit normal's length that 8-bit texture storage alone causes
+/// (each component off by at most 1/255 after the `2t − 1` decode: √3/255): a normal-map
+/// texel shorter than 1 by less than this is not filtered.
+pub const NORMAL_QUANTIZATION: f32 = 0.0068;
+
+/// Toksvig's variance of the normals averaged into one filtered normal-map texel
+/// (Toksvig 2005, "Mipmapping Normal Maps"): σ² = (1 − |n̄|)/|n̄|, dimensionless, where
+/// |n̄| is the length of the filtered (not renormalised) normal; a length within
+/// [`NORMAL_QUANTIZATION`] of 1 gives 0.
+pub fn toksvig_variance(normal_length: f32) -> f32 {
+    if normal_length.is_nan() {
+        return 0.0;
+    }
+    (1.0 - normal_length - NORMAL_QUANTIZATION).max(0.0) / normal_length.max(1e-4)
+}
+
+/// Geometric specular anti-aliasing (Tokuyoshi & Kaplanyan 2019, "Improved Geometric
+/// Specular Antialiasing"; the isotropic form Filament uses): the perceptual roughness to
+/// store so that the GGX lobe covers the normals a pixel's footprint sees.
+/// - `normal_variation` = |∂n/∂x|² + |∂n/∂y|², the squared screen-space derivatives of
+///   the unit normal (per pixel²);
+/// - `normal_length`: the filtered normal-map texel's length (1 without a normal map),
+///   whose [`toksvig_variance`] adds the normals a mip level averaged;
+/// - `variance` σ² scales the screen-space term, `threshold` κ caps the added α².
+///
+/// The kernel α²_k = min(2 (σ² · normal_variation + σ²_Toksvig), κ) widens the lobe as
+/// the convolution of two GGX-like lobes does, α'² = min(α² + α²_k, 1). Where nothing
+/// changes (a flat plane), the roughness comes back exactly as given.
+pub fn specular_aa_roughness(
+    perceptual_roughness: f32,
+    normal_variation: f32,
+    normal_length: f32,
+    variance: f32,
+    threshold: f32,
+) -> f32 {
+    let alpha = perceptual_roughness_to_alpha(perceptual_roughness);
+    let alpha2 = alpha * alpha;
+    let kernel = (2.0 * (variance * normal_variation + toksvig_variance(normal_length)))
+        .min(threshold)
+        .max(0.0);
+    let widened = (alpha2 + kernel).min(1.0);
+    if widened.is_nan() || widened <= alpha2 {
+        return perceptual_roughness;
+    }
+    widened.sqrt().sqrt()
+}
+
 /// GGX / Trowbridge-Reitz normal distribution, 1/sr:
 /// `D = α² / (π ((n·h)²(α² − 1) + 1)²)` (Walter et al. 2007).
 ///

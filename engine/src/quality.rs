@@ -213,6 +213,96 @@ pub struct Quality {
     pub gi: GiSettings,
     /// Reflection probes.
     pub reflection_probes: ReflectionProbeSettings,
+    /// Anti-aliasing: geometric specular AA, post-process AA and accumulation.
+    pub aa: AaSettings,
+}
+
+/// Which anti-aliasing filter runs on each finished frame (docs/src/antialiasing.md for
+/// the measured cost and error of each).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum AaMethod {
+    /// No post-process anti-aliasing: every pixel is its centre's sample.
+    None,
+    /// Fast approximate anti-aliasing (Lottes 2009): one full-screen pass that finds
+    /// luminance edges and blends each edge pixel with its neighbour across the edge.
+    #[default]
+    Fxaa,
+    /// Temporal anti-aliasing (Karis 2014; Salvi 2016): every frame is jittered inside
+    /// the pixel, and the history of earlier frames, reprojected by motion vectors and
+    /// clipped to the current neighbourhood's colour range, is blended in.
+    Taa,
+}
+
+impl AaMethod {
+    /// Every method, cheapest first.
+    pub const ALL: [AaMethod; 3] = [AaMethod::None, AaMethod::Fxaa, AaMethod::Taa];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            AaMethod::None => "none",
+            AaMethod::Fxaa => "fxaa",
+            AaMethod::Taa => "taa",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<AaMethod> {
+        AaMethod::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(name))
+    }
+}
+
+/// Geometric specular anti-aliasing in the G-buffer pass
+/// ([`crate::brdf::specular_aa_roughness`]): where the normal varies across a pixel, the
+/// stored roughness widens so the GGX lobe covers the normals the pixel sees, and a
+/// highlight smaller than the pixel is spread over it instead of hit or missed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecularAaSettings {
+    /// On or off. Off, the G-buffer stores each material's roughness as it is.
+    pub enabled: bool,
+    /// σ², the scale of the screen-space variance of the normal (dimensionless;
+    /// Filament's default 0.15).
+    pub variance: f32,
+    /// κ, the largest α² the filter may add (dimensionless; Filament's default 0.2).
+    pub threshold: f32,
+}
+
+impl Default for SpecularAaSettings {
+    fn default() -> Self {
+        SpecularAaSettings {
+            enabled: true,
+            variance: 0.15,
+            threshold: 0.2,
+        }
+    }
+}
+
+/// Most jittered renders one image may average (`--accumulate`).
+pub const MAX_ACCUMULATE: u32 = 1024;
+
+/// Anti-aliasing settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AaSettings {
+    /// The post-process filter.
+    pub method: AaMethod,
+    /// Frames averaged per rendered image, 1..=1024: each is rendered with the camera
+    /// jittered inside the pixel (Halton 2, 3), and their average is the box-filtered
+    /// pixel the path-traced reference computes. 1 renders one centred frame.
+    pub accumulate: u32,
+    /// Geometric specular anti-aliasing.
+    pub specular: SpecularAaSettings,
+}
+
+impl Default for AaSettings {
+    fn default() -> Self {
+        AaSettings {
+            method: AaMethod::Fxaa,
+            accumulate: 1,
+            specular: SpecularAaSettings::default(),
+        }
+    }
 }
 
 /// Diffuse global illumination from an irradiance volume
@@ -382,6 +472,10 @@ impl QualityPreset {
                     enabled: false,
                     ..high.reflection_probes
                 },
+                aa: AaSettings {
+                    method: AaMethod::None,
+                    ..high.aa
+                },
                 ..high
             },
             QualityPreset::Medium => Quality {
@@ -474,6 +568,7 @@ impl Default for Quality {
             ssr: SsrSettings::default(),
             gi: GiSettings::default(),
             reflection_probes: ReflectionProbeSettings::default(),
+            aa: AaSettings::default(),
         }
     }
 }

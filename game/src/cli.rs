@@ -339,6 +339,22 @@ pub struct SceneArgs {
     /// a power of two).
     #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=256))]
     pub reflection_probe_size: Option<u32>,
+    /// Anti-aliasing filter on each frame: none or fxaa (default from `medium`).
+    #[arg(long, value_name = "METHOD", value_parser = parse_aa)]
+    pub aa: Option<lumen::quality::AaMethod>,
+    /// Average N renders, each with the camera jittered inside the pixel (1..=1024): the
+    /// box-filtered pixel the path-traced reference computes. Costs N frames.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub accumulate: Option<u32>,
+    /// Geometric specular anti-aliasing: on (default) or off.
+    #[arg(long, value_name = "ON", value_parser = parse_on_off)]
+    pub specular_aa: Option<bool>,
+    /// Specular AA's screen-space variance scale σ² (0..=1, default 0.15).
+    #[arg(long, value_name = "X", value_parser = parse_unit)]
+    pub specular_aa_variance: Option<f32>,
+    /// Specular AA's largest added α² κ (0..=1, default 0.2).
+    #[arg(long, value_name = "X", value_parser = parse_unit)]
+    pub specular_aa_threshold: Option<f32>,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]
@@ -669,6 +685,16 @@ fn parse_light_visibility(s: &str) -> Result<lumen::reference::path::LightVisibi
 fn parse_ao_resolution(s: &str) -> Result<lumen::quality::AoResolution, String> {
     lumen::quality::AoResolution::from_name(s)
         .ok_or_else(|| format!("unknown AO resolution '{s}' (use off, half, full)"))
+}
+
+fn parse_aa(s: &str) -> Result<lumen::quality::AaMethod, String> {
+    lumen::quality::AaMethod::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = lumen::quality::AaMethod::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect();
+        format!("unknown anti-aliasing '{s}' (use {})", names.join(", "))
+    })
 }
 
 fn parse_on_off(s: &str) -> Result<bool, String> {

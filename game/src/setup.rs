@@ -156,6 +156,21 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(n) = args.reflection_probe_size {
         quality.reflection_probes.face_size = n;
     }
+    if let Some(m) = args.aa {
+        quality.aa.method = m;
+    }
+    if let Some(n) = args.accumulate {
+        quality.aa.accumulate = n;
+    }
+    if let Some(on) = args.specular_aa {
+        quality.aa.specular.enabled = on;
+    }
+    if let Some(x) = args.specular_aa_variance {
+        quality.aa.specular.variance = x;
+    }
+    if let Some(x) = args.specular_aa_threshold {
+        quality.aa.specular.threshold = x;
+    }
 }
 
 /// The command line's camera settings.

@@ -10,6 +10,7 @@
 #import ambient_occlusion
 #import irradiance_volume
 #import reflection_probe
+#import antialiasing
 
 struct Case {
     n: vec4<f32>,
@@ -23,7 +24,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 27u;
+const OUTPUTS: u32 = 33u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -98,6 +99,18 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 24u] = vec4<f32>(oct_texel_direction(vec2<u32>(i % 8u, (i / 8u) % 8u), 6u + i % 3u), basis[8]);
     results[o + 26u] = vec4<f32>(parallax_corrected(c.v.xyz * 2.0, c.l.xyz, vec3<f32>(-3.0, -2.5, -4.0), vec3<f32>(3.5, 2.0, 3.0), c.n.xyz),
                                  box_weight(c.v.xyz * 3.0, c.n.xyz, vec3<f32>(2.5, 2.0, 3.0), k));
+    results[o + 27u] = vec4<f32>(specular_aa_roughness(r, x * x * 4.0, 1.0, 0.15, 0.2),
+                                 specular_aa_roughness(r, 0.0, 0.5 + 0.5 * n_dot_h, 0.15, k),
+                                 toksvig_variance(0.5 + 0.5 * x),
+                                 specular_aa_roughness(r, 0.0, 1.0, 0.15, 0.2));
+    results[o + 28u] = running_mean(vec4<f32>(c.base_metallic.rgb, x), vec4<f32>(c.n.xyz, k) * 3.0,
+                                    select(n_dot_h, 1.0, i % 4u == 0u));
+    let compressed = compress_hdr(c.base_metallic.rgb * (x * 40.0));
+    results[o + 29u] = vec4<f32>(compressed, fxaa_luma(compressed));
+    results[o + 30u] = vec4<f32>(expand_hdr(compressed), 0.0);
+    let y = rgb_to_ycocg(c.base_metallic.rgb);
+    results[o + 31u] = vec4<f32>(ycocg_to_rgb(y * vec3<f32>(1.0, 0.5, 2.0)), y.y);
+    results[o + 32u] = vec4<f32>(clip_towards_mean(c.v.xyz, c.base_metallic.rgb * 0.2, vec3<f32>(0.1, 0.2, 0.3) * (k + 0.01)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

@@ -10,6 +10,7 @@ use crate::punctual::spot_scale_offset;
 use crate::quality::Quality;
 use crate::render::frame::{CaptureView, FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
+use crate::render::jitter::Jitter;
 use crate::render::shadow_views::{
     CameraForShadows, ShadowView, directional_views, point_views, spot_view,
 };
@@ -28,7 +29,7 @@ pub struct ExtractedCamera {
     pub position: Vec3,
     /// View from world.
     pub view_from_world: Mat4,
-    /// Clip from view (reversed Z).
+    /// Clip from view (reversed Z), without the frame's jitter.
     pub clip_from_view: Mat4,
     /// Linear exposure multiplier applied to luminance.
     pub exposure: f32,
@@ -165,6 +166,32 @@ pub struct ExtractedFrame {
     pub shadows_disabled: bool,
     /// The first environment, if any.
     pub environment: Option<ExtractedEnvironment>,
+    /// What motion vectors and temporal anti-aliasing need of the previous frame.
+    pub temporal: TemporalFrame,
+}
+
+/// This frame and the previous one, for motion vectors (filled only when temporal
+/// anti-aliasing runs, and never by probe captures).
+#[derive(Clone, Debug, Default)]
+pub struct TemporalFrame {
+    /// Clip from world without the jitter, this frame.
+    pub clip_from_world: Mat4,
+    /// Clip from world without the jitter, the previous frame (this frame's on the first).
+    pub previous_clip_from_world: Mat4,
+    /// Per instance (parallel to [`ExtractedFrame::instances`]), its world-from-local
+    /// transform in the previous frame (its current one if it is new).
+    pub previous_world: Vec<[[f32; 4]; 4]>,
+    /// The instances whose transform changed since the previous frame.
+    pub moved: Vec<u32>,
+}
+
+/// What extraction remembers of the previous frame for [`TemporalFrame`].
+#[derive(Resource, Default, Debug)]
+pub struct TemporalMemory {
+    /// Clip from world without jitter.
+    pub clip_from_world: Option<Mat4>,
+    /// Each drawn entity's world-from-local transform.
+    pub world: std::collections::HashMap<Entity, Mat4>,
 }
 
 fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
@@ -260,6 +287,7 @@ fn exposed(color: Vec3, intensity: f32, exposure: f32) -> [f32; 3] {
 
 /// What extraction reads of a drawn entity.
 type Drawable = (
+    Entity,
     &'static Mesh3d,
     &'static Material,
     &'static GlobalTransform,
@@ -287,6 +315,8 @@ pub fn extract_frame(
     metered: Res<crate::render::frame::MeteredExposure>,
     output: Res<FrameOutput>,
     capture: Option<Res<CaptureView>>,
+    jitter: Option<Res<Jitter>>,
+    mut memory: ResMut<TemporalMemory>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -328,8 +358,24 @@ pub fn extract_frame(
         ));
         return;
     }
+    // Captures look through pixel centres; the frame samples where its jitter says.
+    let jitter = match (&capture, jitter) {
+        (None, Some(j)) => *j,
+        _ => Jitter::default(),
+    };
     let clip_from_view = projection.matrix(aspect);
-    let clip_from_world = clip_from_view * view_from_world;
+    let unjittered = clip_from_view * view_from_world;
+    let clip_from_world = jitter.clip_matrix(output.size) * unjittered;
+    if capture.is_none() {
+        let previous = if quality.aa.method == crate::quality::AaMethod::Taa {
+            memory.clip_from_world.unwrap_or(unjittered)
+        } else {
+            unjittered
+        };
+        frame.temporal.clip_from_world = unjittered;
+        frame.temporal.previous_clip_from_world = previous;
+        memory.clip_from_world = Some(unjittered);
+    }
     let position = camera_transform.translation();
     let fov_y = projection.fov_y_rad;
     let focal_length_m = camera.lens.focal_length_m(fov_y);
@@ -370,10 +416,11 @@ pub fn extract_frame(
         casts: bool,
         sphere: Option<(Vec3, f32)>,
         instance: GpuInstance,
+        entity: Entity,
     }
     let mut items: Vec<Item> = Vec::new();
     frame.material_maps.clear();
-    for (mesh, material, transform, not_caster, not_receiver, maps) in &drawables {
+    for (entity, mesh, material, transform, not_caster, not_receiver, maps) in &drawables {
         if meshes.get(mesh.0).is_none() {
             log::warn!(
                 "an entity refers to mesh {} which does not exist; skipped",
@@ -398,6 +445,7 @@ pub fn extract_frame(
             index as u32
         });
         items.push(Item {
+            entity,
             mesh: mesh.0,
             maps,
             double_sided: material.double_sided,
@@ -432,8 +480,26 @@ pub fn extract_frame(
     frame.triangles = 0;
     frame.receivers = 0;
     let mut bounds: Vec<(Vec3, f32)> = Vec::with_capacity(items.len());
+    // Motion vectors need each instance's previous transform; only TAA uses them, and
+    // captures neither read nor update what the frame remembers.
+    let temporal = capture.is_none() && quality.aa.method == crate::quality::AaMethod::Taa;
+    frame.temporal.previous_world.clear();
+    frame.temporal.moved.clear();
+    let mut remembered = std::collections::HashMap::new();
     for item in items {
         let index = frame.instances.len() as u32;
+        if temporal {
+            let now = Mat4::from_cols_array_2d(&item.instance.world_from_local);
+            let before = memory.world.get(&item.entity).copied().unwrap_or(now);
+            if before != now {
+                frame.temporal.moved.push(index);
+            }
+            frame
+                .temporal
+                .previous_world
+                .push(before.to_cols_array_2d());
+            remembered.insert(item.entity, now);
+        }
         match frame.batches.last_mut() {
             Some(b)
                 if b.mesh == item.mesh
@@ -466,6 +532,11 @@ pub fn extract_frame(
         frame.triangles += meshes
             .get(item.mesh)
             .map_or(0, |m| m.triangle_count() as u64);
+    }
+    if temporal {
+        memory.world = remembered;
+    } else if capture.is_none() {
+        memory.world.clear();
     }
     let caster_spheres: Vec<(Vec3, f32)> =
         frame.casters.iter().map(|c| (c.center, c.radius)).collect();
@@ -663,5 +734,14 @@ pub fn extract_frame(
         ],
         shadowed_counts: [shadowed[0], shadowed[1], shadowed[2], 0],
         forward: camera_transform.forward().extend(0.0).into(),
+        antialiasing: {
+            let s = quality.aa.specular;
+            [
+                finite_or(s.variance, 0.0).max(0.0),
+                finite_or(s.threshold, 0.0).clamp(0.0, 1.0),
+                jitter.offset_px.x,
+                jitter.offset_px.y,
+            ]
+        },
     };
 }

@@ -8,10 +8,11 @@ use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::GpuInstance;
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
@@ -22,7 +23,7 @@ use std::collections::HashMap;
 /// The G-buffer pass's group 0 (group 1 is [`crate::render::material_maps::BINDINGS`]).
 pub const VIEW: BindGroupSpec = BindGroupSpec {
     label: "gbuffer",
-    visibility: wgpu::ShaderStages::VERTEX,
+    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
     bindings: &[("view", Binding::Uniform)],
 };
 
@@ -37,6 +38,8 @@ impl PassId {
 pub struct GBufferVariants {
     /// Each distinct variant, in the order batches first need it.
     pub variants: Vec<GBufferVariant>,
+    /// Geometric specular anti-aliasing widens the stored roughness (every variant).
+    pub specular_aa: bool,
 }
 
 impl FramePass for GBufferPass {
@@ -53,8 +56,16 @@ impl FramePass for GBufferPass {
     fn decide(world: &World, _: &FramePlan) -> PassDecision<GBufferVariants> {
         let frame = world.resource::<ExtractedFrame>();
         let instances = frame.instances.len();
-        let mut variants = GBufferVariants::default();
-        for v in frame.batches.iter().map(variant) {
+        let specular_aa = world
+            .resource::<crate::quality::Quality>()
+            .aa
+            .specular
+            .enabled;
+        let mut variants = GBufferVariants {
+            variants: Vec::new(),
+            specular_aa,
+        };
+        for v in frame.batches.iter().map(|b| variant(b, specular_aa)) {
             if !variants.variants.contains(&v) {
                 variants.variants.push(v);
             }
@@ -68,7 +79,17 @@ impl FramePass for GBufferPass {
         } else {
             "no mesh in view: the G-buffer stays cleared".into()
         };
-        PassDecision::new(instances > 0, reason, variants)
+        let mut decision = PassDecision::new(instances > 0, reason, variants);
+        decision.features.push(Decision::new(
+            "specular anti-aliasing",
+            specular_aa,
+            if specular_aa {
+                "the normal's screen-space variation widens the stored roughness"
+            } else {
+                "--specular-aa off"
+            },
+        ));
+        decision
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -104,13 +125,16 @@ pub struct GBufferVariant {
     pub textured: bool,
     /// Back faces drawn (no culling).
     pub double_sided: bool,
+    /// Geometric specular anti-aliasing (the shader constant `SPECULAR_AA`).
+    pub specular_aa: bool,
 }
 
 /// The G-buffer pass's pipelines (the plain one compiled up front, the others when a
 /// frame first needs them) and bindings.
 #[derive(Resource)]
 pub struct GBufferPass {
-    module: wgpu::ShaderModule,
+    /// The shader, compiled without and with `SPECULAR_AA` as variants first need it.
+    modules: HashMap<bool, wgpu::ShaderModule>,
     layout: wgpu::BindGroupLayout,
     plain_layout: wgpu::PipelineLayout,
     textured_layout: wgpu::PipelineLayout,
@@ -121,8 +145,6 @@ pub struct GBufferPass {
 impl GBufferPass {
     /// Compiles the pass's plain variant.
     pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
-        let source = gpu.shaders.compose("gbuffer.wgsl", &[])?;
-        let module = create_module(gpu, "gbuffer", &source)?;
         let layout = VIEW.layout(gpu);
         let plain_layout = gpu
             .device
@@ -139,7 +161,7 @@ impl GBufferPass {
                 immediate_size: 0,
             });
         let mut pass = GBufferPass {
-            module,
+            modules: HashMap::new(),
             layout,
             plain_layout,
             textured_layout,
@@ -151,6 +173,7 @@ impl GBufferPass {
             GBufferVariant {
                 textured: false,
                 double_sided: false,
+                specular_aa: crate::quality::SpecularAaSettings::default().enabled,
             },
         )?;
         Ok(pass)
@@ -184,7 +207,18 @@ impl GBufferPass {
         } else {
             (&self.plain_layout, "vs_main", "fs_main")
         };
-        let module = &self.module;
+        if let std::collections::hash_map::Entry::Vacant(slot) =
+            self.modules.entry(variant.specular_aa)
+        {
+            let source = gpu.shaders.compose(
+                "gbuffer.wgsl",
+                &[ShaderDef::Bool("SPECULAR_AA", variant.specular_aa)],
+            )?;
+            slot.insert(create_module(gpu, "gbuffer", &source)?);
+        }
+        let Some(module) = self.modules.get(&variant.specular_aa) else {
+            return Ok(());
+        };
         let pipeline = gpu.checked("gbuffer pipeline", |device| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("gbuffer"),
@@ -244,10 +278,11 @@ impl GBufferPass {
 }
 
 /// The variant that draws `batch`.
-fn variant(batch: &Batch) -> GBufferVariant {
+fn variant(batch: &Batch, specular_aa: bool) -> GBufferVariant {
     GBufferVariant {
         textured: batch.maps.is_some(),
         double_sided: batch.double_sided,
+        specular_aa,
     }
 }
 
@@ -294,8 +329,10 @@ pub fn gbuffer_pass(
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
     frame: Res<ExtractedFrame>,
+    plan: Res<FramePlan>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
+    let specular_aa = plan.variant::<GBufferPass>().is_some_and(|v| v.specular_aa);
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(t), Some((_, bind_group))) = (
         encoder.as_mut(),
@@ -337,7 +374,7 @@ pub fn gbuffer_pass(
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
-            let v = variant(batch);
+            let v = variant(batch, specular_aa);
             let Some(pipeline) = pass.pipelines.get(&v) else {
                 continue;
             };

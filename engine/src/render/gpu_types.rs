@@ -23,6 +23,9 @@ pub struct GpuView {
     pub shadowed_counts: [u32; 4],
     /// Camera forward direction (xyz, unit) for the view depth that selects cascades.
     pub forward: [f32; 4],
+    /// Geometric specular anti-aliasing's variance scale σ² and threshold κ
+    /// (dimensionless), and this frame's camera jitter in pixels.
+    pub antialiasing: [f32; 4],
 }
 
 /// One drawn object (`Instance` in WGSL).
@@ -136,7 +139,7 @@ mod tests {
     #[test]
     fn sizes_match_wgsl_layouts() {
         // std140/std430 sizes of the WGSL structs in shaders/bindings.wgsl.
-        assert_eq!(std::mem::size_of::<GpuView>(), 64 + 64 + 16 * 6);
+        assert_eq!(std::mem::size_of::<GpuView>(), 64 + 64 + 16 * 7);
         assert_eq!(std::mem::size_of::<GpuInstance>(), 64 + 48 + 48);
         assert_eq!(std::mem::size_of::<GpuLight>(), 112);
         assert_eq!(std::mem::size_of::<GpuShadowView>(), 96);

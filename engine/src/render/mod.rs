@@ -9,6 +9,7 @@
 //! (or a debug view) — each recording into the frame's command encoder with its own
 //! timing. The built-in passes are listed in [`passes`].
 
+pub mod antialiasing;
 pub mod bindings;
 pub mod capture;
 pub mod debug_view;
@@ -22,6 +23,7 @@ pub mod gpu_types;
 pub mod graph;
 pub mod ibl;
 pub mod indirect;
+pub mod jitter;
 pub mod light_culling;
 pub mod lighting;
 pub mod material_maps;
@@ -113,6 +115,8 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.init_resource::<crate::scene::Textures>();
     world.init_resource::<frame::MeteredExposure>();
     world.init_resource::<frame::FrameDelta>();
+    world.init_resource::<extract::TemporalMemory>();
+    world.init_resource::<antialiasing::taa::TaaState>();
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
         encoder: None,

@@ -3,6 +3,10 @@
 //! [`crate::render::graph`]).
 
 use crate::error::Result;
+use crate::render::antialiasing::accumulate::AccumulatePass;
+use crate::render::antialiasing::fxaa::FxaaPass;
+use crate::render::antialiasing::motion::MotionPass;
+use crate::render::antialiasing::taa::TaaPass;
 use crate::render::debug_view::DebugViewPass;
 use crate::render::dof::DofPass;
 use crate::render::exposure::ExposurePass;
@@ -29,8 +33,12 @@ pub fn builtin() -> Result<Registry> {
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<SkyPass>()
+        .with::<AccumulatePass>()
+        .with::<MotionPass>()
+        .with::<TaaPass>()
         .with::<ExposurePass>()
         .with::<DofPass>()
+        .with::<FxaaPass>()
         .with::<TonemapPass>()
         .with::<DebugViewPass>()
         .ordered()

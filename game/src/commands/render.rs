@@ -91,6 +91,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                     "name": d.name, "enabled": d.enabled, "reason": d.reason,
                 })).collect::<Vec<_>>(),
             },
+            "accumulated": report.accumulated,
             "camera_notes": report.notes,
             "auto_exposure": report.metered.ev100.map(|ev| json!({
                 "ev100": ev,
@@ -149,6 +150,13 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             "frame {:.2} ms (first frame, compiling pipelines: {:.1} ms); exposure {:.3e} (EV100 {:.2}), tone mapper {tonemapper}",
             report.frame_ms, first.frame_ms, report.exposure, report.ev100
         );
+        if report.accumulated > 1 {
+            let _ = writeln!(
+                text,
+                "accumulated {} jittered renders (box pixel filter); the times above are their sums",
+                report.accumulated
+            );
+        }
         if !first.preprocessing.is_empty() {
             let steps: Vec<String> = first
                 .preprocessing

@@ -9,7 +9,7 @@ use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
-use lumen::quality::{AoResolution, HdrPrecision, QualityPreset, ShadowFilter};
+use lumen::quality::{AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter};
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
@@ -146,6 +146,13 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     knob("--reflection-probe-size", "128".into(), &|a| {
         a.reflection_probe_size = Some(128)
     });
+    knob("--aa", "none".into(), &|a| a.aa = Some(AaMethod::None));
+    knob("--specular-aa", "off".into(), &|a| {
+        a.specular_aa = Some(false)
+    });
+    for n in [4u32, 16] {
+        knob("--accumulate", n.to_string(), &|a| a.accumulate = Some(n));
+    }
     out
 }
 
@@ -311,7 +318,17 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         progress.set_message(format!("{kind} {setting}"));
         let mut app = App::headless()?;
         build_scene(&mut app, scene)?;
-        let samples = measure(&mut app, args.size, 3, args.frames, &|_| {})?;
+        // TAA runs frame by frame, as in the viewer: its warm-up fills the history, so
+        // the row's time is one frame's and its image the converged one.
+        app.set_progressive_taa(true);
+        let taa = app.world().resource::<lumen::prelude::Quality>().aa.method
+            == lumen::quality::AaMethod::Taa;
+        let warmup = if taa {
+            lumen::render::antialiasing::taa::TAA_FRAMES
+        } else {
+            3
+        };
+        let samples = measure(&mut app, args.size, warmup, args.frames, &|_| {})?;
         let img = app.read_hdr_image()?;
         let frame: Vec<f64> = samples.iter().map(|s| s.frame_ms).collect();
         let gpu: Option<Vec<f64>> = samples.iter().map(|s| s.gpu_ms()).collect();

@@ -1,5 +1,6 @@
 //! The built-in demo and test scenes.
 
+pub mod aliasing;
 pub mod cornell;
 mod dof;
 mod extremes;
@@ -57,6 +58,11 @@ pub const SCENES: &[SceneInfo] = &[
         name: "cornell",
         description: "the Cornell box (published dimensions): red and green walls, two white blocks, a point light under the ceiling; colour bleeding",
         build: cornell::build,
+    },
+    SceneInfo {
+        name: "aliasing",
+        description: "what aliases worst: sub-pixel wires, rails towards the horizon, a fine checker floor, a bump-mapped sphere, sub-pixel highlights",
+        build: aliasing::build,
     },
     SceneInfo {
         name: "extremes",

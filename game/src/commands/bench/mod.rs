@@ -99,6 +99,8 @@ fn headless(args: &BenchArgs, bar: &indicatif::ProgressBar) -> Result<(Vec<Frame
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
+    // TAA frame by frame, as in the viewer.
+    app.set_progressive_taa(true);
     let samples = measure(&mut app, args.size, args.warmup, args.frames, &|done| {
         bar.set_position(u64::from(done))
     })?;

@@ -235,12 +235,14 @@ impl Viewer {
             Some(WindowScene::Ready(app)) => {
                 let mut app = *app;
                 app.set_progressive_probes(true);
+                app.set_progressive_taa(true);
                 (app, Vec::new())
             }
             Some(WindowScene::Args(args)) => {
                 let mut app = App::new();
                 app.attach_gpu(gpu.clone())?;
                 app.set_progressive_probes(true);
+                app.set_progressive_taa(true);
                 build_scene(&mut app, &args.scene)?;
                 (app, args.open.clone())
             }

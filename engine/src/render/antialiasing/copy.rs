@@ -1,0 +1,66 @@
+//! A full-screen copy of a texture into the frame's HDR target (`copy.wgsl`), compiled per
+//! HDR format: the last step of the passes that build their result in a target of their
+//! own because they read the HDR target while making it (accumulation, TAA).
+
+use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::pipelines::fullscreen_variant;
+use std::collections::HashMap;
+
+/// The copy's input.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "copy",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("source", Binding::TextureLoad)],
+};
+
+/// The copy's layout and its pipelines, one per HDR format.
+pub struct CopyToHdr {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+}
+
+impl CopyToHdr {
+    /// The layouts; pipelines compile on first use.
+    pub fn new(gpu: &Gpu) -> CopyToHdr {
+        let layout = BINDINGS.layout(gpu);
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("copy"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        CopyToHdr {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// Compiles the copy into `format` unless it exists.
+    pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
+        if !self.pipelines.contains_key(&format) {
+            let pipeline =
+                fullscreen_variant(gpu, "copy", &self.pipeline_layout, "copy.wgsl", &[], format)?;
+            self.pipelines.insert(format, pipeline);
+        }
+        Ok(())
+    }
+
+    /// The copy into `format`, once [`CopyToHdr::ensure`]d.
+    pub fn pipeline(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(&format)
+    }
+
+    /// A bind group that copies from `source`.
+    pub fn group(&self, gpu: &Gpu, source: &wgpu::TextureView) -> Result<wgpu::BindGroup> {
+        BINDINGS.group(
+            gpu,
+            &self.layout,
+            vec![wgpu::BindingResource::TextureView(source)],
+        )
+    }
+}

@@ -1,0 +1,243 @@
+//! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast and
+//! blended across, in two steps: `fxaa_prepare.wgsl` compresses the HDR image into
+//! [0, 1) luminance ([`crate::antialiasing::compress_hdr`]) in a target of its own, and
+//! `fxaa.wgsl` filters it and writes the expanded result back into the HDR target. It
+//! runs after depth of field, on the image tone mapping will show.
+
+use crate::error::Result;
+use crate::quality::{AaMethod, Quality};
+use crate::render::antialiasing::accumulate::SubFrame;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::HDR;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
+use crate::render::targets::{RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Fast approximate anti-aliasing.
+    pub const Fxaa: PassId = PassId::new("fxaa");
+}
+
+/// The compressed image FXAA filters: f16 holds [0, 1) with 11 significant bits.
+const COMPRESSED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+impl FramePass for FxaaPass {
+    const ID: PassId = PassId::Fxaa;
+    const READS: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = wgpu::TextureFormat;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        FxaaPass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
+        let quality = world.resource::<Quality>();
+        let accumulating = world
+            .get_resource::<SubFrame>()
+            .is_some_and(|s| s.count > 1);
+        let (runs, reason) = match quality.aa.method {
+            AaMethod::None => (false, "--aa none".to_string()),
+            AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)".into()),
+            AaMethod::Fxaa if accumulating => (
+                false,
+                "the accumulation of jittered renders already filters every pixel".into(),
+            ),
+            AaMethod::Fxaa => (true, "blends luma edges across (--aa fxaa)".into()),
+        };
+        PassDecision::new(runs, reason, quality.hdr_precision.format())
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_fxaa.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        fxaa_pass.into_configs()
+    }
+}
+
+/// The compression step's input.
+pub const PREPARE_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "fxaa prepare",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("hdr", Binding::TextureLoad)],
+};
+
+/// The filter's input.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "fxaa",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        (
+            "compressed",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("linear_sampler", Binding::Sampler),
+    ],
+};
+
+/// The compressed image and the two steps' bind groups.
+struct Compressed {
+    target: Target,
+    key: u64,
+    prepare: wgpu::BindGroup,
+    filter: wgpu::BindGroup,
+}
+
+/// FXAA's pipelines, target and bindings.
+#[derive(Resource)]
+pub struct FxaaPass {
+    prepare_layout: wgpu::BindGroupLayout,
+    layout: wgpu::BindGroupLayout,
+    prepare: wgpu::RenderPipeline,
+    filter_layout: wgpu::PipelineLayout,
+    filters: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    sampler: wgpu::Sampler,
+    compressed: Option<Compressed>,
+}
+
+impl FxaaPass {
+    /// Creates the layouts and the compression pipeline; the filter compiles per HDR
+    /// format.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let prepare_layout = PREPARE_BINDINGS.layout(gpu);
+        let layout = BINDINGS.layout(gpu);
+        let pipeline_layout = |label, layout| {
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: &[Some(layout)],
+                    immediate_size: 0,
+                })
+        };
+        let prepare = fullscreen_variant(
+            gpu,
+            "fxaa prepare",
+            &pipeline_layout("fxaa prepare", &prepare_layout),
+            "fxaa_prepare.wgsl",
+            &[],
+            COMPRESSED_FORMAT,
+        )?;
+        Ok(FxaaPass {
+            filter_layout: pipeline_layout("fxaa", &layout),
+            prepare_layout,
+            layout,
+            prepare,
+            filters: HashMap::new(),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("fxaa"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            compressed: None,
+        })
+    }
+}
+
+/// Compiles the filter for this frame's HDR format and (re)creates the compressed image
+/// at the frame's size.
+pub fn prepare_fxaa(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<FxaaPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let Some(&format) = plan.variant::<FxaaPass>() else {
+        return;
+    };
+    let pass = &mut *pass;
+    if !pass.filters.contains_key(&format) {
+        match fullscreen_variant(&gpu, "fxaa", &pass.filter_layout, "fxaa.wgsl", &[], format) {
+            Ok(p) => {
+                pass.filters.insert(format, p);
+            }
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        }
+    }
+    let Some((t, hdr)) = targets
+        .current
+        .as_ref()
+        .and_then(|t| Some((t, t.view(HDR)?)))
+    else {
+        return;
+    };
+    if pass
+        .compressed
+        .as_ref()
+        .is_some_and(|c| c.key == t.generation)
+    {
+        return;
+    }
+    let target = Target::new(&gpu, "fxaa compressed", t.size, COMPRESSED_FORMAT);
+    let prepare = PREPARE_BINDINGS.group(
+        &gpu,
+        &pass.prepare_layout,
+        vec![wgpu::BindingResource::TextureView(hdr)],
+    );
+    let filter = BINDINGS.group(
+        &gpu,
+        &pass.layout,
+        vec![
+            wgpu::BindingResource::TextureView(&target.view),
+            wgpu::BindingResource::Sampler(&pass.sampler),
+        ],
+    );
+    match (prepare, filter) {
+        (Ok(prepare), Ok(filter)) => {
+            pass.compressed = Some(Compressed {
+                target,
+                key: t.generation,
+                prepare,
+                filter,
+            })
+        }
+        (Err(e), _) | (_, Err(e)) => errors.0.push(e),
+    }
+}
+
+/// Records the compression and the filter.
+pub fn fxaa_pass(
+    pass: Res<FxaaPass>,
+    plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(c), Some(hdr), Some(filter)) = (
+        encoder.as_mut(),
+        pass.compressed.as_ref(),
+        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        plan.variant::<FxaaPass>().and_then(|f| pass.filters.get(f)),
+    ) else {
+        return;
+    };
+    draw_fullscreen(
+        encoder,
+        timer,
+        "fxaa prepare",
+        &[&c.target.view],
+        &pass.prepare,
+        &c.prepare,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        PassId::Fxaa.name(),
+        &[hdr],
+        filter,
+        &c.filter,
+    );
+}

@@ -1,0 +1,350 @@
+//! Temporal anti-aliasing (`--aa taa`; Karis 2014, "High Quality Temporal Supersampling";
+//! Salvi 2016, "An Excursion in Temporal Supersampling"): every frame is jittered inside
+//! the pixel (Halton 2, 3 over [`TAA_FRAMES`] frames), and `taa.wgsl` blends this frame
+//! with the history of the earlier ones, reprojected by the motion vectors
+//! ([`super::motion`]), rejected where the surface was not visible then, and clipped to the
+//! colour range of this frame's neighbourhood. The history is two colour targets and two
+//! depth-and-count targets the pass owns (ping-pong); [`CopyToHdr`] writes the result
+//! into the HDR target.
+//!
+//! The history is reset (the next frame is a frame without history, at the first jitter
+//! position) on a camera cut ([`crate::App::camera_cut`]), a new output size, a change of
+//! quality settings, and a change of the scene's make-up (meshes, materials, lights or
+//! environment added, removed or edited; moving transforms are what motion vectors are
+//! for). [`TaaState`] says why.
+
+use crate::error::Result;
+use crate::quality::{AaMethod, Quality};
+use crate::render::antialiasing::copy::CopyToHdr;
+use crate::render::antialiasing::motion::MOTION;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::{create_module, draw_fullscreen, fullscreen_pipeline};
+use crate::render::targets::{RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Temporal anti-aliasing.
+    pub const Taa: PassId = PassId::new("taa");
+}
+
+/// The history of earlier frames (owned by the pass).
+pub const TAA_HISTORY: Slot = Slot::owned("taa history");
+
+/// Frames the history averages at most, and the length of the jitter sequence: a still
+/// camera's image is converged (the box average of this many jittered frames) after this
+/// many frames.
+pub const TAA_FRAMES: u32 = 16;
+
+/// γ of the clipping box while a pixel moves (twice this once it is still).
+pub const TAA_CLIP_GAMMA: f32 = 1.25;
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+const DEPTH_FRAMES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+
+/// Where the history stands: frames since its last reset and why it was reset. The app
+/// keeps it before each frame ([`crate::App`]); the pass reads it.
+#[derive(Resource, Clone, Debug, Default, PartialEq)]
+pub struct TaaState {
+    /// Frames rendered since the last reset (0: this frame has no history); picks the
+    /// jitter position.
+    pub frame: u32,
+    /// Why the history was reset before this frame, if it was.
+    pub reset: Option<String>,
+    /// The output size of the last frame.
+    pub size: Option<(u32, u32)>,
+    /// The exposure multiplier of the last frame (the history is pre-exposed with it).
+    pub exposure: Option<f32>,
+}
+
+impl FramePass for TaaPass {
+    const ID: PassId = PassId::Taa;
+    const READS: &'static [Slot] = &[HDR, DEPTH, MOTION];
+    const WRITES: &'static [Slot] = &[HDR, TAA_HISTORY];
+    type Variant = wgpu::TextureFormat;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        TaaPass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
+        let quality = world.resource::<Quality>();
+        let taa = quality.aa.method == AaMethod::Taa;
+        let state = world
+            .get_resource::<TaaState>()
+            .cloned()
+            .unwrap_or_default();
+        let reason = match (&state.reset, taa) {
+            (_, false) => "--aa taa is off".to_string(),
+            (Some(why), true) => format!("history reset ({why}): this frame alone"),
+            (None, true) => format!(
+                "frame {} since the history's reset, at most {TAA_FRAMES} averaged",
+                state.frame + 1
+            ),
+        };
+        PassDecision::new(taa, reason, quality.hdr_precision.format())
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_taa.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        taa_pass.into_configs()
+    }
+}
+
+/// The TAA step's inputs.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "taa",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("hdr", Binding::TextureLoad),
+        ("depth", Binding::TextureLoad),
+        ("motion", Binding::TextureLoad),
+        ("history", Binding::Sampled(wgpu::TextureViewDimension::D2)),
+        ("history_depth", Binding::TextureLoad),
+        ("linear_sampler", Binding::Sampler),
+        ("params", Binding::Uniform),
+    ],
+};
+
+/// `TaaParams` of `taa.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct TaaParams {
+    previous_clip_from_world: [f32; 16],
+    clip_from_world: [f32; 16],
+    world_from_clip: [f32; 16],
+    settings: [f32; 4],
+}
+
+/// The two histories, and per parity (which one this frame writes) the TAA and copy
+/// bind groups.
+struct History {
+    color: [Target; 2],
+    depth_frames: [Target; 2],
+    key: u64,
+    groups: [(wgpu::BindGroup, wgpu::BindGroup); 2],
+}
+
+/// TAA's pipelines, history and bindings.
+#[derive(Resource)]
+pub struct TaaPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+    copy: CopyToHdr,
+    sampler: wgpu::Sampler,
+    params: wgpu::Buffer,
+    history: Option<History>,
+    parity: usize,
+}
+
+impl TaaPass {
+    /// Compiles the TAA step; the copy compiles per HDR format.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let layout = BINDINGS.layout(gpu);
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("taa"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+        let module = create_module(gpu, "taa", &gpu.shaders.compose("taa.wgsl", &[])?)?;
+        let pipeline = fullscreen_pipeline(
+            gpu,
+            "taa",
+            Some(&pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            &[COLOR_FORMAT, DEPTH_FRAMES_FORMAT],
+            None,
+        )?;
+        Ok(TaaPass {
+            layout,
+            pipeline,
+            copy: CopyToHdr::new(gpu),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("taa history"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("taa params"),
+                size: std::mem::size_of::<TaaParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            history: None,
+            parity: 0,
+        })
+    }
+}
+
+/// (Re)creates the history at the frame's size (a new history is a reset), writes the
+/// matrices and settings, and flips which history this frame writes.
+#[allow(clippy::too_many_arguments)]
+pub fn prepare_taa(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    frame: Res<ExtractedFrame>,
+    targets: Res<RenderTargets>,
+    state: Option<Res<TaaState>>,
+    mut pass: ResMut<TaaPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let Some(&format) = plan.variant::<TaaPass>() else {
+        return;
+    };
+    let pass = &mut *pass;
+    if let Err(e) = pass.copy.ensure(&gpu, format) {
+        errors.0.push(e);
+        return;
+    }
+    let Some((t, [hdr, depth, motion])) = targets
+        .current
+        .as_ref()
+        .and_then(|t| Some((t, t.views([HDR, DEPTH, MOTION])?)))
+    else {
+        return;
+    };
+    let mut fresh = false;
+    if pass.history.as_ref().is_none_or(|h| h.key != t.generation) {
+        let color = [0, 1].map(|_| Target::new(&gpu, "taa history", t.size, COLOR_FORMAT));
+        let depth_frames =
+            [0, 1].map(|_| Target::new(&gpu, "taa history depth", t.size, DEPTH_FRAMES_FORMAT));
+        let mut groups = Vec::with_capacity(2);
+        for write in 0..2 {
+            let read = 1 - write;
+            let taa = BINDINGS.group(
+                &gpu,
+                &pass.layout,
+                vec![
+                    wgpu::BindingResource::TextureView(hdr),
+                    wgpu::BindingResource::TextureView(depth),
+                    wgpu::BindingResource::TextureView(motion),
+                    wgpu::BindingResource::TextureView(&color[read].view),
+                    wgpu::BindingResource::TextureView(&depth_frames[read].view),
+                    wgpu::BindingResource::Sampler(&pass.sampler),
+                    pass.params.as_entire_binding(),
+                ],
+            );
+            let copy = pass.copy.group(&gpu, &color[write].view);
+            match (taa, copy) {
+                (Ok(a), Ok(b)) => groups.push((a, b)),
+                (Err(e), _) | (_, Err(e)) => {
+                    errors.0.push(e);
+                    return;
+                }
+            }
+        }
+        let Ok(groups) = <[_; 2]>::try_from(groups) else {
+            return;
+        };
+        pass.history = Some(History {
+            color,
+            depth_frames,
+            key: t.generation,
+            groups,
+        });
+        fresh = true;
+    }
+    let state = state.map(|s| s.clone()).unwrap_or_default();
+    let valid = !fresh && state.reset.is_none() && state.frame > 0;
+    let exposure = frame.camera.as_ref().map_or(1.0, |c| c.exposure);
+    let ratio = match state.exposure {
+        Some(before) if before > 0.0 && (exposure / before).is_finite() => exposure / before,
+        _ => 1.0,
+    };
+    let temporal = &frame.temporal;
+    let params = TaaParams {
+        previous_clip_from_world: temporal.previous_clip_from_world.to_cols_array(),
+        clip_from_world: temporal.clip_from_world.to_cols_array(),
+        world_from_clip: glam::Mat4::from_cols_array_2d(&frame.view.world_from_clip)
+            .to_cols_array(),
+        settings: [
+            if valid { 1.0 } else { 0.0 },
+            ratio,
+            TAA_FRAMES as f32,
+            TAA_CLIP_GAMMA,
+        ],
+    };
+    gpu.queue
+        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    pass.parity = 1 - pass.parity;
+}
+
+/// Records the TAA step into the new history, then the copy into the HDR target.
+pub fn taa_pass(
+    pass: Res<TaaPass>,
+    plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(history), Some(hdr), Some(copy)) = (
+        encoder.as_mut(),
+        pass.history.as_ref(),
+        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        plan.variant::<TaaPass>()
+            .and_then(|f| pass.copy.pipeline(*f)),
+    ) else {
+        return;
+    };
+    let (taa_group, copy_group) = &history.groups[pass.parity];
+    draw_fullscreen(
+        encoder,
+        timer,
+        PassId::Taa.name(),
+        &[
+            &history.color[pass.parity].view,
+            &history.depth_frames[pass.parity].view,
+        ],
+        &pass.pipeline,
+        taa_group,
+    );
+    draw_fullscreen(encoder, timer, "taa copy", &[hdr], copy, copy_group);
+}
+
+/// What in the scene changed its make-up since this system last ran (meshes, materials,
+/// lights, the environment or the camera's own settings added, removed or edited;
+/// transforms are left to motion vectors), or the quality settings: the TAA history
+/// cannot be reprojected across such a change.
+#[allow(clippy::type_complexity)]
+pub fn history_change(
+    quality: Res<Quality>,
+    made: Query<
+        (),
+        Or<(
+            Changed<crate::scene::Mesh3d>,
+            Changed<crate::scene::Material>,
+            Changed<crate::scene::MaterialMaps>,
+            Changed<crate::scene::DirectionalLight>,
+            Changed<crate::scene::PointLight>,
+            Changed<crate::scene::SpotLight>,
+            Changed<crate::scene::Environment>,
+        )>,
+    >,
+    cameras: Query<(), Changed<crate::scene::Camera>>,
+    mut removed: RemovedComponents<crate::scene::Mesh3d>,
+) -> Option<&'static str> {
+    let removed = removed.read().count() > 0;
+    if quality.is_changed() {
+        Some("quality settings changed")
+    } else if !cameras.is_empty() {
+        Some("camera cut (the camera's settings changed)")
+    } else if !made.is_empty() || removed {
+        Some("the scene changed")
+    } else {
+        None
+    }
+}

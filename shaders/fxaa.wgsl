@@ -1,0 +1,129 @@
+// Fast approximate anti-aliasing (Lottes 2009, "FXAA", the quality variant's steps),
+// on the compressed image fxaa_prepare.wgsl wrote, back into the HDR target:
+// 1. the local contrast of the centre and its four neighbours decides whether the pixel
+//    is on an edge at all;
+// 2. second differences over the 3×3 neighbourhood decide whether the edge runs
+//    horizontally or vertically, and the steeper neighbour across it which side it is on;
+// 3. a search along the edge, half a pixel across it, finds both of its ends (where the
+//    luma leaves the edge's average by a quarter of its gradient);
+// 4. the pixel's distance to the nearer end gives how far across the edge to sample: the
+//    blend an exact coverage of the edge's line would give;
+// 5. a sub-pixel term from the 3×3 average blurs isolated single-pixel features.
+#import color
+#import antialiasing
+#import fullscreen
+
+@group(0) @binding(0) var compressed: texture_2d<f32>;
+@group(0) @binding(1) var linear_sampler: sampler;
+
+// Smallest contrast, relative to the local maximum, that is treated as an edge.
+const EDGE_THRESHOLD: f32 = 0.125;
+// Smallest absolute contrast treated as an edge (dark regions).
+const EDGE_THRESHOLD_MIN: f32 = 0.0625;
+// Strength of the sub-pixel blur, 0..1.
+const SUBPIXEL: f32 = 0.75;
+// Search iterations along the edge, each a step of search_step(i) pixels.
+const SEARCH_STEPS: u32 = 10u;
+
+fn search_step(i: u32) -> f32 {
+    switch i {
+        case 0u, 1u, 2u, 3u, 4u: { return 1.0; }
+        case 5u: { return 1.5; }
+        case 6u, 7u: { return 2.0; }
+        case 8u: { return 4.0; }
+        default: { return 8.0; }
+    }
+}
+
+fn luma_at(uv: vec2<f32>) -> f32 {
+    return fxaa_luma(textureSampleLevel(compressed, linear_sampler, uv, 0.0).rgb);
+}
+
+fn luma_px(p: vec2<i32>) -> f32 {
+    let last = vec2<i32>(textureDimensions(compressed)) - vec2<i32>(1);
+    return fxaa_luma(textureLoad(compressed, clamp(p, vec2<i32>(0), last), 0).rgb);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let texel = 1.0 / vec2<f32>(textureDimensions(compressed));
+    let p = vec2<i32>(frag.xy);
+    let centre = textureLoad(compressed, p, 0);
+    let m = fxaa_luma(centre.rgb);
+    // North is up (−y on screen).
+    let n = luma_px(p + vec2<i32>(0, -1));
+    let s = luma_px(p + vec2<i32>(0, 1));
+    let w = luma_px(p + vec2<i32>(-1, 0));
+    let e = luma_px(p + vec2<i32>(1, 0));
+    let lo = min(m, min(min(n, s), min(w, e)));
+    let hi = max(m, max(max(n, s), max(w, e)));
+    let range = hi - lo;
+    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
+        return vec4<f32>(expand_hdr(centre.rgb), centre.a);
+    }
+    let nw = luma_px(p + vec2<i32>(-1, -1));
+    let ne = luma_px(p + vec2<i32>(1, -1));
+    let sw = luma_px(p + vec2<i32>(-1, 1));
+    let se = luma_px(p + vec2<i32>(1, 1));
+
+    // A horizontal edge changes luma from north to south.
+    let horizontal = 2.0 * abs(n + s - 2.0 * m) + abs(nw + sw - 2.0 * w) + abs(ne + se - 2.0 * e);
+    let vertical = 2.0 * abs(w + e - 2.0 * m) + abs(nw + ne - 2.0 * n) + abs(sw + se - 2.0 * s);
+    let is_horizontal = horizontal >= vertical;
+    let before = select(w, n, is_horizontal);
+    let after = select(e, s, is_horizontal);
+    let g_before = abs(before - m);
+    let g_after = abs(after - m);
+    let towards_before = g_before >= g_after;
+    let gradient = 0.25 * max(g_before, g_after);
+    var across = select(vec2<f32>(texel.x, 0.0), vec2<f32>(0.0, texel.y), is_horizontal);
+    var edge_luma = 0.5 * (after + m);
+    if towards_before {
+        across = -across;
+        edge_luma = 0.5 * (before + m);
+    }
+    let along = select(vec2<f32>(0.0, texel.y), vec2<f32>(texel.x, 0.0), is_horizontal);
+
+    // Walk both ways along the edge, half a pixel across it.
+    let uv = frag.xy * texel;
+    let on_edge = uv + 0.5 * across;
+    var uv_neg = on_edge - along;
+    var uv_pos = on_edge + along;
+    var d_neg = luma_at(uv_neg) - edge_luma;
+    var d_pos = luma_at(uv_pos) - edge_luma;
+    var done_neg = abs(d_neg) >= gradient;
+    var done_pos = abs(d_pos) >= gradient;
+    for (var i = 1u; i < SEARCH_STEPS; i++) {
+        if done_neg && done_pos {
+            break;
+        }
+        let step = search_step(i);
+        if !done_neg {
+            uv_neg -= along * step;
+            d_neg = luma_at(uv_neg) - edge_luma;
+            done_neg = abs(d_neg) >= gradient;
+        }
+        if !done_pos {
+            uv_pos += along * step;
+            d_pos = luma_at(uv_pos) - edge_luma;
+            done_pos = abs(d_pos) >= gradient;
+        }
+    }
+    let dist_neg = select(uv.y - uv_neg.y, uv.x - uv_neg.x, is_horizontal);
+    let dist_pos = select(uv_pos.y - uv.y, uv_pos.x - uv.x, is_horizontal);
+    let nearer_neg = dist_neg < dist_pos;
+    let dist = min(dist_neg, dist_pos);
+    let edge_length = max(dist_neg + dist_pos, 1e-9);
+    // Blend only when the nearer end is where the edge crosses to the centre's side.
+    let end_delta = select(d_pos, d_neg, nearer_neg);
+    let centre_darker = m < edge_luma;
+    var offset = select(0.0, 0.5 - dist / edge_length, (end_delta < 0.0) != centre_darker);
+
+    // Sub-pixel aliasing: how far the centre stands out of its 3×3 neighbourhood.
+    let average = (2.0 * (n + s + w + e) + nw + ne + sw + se) / 12.0;
+    let sub = smoothstep(0.0, 1.0, clamp(abs(average - m) / range, 0.0, 1.0));
+    offset = max(offset, sub * sub * SUBPIXEL);
+
+    let c = textureSampleLevel(compressed, linear_sampler, uv + across * offset, 0.0);
+    return vec4<f32>(expand_hdr(c.rgb), c.a);
+}

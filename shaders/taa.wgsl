@@ -1,0 +1,132 @@
+// Temporal anti-aliasing (engine/src/render/antialiasing/taa.rs; Karis 2014, "High
+// Quality Temporal Supersampling"; Salvi 2016, "An Excursion in Temporal Supersampling").
+// Per pixel:
+// 1. this frame's colour (non-finite → black, so NaN and ∞ never enter the history);
+// 2. the 3 × 3 neighbourhood's mean and standard deviation in YCoCg of the compressed
+//    colour, and the nearest depth's motion vector (dilated, so edges move with the
+//    object in front);
+// 3. the history at the pixel's previous position, rejected where that position left
+//    the screen or none of the depths stored around it is the depth the neighbourhood's
+//    nearest surface had then (disocclusion), rescaled by the change of exposure;
+// 4. the history clipped towards the mean into mean ± γσ (γ wider where nothing moves,
+//    so a still image keeps converging);
+// 5. a running mean over at most `max_frames` frames: weight 1/n on this frame.
+// Writes the colour into the new history, and this frame's view depth and frame count
+// into the new depth history.
+#import color
+#import antialiasing
+#import fullscreen
+
+struct TaaParams {
+    // Clip from world without jitter, the previous frame.
+    previous_clip_from_world: mat4x4<f32>,
+    // Clip from world without jitter, this frame.
+    clip_from_world: mat4x4<f32>,
+    // World from clip with this frame's jitter (the depth buffer's projection).
+    world_from_clip: mat4x4<f32>,
+    // x: history valid (1) or reset (0); y: exposure now / exposure then; z: most frames
+    // averaged; w: γ of the clipping box while moving.
+    settings: vec4<f32>,
+}
+
+@group(0) @binding(0) var hdr: texture_2d<f32>;
+@group(0) @binding(1) var depth: texture_2d<f32>;
+@group(0) @binding(2) var motion: texture_2d<f32>;
+@group(0) @binding(3) var history: texture_2d<f32>;
+@group(0) @binding(4) var history_depth: texture_2d<f32>;
+@group(0) @binding(5) var linear_sampler: sampler;
+@group(0) @binding(6) var<uniform> params: TaaParams;
+
+struct TaaOutput {
+    @location(0) color: vec4<f32>,
+    // View depth (m) of this pixel's surface, frames averaged.
+    @location(1) depth_frames: vec4<f32>,
+}
+
+fn finite_or_black(c: vec4<f32>) -> vec4<f32> {
+    let finite = !any(c != c) && all(abs(c) <= vec4<f32>(3.4028235e38));
+    return select(vec4<f32>(0.0), c, finite);
+}
+
+// Relative tolerance between the depth a surface had and the depth the history stores.
+const DISOCCLUSION_TOLERANCE: f32 = 0.05;
+
+// The world position seen at uv (0..1, y down) with depth d, through this frame's
+// jittered projection.
+fn world_at(uv: vec2<f32>, d: f32) -> vec4<f32> {
+    let h = params.world_from_clip * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
+    return vec4<f32>(h.xyz / h.w, 1.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
+    let dims = vec2<i32>(textureDimensions(hdr));
+    let size = vec2<f32>(dims);
+    let last = dims - vec2<i32>(1);
+    let p = vec2<i32>(frag.xy);
+    let current = finite_or_black(textureLoad(hdr, p, 0));
+
+    var m1 = vec3<f32>(0.0);
+    var m2 = vec3<f32>(0.0);
+    var nearest = p;
+    var nearest_depth = -1.0;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = clamp(p + vec2<i32>(dx, dy), vec2<i32>(0), last);
+            let c = rgb_to_ycocg(compress_hdr(finite_or_black(textureLoad(hdr, q, 0)).rgb));
+            m1 += c;
+            m2 += c * c;
+            // Reversed Z: the nearest surface has the largest depth.
+            let d = textureLoad(depth, q, 0).r;
+            if d > nearest_depth {
+                nearest_depth = d;
+                nearest = q;
+            }
+        }
+    }
+    let mean = m1 / 9.0;
+    let sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3<f32>(0.0)));
+    let moved = textureLoad(motion, nearest, 0).xy;
+
+    // This pixel's view depth (stored for the next frame), and the view depth the
+    // neighbourhood's nearest surface had in the previous frame.
+    let uv = frag.xy / size;
+    let view_depth = (params.clip_from_world * world_at(uv, textureLoad(depth, p, 0).r)).w;
+    let nearest_uv = (vec2<f32>(nearest) + vec2<f32>(0.5)) / size;
+    let expected = (params.previous_clip_from_world * world_at(nearest_uv, nearest_depth)).w;
+
+    // Disocclusion: the history is kept where any of the 3 × 3 depths stored around the
+    // previous position is that surface's (a jittered silhouette shows the surface in
+    // some of them, the background in others).
+    let previous_uv = uv - moved / size;
+    let inside = all(previous_uv >= vec2<f32>(0.0)) && all(previous_uv <= vec2<f32>(1.0));
+    let centre = clamp(vec2<i32>(previous_uv * size), vec2<i32>(0), last);
+    let stored = textureLoad(history_depth, centre, 0);
+    var same_surface = false;
+    for (var dy = -1; dy <= 1; dy++) {
+        for (var dx = -1; dx <= 1; dx++) {
+            let q = clamp(centre + vec2<i32>(dx, dy), vec2<i32>(0), last);
+            let before = textureLoad(history_depth, q, 0).x;
+            same_surface = same_surface
+                || abs(before - expected) <= DISOCCLUSION_TOLERANCE * max(abs(expected), 1e-3);
+        }
+    }
+    let valid = params.settings.x > 0.5 && inside && same_surface;
+
+    var out: TaaOutput;
+    var frames = 1.0;
+    out.color = current;
+    if valid {
+        frames = min(stored.y + 1.0, params.settings.z);
+        var past = finite_or_black(textureSampleLevel(history, linear_sampler, previous_uv, 0.0));
+        past = vec4<f32>(past.rgb * params.settings.y, past.a);
+        // γ: the given one while the pixel moves, twice as wide once it is still.
+        let still = 1.0 - clamp(length(moved), 0.0, 1.0);
+        let gamma = params.settings.w * (1.0 + still);
+        let clipped = clip_towards_mean(rgb_to_ycocg(compress_hdr(past.rgb)), mean, gamma * sigma + vec3<f32>(1e-4));
+        let history_color = vec4<f32>(expand_hdr(ycocg_to_rgb(clipped)), past.a);
+        out.color = running_mean(history_color, current, 1.0 / frames);
+    }
+    out.depth_frames = vec4<f32>(view_depth, frames, 0.0, 0.0);
+    return out;
+}

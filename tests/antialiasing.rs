@@ -1,0 +1,292 @@
+//! Anti-aliasing: accumulation of jittered renders gives the box-filtered pixel,
+//! geometric specular AA widens roughness only where the normal varies, FXAA and
+//! accumulation reduce the error on the silhouettes of `aliasing`, and the plan runs no AA
+//! pass when none is asked for.
+
+mod common;
+
+use lumen::FrameTarget;
+use lumen::assets::procedural::{plane, uv_sphere};
+use lumen::prelude::*;
+use lumen::quality::AaMethod;
+
+/// Everything but the surfaces themselves off: no probes, AO, reflections or post AA.
+fn bare_quality(app: &mut App) {
+    let mut q = app.world_mut().resource_mut::<Quality>();
+    q.gi.enabled = false;
+    q.reflection_probes.enabled = false;
+    q.ao.resolution = lumen::quality::AoResolution::Off;
+    q.ssr.enabled = false;
+    q.aa.method = AaMethod::None;
+}
+
+/// Where the emissive square's right edge falls, in pixels from the left of a 64-pixel
+/// frame: 30 % into pixel 40.
+const EDGE_PX: f32 = 40.3;
+
+/// A 64 × 64 frame looking at an emissive square (radiance 1, linear exposure 1, no tone
+/// mapping) whose right edge is at [`EDGE_PX`], in front of black.
+fn edge_scene() -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    let quad = app.add_mesh(plane(20.0, 20.0)).expect("mesh");
+    bare_quality(&mut app);
+    // 90° field of view at 1 m: NDC x equals metres on the plane.
+    let edge_m = EDGE_PX / 64.0 * 2.0 - 1.0;
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(quad),
+        Material {
+            base_color: Vec4::new(0.0, 0.0, 0.0, 1.0),
+            emissive: Vec3::ONE,
+            ..Material::default()
+        },
+        // The plane faces +Y; turned to face +Z, its right edge at x = edge_m.
+        Transform::from_translation(Vec3::new(edge_m - 10.0, 0.0, 0.0))
+            .with_rotation(Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
+    ));
+    world.spawn((
+        Camera {
+            projection: Projection {
+                fov_y_rad: std::f32::consts::FRAC_PI_2,
+                near_m: 0.1,
+                far_m: 10.0,
+                ..Projection::default()
+            },
+            exposure: Exposure::Linear(1.0),
+            tonemapper: lumen::color::Tonemapper::None,
+            ..Camera::default()
+        },
+        Transform::from_translation(Vec3::new(0.0, 0.0, 1.0)).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    app
+}
+
+#[test]
+fn accumulation_gives_the_box_filtered_pixel_at_an_edge() {
+    let size = (64, 64);
+    let mut app = edge_scene();
+    let report = app.render_headless(size).expect("frame");
+    assert_eq!(report.accumulated, 1);
+    assert!(!report.plan.runs(lumen::render::graph::PassId::Accumulate));
+    let single = app.read_hdr_image().expect("hdr");
+    let row = 32;
+    let at = |image: &image::Rgba32FImage, x: u32| image.get_pixel(x, row).0[0];
+    // One render samples pixel centres: pixel 40's centre (40.5) is past the edge.
+    assert!((at(&single, 39) - 1.0).abs() < 1e-3, "{}", at(&single, 39));
+    assert_eq!(at(&single, 40), 0.0);
+
+    app.world_mut().resource_mut::<Quality>().aa.accumulate = 64;
+    let report = app.render_headless(size).expect("accumulated frame");
+    assert_eq!(report.accumulated, 64);
+    assert!(report.plan.runs(lumen::render::graph::PassId::Accumulate));
+    let mean = app.read_hdr_image().expect("hdr");
+    // 64 jittered renders: the box filter's coverage, 0.3, within the 1/64 steps of the
+    // sample positions (and f16 storage).
+    let covered = at(&mean, 40);
+    assert!((covered - 0.3).abs() < 0.03, "pixel 40: {covered}");
+    assert!((at(&mean, 38) - 1.0).abs() < 1e-3, "{}", at(&mean, 38));
+    assert!(at(&mean, 42) < 1e-3, "{}", at(&mean, 42));
+}
+
+/// A floor and a small sphere above it under a sun; returns the G-buffer's roughness
+/// (channel b of gbuffer1) with specular AA on and off, and which pixels are the sphere's.
+fn roughness_with_and_without_specular_aa() -> (Vec<f32>, Vec<f32>, Vec<bool>) {
+    let size = (96, 96);
+    let mut app = App::headless().expect("a GPU adapter");
+    let floor = app.add_mesh(plane(8.0, 8.0)).expect("mesh");
+    let ball = app.add_mesh(uv_sphere(0.3, 48, 24)).expect("mesh");
+    bare_quality(&mut app);
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(floor),
+        Material::new(Vec3::splat(0.5), 0.0, 0.3),
+        Transform::IDENTITY,
+    ));
+    world.spawn((
+        Mesh3d(ball),
+        Material::new(Vec3::splat(0.9), 1.0, 0.1),
+        Transform::from_translation(Vec3::new(0.0, 0.5, 0.0)),
+    ));
+    world.spawn((
+        DirectionalLight::default(),
+        Transform::from_translation(Vec3::new(1.0, 2.0, 1.0)).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera::default(),
+        Transform::from_translation(Vec3::new(0.0, 1.5, 3.0))
+            .looking_at(Vec3::new(0.0, 0.3, 0.0), Vec3::Y),
+    ));
+    let mut read = |on: bool| {
+        app.world_mut()
+            .resource_mut::<Quality>()
+            .aa
+            .specular
+            .enabled = on;
+        let report = app.render_headless(size).expect("frame");
+        let feature = report
+            .plan
+            .features
+            .iter()
+            .find(|d| d.name == "specular anti-aliasing")
+            .expect("the plan decides on specular AA");
+        assert_eq!(feature.enabled, on, "{feature:?}");
+        // Roughness in b; metallic in a tells the metal sphere from the floor.
+        let g1 = app.read_target(FrameTarget::GBuffer1).expect("gbuffer1");
+        let rough: Vec<f32> = g1.pixels().map(|p| p.0[2]).collect();
+        let sphere: Vec<bool> = g1.pixels().map(|p| p.0[3] > 0.5).collect();
+        (rough, sphere)
+    };
+    let (on, sphere) = read(true);
+    let (off, _) = read(false);
+    (on, off, sphere)
+}
+
+#[test]
+fn specular_aa_widens_roughness_only_where_the_normal_varies() {
+    let (on, off, sphere) = roughness_with_and_without_specular_aa();
+    let mut floor_pixels = 0;
+    let (mut widened, mut sphere_pixels) = (0, 0);
+    for i in 0..on.len() {
+        if sphere[i] {
+            sphere_pixels += 1;
+            assert!(on[i] >= off[i], "pixel {i}: {} < {}", on[i], off[i]);
+            widened += usize::from(on[i] > off[i] + 0.01);
+        } else if off[i] > 0.0 {
+            // The flat floor keeps exactly its roughness.
+            floor_pixels += 1;
+            assert_eq!(on[i], off[i], "floor pixel {i}");
+        }
+    }
+    assert!(floor_pixels > 2000, "{floor_pixels} floor pixels");
+    assert!(sphere_pixels > 200, "{sphere_pixels} sphere pixels");
+    // A 0.3 m sphere 3 m away spans ~20 pixels: its normal turns by ~0.1 per pixel, and
+    // most of its pixels widen visibly.
+    assert!(
+        widened * 2 > sphere_pixels,
+        "{widened} of {sphere_pixels} sphere pixels widened"
+    );
+}
+
+/// The display image of `aliasing` at 192 × 108 with the given anti-aliasing, and its
+/// depth.
+fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, image::Rgba32FImage) {
+    let mut app = common::app_with("aliasing");
+    {
+        let mut q = app.world_mut().resource_mut::<Quality>();
+        q.gi.enabled = false;
+        q.reflection_probes.enabled = false;
+        q.aa.method = method;
+        q.aa.accumulate = accumulate;
+    }
+    app.render_headless((192, 108)).expect("frame");
+    (
+        app.read_display_image().expect("display"),
+        app.read_target(FrameTarget::Depth).expect("depth"),
+    )
+}
+
+#[test]
+fn anti_aliasing_reduces_the_error_on_silhouettes() {
+    let (truth, _) = aliasing_display(AaMethod::None, 64);
+    let (none, depth) = aliasing_display(AaMethod::None, 1);
+    let (w, h) = truth.dimensions();
+    let luma = |img: &image::RgbaImage, x: u32, y: u32| {
+        let p = img.get_pixel(x, y).0;
+        (0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32) / 255.0
+    };
+    // The labelled silhouette band: pixels whose 3 × 3 neighbourhood in the unjittered
+    // frame's depth spans geometry more than 10 % apart in depth (or geometry and sky),
+    // where the converged image has some contrast (> 0.05 of display luma).
+    let mut band = Vec::new();
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let (mut lo, mut hi) = (f32::MAX, 0.0f32);
+            let (mut dark, mut bright) = (1.0f32, 0.0f32);
+            for dy in 0..3 {
+                for dx in 0..3 {
+                    let d = depth.get_pixel(x + dx - 1, y + dy - 1).0[0];
+                    lo = lo.min(d);
+                    hi = hi.max(d);
+                    let l = luma(&truth, x + dx - 1, y + dy - 1);
+                    dark = dark.min(l);
+                    bright = bright.max(l);
+                }
+            }
+            if hi > 1.1 * lo.max(1e-6) && bright - dark > 0.05 {
+                band.push((x, y));
+            }
+        }
+    }
+    assert!(band.len() > 300, "{} band pixels", band.len());
+    let error = |img: &image::RgbaImage| {
+        band.iter()
+            .map(|&(x, y)| (luma(img, x, y) - luma(&truth, x, y)).abs())
+            .sum::<f32>()
+            / band.len() as f32
+    };
+    let none = error(&none);
+    let fxaa = error(&aliasing_display(AaMethod::Fxaa, 1).0);
+    let taa = error(&aliasing_display(AaMethod::Taa, 1).0);
+    let accumulated = error(&aliasing_display(AaMethod::None, 8).0);
+    eprintln!(
+        "silhouette band ({} px) error against 64 renders: none {none:.4}, fxaa {fxaa:.4}, taa {taa:.4}, 8 renders {accumulated:.4}",
+        band.len()
+    );
+    assert!(fxaa < 0.75 * none, "fxaa {fxaa} vs none {none}");
+    assert!(taa < 0.6 * none, "taa {taa} vs none {none}");
+    assert!(
+        accumulated < 0.6 * none,
+        "8 renders {accumulated} vs none {none}"
+    );
+}
+
+#[test]
+fn no_anti_aliasing_pass_runs_when_none_is_asked_for() {
+    let mut app = common::app_with("spheres");
+    bare_quality(&mut app);
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .aa
+        .specular
+        .enabled = false;
+    let report = app.render_headless((64, 36)).expect("frame");
+    let decision = |name: &str| {
+        report
+            .plan
+            .passes
+            .iter()
+            .find(|(_, d)| d.name == name)
+            .map(|(_, d)| (d.enabled, d.reason.clone()))
+            .expect("the plan decides on the pass")
+    };
+    assert_eq!(decision("fxaa"), (false, "--aa none".to_string()));
+    assert!(!decision("accumulate").0);
+    let specular = report
+        .plan
+        .features
+        .iter()
+        .find(|d| d.name == "specular anti-aliasing")
+        .expect("decision");
+    assert!(!specular.enabled);
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Fxaa;
+    let report = app.render_headless((64, 36)).expect("frame");
+    assert!(report.plan.runs(lumen::render::graph::PassId::Fxaa));
+}
+
+#[test]
+fn a_still_taa_render_converges_to_the_box_filtered_pixel() {
+    let size = (64, 64);
+    let mut app = edge_scene();
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Taa;
+    let report = app.render_headless(size).expect("frame");
+    assert_eq!(
+        report.temporal_frames,
+        lumen::render::antialiasing::taa::TAA_FRAMES
+    );
+    let image = app.read_hdr_image().expect("hdr");
+    let at = |x: u32| image.get_pixel(x, 32).0[0];
+    let covered = at(40);
+    eprintln!("taa edge: {} {} {} {}", at(39), at(40), at(41), at(42));
+    assert!((covered - 0.3).abs() < 0.05, "pixel 40: {covered}");
+    assert!((at(38) - 1.0).abs() < 1e-2, "{}", at(38));
+}
