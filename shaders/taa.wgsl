@@ -64,7 +64,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     let size = vec2<f32>(dims);
     let last = dims - vec2<i32>(1);
     let p = vec2<i32>(frag.xy);
-    let current = finite_or_black(textureLoad(hdr, p, 0));
+    // A non-finite colour is black in the statistics, and left out of the history.
+    let raw = textureLoad(hdr, p, 0);
+    let current = finite_or_black(raw);
 
     var m1 = vec3<f32>(0.0);
     var m2 = vec3<f32>(0.0);
@@ -125,7 +127,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
         let gamma = params.settings.w * (1.0 + still);
         let clipped = clip_towards_mean(rgb_to_ycocg(compress_hdr(past.rgb)), mean, gamma * sigma + vec3<f32>(1e-4));
         let history_color = vec4<f32>(expand_hdr(ycocg_to_rgb(clipped)), past.a);
-        out.color = running_mean(history_color, current, 1.0 / frames);
+        out.color = running_mean(history_color, raw, 1.0 / frames);
     }
     out.depth_frames = vec4<f32>(view_depth, frames, 0.0, 0.0);
     return out;

@@ -102,6 +102,9 @@ pub enum FrameTarget {
     /// The shadow map atlas's depth (r; reversed Z, 0 where nothing was drawn), square,
     /// 1×1 when no light casts shadows.
     ShadowAtlas,
+    /// Motion vectors (rg): each pixel's screen motion in pixels since the previous
+    /// frame, without jitter (only frames with `--aa taa` have them).
+    Motion,
 }
 
 /// Format of the headless display image: 8-bit RGBA; the tone mapping pass applies the
@@ -670,6 +673,14 @@ impl App {
                     .collect()
             }
             FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, texture(slots::HDR)?, 8)?),
+            FrameTarget::Motion => f16_bytes_to_f32(&read_texture(
+                gpu,
+                texture(crate::render::antialiasing::motion::MOTION)?,
+                4,
+            )?)
+            .chunks_exact(2)
+            .flat_map(|m| [m[0], m[1], 0.0, 1.0])
+            .collect(),
         };
         image::Rgba32FImage::from_raw(t.size.0, t.size.1, data)
             .ok_or_else(|| Error::Gpu("target readback has the wrong size".into()))

@@ -23,7 +23,7 @@ pub const ALIASING_BUMPS: u32 = 48;
 
 /// A checker texture of `squares` × `squares` squares of `texels` texels each, light and
 /// dark grey (sRGB).
-fn checker(squares: u32, texels: u32) -> TextureData {
+pub fn checker(squares: u32, texels: u32) -> TextureData {
     let side = squares * texels;
     let mut rgba8 = Vec::with_capacity((side * side * 4) as usize);
     for y in 0..side {
@@ -46,7 +46,7 @@ fn checker(squares: u32, texels: u32) -> TextureData {
 
 /// A tangent-space normal map of `bumps` × `bumps / 2` egg-crate bumps over the sphere's
 /// (u, v): height h = a sin(2π b u) sin(π b v), normal ∝ (−∂h/∂u, −∂h/∂v, 1).
-fn bumps(bumps: u32, width: u32) -> TextureData {
+pub fn bump_map(bumps: u32, width: u32) -> TextureData {
     let height = width / 2;
     let (b, a) = (bumps as f32, 0.004f32);
     let mut rgba8 = Vec::with_capacity((width * height * 4) as usize);
@@ -78,7 +78,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     let bumpy = app.add_mesh(uv_sphere(ALIASING_BUMPY_SPHERE.1, 96, 48))?;
     let bead = app.add_mesh(uv_sphere(0.12, 32, 16))?;
     let checker = app.add_texture(checker(8, 8))?;
-    let normal = app.add_texture(bumps(ALIASING_BUMPS, 512))?;
+    let normal = app.add_texture(bump_map(ALIASING_BUMPS, 512))?;
     let world = app.world_mut();
     world.spawn((
         Mesh3d(floor),
