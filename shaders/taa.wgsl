@@ -129,6 +129,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
         let history_color = vec4<f32>(expand_hdr(ycocg_to_rgb(clipped)), past.a);
         out.color = running_mean(history_color, raw, 1.0 / frames);
     }
-    out.depth_frames = vec4<f32>(view_depth, frames, 0.0, 0.0);
+    // f16 storage: depths beyond its range are stored as its largest value.
+    out.depth_frames = vec4<f32>(min(view_depth, 65000.0), frames, 0.0, 0.0);
     return out;
 }

@@ -346,9 +346,13 @@ pub struct SceneArgs {
     /// box-filtered pixel the path-traced reference computes. Costs N frames.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub accumulate: Option<u32>,
-    /// Geometric specular anti-aliasing: on (default) or off.
-    #[arg(long, value_name = "ON", value_parser = parse_on_off)]
-    pub specular_aa: Option<bool>,
+    /// Geometric specular anti-aliasing: the normal's variation inside a pixel widens its
+    /// roughness (less flicker; off by default, see --no-specular-aa).
+    #[arg(long, conflicts_with = "no_specular_aa")]
+    pub specular_aa: bool,
+    /// No geometric specular anti-aliasing (the default).
+    #[arg(long)]
+    pub no_specular_aa: bool,
     /// Specular AA's screen-space variance scale σ² (0..=1, default 0.15).
     #[arg(long, value_name = "X", value_parser = parse_unit)]
     pub specular_aa_variance: Option<f32>,
@@ -476,6 +480,15 @@ pub struct TradeoffArgs {
     /// cost and what it does not transport.
     #[arg(long)]
     pub decompose: bool,
+    /// Judge the rows against N renders of `high` accumulated with jitter (`--aa none
+    /// --accumulate N`) instead of the path-traced reference: the error anti-aliasing
+    /// leaves, without what the frame does not transport.
+    #[arg(long, value_name = "N", conflicts_with = "decompose", value_parser = clap::value_parser!(u32).range(2..=1024))]
+    pub against_accumulated: Option<u32>,
+    /// Only the rows of these knobs (e.g. `--only preset --only --aa`; the kinds the
+    /// table's first column names, `preset` for the presets).
+    #[arg(long, value_name = "KNOB", allow_hyphen_values = true)]
+    pub only: Vec<String>,
 }
 
 /// Arguments of `lumen view`.

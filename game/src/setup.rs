@@ -162,8 +162,11 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(n) = args.accumulate {
         quality.aa.accumulate = n;
     }
-    if let Some(on) = args.specular_aa {
-        quality.aa.specular.enabled = on;
+    if args.specular_aa {
+        quality.aa.specular.enabled = true;
+    }
+    if args.no_specular_aa {
+        quality.aa.specular.enabled = false;
     }
     if let Some(x) = args.specular_aa_variance {
         quality.aa.specular.variance = x;

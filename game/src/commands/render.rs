@@ -92,6 +92,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                 })).collect::<Vec<_>>(),
             },
             "accumulated": report.accumulated,
+            "temporal_frames": report.temporal_frames,
             "camera_notes": report.notes,
             "auto_exposure": report.metered.ev100.map(|ev| json!({
                 "ev100": ev,
@@ -155,6 +156,13 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
                 text,
                 "accumulated {} jittered renders (box pixel filter); the times above are their sums",
                 report.accumulated
+            );
+        }
+        if report.temporal_frames > 1 {
+            let _ = writeln!(
+                text,
+                "temporal anti-aliasing: {} jittered frames from a fresh history (a still camera's image converges in that many); the times above are their sums",
+                report.temporal_frames
             );
         }
         if !first.preprocessing.is_empty() {

@@ -146,10 +146,10 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     knob("--reflection-probe-size", "128".into(), &|a| {
         a.reflection_probe_size = Some(128)
     });
-    knob("--aa", "none".into(), &|a| a.aa = Some(AaMethod::None));
-    knob("--specular-aa", "off".into(), &|a| {
-        a.specular_aa = Some(false)
-    });
+    for m in AaMethod::ALL {
+        knob("--aa", m.name().into(), &|a| a.aa = Some(m));
+    }
+    knob("--specular-aa", String::new(), &|a| a.specular_aa = true);
     for n in [4u32, 16] {
         knob("--accumulate", n.to_string(), &|a| a.accumulate = Some(n));
     }
@@ -256,6 +256,27 @@ fn reference(
     Ok((img, tonemapper, false))
 }
 
+/// The judge of `--against-accumulated N`: the scene at `high` with no post AA and N
+/// jittered renders averaged, and its tone mapper (the third value: never cached).
+fn accumulated_judge(
+    scene: &SceneArgs,
+    size: (u32, u32),
+    n: u32,
+) -> Result<(image::Rgba32FImage, Tonemapper, bool)> {
+    let mut args = scene.clone();
+    args.quality = Some(QualityPreset::High);
+    args.aa = Some(AaMethod::None);
+    args.accumulate = Some(n);
+    let mut app = App::headless()?;
+    build_scene(&mut app, &args)?;
+    app.render_headless(size)?;
+    Ok((
+        app.read_hdr_image()?,
+        crate::commands::reference::frame_tonemapper(&app),
+        false,
+    ))
+}
+
 /// The display image as 8-bit sRGB bytes (RGB), tone mapped with `tonemapper`.
 fn display_rgb8(img: &image::Rgba32FImage, tonemapper: Tonemapper) -> Vec<u8> {
     img.pixels()
@@ -308,9 +329,22 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     if args.decompose {
         return decompose(args);
     }
-    let (reference_image, tonemapper, cached) =
-        reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?;
-    let configs = configurations(&args.scene);
+    let (reference_image, tonemapper, cached) = match args.against_accumulated {
+        Some(n) => accumulated_judge(&args.scene, args.size, n).context("the judge")?,
+        None => {
+            reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?
+        }
+    };
+    let mut configs = configurations(&args.scene);
+    if !args.only.is_empty() {
+        configs.retain(|(kind, _, _)| args.only.iter().any(|o| o == kind));
+        if configs.is_empty() {
+            return Err(anyhow!(
+                "--only {}: no row has that knob (the first column's names, e.g. preset, --aa)",
+                args.only.join(", ")
+            ));
+        }
+    }
     let progress = crate::progress::bar(configs.len() as u64, "tradeoff", "configurations");
     let mut rows = Vec::new();
     let mut adapter = None;
@@ -347,16 +381,26 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     }
     progress.finish_and_clear();
     let adapter = adapter.context("no adapter")?;
-    let title = format!(
-        "{} {}x{}, reference {} spp, {} on {} ({})",
-        args.scene.label(),
-        args.size.0,
-        args.size.1,
-        args.spp,
-        if cached { "cached" } else { "traced" },
-        adapter.name,
-        adapter.backend
-    );
+    let title = match args.against_accumulated {
+        Some(n) => format!(
+            "{} {}x{}, judged against {n} jittered renders of high (--aa none --accumulate {n}), on {} ({})",
+            args.scene.label(),
+            args.size.0,
+            args.size.1,
+            adapter.name,
+            adapter.backend
+        ),
+        None => format!(
+            "{} {}x{}, reference {} spp, {} on {} ({})",
+            args.scene.label(),
+            args.size.0,
+            args.size.1,
+            args.spp,
+            if cached { "cached" } else { "traced" },
+            adapter.name,
+            adapter.backend
+        ),
+    };
     let table = markdown(&title, &rows);
     crate::output::print(&table);
     if let Some(path) = &args.out {
@@ -369,8 +413,11 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
             "size": format!("{}x{}", args.size.0, args.size.1),
             "adapter": {"name": adapter.name, "backend": adapter.backend, "driver": adapter.driver},
             "frames": args.frames,
-            "reference": {"spp": args.spp, "max_bounces": REFERENCE_BOUNCES, "cached": cached,
-                          "visibility": "smith-correlated", "energy_compensation": true},
+            "reference": match args.against_accumulated {
+                Some(n) => json!({"accumulated_renders": n, "quality": "high", "aa": "none"}),
+                None => json!({"spp": args.spp, "max_bounces": REFERENCE_BOUNCES, "cached": cached,
+                               "visibility": "smith-correlated", "energy_compensation": true}),
+            },
             "rows": rows.iter().map(|r| json!({
                 "kind": r.kind, "setting": r.setting, "frame_ms": r.frame_ms, "gpu_ms": r.gpu_ms,
                 "flip_mean": r.flip_mean, "psnr_db": r.psnr_db, "relative_mse": r.relative_mse,

@@ -30,8 +30,21 @@ impl PassId {
 /// The running mean of the frame's jittered renders (two f32 targets the pass owns).
 pub const ACCUMULATION: Slot = Slot::owned("accumulation (running mean)");
 
-/// Format of the running mean: f32, so a mean of a thousand frames keeps 24 bits.
-const MEAN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Format of the running mean: f32, so a mean of a thousand frames keeps 24 bits, where
+/// the adapter can render to it; else f16 (GL on llvmpipe), whose 11 bits hold a mean of
+/// about 16 renders before later ones stop moving it (the plan says so).
+pub fn mean_format(gpu: &Gpu) -> wgpu::TextureFormat {
+    let f32_renderable = gpu
+        .adapter
+        .get_texture_format_features(wgpu::TextureFormat::Rgba32Float)
+        .allowed_usages
+        .contains(wgpu::TextureUsages::RENDER_ATTACHMENT);
+    if f32_renderable {
+        wgpu::TextureFormat::Rgba32Float
+    } else {
+        wgpu::TextureFormat::Rgba16Float
+    }
+}
 
 /// Which of an image's jittered renders this frame is; [`crate::App`] sets it before
 /// each one. `count` 1 is an ordinary frame.
@@ -68,11 +81,17 @@ impl FramePass for AccumulatePass {
             .resource::<crate::quality::Quality>()
             .hdr_precision
             .format();
+        let precision = match world.get_resource::<AccumulatePass>() {
+            Some(p) if p.mean_format == wgpu::TextureFormat::Rgba16Float => {
+                ", an f16 mean: this adapter cannot render to f32"
+            }
+            _ => "",
+        };
         PassDecision::new(
             sub.count > 1,
             if sub.count > 1 {
                 format!(
-                    "render {} of {} jittered renders averaged (box pixel filter)",
+                    "render {} of {} jittered renders averaged (box pixel filter){precision}",
                     sub.index + 1,
                     sub.count
                 )
@@ -116,6 +135,7 @@ struct Means {
 pub struct AccumulatePass {
     layout: wgpu::BindGroupLayout,
     update: wgpu::RenderPipeline,
+    mean_format: wgpu::TextureFormat,
     copy: CopyToHdr,
     params: wgpu::Buffer,
     means: Option<Means>,
@@ -133,17 +153,19 @@ impl AccumulatePass {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
+        let mean_format = mean_format(gpu);
         let update = fullscreen_variant(
             gpu,
             "accumulate",
             &update_layout,
             "accumulate.wgsl",
             &[],
-            MEAN_FORMAT,
+            mean_format,
         )?;
         Ok(AccumulatePass {
             layout,
             update,
+            mean_format,
             copy: CopyToHdr::new(gpu),
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("accumulate params"),
@@ -183,7 +205,7 @@ pub fn prepare_accumulate(
         return;
     };
     if pass.means.as_ref().is_none_or(|m| m.key != t.generation) {
-        let targets = [0, 1].map(|_| Target::new(&gpu, "accumulation", t.size, MEAN_FORMAT));
+        let targets = [0, 1].map(|_| Target::new(&gpu, "accumulation", t.size, pass.mean_format));
         let mut groups = Vec::with_capacity(2);
         for parity in 0..2 {
             let (write, read) = (&targets[parity], &targets[1 - parity]);
