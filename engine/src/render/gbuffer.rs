@@ -86,7 +86,7 @@ impl FramePass for GBufferPass {
             if specular_aa {
                 "the normal's screen-space variation widens the stored roughness"
             } else {
-                "--specular-aa off"
+                "off (--specular-aa turns it on)"
             },
         ));
         decision
