@@ -2,10 +2,17 @@
 // engine/src/antialiasing.rs (tests/shader_parity.rs holds them together).
 // Needs color.wgsl.
 
+// Whether every channel is finite, from the exponent bits: WGSL lets a compiler assume
+// floats are never NaN or ∞, so comparisons like c != c may be folded away.
+fn is_finite4(c: vec4<f32>) -> bool {
+    let exponent = bitcast<vec4<u32>>(c) & vec4<u32>(0x7f800000u);
+    return all(exponent != vec4<u32>(0x7f800000u));
+}
+
 // One step of a running mean (Welford 1962): m + (x − m) w with w = 1/n; w ≥ 1 starts a
 // new mean. A non-finite sample is left out, so NaN and ∞ never enter the accumulation.
 fn running_mean(mean: vec4<f32>, sample: vec4<f32>, weight: f32) -> vec4<f32> {
-    let finite = !any(sample != sample) && all(abs(sample) <= vec4<f32>(3.4028235e38));
+    let finite = is_finite4(sample);
     if weight >= 1.0 {
         return select(vec4<f32>(0.0), sample, finite);
     }

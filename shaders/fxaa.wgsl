@@ -58,8 +58,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let lo = min(m, min(min(n, s), min(w, e)));
     let hi = max(m, max(max(n, s), max(w, e)));
     let range = hi - lo;
+    // Off every edge: the HDR target keeps its own value (the pass loads it), not the
+    // f16 compressed copy's round trip.
     if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
-        return vec4<f32>(expand_hdr(centre.rgb), centre.a);
+        discard;
     }
     let nw = luma_px(p + vec2<i32>(-1, -1));
     let ne = luma_px(p + vec2<i32>(1, -1));

@@ -10,6 +10,5 @@
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let c = textureLoad(hdr, vec2<i32>(frag.xy), 0);
-    let finite = !any(c != c) && all(abs(c) <= vec4<f32>(3.4028235e38));
-    return select(vec4<f32>(0.0), vec4<f32>(compress_hdr(c.rgb), c.a), finite);
+    return select(vec4<f32>(0.0), vec4<f32>(compress_hdr(c.rgb), c.a), is_finite4(c));
 }

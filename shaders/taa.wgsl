@@ -44,8 +44,7 @@ struct TaaOutput {
 }
 
 fn finite_or_black(c: vec4<f32>) -> vec4<f32> {
-    let finite = !any(c != c) && all(abs(c) <= vec4<f32>(3.4028235e38));
-    return select(vec4<f32>(0.0), c, finite);
+    return select(vec4<f32>(0.0), c, is_finite4(c));
 }
 
 // Relative tolerance between the depth a surface had and the depth the history stores.
@@ -95,7 +94,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     let uv = frag.xy / size;
     let view_depth = (params.clip_from_world * world_at(uv, textureLoad(depth, p, 0).r)).w;
     let nearest_uv = (vec2<f32>(nearest) + vec2<f32>(0.5)) / size;
-    let expected = (params.previous_clip_from_world * world_at(nearest_uv, nearest_depth)).w;
+    // Clamped like the stored depths (f16).
+    let expected = min((params.previous_clip_from_world * world_at(nearest_uv, nearest_depth)).w, 65000.0);
 
     // Disocclusion: the history is kept where any of the 3 × 3 depths stored around the
     // previous position is that surface's (a jittered silhouette shows the surface in

@@ -480,6 +480,10 @@ impl App {
                 Jitter::default()
             });
             self.world.insert_resource(state.clone());
+            // Automatic exposure adapts once per image, not once per render.
+            if index > 0 {
+                self.world.insert_resource(FrameDelta(0.0));
+            }
             let timings = self.render_sub_frame(&gpu, &mut stage)?;
             state.frame = if taa { state.frame + 1 } else { 0 };
             state.reset = None;

@@ -27,8 +27,8 @@ pub struct Jitter {
 impl Jitter {
     /// The `index`th point (from 0) of the Halton (2, 3) sequence, centred on the pixel.
     /// The sequence starts at its second point, so no frame is biased to the pixel's
-    /// corner; its first N points cover the pixel evenly (stratified), so their average
-    /// is the box-filtered pixel.
+    /// corner; its points are low-discrepancy, spread evenly over the pixel for any N, so
+    /// the average of N renders converges to the box-filtered pixel.
     pub fn halton(index: u32) -> Jitter {
         let i = index.saturating_add(1);
         Jitter {

@@ -78,6 +78,28 @@ pub fn draw_fullscreen(
     pipeline: &wgpu::RenderPipeline,
     bind_group: &wgpu::BindGroup,
 ) {
+    draw_fullscreen_with(
+        encoder,
+        timer,
+        name,
+        targets,
+        pipeline,
+        bind_group,
+        wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+    );
+}
+
+/// [`draw_fullscreen`] with the targets' load operation given: `LoadOp::Load` keeps what
+/// the targets hold where the shader discards.
+pub fn draw_fullscreen_with(
+    encoder: &mut wgpu::CommandEncoder,
+    timer: &mut GpuTimer,
+    name: &'static str,
+    targets: &[&wgpu::TextureView],
+    pipeline: &wgpu::RenderPipeline,
+    bind_group: &wgpu::BindGroup,
+    load: wgpu::LoadOp<wgpu::Color>,
+) {
     let scope = timer.begin_step(name);
     {
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
@@ -88,7 +110,7 @@ pub fn draw_fullscreen(
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        load,
                         store: wgpu::StoreOp::Store,
                     },
                 })

@@ -6,13 +6,12 @@
 
 use crate::error::Result;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialiasing::accumulate::SubFrame;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
+use crate::render::pipelines::{draw_fullscreen, draw_fullscreen_with, fullscreen_variant};
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -40,9 +39,7 @@ impl FramePass for FxaaPass {
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
         let quality = world.resource::<Quality>();
-        let accumulating = world
-            .get_resource::<SubFrame>()
-            .is_some_and(|s| s.count > 1);
+        let accumulating = quality.aa.accumulate > 1;
         let (runs, reason) = match quality.aa.method {
             AaMethod::None => (false, "--aa none".to_string()),
             AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)".into()),
@@ -232,12 +229,14 @@ pub fn fxaa_pass(
         &pass.prepare,
         &c.prepare,
     );
-    draw_fullscreen(
+    // Pixels off every edge are discarded and keep the HDR target's exact value.
+    draw_fullscreen_with(
         encoder,
         timer,
         PassId::Fxaa.name(),
         &[hdr],
         filter,
         &c.filter,
+        wgpu::LoadOp::Load,
     );
 }

@@ -50,7 +50,8 @@ impl FramePass for MotionPass {
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
-        let taa = world.resource::<Quality>().aa.method == AaMethod::Taa;
+        let aa = world.resource::<Quality>().aa;
+        let taa = aa.method == AaMethod::Taa && aa.accumulate <= 1;
         let moved = world.resource::<ExtractedFrame>().temporal.moved.len();
         PassDecision::new(
             taa,

@@ -78,12 +78,16 @@ impl FramePass for TaaPass {
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
         let quality = world.resource::<Quality>();
-        let taa = quality.aa.method == AaMethod::Taa;
+        let accumulating = quality.aa.accumulate > 1;
+        let taa = quality.aa.method == AaMethod::Taa && !accumulating;
         let state = world
             .get_resource::<TaaState>()
             .cloned()
             .unwrap_or_default();
         let reason = match (&state.reset, taa) {
+            (_, false) if accumulating => {
+                "the accumulation of jittered renders already filters every pixel".to_string()
+            }
             (_, false) => "--aa taa is off".to_string(),
             (Some(why), true) => format!("history reset ({why}): this frame alone"),
             (None, true) => format!(

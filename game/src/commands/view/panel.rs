@@ -109,15 +109,28 @@ impl Panel {
                     egui::CollapsingHeader::new("Quality")
                         .default_open(false)
                         .show(ui, |ui| {
-                            let mut q = app.world_mut().resource_mut::<Quality>();
+                            // Written back only when a knob moved: a write marks the
+                            // quality changed, which recaptures probes and resets TAA.
+                            let before = *app.world().resource::<Quality>();
+                            let mut q = before;
                             quality_ui(ui, &mut q);
+                            if q != before {
+                                *app.world_mut().resource_mut::<Quality>() = q;
+                            }
                         });
                     egui::CollapsingHeader::new("Camera")
                         .default_open(true)
                         .show(ui, |ui| {
                             let metered = self.last.as_ref().map(|r| r.ev100);
-                            if let Some(mut c) = app.world_mut().get_mut::<Camera>(camera) {
+                            if let Some(before) = app.world().get::<Camera>(camera).copied() {
+                                let mut c = before;
                                 camera_ui(ui, &mut c, metered);
+                                if c != before
+                                    && let Some(mut stored) =
+                                        app.world_mut().get_mut::<Camera>(camera)
+                                {
+                                    *stored = c;
+                                }
                             }
                         });
                     egui::CollapsingHeader::new("Lights")
