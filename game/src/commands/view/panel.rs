@@ -348,6 +348,17 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
             .logarithmic(true)
             .text("SSR thickness (m)"),
     );
+    combo(
+        ui,
+        "anti-aliasing",
+        &mut v.aa.method,
+        &lumen::quality::AaMethod::ALL,
+        |m| m.name(),
+    );
+    ui.add(egui::Slider::new(&mut v.aa.accumulate, 1..=64).text("accumulated renders"));
+    ui.checkbox(&mut v.aa.specular.enabled, "specular anti-aliasing");
+    ui.add(egui::Slider::new(&mut v.aa.specular.variance, 0.0..=1.0).text("specular AA σ²"));
+    ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));
     ui.checkbox(&mut v.energy_compensation, "energy compensation");
     ui.checkbox(&mut v.light_culling, "light culling");
     ui.add(
