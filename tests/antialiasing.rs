@@ -12,12 +12,8 @@ use lumen::quality::AaMethod;
 
 /// Everything but the surfaces themselves off: no probes, AO, reflections or post AA.
 fn bare_quality(app: &mut App) {
-    let mut q = app.world_mut().resource_mut::<Quality>();
-    q.gi.enabled = false;
-    q.reflection_probes.enabled = false;
-    q.ao.resolution = lumen::quality::AoResolution::Off;
-    q.ssr.enabled = false;
-    q.aa.method = AaMethod::None;
+    common::indirect_off(app);
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::None;
 }
 
 /// Where the emissive square's right edge falls, in pixels from the left of a 64-pixel

@@ -9,7 +9,7 @@ use bevy_ecs::system::ScheduleSystem;
 use lumen::FrameTarget;
 use lumen::assets::procedural::{cube, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::quality::{AaMethod, AoResolution};
+use lumen::quality::AaMethod;
 use lumen::render::device::Gpu;
 use lumen::render::frame::FrameEncoder;
 use lumen::render::graph::registry::Registry;
@@ -20,12 +20,8 @@ use lumen::render::targets::RenderTargets;
 /// TAA on, frame by frame; probes, AO and reflections off.
 fn taa_quality(app: &mut App) {
     app.set_progressive_taa(true);
-    let mut q = app.world_mut().resource_mut::<Quality>();
-    q.gi.enabled = false;
-    q.reflection_probes.enabled = false;
-    q.ao.resolution = AoResolution::Off;
-    q.ssr.enabled = false;
-    q.aa.method = AaMethod::Taa;
+    common::indirect_off(app);
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Taa;
 }
 
 fn camera_at(world: &mut World, from: Vec3, to: Vec3) -> Entity {
@@ -130,13 +126,12 @@ fn motion_vectors_match_the_analytic_motion_of_a_moving_cube() {
     );
 }
 
-/// A 64 × 64 frame of an emissive sphere in front of an emissive backdrop, TAA frame by
-/// frame.
-fn sphere_app() -> (App, Entity) {
-    let mut app = App::headless().expect("a GPU adapter");
+/// An emissive sphere in front of an emissive backdrop, TAA frame by frame; returns the
+/// camera.
+fn spawn_sphere_scene(app: &mut App) -> Entity {
     let ball = app.add_mesh(uv_sphere(0.6, 48, 24)).expect("mesh");
     let wall = app.add_mesh(plane(10.0, 10.0)).expect("mesh");
-    taa_quality(&mut app);
+    taa_quality(app);
     let world = app.world_mut();
     world.spawn((
         Mesh3d(ball),
@@ -155,7 +150,13 @@ fn sphere_app() -> (App, Entity) {
         Transform::from_translation(Vec3::new(0.0, 0.0, -1.0))
             .with_rotation(Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
     ));
-    let camera = camera_at(world, Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO);
+    camera_at(world, Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO)
+}
+
+/// [`spawn_sphere_scene`] in a headless app.
+fn sphere_app() -> (App, Entity) {
+    let mut app = App::headless().expect("a GPU adapter");
+    let camera = spawn_sphere_scene(&mut app);
     (app, camera)
 }
 
@@ -371,28 +372,7 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
     let size = (64, 64);
     let (mut reference, _) = sphere_app();
     // The same scene in the poisoned app.
-    let ball = app.add_mesh(uv_sphere(0.6, 48, 24)).expect("mesh");
-    let wall = app.add_mesh(plane(10.0, 10.0)).expect("mesh");
-    taa_quality(&mut app);
-    let world = app.world_mut();
-    world.spawn((
-        Mesh3d(ball),
-        Material {
-            emissive: Vec3::new(1.0, 0.8, 0.3),
-            ..Material::new(Vec3::ZERO, 0.0, 1.0)
-        },
-        Transform::IDENTITY,
-    ));
-    world.spawn((
-        Mesh3d(wall),
-        Material {
-            emissive: Vec3::splat(0.1),
-            ..Material::new(Vec3::ZERO, 0.0, 1.0)
-        },
-        Transform::from_translation(Vec3::new(0.0, 0.0, -1.0))
-            .with_rotation(Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
-    ));
-    camera_at(world, Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO);
+    spawn_sphere_scene(&mut app);
     for _ in 0..4 {
         app.render_headless(size).expect("frame");
         reference.render_headless(size).expect("frame");

@@ -181,3 +181,13 @@ pub fn assert_finite(app: &App) {
         .count();
     assert_eq!(bad, 0, "{bad} pixels are not finite");
 }
+
+/// No probes, ambient occlusion or screen-space reflections: only direct light and the
+/// environment, for tests that look at one surface's own shading.
+pub fn indirect_off(app: &mut App) {
+    let mut q = app.world_mut().resource_mut::<lumen::quality::Quality>();
+    q.gi.enabled = false;
+    q.reflection_probes.enabled = false;
+    q.ao.resolution = lumen::quality::AoResolution::Off;
+    q.ssr.enabled = false;
+}

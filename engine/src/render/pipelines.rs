@@ -45,6 +45,20 @@ pub fn fullscreen_pipeline(
     })
 }
 
+/// A pipeline layout of one bind group, `layout`, at group 0.
+pub fn one_group_layout(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::PipelineLayout {
+    gpu.device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(layout)],
+            immediate_size: 0,
+        })
+}
+
 /// Composes the module `entry` under `defs` and compiles the full-screen pipeline
 /// `vs_fullscreen`/`fs_main` drawing into `format` without depth: a pass's variant
 /// (tone mapping, debug views).

@@ -15,7 +15,7 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
+use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -146,13 +146,7 @@ impl AccumulatePass {
     /// Creates the layouts and the update pipeline; the copy compiles per HDR format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let layout = BINDINGS.layout(gpu);
-        let update_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("accumulate"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let update_layout = one_group_layout(gpu, "accumulate", &layout);
         let mean_format = mean_format(gpu);
         let update = fullscreen_variant(
             gpu,

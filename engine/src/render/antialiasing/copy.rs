@@ -5,7 +5,7 @@
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::pipelines::fullscreen_variant;
+use crate::render::pipelines::{fullscreen_variant, one_group_layout};
 use std::collections::HashMap;
 
 /// The copy's input.
@@ -26,13 +26,7 @@ impl CopyToHdr {
     /// The layouts; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> CopyToHdr {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("copy"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pipeline_layout = one_group_layout(gpu, "copy", &layout);
         CopyToHdr {
             layout,
             pipeline_layout,

@@ -11,7 +11,9 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{draw_fullscreen, draw_fullscreen_with, fullscreen_variant};
+use crate::render::pipelines::{
+    draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
+};
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -107,24 +109,16 @@ impl FxaaPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let prepare_layout = PREPARE_BINDINGS.layout(gpu);
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = |label, layout| {
-            gpu.device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some(label),
-                    bind_group_layouts: &[Some(layout)],
-                    immediate_size: 0,
-                })
-        };
         let prepare = fullscreen_variant(
             gpu,
             "fxaa prepare",
-            &pipeline_layout("fxaa prepare", &prepare_layout),
+            &one_group_layout(gpu, "fxaa prepare", &prepare_layout),
             "fxaa_prepare.wgsl",
             &[],
             COMPRESSED_FORMAT,
         )?;
         Ok(FxaaPass {
-            filter_layout: pipeline_layout("fxaa", &layout),
+            filter_layout: one_group_layout(gpu, "fxaa", &layout),
             prepare_layout,
             layout,
             prepare,

@@ -20,7 +20,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat};
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::pipelines::{create_module, fullscreen_pipeline, one_group_layout};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
@@ -137,13 +137,7 @@ impl MotionPass {
             &[MOTION_FORMAT],
             None,
         )?;
-        let object_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("motion (objects)"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let object_layout = one_group_layout(gpu, "motion (objects)", &layout);
         let instance_attributes = wgpu::vertex_attr_array![
             4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4,
             8 => Float32x4, 9 => Float32x4, 10 => Float32x4, 11 => Float32x4
@@ -226,25 +220,18 @@ pub fn prepare_motion(
         .write_buffer(&pass.uniform, 0, bytemuck::cast_slice(&matrices));
     let mut moved = Vec::with_capacity(t.moved.len());
     pass.draws.clear();
-    for &i in &t.moved {
+    for &(i, mesh) in &t.moved {
         let (Some(instance), Some(previous)) = (
             frame.instances.get(i as usize),
             t.previous_world.get(i as usize),
         ) else {
             continue;
         };
-        let Some(batch) = frame
-            .batches
-            .iter()
-            .find(|b| (b.first_instance..b.first_instance + b.count).contains(&i))
-        else {
-            continue;
-        };
         moved.push(MovedInstance {
             world: instance.world_from_local,
             previous: *previous,
         });
-        pass.draws.push(batch.mesh);
+        pass.draws.push(mesh);
     }
     pass.moved.write(&gpu, bytemuck::cast_slice(&moved));
     if pass.group.is_none() {

@@ -23,7 +23,9 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{create_module, draw_fullscreen, fullscreen_pipeline};
+use crate::render::pipelines::{
+    create_module, draw_fullscreen, fullscreen_pipeline, one_group_layout,
+};
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -157,13 +159,7 @@ impl TaaPass {
     /// Compiles the TAA step; the copy compiles per HDR format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("taa"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pipeline_layout = one_group_layout(gpu, "taa", &layout);
         let module = create_module(gpu, "taa", &gpu.shaders.compose("taa.wgsl", &[])?)?;
         let pipeline = fullscreen_pipeline(
             gpu,
