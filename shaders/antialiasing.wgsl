@@ -33,7 +33,7 @@ fn expand_hdr(c: vec3<f32>) -> vec3<f32> {
 }
 
 // FXAA's perceptual luma (Lottes 2009): √Y of the compressed colour.
-fn fxaa_luma(compressed: vec3<f32>) -> f32 {
+fn perceptual_luma(compressed: vec3<f32>) -> f32 {
     return sqrt(max(luminance(compressed), 0.0));
 }
 
@@ -57,4 +57,61 @@ fn clip_towards_mean(history: vec3<f32>, mean: vec3<f32>, extent: vec3<f32>) -> 
         return mean + d / t;
     }
     return history;
+}
+
+// SMAA's luma edge test with local contrast adaptation (Jimenez et al. 2012, §3.1): 1 if
+// the step reaches the threshold and half the largest step around the pixel.
+fn smaa_edge(delta: f32, local_max: f32, threshold: f32) -> f32 {
+    return select(0.0, 1.0, delta >= threshold && 2.0 * delta >= local_max);
+}
+
+// The revectorized silhouette's height at a segment end (Reshetov 2009): +½ for a step
+// (a crossing edge one pixel long, not continuing `beyond`) on the neighbour's side only
+// (x), −½ on the centre's side only (y); corners and plain ends stay at 0.
+fn smaa_end_height(crossing: vec2<f32>, beyond: vec2<f32>) -> f32 {
+    let neighbour = crossing.x > 0.5 && beyond.x < 0.5;
+    let centre = crossing.y > 0.5 && beyond.y < 0.5;
+    if neighbour && !centre {
+        return 0.5;
+    }
+    if centre && !neighbour {
+        return -0.5;
+    }
+    return 0.0;
+}
+
+// Area between the edge and the line start → end over the column [column, column + 1]:
+// (centre's side, neighbour's side), in pixels.
+fn line_coverage(column: f32, start: vec2<f32>, end: vec2<f32>) -> vec2<f32> {
+    let lo = max(column, start.x);
+    let hi = min(column + 1.0, end.x);
+    if hi <= lo {
+        return vec2<f32>(0.0);
+    }
+    let slope = (end.y - start.y) / (end.x - start.x);
+    let y0 = start.y + slope * (lo - start.x);
+    let y1 = start.y + slope * (hi - start.x);
+    if y0 * y1 < 0.0 {
+        let cross = lo + (hi - lo) * y0 / (y0 - y1);
+        let a0 = 0.5 * y0 * (cross - lo);
+        let a1 = 0.5 * y1 * (hi - cross);
+        return vec2<f32>(max(-a0, 0.0) + max(-a1, 0.0), max(a0, 0.0) + max(a1, 0.0));
+    }
+    let area = 0.5 * (y0 + y1) * (hi - lo);
+    return vec2<f32>(max(-area, 0.0), max(area, 0.0));
+}
+
+// SMAA's coverage across an edge segment (Jimenez et al. 2012, orthogonal patterns):
+// a Z is one line end to end, an L or U lines from each stepped end towards the middle,
+// reaching no farther than `reach` (per end). (pixel covered by the neighbour's colour,
+// neighbour covered by the pixel's).
+fn smaa_coverage(column: f32, length: f32, ends: vec2<f32>, reach: vec2<f32>) -> vec2<f32> {
+    if ends.x * ends.y < 0.0 {
+        return line_coverage(column, vec2<f32>(0.0, ends.x), vec2<f32>(length, ends.y));
+    }
+    let half = 0.5 * length;
+    let start = vec2<f32>(min(half, reach.x), 0.0);
+    let end = vec2<f32>(length - min(half, reach.y), 0.0);
+    return line_coverage(column, vec2<f32>(0.0, ends.x), start)
+        + line_coverage(column, end, vec2<f32>(length, ends.y));
 }

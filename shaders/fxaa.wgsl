@@ -1,5 +1,6 @@
 // Fast approximate anti-aliasing (Lottes 2009, "FXAA", the quality variant's steps),
-// on the compressed image fxaa_prepare.wgsl wrote, back into the HDR target:
+// on the image aa_prepare.wgsl wrote (linear colour, perceptual luma in a), back into the
+// HDR target:
 // 1. the local contrast of the centre and its four neighbours decides whether the pixel
 //    is on an edge at all;
 // 2. second differences over the 3×3 neighbourhood decide whether the edge runs
@@ -9,11 +10,9 @@
 // 4. the pixel's distance to the nearer end gives how far across the edge to sample: the
 //    blend an exact coverage of the edge's line would give;
 // 5. a sub-pixel term from the 3×3 average blurs isolated single-pixel features.
-#import color
-#import antialiasing
 #import fullscreen
 
-@group(0) @binding(0) var compressed: texture_2d<f32>;
+@group(0) @binding(0) var prepared: texture_2d<f32>;
 @group(0) @binding(1) var linear_sampler: sampler;
 
 // Smallest contrast, relative to the local maximum, that is treated as an edge.
@@ -36,20 +35,19 @@ fn search_step(i: u32) -> f32 {
 }
 
 fn luma_at(uv: vec2<f32>) -> f32 {
-    return fxaa_luma(textureSampleLevel(compressed, linear_sampler, uv, 0.0).rgb);
+    return textureSampleLevel(prepared, linear_sampler, uv, 0.0).a;
 }
 
 fn luma_px(p: vec2<i32>) -> f32 {
-    let last = vec2<i32>(textureDimensions(compressed)) - vec2<i32>(1);
-    return fxaa_luma(textureLoad(compressed, clamp(p, vec2<i32>(0), last), 0).rgb);
+    let last = vec2<i32>(textureDimensions(prepared)) - vec2<i32>(1);
+    return textureLoad(prepared, clamp(p, vec2<i32>(0), last), 0).a;
 }
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let texel = 1.0 / vec2<f32>(textureDimensions(compressed));
+    let texel = 1.0 / vec2<f32>(textureDimensions(prepared));
     let p = vec2<i32>(frag.xy);
-    let centre = textureLoad(compressed, p, 0);
-    let m = fxaa_luma(centre.rgb);
+    let m = luma_px(p);
     // North is up (−y on screen).
     let n = luma_px(p + vec2<i32>(0, -1));
     let s = luma_px(p + vec2<i32>(0, 1));
@@ -59,7 +57,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let hi = max(m, max(max(n, s), max(w, e)));
     let range = hi - lo;
     // Off every edge: the HDR target keeps its own value (the pass loads it), not the
-    // f16 compressed copy's round trip.
+    // f16 copy's.
     if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
         discard;
     }
@@ -126,6 +124,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let sub = smoothstep(0.0, 1.0, clamp(abs(average - m) / range, 0.0, 1.0));
     offset = max(offset, sub * sub * SUBPIXEL);
 
-    let c = textureSampleLevel(compressed, linear_sampler, uv + across * offset, 0.0);
-    return vec4<f32>(expand_hdr(c.rgb), c.a);
+    // The bilinear tap mixes the two pixels' linear colours.
+    let c = textureSampleLevel(prepared, linear_sampler, uv + across * offset, 0.0);
+    return vec4<f32>(c.rgb, 1.0);
 }

@@ -10,7 +10,8 @@
 //    nearest surface had then (disocclusion), rescaled by the change of exposure;
 // 4. the history clipped towards the mean into mean ± γσ (γ wider where nothing moves,
 //    so a still image keeps converging);
-// 5. a running mean over at most `max_frames` frames: weight 1/n on this frame.
+// 5. a running mean over at most 16 frames while the pixel moves, up to 1024 while it
+//    is still (the plain mean of a still camera's jitter sequence): weight 1/n on this frame.
 // Writes the colour into the new history, and this frame's view depth and frame count
 // into the new depth history.
 #import color
@@ -25,8 +26,10 @@ struct TaaParams {
     // World from clip with this frame's jitter (the depth buffer's projection).
     world_from_clip: mat4x4<f32>,
     // x: history valid (1) or reset (0); y: exposure now / exposure then; z: most frames
-    // averaged; w: γ of the clipping box while moving.
+    // a moving pixel averages; w: γ of the clipping box while moving.
     settings: vec4<f32>,
+    // x: most frames a still pixel averages; y: the motion (px) below which it is still.
+    still: vec4<f32>,
 }
 
 @group(0) @binding(0) var hdr: texture_2d<f32>;
@@ -34,8 +37,7 @@ struct TaaParams {
 @group(0) @binding(2) var motion: texture_2d<f32>;
 @group(0) @binding(3) var history: texture_2d<f32>;
 @group(0) @binding(4) var history_depth: texture_2d<f32>;
-@group(0) @binding(5) var linear_sampler: sampler;
-@group(0) @binding(6) var<uniform> params: TaaParams;
+@group(0) @binding(5) var<uniform> params: TaaParams;
 
 struct TaaOutput {
     @location(0) color: vec4<f32>,
@@ -55,6 +57,22 @@ const DISOCCLUSION_TOLERANCE: f32 = 0.05;
 fn world_at(uv: vec2<f32>, d: f32) -> vec4<f32> {
     let h = params.world_from_clip * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
     return vec4<f32>(h.xyz / h.w, 1.0);
+}
+
+// The history at `uv`, bilinear from its four nearest texels, loaded (an f32 history is
+// not filterable on every adapter).
+fn history_at(uv: vec2<f32>) -> vec4<f32> {
+    let size = vec2<i32>(textureDimensions(history));
+    let last = size - vec2<i32>(1);
+    let p = uv * vec2<f32>(size) - 0.5;
+    let base = floor(p);
+    let f = p - base;
+    let i = vec2<i32>(base);
+    let a = textureLoad(history, clamp(i, vec2<i32>(0), last), 0);
+    let b = textureLoad(history, clamp(i + vec2<i32>(1, 0), vec2<i32>(0), last), 0);
+    let c = textureLoad(history, clamp(i + vec2<i32>(0, 1), vec2<i32>(0), last), 0);
+    let d = textureLoad(history, clamp(i + vec2<i32>(1, 1), vec2<i32>(0), last), 0);
+    return mix(mix(a, b, f.x), mix(c, d, f.x), f.y);
 }
 
 @fragment
@@ -119,8 +137,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     var frames = 1.0;
     out.color = current;
     if valid {
-        frames = min(stored.y + 1.0, params.settings.z);
-        var past = finite_or_black(textureSampleLevel(history, linear_sampler, previous_uv, 0.0));
+        let most = select(params.settings.z, params.still.x, length(moved) < params.still.y);
+        frames = min(stored.y + 1.0, most);
+        var past = finite_or_black(history_at(previous_uv));
         past = vec4<f32>(past.rgb * params.settings.y, past.a);
         // γ: the given one while the pixel moves, twice as wide once it is still.
         let still = 1.0 - clamp(length(moved), 0.0, 1.0);

@@ -57,6 +57,64 @@ fn edge_scene() -> App {
     app
 }
 
+/// The white plane of [`edge_scene`] turned by `angle_rad` about the view axis around the
+/// screen's centre, so its edge is a staircase (or, at 0, a straight column edge).
+fn turned_edge_scene(angle_rad: f32) -> App {
+    let mut app = edge_scene();
+    let world = app.world_mut();
+    let mut planes = world.query_filtered::<&mut Transform, With<Mesh3d>>();
+    for mut t in planes.iter_mut(world) {
+        let turn = Quat::from_rotation_z(angle_rad);
+        t.translation = turn * t.translation;
+        t.rotation = turn * t.rotation;
+    }
+    app
+}
+
+/// The linear red channel of `app`'s frame with `method` (and `accumulate` renders).
+fn edge_image(app: &mut App, method: AaMethod, accumulate: u32) -> Vec<f32> {
+    {
+        let mut quality = app.world_mut().resource_mut::<Quality>();
+        quality.aa.method = method;
+        quality.aa.accumulate = accumulate;
+    }
+    app.camera_cut();
+    app.render_headless((64, 64)).expect("frame");
+    let image = app.read_hdr_image().expect("hdr");
+    image.pixels().map(|p| p.0[0]).collect()
+}
+
+#[test]
+fn smaa_follows_staircases_and_leaves_straight_edges_alone() {
+    // A straight edge has no step to revectorize: SMAA leaves every pixel as it was.
+    let mut app = turned_edge_scene(0.0);
+    let none = edge_image(&mut app, AaMethod::None, 1);
+    let smaa = edge_image(&mut app, AaMethod::Smaa, 1);
+    assert_eq!(none, smaa, "a straight edge changed");
+    // Edges with steps every 8 pixels, along columns (left edges) and rows (top edges):
+    // against 64 jittered renders, on the pixels the edge partly covers, SMAA's error
+    // is below 0.3 of the unfiltered frame's (measured: 0.15 and 0.22).
+    for angle in [
+        (1.0f32 / 8.0).atan(),
+        std::f32::consts::FRAC_PI_2 - (1.0f32 / 8.0).atan(),
+    ] {
+        let mut app = turned_edge_scene(angle);
+        let truth = edge_image(&mut app, AaMethod::None, 64);
+        let none = edge_image(&mut app, AaMethod::None, 1);
+        let smaa = edge_image(&mut app, AaMethod::Smaa, 1);
+        let band: Vec<usize> = (0..truth.len())
+            .filter(|&i| truth[i] > 0.05 && truth[i] < 0.95)
+            .collect();
+        assert!(band.len() > 40, "{} edge pixels", band.len());
+        let error = |img: &[f32]| {
+            band.iter().map(|&i| (img[i] - truth[i]).abs()).sum::<f32>() / band.len() as f32
+        };
+        let (none, smaa) = (error(&none), error(&smaa));
+        eprintln!("edge at {angle:.3} rad: error none {none:.4}, smaa {smaa:.4}");
+        assert!(smaa < 0.3 * none, "smaa {smaa} vs none {none}");
+    }
+}
+
 #[test]
 fn accumulation_gives_the_box_filtered_pixel_at_an_edge() {
     let size = (64, 64);
@@ -222,13 +280,18 @@ fn anti_aliasing_reduces_the_error_on_silhouettes() {
     };
     let none = error(&none);
     let fxaa = error(&aliasing_display(AaMethod::Fxaa, 1).0);
+    let smaa = error(&aliasing_display(AaMethod::Smaa, 1).0);
     let taa = error(&aliasing_display(AaMethod::Taa, 1).0);
     let accumulated = error(&aliasing_display(AaMethod::None, 8).0);
     eprintln!(
-        "silhouette band ({} px) error against 64 renders: none {none:.4}, fxaa {fxaa:.4}, taa {taa:.4}, 8 renders {accumulated:.4}",
+        "silhouette band ({} px) error against 64 renders: none {none:.4}, fxaa {fxaa:.4}, smaa {smaa:.4}, taa {taa:.4}, 8 renders {accumulated:.4}",
         band.len()
     );
     assert!(fxaa < 0.75 * none, "fxaa {fxaa} vs none {none}");
+    // SMAA rebuilds lines from the staircases of solid edges; this band is mostly
+    // sub-pixel wires and rails, drawn as dashes, which no one-frame filter can join
+    // (measured: 0.96 of none's error; on staircases it removes 80 %, the test above).
+    assert!(smaa < 0.99 * none, "smaa {smaa} vs none {none}");
     assert!(taa < 0.6 * none, "taa {taa} vs none {none}");
     assert!(
         accumulated < 0.6 * none,
@@ -256,6 +319,7 @@ fn no_anti_aliasing_pass_runs_when_none_is_asked_for() {
             .expect("the plan decides on the pass")
     };
     assert_eq!(decision("fxaa"), (false, "--aa none".to_string()));
+    assert_eq!(decision("smaa"), (false, "--aa none".to_string()));
     assert!(!decision("accumulate").0);
     let specular = report
         .plan
@@ -267,6 +331,11 @@ fn no_anti_aliasing_pass_runs_when_none_is_asked_for() {
     app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Fxaa;
     let report = app.render_headless((64, 36)).expect("frame");
     assert!(report.plan.runs(lumen::render::graph::PassId::Fxaa));
+    assert!(!report.plan.runs(lumen::render::graph::PassId::Smaa));
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Smaa;
+    let report = app.render_headless((64, 36)).expect("frame");
+    assert!(report.plan.runs(lumen::render::graph::PassId::Smaa));
+    assert!(!report.plan.runs(lumen::render::graph::PassId::Fxaa));
 }
 
 #[test]

@@ -16,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 33;
+const OUTPUTS: usize = 35;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -254,7 +254,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         {
             let c = base * (x * 40.0);
             let k3 = aa::compress_hdr(c);
-            k3.extend(aa::fxaa_luma(k3))
+            k3.extend(aa::perceptual_luma(k3))
         },
         aa::expand_hdr(aa::compress_hdr(base * (x * 40.0))).extend(0.0),
         {
@@ -262,6 +262,18 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             aa::ycocg_to_rgb(y * Vec3::new(1.0, 0.5, 2.0)).extend(y.y)
         },
         aa::clip_towards_mean(v, base * 0.2, Vec3::new(0.1, 0.2, 0.3) * (k + 0.01)).extend(0.0),
+        {
+            let column = (x * 8.0).floor();
+            let length = column + 1.0 + (n_dot_h * 8.0).floor();
+            let reach = Vec2::new(k * 8.0, r * 8.0);
+            let coverage = aa::smaa_coverage(column, length, smaa_ends(i), reach);
+            let line = aa::line_coverage(x * 3.0, Vec2::new(0.4 * k, v.x), Vec2::new(4.0, v.y));
+            Vec4::new(coverage.x, coverage.y, line.x, line.y)
+        },
+        {
+            let ends = smaa_ends(i);
+            Vec4::new(aa::smaa_edge(x, n_dot_h, 0.1), ends.x, ends.y, 0.0)
+        },
     ]
 }
 
@@ -295,11 +307,23 @@ const NAMES: [&str; OUTPUTS] = [
     "parallax_corrected | box_weight",
     "specular_aa_roughness | toksvig_variance",
     "running_mean",
-    "compress_hdr | fxaa_luma",
+    "compress_hdr | perceptual_luma",
     "expand_hdr",
     "rgb_to_ycocg | ycocg_to_rgb",
     "clip_towards_mean",
+    "smaa_coverage | line_coverage",
+    "smaa_edge | smaa_end_height",
 ];
+
+/// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
+/// and their continuations at both ends, through `smaa_end_height`.
+fn smaa_ends(i: usize) -> Vec2 {
+    let bit = |b: usize| ((i >> b) & 1) as f32;
+    Vec2::new(
+        aa::smaa_end_height(Vec2::new(bit(0), bit(1)), Vec2::new(bit(4), bit(5))),
+        aa::smaa_end_height(Vec2::new(bit(2), bit(3)), Vec2::new(bit(6), bit(7))),
+    )
+}
 
 /// Focus distance (m) of case `i` for `circle_of_confusion`: mostly ordinary, some at
 /// the focal length (0.05 m), at 0, and at infinity (the largest float).

@@ -5,7 +5,7 @@
 //! display's white before tone mapping).
 
 use crate::color::luminance;
-use glam::{Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 /// One step of a running mean (Welford 1962): the mean of n samples from the mean of the
 /// first n − 1 and the n-th sample, `m + (x − m) w` with `w = 1/n`. A weight of 1 (or
@@ -37,10 +37,86 @@ pub fn expand_hdr(c: Vec3) -> Vec3 {
     c / (1.0 - luminance(c)).max(1e-4)
 }
 
-/// The perceptual luma FXAA compares (Lottes 2009, "FXAA"): the square root of the
-/// compressed colour's luminance, close to a display's gamma-encoded brightness.
-pub fn fxaa_luma(compressed: Vec3) -> f32 {
+/// The perceptual luma FXAA and SMAA compare (Lottes 2009, "FXAA"): the square root of
+/// the compressed colour's luminance, close to a display's gamma-encoded brightness.
+pub fn perceptual_luma(compressed: Vec3) -> f32 {
     luminance(compressed).max(0.0).sqrt()
+}
+
+/// SMAA's luma edge test (Jimenez et al. 2012, "SMAA: Enhanced Subpixel Morphological
+/// Antialiasing", §3.1, with local contrast adaptation): a luma step `delta` between two
+/// neighbours is an edge if it reaches `threshold` and at least half of `local_max`, the
+/// largest step around the pixel, so a weak edge beside a strong one is left to the
+/// strong one. Returns 1 for an edge, 0 otherwise.
+pub fn smaa_edge(delta: f32, local_max: f32, threshold: f32) -> f32 {
+    if delta >= threshold && 2.0 * delta >= local_max {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The height of a revectorized silhouette at one end of an edge segment (Reshetov 2009,
+/// "Morphological Antialiasing"; Jimenez et al. 2012), from the crossing edges found
+/// there: `crossing.x` on the neighbour's side of the segment, `crossing.y` on the
+/// centre's side, and `beyond` the same two edges one pixel farther from the segment
+/// (each 0 or 1). A crossing edge one pixel long is a staircase step to its side and puts
+/// the line's end half a pixel onto that side (+½ the neighbour's, −½ the centre's). One
+/// that continues beyond is the corner of a shape, which stays sharp (SMAA's corner
+/// detection), as does an end with no step or steps to both sides (0).
+pub fn smaa_end_height(crossing: Vec2, beyond: Vec2) -> f32 {
+    let neighbour = crossing.x > 0.5 && beyond.x < 0.5;
+    let centre = crossing.y > 0.5 && beyond.y < 0.5;
+    match (neighbour, centre) {
+        (true, false) => 0.5,
+        (false, true) => -0.5,
+        _ => 0.0,
+    }
+}
+
+/// The area between the edge (height 0) and the straight line from `start` to `end`
+/// (`start.x < end.x`; x along the edge in pixels, y across it) over the pixel column
+/// `[column, column + 1]`: `.x` the part where the line is on the centre's side (y < 0),
+/// `.y` the part on the neighbour's side (y > 0). Both in pixels (a pixel's area is 1).
+pub fn line_coverage(column: f32, start: Vec2, end: Vec2) -> Vec2 {
+    let lo = column.max(start.x);
+    let hi = (column + 1.0).min(end.x);
+    if hi <= lo {
+        return Vec2::ZERO;
+    }
+    let slope = (end.y - start.y) / (end.x - start.x);
+    let y0 = start.y + slope * (lo - start.x);
+    let y1 = start.y + slope * (hi - start.x);
+    if y0 * y1 < 0.0 {
+        // The line crosses the edge inside the column: two triangles, one on each side.
+        let cross = lo + (hi - lo) * y0 / (y0 - y1);
+        let (a0, a1) = (0.5 * y0 * (cross - lo), 0.5 * y1 * (hi - cross));
+        return Vec2::new((-a0).max(0.0) + (-a1).max(0.0), a0.max(0.0) + a1.max(0.0));
+    }
+    let area = 0.5 * (y0 + y1) * (hi - lo);
+    Vec2::new((-area).max(0.0), area.max(0.0))
+}
+
+/// SMAA's coverage of one pixel by its neighbour's colour across an edge segment, and of
+/// the neighbour by the pixel's (Jimenez et al. 2012, orthogonal patterns, after
+/// Reshetov 2009): the segment is `length` pixels long, the pixel is column `column` of it
+/// (from 0), and `ends` are the silhouette's heights at its two ends
+/// ([`smaa_end_height`]). The silhouette is revectorized as a straight line between
+/// opposite ends (a Z: a staircase step), and otherwise as lines from each stepped end to
+/// the segment's middle (an L or a U), but no farther than `reach` pixels (per end): the
+/// length of the next stair past the step, so that a short bump on a long edge is not
+/// read as a staircase's step. Returns (pixel covered by the neighbour's colour, neighbour
+/// covered by the pixel's), each in [0, ½]. This is what SMAA's precomputed area texture
+/// holds; Lumen evaluates it directly.
+pub fn smaa_coverage(column: f32, length: f32, ends: Vec2, reach: Vec2) -> Vec2 {
+    if ends.x * ends.y < 0.0 {
+        return line_coverage(column, Vec2::new(0.0, ends.x), Vec2::new(length, ends.y));
+    }
+    let half = 0.5 * length;
+    let start = Vec2::new(half.min(reach.x), 0.0);
+    let end = Vec2::new(length - half.min(reach.y), 0.0);
+    line_coverage(column, Vec2::new(0.0, ends.x), start)
+        + line_coverage(column, end, Vec2::new(length, ends.y))
 }
 
 /// RGB → YCoCg (Malvar & Sullivan 2003): luma and two chroma differences, the space in
@@ -98,6 +174,42 @@ mod tests {
         assert!(
             (clipped - Vec3::new(0.6, 0.0, 0.0)).length() < 1e-6,
             "{clipped}"
+        );
+    }
+
+    #[test]
+    fn smaa_coverage_is_the_area_under_the_revectorized_line() {
+        let far = Vec2::splat(100.0);
+        // A Z step over 4 pixels: the line runs from −½ to +½ and crosses the edge in the
+        // middle; the first pixel's trapezoid between heights −½ and −¼ is 3/8 of a pixel.
+        let ends = Vec2::new(-0.5, 0.5);
+        assert!((smaa_coverage(0.0, 4.0, ends, far) - Vec2::new(0.375, 0.0)).length() < 1e-6);
+        assert!((smaa_coverage(3.0, 4.0, ends, far) - Vec2::new(0.0, 0.375)).length() < 1e-6);
+        // The middle of an odd segment is split into two triangles of 1/24 each.
+        let mid = smaa_coverage(1.0, 3.0, ends, far);
+        assert!((mid - Vec2::splat(1.0 / 24.0)).length() < 1e-6, "{mid}");
+        // An L only covers the half on its stepped end, and no more than its reach; no
+        // step, no coverage.
+        let l = Vec2::new(0.5, 0.0);
+        assert!(smaa_coverage(0.0, 4.0, l, far).y > 0.2);
+        assert_eq!(smaa_coverage(2.0, 4.0, l, far), Vec2::ZERO);
+        assert!(smaa_coverage(3.0, 16.0, l, far).y > 0.0);
+        assert_eq!(smaa_coverage(3.0, 16.0, l, Vec2::splat(3.0)), Vec2::ZERO);
+        assert_eq!(smaa_coverage(0.0, 4.0, Vec2::ZERO, far), Vec2::ZERO);
+        // Over the whole segment, a Z covers ½ pixel on each side: the step's triangle.
+        let total: Vec2 = (0..8)
+            .map(|c| smaa_coverage(c as f32, 8.0, ends, far))
+            .sum();
+        assert!((total - Vec2::new(1.0, 1.0)).length() < 1e-5, "{total}");
+        assert_eq!(smaa_end_height(Vec2::new(1.0, 1.0), Vec2::ZERO), 0.0);
+        assert_eq!(smaa_end_height(Vec2::new(0.0, 1.0), Vec2::ZERO), -0.5);
+        assert_eq!(
+            smaa_end_height(Vec2::new(0.0, 1.0), Vec2::new(0.0, 1.0)),
+            0.0
+        );
+        assert_eq!(
+            smaa_end_height(Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)),
+            0.5
         );
     }
 

@@ -4,7 +4,7 @@
 use crate::error::{Error, Result};
 use crate::quality::{AaMethod, MAX_ACCUMULATE, Quality};
 use crate::render::antialiasing::accumulate::SubFrame;
-use crate::render::antialiasing::taa::{TAA_FRAMES, TaaState, history_change};
+use crate::render::antialiasing::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
 use crate::render::capture::ProbeStatus;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::exposure::ExposurePass;
@@ -79,7 +79,7 @@ pub struct FrameReport {
     /// Jittered renders averaged into this image (`--accumulate`; 1 for one render).
     /// The pass and stage times are their sums.
     pub accumulated: u32,
-    /// Frames temporal anti-aliasing rendered into this image: [`TAA_FRAMES`] for a
+    /// Frames temporal anti-aliasing rendered into this image: [`TAA_JITTER_PERIOD`] for a
     /// still render (converged), 1 per frame in the viewer and `bench`, 0 without TAA.
     /// The pass and stage times are their sums.
     pub temporal_frames: u32,
@@ -275,7 +275,7 @@ impl App {
 
     /// With `--aa taa`: render one frame per call, blending it with the history of the
     /// earlier calls (on: the viewer, `bench`), or converge a still image in each call
-    /// from a fresh history ([`TAA_FRAMES`] jittered frames; off, the default).
+    /// from a fresh history ([`TAA_JITTER_PERIOD`] jittered frames; off, the default).
     pub fn set_progressive_taa(&mut self, progressive: bool) {
         self.progressive_taa = progressive;
     }
@@ -455,7 +455,7 @@ impl App {
         let temporal_frames = match (taa, self.progressive_taa) {
             (false, _) => 0,
             (true, true) => 1,
-            (true, false) => TAA_FRAMES,
+            (true, false) => TAA_JITTER_PERIOD,
         };
         let mut state = self.world.remove_resource::<TaaState>().unwrap_or_default();
         if state.size.is_some_and(|s| s != size) && reset.is_none() {
@@ -475,7 +475,7 @@ impl App {
             self.world.insert_resource(if count > 1 {
                 Jitter::halton(index)
             } else if taa {
-                Jitter::halton(state.frame % TAA_FRAMES)
+                Jitter::halton(state.frame % TAA_JITTER_PERIOD)
             } else {
                 Jitter::default()
             });

@@ -227,6 +227,10 @@ pub enum AaMethod {
     /// Fast approximate anti-aliasing (Lottes 2009): one full-screen pass that finds
     /// luminance edges and blends each edge pixel with its neighbour across the edge.
     Fxaa,
+    /// Subpixel morphological anti-aliasing (Jimenez et al. 2012, SMAA 1x): edges found
+    /// from luma, followed to their ends, and each edge pixel blended with its neighbour
+    /// by the coverage of the silhouette's revectorized line.
+    Smaa,
     /// Temporal anti-aliasing (Karis 2014; Salvi 2016): every frame is jittered inside
     /// the pixel, and the history of earlier frames, reprojected by motion vectors and
     /// clipped to the current neighbourhood's colour range, is blended in.
@@ -235,13 +239,19 @@ pub enum AaMethod {
 
 impl AaMethod {
     /// Every method, cheapest first.
-    pub const ALL: [AaMethod; 3] = [AaMethod::None, AaMethod::Fxaa, AaMethod::Taa];
+    pub const ALL: [AaMethod; 4] = [
+        AaMethod::None,
+        AaMethod::Fxaa,
+        AaMethod::Smaa,
+        AaMethod::Taa,
+    ];
 
     /// The name used on the command line.
     pub fn name(self) -> &'static str {
         match self {
             AaMethod::None => "none",
             AaMethod::Fxaa => "fxaa",
+            AaMethod::Smaa => "smaa",
             AaMethod::Taa => "taa",
         }
     }

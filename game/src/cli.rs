@@ -463,7 +463,8 @@ pub struct TradeoffArgs {
     /// Paths per pixel of the reference (cached in out/reference-cache/).
     #[arg(long, value_name = "N", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=1_048_576))]
     pub spp: u32,
-    /// Measured frames per row (after 3 warm-up frames).
+    /// Measured frames per row (after 3 warm-up frames; TAA rows warm up to whole jitter
+    /// sequences of 64 frames).
     #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub frames: u32,
     /// Write the rows as JSON (schema lumen-tradeoff/1) to this file ("-": standard output).

@@ -24,7 +24,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 33u;
+const OUTPUTS: u32 = 35u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -106,12 +106,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 28u] = running_mean(vec4<f32>(c.base_metallic.rgb, x), vec4<f32>(c.n.xyz, k) * 3.0,
                                     select(n_dot_h, 1.0, i % 4u == 0u));
     let compressed = compress_hdr(c.base_metallic.rgb * (x * 40.0));
-    results[o + 29u] = vec4<f32>(compressed, fxaa_luma(compressed));
+    results[o + 29u] = vec4<f32>(compressed, perceptual_luma(compressed));
     results[o + 30u] = vec4<f32>(expand_hdr(compressed), 0.0);
     let y = rgb_to_ycocg(c.base_metallic.rgb);
     results[o + 31u] = vec4<f32>(ycocg_to_rgb(y * vec3<f32>(1.0, 0.5, 2.0)), y.y);
     results[o + 32u] = vec4<f32>(clip_towards_mean(c.v.xyz, c.base_metallic.rgb * 0.2, vec3<f32>(0.1, 0.2, 0.3) * (k + 0.01)), 0.0);
+    let column = floor(x * 8.0);
+    let ends = smaa_ends(i);
+    results[o + 33u] = vec4<f32>(smaa_coverage(column, column + 1.0 + floor(n_dot_h * 8.0), ends, vec2<f32>(k * 8.0, r * 8.0)),
+                                 line_coverage(x * 3.0, vec2<f32>(0.4 * k, c.v.x), vec2<f32>(4.0, c.v.y)));
+    results[o + 34u] = vec4<f32>(smaa_edge(x, n_dot_h, 0.1), ends, 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
+}
+
+// The same segment ends as smaa_ends in tests/shader_parity.rs.
+fn smaa_ends(i: u32) -> vec2<f32> {
+    let bits = vec4<f32>(vec4<u32>(i, i >> 1u, i >> 2u, i >> 3u) & vec4<u32>(1u));
+    let beyond = vec4<f32>(vec4<u32>(i >> 4u, i >> 5u, i >> 6u, i >> 7u) & vec4<u32>(1u));
+    return vec2<f32>(smaa_end_height(bits.xy, beyond.xy), smaa_end_height(bits.zw, beyond.zw));
 }
 
 // The same focus distances as coc_focus in tests/shader_parity.rs.

@@ -6,6 +6,7 @@ use crate::error::Result;
 use crate::render::antialiasing::accumulate::AccumulatePass;
 use crate::render::antialiasing::fxaa::FxaaPass;
 use crate::render::antialiasing::motion::MotionPass;
+use crate::render::antialiasing::smaa::SmaaPass;
 use crate::render::antialiasing::taa::TaaPass;
 use crate::render::debug_view::DebugViewPass;
 use crate::render::dof::DofPass;
@@ -39,6 +40,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<ExposurePass>()
         .with::<DofPass>()
         .with::<FxaaPass>()
+        .with::<SmaaPass>()
         .with::<TonemapPass>()
         .with::<DebugViewPass>()
         .ordered()

@@ -353,12 +353,15 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         let mut app = App::headless()?;
         build_scene(&mut app, scene)?;
         // TAA runs frame by frame, as in the viewer: its warm-up fills the history, so
-        // the row's time is one frame's and its image the converged one.
+        // the row's time is one frame's and its image the converged one, read after
+        // whole jitter sequences (a still camera's history is their plain mean).
         app.set_progressive_taa(true);
         let taa = app.world().resource::<lumen::prelude::Quality>().aa.method
             == lumen::quality::AaMethod::Taa;
         let warmup = if taa {
-            lumen::render::antialiasing::taa::TAA_FRAMES
+            let period = lumen::render::antialiasing::taa::TAA_JITTER_PERIOD;
+            let rest = (period - args.frames % period) % period;
+            if rest < 3 { rest + period } else { rest }
         } else {
             3
         };

@@ -1,20 +1,18 @@
 //! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast and
-//! blended across, in two steps: `fxaa_prepare.wgsl` compresses the HDR image into
-//! [0, 1) luminance ([`crate::antialiasing::compress_hdr`]) in a target of its own, and
-//! `fxaa.wgsl` filters it and writes the expanded result back into the HDR target. It
-//! runs after depth of field, on the image tone mapping will show.
+//! blended across, in two steps: the HDR image is copied with its perceptual luma
+//! ([`super::prepare`]), and `fxaa.wgsl` filters it and writes the result into the HDR
+//! target. It runs after depth of field, on the image tone mapping will show.
 
 use crate::error::Result;
 use crate::quality::{AaMethod, Quality};
+use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{
-    draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
-};
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::pipelines::{draw_fullscreen_with, fullscreen_variant, one_group_layout};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -25,9 +23,6 @@ impl PassId {
     /// Fast approximate anti-aliasing.
     pub const Fxaa: PassId = PassId::new("fxaa");
 }
-
-/// The compressed image FXAA filters: f16 holds [0, 1) with 11 significant bits.
-const COMPRESSED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 impl FramePass for FxaaPass {
     const ID: PassId = PassId::Fxaa;
@@ -44,6 +39,7 @@ impl FramePass for FxaaPass {
         let accumulating = quality.aa.accumulate > 1;
         let (runs, reason) = match quality.aa.method {
             AaMethod::None => (false, "--aa none".to_string()),
+            AaMethod::Smaa => (false, "SMAA instead (--aa smaa)".into()),
             AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)".into()),
             AaMethod::Fxaa if accumulating => (
                 false,
@@ -63,65 +59,43 @@ impl FramePass for FxaaPass {
     }
 }
 
-/// The compression step's input.
-pub const PREPARE_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "fxaa prepare",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("hdr", Binding::TextureLoad)],
-};
-
 /// The filter's input.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     label: "fxaa",
     visibility: wgpu::ShaderStages::FRAGMENT,
     bindings: &[
-        (
-            "compressed",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
+        ("prepared", Binding::Sampled(wgpu::TextureViewDimension::D2)),
         ("linear_sampler", Binding::Sampler),
     ],
 };
 
-/// The compressed image and the two steps' bind groups.
-struct Compressed {
-    target: Target,
+/// The prepared image and the filter's bind group, for one set of frame targets.
+struct Prepared {
+    image: PreparedImage,
     key: u64,
-    prepare: wgpu::BindGroup,
     filter: wgpu::BindGroup,
 }
 
 /// FXAA's pipelines, target and bindings.
 #[derive(Resource)]
 pub struct FxaaPass {
-    prepare_layout: wgpu::BindGroupLayout,
+    preparation: Preparation,
     layout: wgpu::BindGroupLayout,
-    prepare: wgpu::RenderPipeline,
     filter_layout: wgpu::PipelineLayout,
     filters: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
     sampler: wgpu::Sampler,
-    compressed: Option<Compressed>,
+    prepared: Option<Prepared>,
 }
 
 impl FxaaPass {
-    /// Creates the layouts and the compression pipeline; the filter compiles per HDR
+    /// Creates the layouts and the preparation pipeline; the filter compiles per HDR
     /// format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let prepare_layout = PREPARE_BINDINGS.layout(gpu);
         let layout = BINDINGS.layout(gpu);
-        let prepare = fullscreen_variant(
-            gpu,
-            "fxaa prepare",
-            &one_group_layout(gpu, "fxaa prepare", &prepare_layout),
-            "fxaa_prepare.wgsl",
-            &[],
-            COMPRESSED_FORMAT,
-        )?;
         Ok(FxaaPass {
+            preparation: Preparation::new(gpu)?,
             filter_layout: one_group_layout(gpu, "fxaa", &layout),
-            prepare_layout,
             layout,
-            prepare,
             filters: HashMap::new(),
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("fxaa"),
@@ -129,12 +103,12 @@ impl FxaaPass {
                 min_filter: wgpu::FilterMode::Linear,
                 ..Default::default()
             }),
-            compressed: None,
+            prepared: None,
         })
     }
 }
 
-/// Compiles the filter for this frame's HDR format and (re)creates the compressed image
+/// Compiles the filter for this frame's HDR format and (re)creates the prepared image
 /// at the frame's size.
 pub fn prepare_fxaa(
     gpu: Res<Gpu>,
@@ -166,40 +140,34 @@ pub fn prepare_fxaa(
         return;
     };
     if pass
-        .compressed
+        .prepared
         .as_ref()
         .is_some_and(|c| c.key == t.generation)
     {
         return;
     }
-    let target = Target::new(&gpu, "fxaa compressed", t.size, COMPRESSED_FORMAT);
-    let prepare = PREPARE_BINDINGS.group(
-        &gpu,
-        &pass.prepare_layout,
-        vec![wgpu::BindingResource::TextureView(hdr)],
-    );
-    let filter = BINDINGS.group(
-        &gpu,
-        &pass.layout,
-        vec![
-            wgpu::BindingResource::TextureView(&target.view),
-            wgpu::BindingResource::Sampler(&pass.sampler),
-        ],
-    );
-    match (prepare, filter) {
-        (Ok(prepare), Ok(filter)) => {
-            pass.compressed = Some(Compressed {
-                target,
-                key: t.generation,
-                prepare,
-                filter,
-            })
-        }
-        (Err(e), _) | (_, Err(e)) => errors.0.push(e),
+    let built = pass.preparation.image(&gpu, t.size, hdr).and_then(|image| {
+        let filter = BINDINGS.group(
+            &gpu,
+            &pass.layout,
+            vec![
+                wgpu::BindingResource::TextureView(&image.target.view),
+                wgpu::BindingResource::Sampler(&pass.sampler),
+            ],
+        )?;
+        Ok(Prepared {
+            image,
+            key: t.generation,
+            filter,
+        })
+    });
+    match built {
+        Ok(c) => pass.prepared = Some(c),
+        Err(e) => errors.0.push(e),
     }
 }
 
-/// Records the compression and the filter.
+/// Records the preparation and the filter.
 pub fn fxaa_pass(
     pass: Res<FxaaPass>,
     plan: Res<FramePlan>,
@@ -209,20 +177,14 @@ pub fn fxaa_pass(
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(c), Some(hdr), Some(filter)) = (
         encoder.as_mut(),
-        pass.compressed.as_ref(),
+        pass.prepared.as_ref(),
         targets.current.as_ref().and_then(|t| t.view(HDR)),
         plan.variant::<FxaaPass>().and_then(|f| pass.filters.get(f)),
     ) else {
         return;
     };
-    draw_fullscreen(
-        encoder,
-        timer,
-        "fxaa prepare",
-        &[&c.target.view],
-        &pass.prepare,
-        &c.prepare,
-    );
+    pass.preparation
+        .record(encoder, timer, "fxaa prepare", &c.image);
     // Pixels off every edge are discarded and keep the HDR target's exact value.
     draw_fullscreen_with(
         encoder,

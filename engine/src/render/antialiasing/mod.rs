@@ -1,6 +1,6 @@
 //! Anti-aliasing: the accumulation of jittered frames ([`crate::render::jitter`]),
-//! temporal anti-aliasing with its motion vectors, and the post-process filter on one
-//! frame (docs/src/antialiasing.md).
+//! temporal anti-aliasing with its motion vectors, and the post-process filters on one
+//! frame (FXAA, SMAA) (docs/src/antialiasing.md).
 //!
 //! Geometric specular anti-aliasing is not a pass: the G-buffer pass widens the stored
 //! roughness ([`crate::brdf::specular_aa_roughness`]).
@@ -9,4 +9,6 @@ pub mod accumulate;
 pub mod copy;
 pub mod fxaa;
 pub mod motion;
+pub mod prepare;
+pub mod smaa;
 pub mod taa;

@@ -15,6 +15,7 @@
 
 use crate::error::Result;
 use crate::quality::{AaMethod, Quality};
+use crate::render::antialiasing::accumulate::mean_format;
 use crate::render::antialiasing::copy::CopyToHdr;
 use crate::render::antialiasing::motion::MOTION;
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -40,17 +41,28 @@ impl PassId {
 /// The history of earlier frames (owned by the pass).
 pub const TAA_HISTORY: Slot = Slot::owned("taa history");
 
-/// Frames the history averages at most, and the length of the jitter sequence: a still
-/// camera's image is converged (the box average of this many jittered frames) after this
-/// many frames.
+/// Frames the history of a moving pixel averages at most: its weight on each new frame
+/// is at least 1/16, so a change shows within a few frames.
 pub const TAA_FRAMES: u32 = 16;
+
+/// The length of the jitter sequence (Halton 2, 3), and the frames a still `lumen render`
+/// converges: the box average of these jittered frames is `--accumulate 64`'s image.
+pub const TAA_JITTER_PERIOD: u32 = 64;
+
+/// Frames the history of a still pixel (moved less than [`TAA_STILL_PX`]) averages at most:
+/// it keeps the plain mean of every frame since the history's reset, so a still camera's
+/// image converges to the box average of the whole jitter sequence instead of weighting
+/// the latest frames most. Once it moves, the count drops to [`TAA_FRAMES`].
+pub const TAA_STILL_FRAMES: u32 = 1024;
+
+/// A pixel whose motion is shorter than this (in pixels per frame) is still.
+pub const TAA_STILL_PX: f32 = 0.01;
 
 /// γ of the clipping box while a pixel moves (twice this once it is still).
 pub const TAA_CLIP_GAMMA: f32 = 1.25;
 
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// View depth and frame count: f16 holds depths to 65 km at 0.05 % (the disocclusion test
-/// allows 5 %) and counts to 16 exactly, and every adapter renders to it.
+/// allows 5 %) and counts to 2048 exactly (the most is 1024), and every adapter renders to it.
 const DEPTH_FRAMES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 /// Where the history stands: frames since its last reset and why it was reset. The app
@@ -117,9 +129,8 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("hdr", Binding::TextureLoad),
         ("depth", Binding::TextureLoad),
         ("motion", Binding::TextureLoad),
-        ("history", Binding::Sampled(wgpu::TextureViewDimension::D2)),
+        ("history", Binding::TextureLoad),
         ("history_depth", Binding::TextureLoad),
-        ("linear_sampler", Binding::Sampler),
         ("params", Binding::Uniform),
     ],
 };
@@ -132,6 +143,7 @@ struct TaaParams {
     clip_from_world: [f32; 16],
     world_from_clip: [f32; 16],
     settings: [f32; 4],
+    still: [f32; 4],
 }
 
 /// The two histories, and per parity (which one this frame writes) the TAA and copy
@@ -149,7 +161,10 @@ pub struct TaaPass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     copy: CopyToHdr,
-    sampler: wgpu::Sampler,
+    /// The colour history's format: f32 where the adapter renders it (a mean over up to
+    /// [`TAA_STILL_FRAMES`] frames: f16 would drop updates smaller than its rounding),
+    /// f16 otherwise ([`mean_format`]).
+    color_format: wgpu::TextureFormat,
     params: wgpu::Buffer,
     history: Option<History>,
     parity: usize,
@@ -160,6 +175,7 @@ impl TaaPass {
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let layout = BINDINGS.layout(gpu);
         let pipeline_layout = one_group_layout(gpu, "taa", &layout);
+        let color_format = mean_format(gpu);
         let module = create_module(gpu, "taa", &gpu.shaders.compose("taa.wgsl", &[])?)?;
         let pipeline = fullscreen_pipeline(
             gpu,
@@ -167,19 +183,14 @@ impl TaaPass {
             Some(&pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_main"),
-            &[COLOR_FORMAT, DEPTH_FRAMES_FORMAT],
+            &[color_format, DEPTH_FRAMES_FORMAT],
             None,
         )?;
         Ok(TaaPass {
             layout,
             pipeline,
             copy: CopyToHdr::new(gpu),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("taa history"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            color_format,
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("taa params"),
                 size: std::mem::size_of::<TaaParams>() as u64,
@@ -221,7 +232,7 @@ pub fn prepare_taa(
     };
     let mut fresh = false;
     if pass.history.as_ref().is_none_or(|h| h.key != t.generation) {
-        let color = [0, 1].map(|_| Target::new(&gpu, "taa history", t.size, COLOR_FORMAT));
+        let color = [0, 1].map(|_| Target::new(&gpu, "taa history", t.size, pass.color_format));
         let depth_frames =
             [0, 1].map(|_| Target::new(&gpu, "taa history depth", t.size, DEPTH_FRAMES_FORMAT));
         let mut groups = Vec::with_capacity(2);
@@ -236,7 +247,6 @@ pub fn prepare_taa(
                     wgpu::BindingResource::TextureView(motion),
                     wgpu::BindingResource::TextureView(&color[read].view),
                     wgpu::BindingResource::TextureView(&depth_frames[read].view),
-                    wgpu::BindingResource::Sampler(&pass.sampler),
                     pass.params.as_entire_binding(),
                 ],
             );
@@ -279,6 +289,7 @@ pub fn prepare_taa(
             TAA_FRAMES as f32,
             TAA_CLIP_GAMMA,
         ],
+        still: [TAA_STILL_FRAMES as f32, TAA_STILL_PX, 0.0, 0.0],
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));

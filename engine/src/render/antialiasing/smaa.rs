@@ -1,0 +1,295 @@
+//! SMAA 1x (`--aa smaa`; Jimenez, Echevarria, Sousa & Gutierrez 2012, "SMAA: Enhanced
+//! Subpixel Morphological Antialiasing", after Reshetov 2009's morphological AA), on one
+//! frame, in four steps:
+//! 1. the HDR image is copied with its perceptual luma ([`super::prepare`]);
+//! 2. `smaa_edges.wgsl` marks each pixel's left and top edges where the perceptual luma
+//!    steps ([`crate::antialiasing::smaa_edge`]);
+//! 3. `smaa_weights.wgsl`, on edge pixels only, follows each edge to both ends (up to
+//!    [`MAX_SEARCH`] pixels each way), reads the crossing edges there, and evaluates the
+//!    coverage of the revectorized silhouette ([`crate::antialiasing::smaa_coverage`]);
+//! 4. `smaa_blend.wgsl` mixes every pixel with its neighbours across its edges by those
+//!    coverages, in linear colour (the mean a pixel filter takes), and writes the result
+//!    into the HDR target.
+//!
+//! It handles the orthogonal patterns; SMAA's diagonal patterns and corner rounding are
+//! not built (the paper's medium preset has neither). The coverage is evaluated in the
+//! shader rather than read from a precomputed area texture, and the search reads the
+//! edges pixel by pixel rather than through SMAA's bilinear search texture.
+
+use crate::error::Result;
+use crate::quality::{AaMethod, Quality};
+use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::HDR;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::pipelines::{
+    draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
+};
+use crate::render::targets::{RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Subpixel morphological anti-aliasing.
+    pub const Smaa: PassId = PassId::new("smaa");
+}
+
+/// Farthest an edge is followed each way, in pixels (`MAX_SEARCH` in smaa_weights.wgsl):
+/// SMAA's high preset reaches 32 pixels. A longer segment is treated as ending there
+/// without a step, which leaves its middle unblended, as a straight edge should be.
+pub const MAX_SEARCH: u32 = 32;
+
+/// The edges: left (r) and top (g), 0 or 1.
+const EDGES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg8Unorm;
+/// The coverages, each in [0, ½]: 8 bits resolve 1/510 of a pixel.
+const WEIGHTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+impl FramePass for SmaaPass {
+    const ID: PassId = PassId::Smaa;
+    const READS: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = wgpu::TextureFormat;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        SmaaPass::new(gpu)
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
+        let quality = world.resource::<Quality>();
+        let (runs, reason) = match quality.aa.method {
+            AaMethod::Smaa if quality.aa.accumulate > 1 => (
+                false,
+                "the accumulation of jittered renders already filters every pixel",
+            ),
+            AaMethod::Smaa => (true, "blends across luma edges' patterns (--aa smaa)"),
+            AaMethod::None => (false, "--aa none"),
+            AaMethod::Fxaa => (false, "FXAA instead (--aa fxaa)"),
+            AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)"),
+        };
+        PassDecision::new(runs, reason.to_string(), quality.hdr_precision.format())
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_smaa.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        smaa_pass.into_configs()
+    }
+}
+
+/// The edge step's input.
+pub const EDGES_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "smaa edges",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("prepared", Binding::TextureLoad)],
+};
+
+/// The coverage step's input.
+pub const WEIGHTS_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "smaa weights",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[("edges", Binding::TextureLoad)],
+};
+
+/// The blend's inputs.
+pub const BLEND_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "smaa blend",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("prepared", Binding::TextureLoad),
+        ("weights", Binding::TextureLoad),
+    ],
+};
+
+/// The intermediate images and the steps' bind groups, for one set of frame targets.
+struct Images {
+    key: u64,
+    prepared: PreparedImage,
+    edges: Target,
+    weights: Target,
+    edges_group: wgpu::BindGroup,
+    weights_group: wgpu::BindGroup,
+    blend_group: wgpu::BindGroup,
+}
+
+/// SMAA's pipelines and images.
+#[derive(Resource)]
+pub struct SmaaPass {
+    preparation: Preparation,
+    edges_layout: wgpu::BindGroupLayout,
+    weights_layout: wgpu::BindGroupLayout,
+    blend_layout: wgpu::BindGroupLayout,
+    edges: wgpu::RenderPipeline,
+    weights: wgpu::RenderPipeline,
+    blend_pipeline_layout: wgpu::PipelineLayout,
+    blends: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    images: Option<Images>,
+}
+
+impl SmaaPass {
+    /// Compiles the preparation, edge and coverage steps; the blend compiles per HDR
+    /// format.
+    pub fn new(gpu: &Gpu) -> Result<Self> {
+        let edges_layout = EDGES_BINDINGS.layout(gpu);
+        let weights_layout = WEIGHTS_BINDINGS.layout(gpu);
+        let blend_layout = BLEND_BINDINGS.layout(gpu);
+        let step = |label: &str, layout: &wgpu::BindGroupLayout, entry: &str, format| {
+            fullscreen_variant(
+                gpu,
+                label,
+                &one_group_layout(gpu, label, layout),
+                entry,
+                &[],
+                format,
+            )
+        };
+        Ok(SmaaPass {
+            preparation: Preparation::new(gpu)?,
+            edges: step("smaa edges", &edges_layout, "smaa_edges.wgsl", EDGES_FORMAT)?,
+            weights: step(
+                "smaa weights",
+                &weights_layout,
+                "smaa_weights.wgsl",
+                WEIGHTS_FORMAT,
+            )?,
+            blend_pipeline_layout: one_group_layout(gpu, "smaa blend", &blend_layout),
+            edges_layout,
+            weights_layout,
+            blend_layout,
+            blends: HashMap::new(),
+            images: None,
+        })
+    }
+
+    /// The images and bind groups for frame targets of `size`, filled from `hdr`.
+    fn images(
+        &self,
+        gpu: &Gpu,
+        size: (u32, u32),
+        hdr: &wgpu::TextureView,
+        key: u64,
+    ) -> Result<Images> {
+        let prepared = self.preparation.image(gpu, size, hdr)?;
+        let edges = Target::new(gpu, "smaa edges", size, EDGES_FORMAT);
+        let weights = Target::new(gpu, "smaa weights", size, WEIGHTS_FORMAT);
+        let view = wgpu::BindingResource::TextureView;
+        let edges_group =
+            EDGES_BINDINGS.group(gpu, &self.edges_layout, vec![view(&prepared.target.view)])?;
+        let weights_group =
+            WEIGHTS_BINDINGS.group(gpu, &self.weights_layout, vec![view(&edges.view)])?;
+        let blend_group = BLEND_BINDINGS.group(
+            gpu,
+            &self.blend_layout,
+            vec![view(&prepared.target.view), view(&weights.view)],
+        )?;
+        Ok(Images {
+            key,
+            prepared,
+            edges,
+            weights,
+            edges_group,
+            weights_group,
+            blend_group,
+        })
+    }
+}
+
+/// Compiles the blend for this frame's HDR format and (re)creates the images at the
+/// frame's size.
+pub fn prepare_smaa(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<SmaaPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let Some(&format) = plan.variant::<SmaaPass>() else {
+        return;
+    };
+    let pass = &mut *pass;
+    if !pass.blends.contains_key(&format) {
+        match fullscreen_variant(
+            &gpu,
+            "smaa blend",
+            &pass.blend_pipeline_layout,
+            "smaa_blend.wgsl",
+            &[],
+            format,
+        ) {
+            Ok(p) => {
+                pass.blends.insert(format, p);
+            }
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        }
+    }
+    let Some((t, hdr)) = targets
+        .current
+        .as_ref()
+        .and_then(|t| Some((t, t.view(HDR)?)))
+    else {
+        return;
+    };
+    if pass.images.as_ref().is_some_and(|i| i.key == t.generation) {
+        return;
+    }
+    match pass.images(&gpu, t.size, hdr, t.generation) {
+        Ok(images) => pass.images = Some(images),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the four steps.
+pub fn smaa_pass(
+    pass: Res<SmaaPass>,
+    plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(i), Some(hdr), Some(blend)) = (
+        encoder.as_mut(),
+        pass.images.as_ref(),
+        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        plan.variant::<SmaaPass>().and_then(|f| pass.blends.get(f)),
+    ) else {
+        return;
+    };
+    pass.preparation
+        .record(encoder, timer, "smaa prepare", &i.prepared);
+    // Pixels without an edge are discarded and stay 0 in both images.
+    draw_fullscreen(
+        encoder,
+        timer,
+        "smaa edges",
+        &[&i.edges.view],
+        &pass.edges,
+        &i.edges_group,
+    );
+    draw_fullscreen(
+        encoder,
+        timer,
+        "smaa weights",
+        &[&i.weights.view],
+        &pass.weights,
+        &i.weights_group,
+    );
+    // Pixels no coverage reaches are discarded and keep the HDR target's exact value.
+    draw_fullscreen_with(
+        encoder,
+        timer,
+        PassId::Smaa.name(),
+        &[hdr],
+        blend,
+        &i.blend_group,
+        wgpu::LoadOp::Load,
+    );
+}
