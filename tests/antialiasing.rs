@@ -346,13 +346,14 @@ fn a_still_taa_render_converges_to_the_box_filtered_pixel() {
     let report = app.render_headless(size).expect("frame");
     assert_eq!(
         report.temporal_frames,
-        lumen::render::antialiasing::taa::TAA_FRAMES
+        lumen::render::antialiasing::taa::TAA_JITTER_PERIOD
     );
     let image = app.read_hdr_image().expect("hdr");
     let at = |x: u32| image.get_pixel(x, 32).0[0];
     let covered = at(40);
     eprintln!("taa edge: {} {} {} {}", at(39), at(40), at(41), at(42));
-    assert!((covered - 0.3).abs() < 0.05, "pixel 40: {covered}");
+    // 64 Halton points resolve the covered 0.3 of the pixel to within 1/64.
+    assert!((covered - 0.3).abs() < 0.02, "pixel 40: {covered}");
     assert!((at(38) - 1.0).abs() < 1e-2, "{}", at(38));
 }
 
