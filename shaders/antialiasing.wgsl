@@ -37,6 +37,24 @@ fn perceptual_luma(compressed: vec3<f32>) -> f32 {
     return sqrt(max(luminance(compressed), 0.0));
 }
 
+// Contrast-adaptive sharpening's neighbour weight (Lottes 2019): −strength/5 ·
+// √(min(lo, 1 − hi)/hi) per channel.
+fn cas_weight(lo: vec3<f32>, hi: vec3<f32>, strength: f32) -> vec3<f32> {
+    let room = min(lo, vec3<f32>(1.0) - hi) / max(hi, vec3<f32>(1e-6));
+    return -sqrt(clamp(room, vec3<f32>(0.0), vec3<f32>(1.0))) * clamp(strength, 0.0, 1.0) / 5.0;
+}
+
+// Sharpening applied: (c + w · cross)/(1 + 4w), non-negative, scaled down where its
+// luminance passes cap.
+fn cas_apply(c: vec3<f32>, cross: vec3<f32>, w: vec3<f32>, cap: f32) -> vec3<f32> {
+    let r = max((c + w * cross) / (vec3<f32>(1.0) + 4.0 * w), vec3<f32>(0.0));
+    let y = luminance(r);
+    if y > cap {
+        return r * (cap / y);
+    }
+    return r;
+}
+
 // RGB → YCoCg (Malvar & Sullivan 2003).
 fn rgb_to_ycocg(c: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.25 * c.x + 0.5 * c.y + 0.25 * c.z, 0.5 * c.x - 0.5 * c.z, -0.25 * c.x + 0.5 * c.y - 0.25 * c.z);

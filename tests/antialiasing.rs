@@ -357,6 +357,53 @@ fn a_still_taa_render_converges_to_the_box_filtered_pixel() {
     assert!((at(38) - 1.0).abs() < 1e-2, "{}", at(38));
 }
 
+#[test]
+fn taa_sharpening_raises_local_contrast_and_is_explained() {
+    // The mean absolute Laplacian of display luma: how much each pixel stands out of its
+    // four neighbours.
+    let detail = |img: &image::RgbaImage| {
+        let (w, h) = img.dimensions();
+        let l = |x: u32, y: u32| {
+            let p = img.get_pixel(x, y).0;
+            0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32
+        };
+        let mut sum = 0.0;
+        for y in 1..h - 1 {
+            for x in 1..w - 1 {
+                sum +=
+                    (4.0 * l(x, y) - l(x - 1, y) - l(x + 1, y) - l(x, y - 1) - l(x, y + 1)).abs();
+            }
+        }
+        sum / ((w - 2) * (h - 2)) as f32
+    };
+    let render = |sharpen: f32| {
+        let mut app = common::app_with("aliasing");
+        {
+            let mut q = app.world_mut().resource_mut::<Quality>();
+            q.gi.enabled = false;
+            q.reflection_probes.enabled = false;
+            q.aa.method = AaMethod::Taa;
+            q.aa.taa_sharpen = sharpen;
+        }
+        let report = app.render_headless((128, 72)).expect("frame");
+        let explained = report
+            .plan
+            .passes
+            .iter()
+            .find(|(_, d)| d.name == "taa")
+            .map(|(_, d)| d.reason.clone())
+            .expect("the plan decides on TAA");
+        (app.read_display_image().expect("display"), explained)
+    };
+    let (plain, plain_reason) = render(0.0);
+    let (sharp, sharp_reason) = render(1.0);
+    let (plain, sharp) = (detail(&plain), detail(&sharp));
+    eprintln!("mean |Laplacian| of display luma: plain {plain:.3}, sharpened {sharp:.3}");
+    assert!(sharp > 1.15 * plain, "sharpened {sharp} vs plain {plain}");
+    assert!(!plain_reason.contains("sharpened"), "{plain_reason}");
+    assert!(sharp_reason.contains("sharpened 1"), "{sharp_reason}");
+}
+
 /// Flicker: the mean over the sphere's pixels of the squared change of display luma from
 /// one frame to the next, over 64 frames of a bump-mapped metal sphere turning by 0.25°
 /// per frame under a sun. A well-filtered highlight moves smoothly and changes little

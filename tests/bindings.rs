@@ -5,7 +5,7 @@
 
 use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
-use lumen::render::antialiasing::{accumulate, copy, fxaa, prepare, smaa};
+use lumen::render::antialiasing::{accumulate, copy, fxaa, prepare, resolve, smaa};
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
@@ -108,6 +108,7 @@ fn every_bind_group_list_matches_its_shader() {
     check("accumulate.wgsl", &[], &[(0, accumulate::BINDINGS)]);
     check("copy.wgsl", &[], &[(0, copy::BINDINGS)]);
     check("aa_prepare.wgsl", &[], &[(0, prepare::BINDINGS)]);
+    check("taa_resolve.wgsl", &[], &[(0, resolve::BINDINGS)]);
     check("smaa_edges.wgsl", &[], &[(0, smaa::EDGES_BINDINGS)]);
     check("smaa_weights.wgsl", &[], &[(0, smaa::WEIGHTS_BINDINGS)]);
     check("smaa_blend.wgsl", &[], &[(0, smaa::BLEND_BINDINGS)]);

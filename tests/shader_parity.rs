@@ -16,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 35;
+const OUTPUTS: usize = 36;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -274,6 +274,11 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             let ends = smaa_ends(i);
             Vec4::new(aa::smaa_edge(x, n_dot_h, 0.1), ends.x, ends.y, 0.0)
         },
+        {
+            let lo = base * 0.5;
+            let w = aa::cas_weight(lo, base, k);
+            aa::cas_apply(base * 0.8, lo * 4.0, w, x.abs() + 0.1).extend(w.y)
+        },
     ]
 }
 
@@ -313,6 +318,7 @@ const NAMES: [&str; OUTPUTS] = [
     "clip_towards_mean",
     "smaa_coverage | line_coverage",
     "smaa_edge | smaa_end_height",
+    "cas_weight | cas_apply",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

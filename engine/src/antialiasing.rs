@@ -119,6 +119,28 @@ pub fn smaa_coverage(column: f32, length: f32, ends: Vec2, reach: Vec2) -> Vec2 
         + line_coverage(column, end, Vec2::new(length, ends.y))
 }
 
+/// The neighbour weight of contrast-adaptive sharpening (Lottes 2019, "FidelityFX
+/// Contrast Adaptive Sharpening"), per channel, from the lowest (`lo`) and highest (`hi`)
+/// compressed colour of a pixel and its four neighbours, and the strength (0..1):
+/// `−strength/5 · √(min(lo, 1 − hi)/hi)`, so a pixel between a dark and a bright
+/// neighbour, or near either end of the range, is sharpened least (no overshoot into
+/// clipping). 0 at strength 0; at least −1/5.
+pub fn cas_weight(lo: Vec3, hi: Vec3, strength: f32) -> Vec3 {
+    let room = lo.min(Vec3::ONE - hi) / hi.max(Vec3::splat(1e-6));
+    -room.clamp(Vec3::ZERO, Vec3::ONE).powf(0.5) * strength.clamp(0.0, 1.0) / 5.0
+}
+
+/// Contrast-adaptive sharpening applied: the centre `c` and the sum of its four
+/// neighbours `cross` (compressed colours) mixed with the weight `w` of [`cas_weight`],
+/// `(c + w · cross)/(1 + 4w)`, made non-negative and scaled down where its luminance
+/// passes `cap` (the brightest compressed luminance around, < 1, so that expanding it
+/// stays finite and no pixel outshines its neighbourhood).
+pub fn cas_apply(c: Vec3, cross: Vec3, w: Vec3, cap: f32) -> Vec3 {
+    let r = ((c + w * cross) / (Vec3::ONE + 4.0 * w)).max(Vec3::ZERO);
+    let y = luminance(r);
+    if y > cap { r * (cap / y) } else { r }
+}
+
 /// RGB → YCoCg (Malvar & Sullivan 2003): luma and two chroma differences, the space in
 /// which TAA measures a neighbourhood's colour range (luma and chroma separate, so the
 /// range is tight along the colours that actually vary).
@@ -211,6 +233,25 @@ mod tests {
             smaa_end_height(Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)),
             0.5
         );
+    }
+
+    #[test]
+    fn sharpening_steepens_and_stays_in_range() {
+        // A pixel a little brighter than its neighbours gets brighter, but not past the cap.
+        let c = Vec3::splat(0.5);
+        let cross = Vec3::splat(4.0 * 0.4);
+        let w = cas_weight(Vec3::splat(0.4), Vec3::splat(0.5), 1.0);
+        assert!((w.x - (-0.2 * (0.4f32 / 0.5).sqrt())).abs() < 1e-6, "{w}");
+        let out = cas_apply(c, cross, w, 0.9);
+        assert!(out.x > 0.5 && luminance(out) <= 0.9 + 1e-6, "{out}");
+        let capped = cas_apply(c, cross, w, 0.52);
+        assert!((luminance(capped) - 0.52).abs() < 1e-5, "{capped}");
+        assert_eq!(
+            cas_weight(Vec3::splat(0.4), Vec3::splat(0.5), 0.0),
+            Vec3::ZERO
+        );
+        assert_eq!(cas_weight(Vec3::ZERO, Vec3::splat(0.5), 1.0), Vec3::ZERO);
+        assert_eq!(cas_apply(c, cross, Vec3::ZERO, 1.0), c);
     }
 
     #[test]

@@ -306,6 +306,11 @@ pub struct AaSettings {
     pub accumulate: u32,
     /// Geometric specular anti-aliasing.
     pub specular: SpecularAaSettings,
+    /// Strength of the contrast-adaptive sharpening applied to TAA's output, 0..=1
+    /// (Lottes 2019; dimensionless). 0, the default, shows the history as it is: the
+    /// converged still image is then the box-filtered pixel of the reference, which
+    /// sharpening moves away from.
+    pub taa_sharpen: f32,
 }
 
 impl Default for AaSettings {
@@ -314,6 +319,7 @@ impl Default for AaSettings {
             method: AaMethod::None,
             accumulate: 1,
             specular: SpecularAaSettings::default(),
+            taa_sharpen: 0.0,
         }
     }
 }

@@ -359,6 +359,9 @@ pub struct SceneArgs {
     /// Specular AA's largest added α² κ (0..=1, default 0.2).
     #[arg(long, value_name = "X", value_parser = parse_unit)]
     pub specular_aa_threshold: Option<f32>,
+    /// Sharpening of TAA's output, 0..=1 (contrast-adaptive; default 0, none)
+    #[arg(long, value_name = "X", value_parser = parse_unit)]
+    pub taa_sharpen: Option<f32>,
     /// Texture budget: longest side in texels a loaded texture keeps (16..=16384;
     /// default 4096); larger textures are downscaled with a warning
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(16..=16384))]

@@ -174,6 +174,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(x) = args.specular_aa_threshold {
         quality.aa.specular.threshold = x;
     }
+    if let Some(x) = args.taa_sharpen {
+        quality.aa.taa_sharpen = x;
+    }
 }
 
 /// The command line's camera settings.

@@ -24,7 +24,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 35u;
+const OUTPUTS: u32 = 36u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -116,6 +116,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 33u] = vec4<f32>(smaa_coverage(column, column + 1.0 + floor(n_dot_h * 8.0), ends, vec2<f32>(k * 8.0, r * 8.0)),
                                  line_coverage(x * 3.0, vec2<f32>(0.4 * k, c.v.x), vec2<f32>(4.0, c.v.y)));
     results[o + 34u] = vec4<f32>(smaa_edge(x, n_dot_h, 0.1), ends, 0.0);
+    let lo = c.base_metallic.rgb * 0.5;
+    let cas = cas_weight(lo, c.base_metallic.rgb, k);
+    results[o + 35u] = vec4<f32>(cas_apply(c.base_metallic.rgb * 0.8, lo * 4.0, cas, abs(x) + 0.1), cas.y);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

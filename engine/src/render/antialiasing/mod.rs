@@ -10,5 +10,6 @@ pub mod copy;
 pub mod fxaa;
 pub mod motion;
 pub mod prepare;
+pub mod resolve;
 pub mod smaa;
 pub mod taa;

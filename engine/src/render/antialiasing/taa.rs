@@ -1,11 +1,11 @@
 //! Temporal anti-aliasing (`--aa taa`; Karis 2014, "High Quality Temporal Supersampling";
 //! Salvi 2016, "An Excursion in Temporal Supersampling"): every frame is jittered inside
-//! the pixel (Halton 2, 3 over [`TAA_FRAMES`] frames), and `taa.wgsl` blends this frame
+//! the pixel (Halton 2, 3 over [`TAA_JITTER_PERIOD`] frames), and `taa.wgsl` blends this frame
 //! with the history of the earlier ones, reprojected by the motion vectors
 //! ([`super::motion`]), rejected where the surface was not visible then, and clipped to the
 //! colour range of this frame's neighbourhood. The history is two colour targets and two
-//! depth-and-count targets the pass owns (ping-pong); [`CopyToHdr`] writes the result
-//! into the HDR target.
+//! depth-and-count targets the pass owns (ping-pong); [`TaaResolve`] writes the result
+//! into the HDR target, sharpened if asked.
 //!
 //! The history is reset (the next frame is a frame without history, at the first jitter
 //! position) on a camera cut ([`crate::App::camera_cut`]), a new output size, a change of
@@ -16,8 +16,8 @@
 use crate::error::Result;
 use crate::quality::{AaMethod, Quality};
 use crate::render::antialiasing::accumulate::mean_format;
-use crate::render::antialiasing::copy::CopyToHdr;
 use crate::render::antialiasing::motion::MOTION;
+use crate::render::antialiasing::resolve::TaaResolve;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -105,9 +105,15 @@ impl FramePass for TaaPass {
             (_, false) => "--aa taa is off".to_string(),
             (Some(why), true) => format!("history reset ({why}): this frame alone"),
             (None, true) => format!(
-                "frame {} since the history's reset, at most {TAA_FRAMES} averaged",
+                "frame {} since the history's reset, at most {TAA_FRAMES} averaged \
+                 ({TAA_STILL_FRAMES} where still)",
                 state.frame + 1
             ),
+        };
+        let reason = if taa && quality.aa.taa_sharpen > 0.0 {
+            format!("{reason}; sharpened {}", quality.aa.taa_sharpen)
+        } else {
+            reason
         };
         PassDecision::new(taa, reason, quality.hdr_precision.format())
     }
@@ -146,7 +152,7 @@ struct TaaParams {
     still: [f32; 4],
 }
 
-/// The two histories, and per parity (which one this frame writes) the TAA and copy
+/// The two histories, and per parity (which one this frame writes) the TAA and resolve
 /// bind groups.
 struct History {
     color: [Target; 2],
@@ -160,7 +166,7 @@ struct History {
 pub struct TaaPass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-    copy: CopyToHdr,
+    resolve: TaaResolve,
     /// The colour history's format: f32 where the adapter renders it (a mean over up to
     /// [`TAA_STILL_FRAMES`] frames: f16 would drop updates smaller than its rounding),
     /// f16 otherwise ([`mean_format`]).
@@ -171,7 +177,7 @@ pub struct TaaPass {
 }
 
 impl TaaPass {
-    /// Compiles the TAA step; the copy compiles per HDR format.
+    /// Compiles the TAA step; the resolve compiles per HDR format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let layout = BINDINGS.layout(gpu);
         let pipeline_layout = one_group_layout(gpu, "taa", &layout);
@@ -189,7 +195,7 @@ impl TaaPass {
         Ok(TaaPass {
             layout,
             pipeline,
-            copy: CopyToHdr::new(gpu),
+            resolve: TaaResolve::new(gpu),
             color_format,
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("taa params"),
@@ -212,6 +218,7 @@ pub fn prepare_taa(
     frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     state: Option<Res<TaaState>>,
+    quality: Res<Quality>,
     mut pass: ResMut<TaaPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -219,7 +226,7 @@ pub fn prepare_taa(
         return;
     };
     let pass = &mut *pass;
-    if let Err(e) = pass.copy.ensure(&gpu, format) {
+    if let Err(e) = pass.resolve.ensure(&gpu, format) {
         errors.0.push(e);
         return;
     }
@@ -250,8 +257,8 @@ pub fn prepare_taa(
                     pass.params.as_entire_binding(),
                 ],
             );
-            let copy = pass.copy.group(&gpu, &color[write].view);
-            match (taa, copy) {
+            let resolve = pass.resolve.group(&gpu, &color[write].view);
+            match (taa, resolve) {
                 (Ok(a), Ok(b)) => groups.push((a, b)),
                 (Err(e), _) | (_, Err(e)) => {
                     errors.0.push(e);
@@ -293,10 +300,11 @@ pub fn prepare_taa(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    pass.resolve.set_sharpen(&gpu, quality.aa.taa_sharpen);
     pass.parity = 1 - pass.parity;
 }
 
-/// Records the TAA step into the new history, then the copy into the HDR target.
+/// Records the TAA step into the new history, then the resolve into the HDR target.
 pub fn taa_pass(
     pass: Res<TaaPass>,
     plan: Res<FramePlan>,
@@ -304,16 +312,16 @@ pub fn taa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(history), Some(hdr), Some(copy)) = (
+    let (Some(encoder), Some(history), Some(hdr), Some(resolve)) = (
         encoder.as_mut(),
         pass.history.as_ref(),
         targets.current.as_ref().and_then(|t| t.view(HDR)),
         plan.variant::<TaaPass>()
-            .and_then(|f| pass.copy.pipeline(*f)),
+            .and_then(|f| pass.resolve.pipeline(*f)),
     ) else {
         return;
     };
-    let (taa_group, copy_group) = &history.groups[pass.parity];
+    let (taa_group, resolve_group) = &history.groups[pass.parity];
     draw_fullscreen(
         encoder,
         timer,
@@ -325,7 +333,14 @@ pub fn taa_pass(
         &pass.pipeline,
         taa_group,
     );
-    draw_fullscreen(encoder, timer, "taa copy", &[hdr], copy, copy_group);
+    draw_fullscreen(
+        encoder,
+        timer,
+        "taa resolve",
+        &[hdr],
+        resolve,
+        resolve_group,
+    );
 }
 
 /// What in the scene changed its make-up since this system last ran (meshes, materials,

@@ -356,6 +356,7 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
         |m| m.name(),
     );
     ui.add(egui::Slider::new(&mut v.aa.accumulate, 1..=64).text("accumulated renders"));
+    ui.add(egui::Slider::new(&mut v.aa.taa_sharpen, 0.0..=1.0).text("TAA sharpening"));
     ui.checkbox(&mut v.aa.specular.enabled, "specular anti-aliasing");
     ui.add(egui::Slider::new(&mut v.aa.specular.variance, 0.0..=1.0).text("specular AA σ²"));
     ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));

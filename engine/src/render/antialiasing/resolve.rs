@@ -1,0 +1,96 @@
+//! TAA's last step (`taa_resolve.wgsl`): the new history copied into the frame's HDR
+//! target, sharpened when [`crate::quality::AaSettings::taa_sharpen`] is above 0
+//! (contrast-adaptive sharpening, [`crate::antialiasing::cas_weight`]). Compiled per HDR
+//! format. The history is not sharpened, so sharpening never feeds back into later frames.
+
+use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::pipelines::{fullscreen_variant, one_group_layout};
+use std::collections::HashMap;
+
+/// The resolve's inputs.
+pub const BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "taa resolve",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("history", Binding::TextureLoad),
+        ("params", Binding::Uniform),
+    ],
+};
+
+/// `ResolveParams` of `taa_resolve.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct ResolveParams {
+    settings: [f32; 4],
+}
+
+/// The resolve's layout, its pipelines (one per HDR format) and its settings buffer.
+pub struct TaaResolve {
+    layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    params: wgpu::Buffer,
+}
+
+impl TaaResolve {
+    /// The layouts and the settings buffer; pipelines compile on first use.
+    pub fn new(gpu: &Gpu) -> TaaResolve {
+        let layout = BINDINGS.layout(gpu);
+        let pipeline_layout = one_group_layout(gpu, "taa resolve", &layout);
+        TaaResolve {
+            layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("taa resolve params"),
+                size: std::mem::size_of::<ResolveParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+        }
+    }
+
+    /// Compiles the resolve into `format` unless it exists.
+    pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
+        if !self.pipelines.contains_key(&format) {
+            let pipeline = fullscreen_variant(
+                gpu,
+                "taa resolve",
+                &self.pipeline_layout,
+                "taa_resolve.wgsl",
+                &[],
+                format,
+            )?;
+            self.pipelines.insert(format, pipeline);
+        }
+        Ok(())
+    }
+
+    /// The resolve into `format`, once [`TaaResolve::ensure`]d.
+    pub fn pipeline(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(&format)
+    }
+
+    /// A bind group that resolves `history`.
+    pub fn group(&self, gpu: &Gpu, history: &wgpu::TextureView) -> Result<wgpu::BindGroup> {
+        BINDINGS.group(
+            gpu,
+            &self.layout,
+            vec![
+                wgpu::BindingResource::TextureView(history),
+                self.params.as_entire_binding(),
+            ],
+        )
+    }
+
+    /// Sets the sharpening strength (0 copies exactly, up to 1).
+    pub fn set_sharpen(&self, gpu: &Gpu, strength: f32) {
+        let params = ResolveParams {
+            settings: [strength.clamp(0.0, 1.0), 0.0, 0.0, 0.0],
+        };
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+}
