@@ -110,11 +110,16 @@ impl FramePass for TaaPass {
                 state.frame + 1
             ),
         };
-        let reason = if taa && quality.aa.taa_sharpen > 0.0 {
-            format!("{reason}; sharpened {}", quality.aa.taa_sharpen)
-        } else {
-            reason
-        };
+        let f16 = world
+            .get_resource::<TaaPass>()
+            .is_some_and(|p| p.color_format == wgpu::TextureFormat::Rgba16Float);
+        let mut reason = reason;
+        if taa && f16 {
+            reason += "; an f16 history: this adapter cannot render to f32";
+        }
+        if taa && quality.aa.taa_sharpen > 0.0 {
+            reason += &format!("; sharpened {}", quality.aa.taa_sharpen);
+        }
         PassDecision::new(taa, reason, quality.hdr_precision.format())
     }
 
