@@ -16,6 +16,6 @@ const F16_MAX: f32 = 65504.0;
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let raw = textureLoad(hdr, vec2<i32>(frag.xy), 0);
-    let c = select(vec3<f32>(0.0), min(raw.rgb, vec3<f32>(F16_MAX)), is_finite4(raw));
+    let c = select(vec3<f32>(0.0), clamp(raw.rgb, vec3<f32>(-F16_MAX), vec3<f32>(F16_MAX)), is_finite4(raw));
     return vec4<f32>(c, perceptual_luma(compress_hdr(c)));
 }

@@ -11,8 +11,8 @@
 
 @group(0) @binding(0) var edges: texture_2d<f32>;
 
-// Farthest an edge is followed each way, in pixels (MAX_SEARCH in smaa.rs).
-const MAX_SEARCH: i32 = 32;
+// Header constant MAX_SEARCH (u32): the farthest an edge is followed each way, in pixels
+// (smaa.rs).
 
 // The edges of pixel q (left, top); none outside the image.
 fn edges_at(q: vec2<i32>) -> vec2<f32> {
@@ -79,15 +79,19 @@ fn segment_end(b: vec2<i32>, out: vec2<i32>, outward: vec2<i32>, across: vec2<i3
 // `own`, its crossing edges in channel `cross`), the neighbour lying at p + across.
 fn edge_coverage(p: vec2<i32>, along: vec2<i32>, across: vec2<i32>, own: vec2<f32>,
                  cross: vec2<f32>) -> vec2<f32> {
-    // Backwards: b is the first pixel of the segment.
+    let most = i32(MAX_SEARCH);
+    // Backwards: b is the first pixel of the segment. The search is cut off when the edge
+    // still goes on after `most` pixels.
     var b = p;
     var back = 0;
+    var cut_back = false;
     loop {
-        if back >= MAX_SEARCH {
+        let c = crossing(b, across, cross);
+        if max(c.x, c.y) > 0.5 || !has_edge(b - along, own) {
             break;
         }
-        let c = crossing(b, across, cross);
-        if max(c.x, c.y) > 0.5 || dot(edges_at(b - along), own) < 0.5 {
+        if back >= most {
+            cut_back = true;
             break;
         }
         b -= along;
@@ -96,12 +100,14 @@ fn edge_coverage(p: vec2<i32>, along: vec2<i32>, across: vec2<i32>, own: vec2<f3
     // Forwards: e is the first pixel past the segment.
     var e = p + along;
     var ahead = 0;
+    var cut_ahead = false;
     loop {
-        if ahead >= MAX_SEARCH {
+        let c = crossing(e, across, cross);
+        if max(c.x, c.y) > 0.5 || !has_edge(e, own) {
             break;
         }
-        let c = crossing(e, across, cross);
-        if max(c.x, c.y) > 0.5 || dot(edges_at(e), own) < 0.5 {
+        if ahead >= most {
+            cut_ahead = true;
             break;
         }
         e += along;
@@ -111,8 +117,7 @@ fn edge_coverage(p: vec2<i32>, along: vec2<i32>, across: vec2<i32>, own: vec2<f3
     let long = back + ahead + 1 > 2;
     let first = segment_end(b, b - along, -along, across, own, cross, long);
     let last = segment_end(e, e, along, across, own, cross, long);
-    let ends = vec2<f32>(select(0.0, first.height, back < MAX_SEARCH),
-                         select(0.0, last.height, ahead < MAX_SEARCH));
+    let ends = vec2<f32>(select(first.height, 0.0, cut_back), select(last.height, 0.0, cut_ahead));
     return smaa_coverage(f32(back), f32(back + ahead + 1), ends, vec2<f32>(first.reach, last.reach));
 }
 

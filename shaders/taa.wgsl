@@ -10,8 +10,8 @@
 //    nearest surface had then (disocclusion), rescaled by the change of exposure;
 // 4. the history clipped towards the mean into mean ± γσ (γ wider where nothing moves,
 //    so a still image keeps converging);
-// 5. a running mean over at most 16 frames while the pixel moves, up to 1024 while it
-//    is still (the plain mean of a still camera's jitter sequence): weight 1/n on this frame.
+// 5. a running mean over at most 16 frames while the pixel moves, up to 64 while it is
+//    still (the plain mean of a still camera's jitter sequence): weight 1/n on this frame.
 // Writes the colour into the new history, and this frame's view depth and frame count
 // into the new depth history.
 #import color

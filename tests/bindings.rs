@@ -110,7 +110,11 @@ fn every_bind_group_list_matches_its_shader() {
     check("aa_prepare.wgsl", &[], &[(0, prepare::BINDINGS)]);
     check("taa_resolve.wgsl", &[], &[(0, resolve::BINDINGS)]);
     check("smaa_edges.wgsl", &[], &[(0, smaa::EDGES_BINDINGS)]);
-    check("smaa_weights.wgsl", &[], &[(0, smaa::WEIGHTS_BINDINGS)]);
+    check(
+        "smaa_weights.wgsl",
+        smaa::WEIGHTS_DEFS,
+        &[(0, smaa::WEIGHTS_BINDINGS)],
+    );
     check("smaa_blend.wgsl", &[], &[(0, smaa::BLEND_BINDINGS)]);
     check("fxaa.wgsl", &[], &[(0, fxaa::BINDINGS)]);
     check("shadow.wgsl", &[], &[(0, shadow::pass::CASTERS)]);

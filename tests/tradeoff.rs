@@ -25,7 +25,7 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
             .expect("valid JSON");
     assert_eq!(doc["schema"], "lumen-tradeoff/1");
     let rows = doc["rows"].as_array().expect("rows");
-    // 4 presets and 39 single knobs.
+    // 4 presets and 46 single knobs.
     assert_eq!(rows.len(), 50, "{rows:?}");
     for r in rows {
         for k in ["kind", "setting"] {

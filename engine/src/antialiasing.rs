@@ -218,7 +218,8 @@ mod tests {
         assert!(smaa_coverage(3.0, 16.0, l, far).y > 0.0);
         assert_eq!(smaa_coverage(3.0, 16.0, l, Vec2::splat(3.0)), Vec2::ZERO);
         assert_eq!(smaa_coverage(0.0, 4.0, Vec2::ZERO, far), Vec2::ZERO);
-        // Over the whole segment, a Z covers ½ pixel on each side: the step's triangle.
+        // Over the whole segment, a Z covers on each side the triangle between its line
+        // and the edge: ½ · (8/2) · ½ = 1 pixel.
         let total: Vec2 = (0..8)
             .map(|c| smaa_coverage(c as f32, 8.0, ends, far))
             .sum();

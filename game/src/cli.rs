@@ -339,7 +339,7 @@ pub struct SceneArgs {
     /// a power of two).
     #[arg(long, value_name = "PX", value_parser = clap::value_parser!(u32).range(16..=256))]
     pub reflection_probe_size: Option<u32>,
-    /// Anti-aliasing filter on each frame: none or fxaa (default from `medium`).
+    /// Anti-aliasing: none, fxaa, smaa or taa (default: the preset's; TAA in `ultra`).
     #[arg(long, value_name = "METHOD", value_parser = parse_aa)]
     pub aa: Option<lumen::quality::AaMethod>,
     /// Average N renders, each with the camera jittered inside the pixel (1..=1024): the

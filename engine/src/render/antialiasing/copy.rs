@@ -1,6 +1,7 @@
 //! A full-screen copy of a texture into the frame's HDR target (`copy.wgsl`), compiled per
 //! HDR format: the last step of the passes that build their result in a target of their
-//! own because they read the HDR target while making it (accumulation, TAA).
+//! own because they read the HDR target while making it (accumulation; TAA has its own
+//! resolve, [`super::resolve`]).
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};

@@ -85,10 +85,15 @@ impl TaaResolve {
         )
     }
 
-    /// Sets the sharpening strength (0 copies exactly, up to 1).
+    /// Sets the sharpening strength (0 copies exactly, up to 1; a non-finite strength is 0).
     pub fn set_sharpen(&self, gpu: &Gpu, strength: f32) {
+        let strength = if strength.is_finite() {
+            strength.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let params = ResolveParams {
-            settings: [strength.clamp(0.0, 1.0), 0.0, 0.0, 0.0],
+            settings: [strength, 0.0, 0.0, 0.0],
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -27,6 +27,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
     draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
 };
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -39,14 +40,18 @@ impl PassId {
     pub const Smaa: PassId = PassId::new("smaa");
 }
 
-/// Farthest an edge is followed each way, in pixels (`MAX_SEARCH` in smaa_weights.wgsl):
-/// SMAA's high preset reaches 32 pixels. A longer segment is treated as ending there
-/// without a step, which leaves its middle unblended, as a straight edge should be.
+/// Farthest an edge is followed each way, in pixels: SMAA's high preset reaches 32
+/// pixels. A longer segment is treated as ending there without a step, which leaves its
+/// middle unblended, as a straight edge should be.
 pub const MAX_SEARCH: u32 = 32;
+
+/// The coverage step's header constants: `MAX_SEARCH`.
+pub const WEIGHTS_DEFS: &[ShaderDef] = &[ShaderDef::U32("MAX_SEARCH", MAX_SEARCH)];
 
 /// The edges: left (r) and top (g), 0 or 1.
 const EDGES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg8Unorm;
-/// The coverages, each in [0, ½]: 8 bits resolve 1/510 of a pixel.
+/// The coverages, each in [0, ½]: 8 bits step by 1/255 of a pixel (rounding error at
+/// most 1/510).
 const WEIGHTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 impl FramePass for SmaaPass {
@@ -139,23 +144,30 @@ impl SmaaPass {
         let edges_layout = EDGES_BINDINGS.layout(gpu);
         let weights_layout = WEIGHTS_BINDINGS.layout(gpu);
         let blend_layout = BLEND_BINDINGS.layout(gpu);
-        let step = |label: &str, layout: &wgpu::BindGroupLayout, entry: &str, format| {
+        let step = |label: &str, layout, entry: &str, defs, format| {
             fullscreen_variant(
                 gpu,
                 label,
                 &one_group_layout(gpu, label, layout),
                 entry,
-                &[],
+                defs,
                 format,
             )
         };
         Ok(SmaaPass {
             preparation: Preparation::new(gpu)?,
-            edges: step("smaa edges", &edges_layout, "smaa_edges.wgsl", EDGES_FORMAT)?,
+            edges: step(
+                "smaa edges",
+                &edges_layout,
+                "smaa_edges.wgsl",
+                &[],
+                EDGES_FORMAT,
+            )?,
             weights: step(
                 "smaa weights",
                 &weights_layout,
                 "smaa_weights.wgsl",
+                WEIGHTS_DEFS,
                 WEIGHTS_FORMAT,
             )?,
             blend_pipeline_layout: one_group_layout(gpu, "smaa blend", &blend_layout),

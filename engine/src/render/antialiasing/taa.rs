@@ -49,11 +49,16 @@ pub const TAA_FRAMES: u32 = 16;
 /// converges: the box average of these jittered frames is `--accumulate 64`'s image.
 pub const TAA_JITTER_PERIOD: u32 = 64;
 
-/// Frames the history of a still pixel (moved less than [`TAA_STILL_PX`]) averages at most:
-/// it keeps the plain mean of every frame since the history's reset, so a still camera's
-/// image converges to the box average of the whole jitter sequence instead of weighting
-/// the latest frames most. Once it moves, the count drops to [`TAA_FRAMES`].
-pub const TAA_STILL_FRAMES: u32 = 1024;
+/// Frames the history of a still pixel (moved less than [`TAA_STILL_PX`]) averages at most,
+/// with an f32 history: one jitter sequence. A still camera's image after
+/// [`TAA_JITTER_PERIOD`] frames is the plain mean of the whole sequence, the box average
+/// `--accumulate 64` makes, instead of weighting the latest 16 most; a longer memory would
+/// let a shading change under a still camera (a moving object's shadow) trail, held back
+/// only by clipping. Once the pixel moves, the count drops to [`TAA_FRAMES`]. An f16
+/// history (GL) rounds away updates (x − m)/n below 2⁻¹¹ m, a 3 % change at n = 64, yet
+/// it still measured closer to 64 renders with this count than with 16 (FLIP 0.0213
+/// against 0.0266 on `aliasing`).
+pub const TAA_STILL_FRAMES: u32 = TAA_JITTER_PERIOD;
 
 /// A pixel whose motion is shorter than this (in pixels per frame) is still.
 pub const TAA_STILL_PX: f32 = 0.01;
@@ -62,7 +67,7 @@ pub const TAA_STILL_PX: f32 = 0.01;
 pub const TAA_CLIP_GAMMA: f32 = 1.25;
 
 /// View depth and frame count: f16 holds depths to 65 km at 0.05 % (the disocclusion test
-/// allows 5 %) and counts to 2048 exactly (the most is 1024), and every adapter renders to it.
+/// allows 5 %) and counts to 2048 exactly (the most is 64), and every adapter renders to it.
 const DEPTH_FRAMES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 /// Where the history stands: frames since its last reset and why it was reset. The app
