@@ -63,14 +63,22 @@ struct End {
 // b − across), or, for a segment `long`er than 2 pixels, the next stair (the edge one
 // pixel to the step's side, past the boundary) is shorter than 2 pixels: a long segment
 // beside a short one is a shape's corner with a slanted side. The line reaches as far as
-// the next stair is long (the whole half segment for MAX_STAIR or more).
+// the next stair is long (the whole half segment for MAX_STAIR or more). Only the sides
+// with a crossing edge are measured.
 fn segment_end(b: vec2<i32>, out: vec2<i32>, outward: vec2<i32>, across: vec2<i32>,
                own: vec2<f32>, cross: vec2<f32>, long: bool) -> End {
-    let continues = vec2<bool>(has_edge(b + 2 * across, cross), has_edge(b - across, cross));
-    let stairs = vec2<i32>(stair_length(out + across, outward, own),
-                           stair_length(out - across, outward, own));
-    let corner = continues | (vec2<bool>(long) & (stairs < vec2<i32>(2)));
-    let height = smaa_end_height(crossing(b, across, cross), select(vec2<f32>(0.0), vec2<f32>(1.0), corner));
+    let c = crossing(b, across, cross);
+    var stairs = vec2<i32>(0);
+    var corner = vec2<bool>(false);
+    if c.x > 0.5 {
+        stairs.x = stair_length(out + across, outward, own);
+        corner.x = has_edge(b + 2 * across, cross) || (long && stairs.x < 2);
+    }
+    if c.y > 0.5 {
+        stairs.y = stair_length(out - across, outward, own);
+        corner.y = has_edge(b - across, cross) || (long && stairs.y < 2);
+    }
+    let height = smaa_end_height(c, select(vec2<f32>(0.0), vec2<f32>(1.0), corner));
     let stair = select(stairs.y, stairs.x, height > 0.0);
     return End(height, select(f32(stair), 1e9, stair >= MAX_STAIR));
 }

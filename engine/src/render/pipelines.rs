@@ -5,6 +5,7 @@ use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::shaders::{Composed, ShaderDef};
 use crate::render::timing::GpuTimer;
+use std::collections::HashMap;
 
 /// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
 /// target for `vs_fullscreen`) into colour targets of `formats`, no blending, and the
@@ -158,4 +159,46 @@ pub fn create_module(gpu: &Gpu, label: &str, composed: &Composed) -> Result<wgpu
         Some(at) => Error::Gpu(format!("{at}\n{e}")),
         None => e,
     })
+}
+
+/// A full-screen pipeline (`fs_main` of `entry`, one bind group) compiled per colour
+/// target format on first use: the last step of a pass that writes the frame's HDR
+/// target, whose format follows the quality settings.
+pub struct PerFormat {
+    label: &'static str,
+    entry: &'static str,
+    layout: wgpu::PipelineLayout,
+    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+}
+
+impl PerFormat {
+    /// The pipeline layout of `group`; nothing is compiled yet.
+    pub fn new(
+        gpu: &Gpu,
+        label: &'static str,
+        entry: &'static str,
+        group: &wgpu::BindGroupLayout,
+    ) -> PerFormat {
+        PerFormat {
+            label,
+            entry,
+            layout: one_group_layout(gpu, label, group),
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// Compiles the pipeline into `format` unless it exists.
+    pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
+        if !self.pipelines.contains_key(&format) {
+            let pipeline =
+                fullscreen_variant(gpu, self.label, &self.layout, self.entry, &[], format)?;
+            self.pipelines.insert(format, pipeline);
+        }
+        Ok(())
+    }
+
+    /// The pipeline into `format`, once [`PerFormat::ensure`]d.
+    pub fn get(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(&format)
+    }
 }

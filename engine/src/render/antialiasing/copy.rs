@@ -6,8 +6,7 @@
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::pipelines::{fullscreen_variant, one_group_layout};
-use std::collections::HashMap;
+use crate::render::pipelines::PerFormat;
 
 /// The copy's input.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
@@ -19,35 +18,27 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 /// The copy's layout and its pipelines, one per HDR format.
 pub struct CopyToHdr {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    pipelines: PerFormat,
 }
 
 impl CopyToHdr {
     /// The layouts; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> CopyToHdr {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = one_group_layout(gpu, "copy", &layout);
         CopyToHdr {
+            pipelines: PerFormat::new(gpu, "copy", "copy.wgsl", &layout),
             layout,
-            pipeline_layout,
-            pipelines: HashMap::new(),
         }
     }
 
     /// Compiles the copy into `format` unless it exists.
     pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
-        if !self.pipelines.contains_key(&format) {
-            let pipeline =
-                fullscreen_variant(gpu, "copy", &self.pipeline_layout, "copy.wgsl", &[], format)?;
-            self.pipelines.insert(format, pipeline);
-        }
-        Ok(())
+        self.pipelines.ensure(gpu, format)
     }
 
     /// The copy into `format`, once [`CopyToHdr::ensure`]d.
     pub fn pipeline(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
-        self.pipelines.get(&format)
+        self.pipelines.get(format)
     }
 
     /// A bind group that copies from `source`.

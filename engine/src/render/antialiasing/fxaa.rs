@@ -11,12 +11,11 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{draw_fullscreen_with, fullscreen_variant, one_group_layout};
+use crate::render::pipelines::{PerFormat, draw_fullscreen_with};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -81,8 +80,7 @@ struct Prepared {
 pub struct FxaaPass {
     preparation: Preparation,
     layout: wgpu::BindGroupLayout,
-    filter_layout: wgpu::PipelineLayout,
-    filters: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    filters: PerFormat,
     sampler: wgpu::Sampler,
     prepared: Option<Prepared>,
 }
@@ -94,9 +92,8 @@ impl FxaaPass {
         let layout = BINDINGS.layout(gpu);
         Ok(FxaaPass {
             preparation: Preparation::new(gpu)?,
-            filter_layout: one_group_layout(gpu, "fxaa", &layout),
+            filters: PerFormat::new(gpu, "fxaa", "fxaa.wgsl", &layout),
             layout,
-            filters: HashMap::new(),
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("fxaa"),
                 mag_filter: wgpu::FilterMode::Linear,
@@ -121,16 +118,9 @@ pub fn prepare_fxaa(
         return;
     };
     let pass = &mut *pass;
-    if !pass.filters.contains_key(&format) {
-        match fullscreen_variant(&gpu, "fxaa", &pass.filter_layout, "fxaa.wgsl", &[], format) {
-            Ok(p) => {
-                pass.filters.insert(format, p);
-            }
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        }
+    if let Err(e) = pass.filters.ensure(&gpu, format) {
+        errors.0.push(e);
+        return;
     }
     let Some((t, hdr)) = targets
         .current
@@ -179,7 +169,8 @@ pub fn fxaa_pass(
         encoder.as_mut(),
         pass.prepared.as_ref(),
         targets.current.as_ref().and_then(|t| t.view(HDR)),
-        plan.variant::<FxaaPass>().and_then(|f| pass.filters.get(f)),
+        plan.variant::<FxaaPass>()
+            .and_then(|f| pass.filters.get(*f)),
     ) else {
         return;
     };

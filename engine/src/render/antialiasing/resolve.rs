@@ -6,8 +6,7 @@
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::pipelines::{fullscreen_variant, one_group_layout};
-use std::collections::HashMap;
+use crate::render::pipelines::PerFormat;
 
 /// The resolve's inputs.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
@@ -29,8 +28,7 @@ struct ResolveParams {
 /// The resolve's layout, its pipelines (one per HDR format) and its settings buffer.
 pub struct TaaResolve {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    pipelines: PerFormat,
     params: wgpu::Buffer,
 }
 
@@ -38,11 +36,9 @@ impl TaaResolve {
     /// The layouts and the settings buffer; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> TaaResolve {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = one_group_layout(gpu, "taa resolve", &layout);
         TaaResolve {
+            pipelines: PerFormat::new(gpu, "taa resolve", "taa_resolve.wgsl", &layout),
             layout,
-            pipeline_layout,
-            pipelines: HashMap::new(),
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("taa resolve params"),
                 size: std::mem::size_of::<ResolveParams>() as u64,
@@ -54,23 +50,12 @@ impl TaaResolve {
 
     /// Compiles the resolve into `format` unless it exists.
     pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
-        if !self.pipelines.contains_key(&format) {
-            let pipeline = fullscreen_variant(
-                gpu,
-                "taa resolve",
-                &self.pipeline_layout,
-                "taa_resolve.wgsl",
-                &[],
-                format,
-            )?;
-            self.pipelines.insert(format, pipeline);
-        }
-        Ok(())
+        self.pipelines.ensure(gpu, format)
     }
 
     /// The resolve into `format`, once [`TaaResolve::ensure`]d.
     pub fn pipeline(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
-        self.pipelines.get(&format)
+        self.pipelines.get(format)
     }
 
     /// A bind group that resolves `history`.

@@ -25,14 +25,13 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
-    draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
+    PerFormat, draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
 };
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -132,8 +131,7 @@ pub struct SmaaPass {
     blend_layout: wgpu::BindGroupLayout,
     edges: wgpu::RenderPipeline,
     weights: wgpu::RenderPipeline,
-    blend_pipeline_layout: wgpu::PipelineLayout,
-    blends: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    blends: PerFormat,
     images: Option<Images>,
 }
 
@@ -170,11 +168,10 @@ impl SmaaPass {
                 WEIGHTS_DEFS,
                 WEIGHTS_FORMAT,
             )?,
-            blend_pipeline_layout: one_group_layout(gpu, "smaa blend", &blend_layout),
+            blends: PerFormat::new(gpu, "smaa blend", "smaa_blend.wgsl", &blend_layout),
             edges_layout,
             weights_layout,
             blend_layout,
-            blends: HashMap::new(),
             images: None,
         })
     }
@@ -225,23 +222,9 @@ pub fn prepare_smaa(
         return;
     };
     let pass = &mut *pass;
-    if !pass.blends.contains_key(&format) {
-        match fullscreen_variant(
-            &gpu,
-            "smaa blend",
-            &pass.blend_pipeline_layout,
-            "smaa_blend.wgsl",
-            &[],
-            format,
-        ) {
-            Ok(p) => {
-                pass.blends.insert(format, p);
-            }
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        }
+    if let Err(e) = pass.blends.ensure(&gpu, format) {
+        errors.0.push(e);
+        return;
     }
     let Some((t, hdr)) = targets
         .current
@@ -271,7 +254,7 @@ pub fn smaa_pass(
         encoder.as_mut(),
         pass.images.as_ref(),
         targets.current.as_ref().and_then(|t| t.view(HDR)),
-        plan.variant::<SmaaPass>().and_then(|f| pass.blends.get(f)),
+        plan.variant::<SmaaPass>().and_then(|f| pass.blends.get(*f)),
     ) else {
         return;
     };
