@@ -2,7 +2,7 @@
 //! renderer. The one type a script needs.
 
 use crate::error::{Error, Result};
-use crate::quality::{AaMethod, MAX_ACCUMULATE, Quality};
+use crate::quality::{MAX_ACCUMULATE, Quality};
 use crate::render::antialiasing::accumulate::SubFrame;
 use crate::render::antialiasing::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
 use crate::render::capture::ProbeStatus;
@@ -442,7 +442,7 @@ impl App {
             .map(|q| q.aa)
             .unwrap_or_default();
         let count = aa.accumulate.clamp(1, MAX_ACCUMULATE);
-        let taa = aa.method == AaMethod::Taa && count == 1;
+        let taa = aa.temporal();
         let change = self.world.run_system_cached(history_change).ok().flatten();
         let mut reset = match (std::mem::take(&mut self.pending_cut), change) {
             (true, _) => Some("camera cut".to_string()),

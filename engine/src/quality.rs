@@ -313,6 +313,14 @@ pub struct AaSettings {
     pub taa_sharpen: f32,
 }
 
+impl AaSettings {
+    /// Whether temporal anti-aliasing runs: `--aa taa` without accumulation (which already
+    /// filters every pixel, so TAA, its motion vectors and its history stay off).
+    pub fn temporal(&self) -> bool {
+        self.method == AaMethod::Taa && self.accumulate <= 1
+    }
+}
+
 impl Default for AaSettings {
     fn default() -> Self {
         AaSettings {

@@ -368,12 +368,11 @@ pub fn extract_frame(
     let unjittered = clip_from_view * view_from_world;
     let clip_from_world = jitter.clip_matrix(output.size) * unjittered;
     if capture.is_none() {
-        let previous =
-            if quality.aa.method == crate::quality::AaMethod::Taa && quality.aa.accumulate <= 1 {
-                memory.clip_from_world.unwrap_or(unjittered)
-            } else {
-                unjittered
-            };
+        let previous = if quality.aa.temporal() {
+            memory.clip_from_world.unwrap_or(unjittered)
+        } else {
+            unjittered
+        };
         frame.temporal.clip_from_world = unjittered;
         frame.temporal.previous_clip_from_world = previous;
         memory.clip_from_world = Some(unjittered);
@@ -484,9 +483,7 @@ pub fn extract_frame(
     let mut bounds: Vec<(Vec3, f32)> = Vec::with_capacity(items.len());
     // Motion vectors need each instance's previous transform; only TAA uses them, and
     // captures neither read nor update what the frame remembers.
-    let temporal = capture.is_none()
-        && quality.aa.method == crate::quality::AaMethod::Taa
-        && quality.aa.accumulate <= 1;
+    let temporal = capture.is_none() && quality.aa.temporal();
     frame.temporal.previous_world.clear();
     frame.temporal.moved.clear();
     let mut remembered = std::collections::HashMap::new();

@@ -13,7 +13,7 @@
 //! does, and the G-buffer stays as it was.
 
 use crate::error::Result;
-use crate::quality::{AaMethod, Quality};
+use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -50,8 +50,7 @@ impl FramePass for MotionPass {
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
-        let aa = world.resource::<Quality>().aa;
-        let taa = aa.method == AaMethod::Taa && aa.accumulate <= 1;
+        let taa = world.resource::<Quality>().aa.temporal();
         let moved = world.resource::<ExtractedFrame>().temporal.moved.len();
         PassDecision::new(
             taa,

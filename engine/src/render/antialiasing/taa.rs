@@ -14,7 +14,7 @@
 //! for). [`TaaState`] says why.
 
 use crate::error::Result;
-use crate::quality::{AaMethod, Quality};
+use crate::quality::Quality;
 use crate::render::antialiasing::accumulate::mean_format;
 use crate::render::antialiasing::motion::MOTION;
 use crate::render::antialiasing::resolve::TaaResolve;
@@ -98,7 +98,7 @@ impl FramePass for TaaPass {
     fn decide(world: &World, _: &FramePlan) -> PassDecision<wgpu::TextureFormat> {
         let quality = world.resource::<Quality>();
         let accumulating = quality.aa.accumulate > 1;
-        let taa = quality.aa.method == AaMethod::Taa && !accumulating;
+        let taa = quality.aa.temporal();
         let state = world
             .get_resource::<TaaState>()
             .cloned()
