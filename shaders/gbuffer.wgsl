@@ -5,6 +5,8 @@
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
 //   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
 //   depth    Depth32Float   : reversed Z
+//   motion   Rg16Float      : screen motion (px) since the previous frame, without jitter
+//                             (the `*_motion` entry points, only while TAA runs)
 // Header constant: SPECULAR_AA (geometric specular anti-aliasing widens the stored
 // roughness where the normal varies across the pixel, and where a normal-map texel
 // averages diverging normals).
@@ -50,8 +52,7 @@ fn instance_normal_matrix(inst: InstanceInput) -> mat3x3<f32> {
 // The material is resolved once per vertex and passed flat, not read from the instance
 // buffer per fragment: 34 → 23 ms for `spheres` at 1280×720 on lavapipe.
 struct VertexOutput {
-    // Invariant: the motion-vector pass redraws moved instances over this depth.
-    @builtin(position) @invariant clip: vec4<f32>,
+    @builtin(position) clip: vec4<f32>,
     @location(0) world_normal: vec3<f32>,
     @location(1) @interpolate(flat) base_color_ao: vec4<f32>,
     @location(2) @interpolate(flat) emissive_specular: vec4<f32>,
@@ -60,6 +61,10 @@ struct VertexOutput {
 
 @vertex
 fn vs_main(in: VertexInput, inst: InstanceInput) -> VertexOutput {
+    return plain_vertex(in, inst);
+}
+
+fn plain_vertex(in: VertexInput, inst: InstanceInput) -> VertexOutput {
     let world_from_local = instance_world_from_local(inst);
     let world = world_from_local * vec4<f32>(in.position, 1.0);
     let normal_matrix = instance_normal_matrix(inst);
@@ -100,6 +105,10 @@ fn stored_roughness(perceptual_roughness: f32, ng: vec3<f32>, normal_length: f32
 
 @fragment
 fn fs_main(in: VertexOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
+    return plain_gbuffer(in, front);
+}
+
+fn plain_gbuffer(in: VertexOutput, front: bool) -> GBufferOutput {
     // Back faces reach here only for double-sided materials: light them from the side
     // the viewer sees.
     let n = safe_normalize(select(-in.world_normal, in.world_normal, front), vec3<f32>(0.0, 0.0, 1.0));
@@ -144,8 +153,7 @@ struct Maps {
 @group(1) @binding(10) var emissive_sampler: sampler;
 
 struct TexturedOutput {
-    // Invariant: the motion-vector pass redraws moved instances over this depth.
-    @builtin(position) @invariant clip: vec4<f32>,
+    @builtin(position) clip: vec4<f32>,
     @location(0) world_normal: vec3<f32>,
     @location(1) world_tangent: vec4<f32>,
     @location(2) uv0: vec2<f32>,
@@ -159,6 +167,10 @@ struct TexturedOutput {
 
 @vertex
 fn vs_textured(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
+    return textured_vertex(in, inst);
+}
+
+fn textured_vertex(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     let world_from_local = instance_world_from_local(inst);
     let world = world_from_local * vec4<f32>(in.position, 1.0);
     let normal_matrix = instance_normal_matrix(inst);
@@ -183,6 +195,10 @@ fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> 
 
 @fragment
 fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
+    return textured_gbuffer(in, front);
+}
+
+fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     // Derivatives first, before the alpha test's discard can leave the quad.
     let sign = select(-1.0, 1.0, front);
     let ng = safe_normalize(in.world_normal * sign, vec3<f32>(0.0, 0.0, 1.0));
@@ -231,4 +247,99 @@ fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBuffe
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, metallic);
     out.emissive_specular = vec4<f32>(emissive, clamp(in.params.z, 0.0, 1.0));
     return out;
+}
+
+// ---- Motion vectors: the same variants, writing a fourth target (only while TAA runs) ----
+// Each vertex's clip position through this frame's and the previous frame's unjittered
+// camera, the previous one from the instance's previous transform (indexed by the
+// instance, like the instance attributes). Every fragment that wins the depth test writes
+// its screen motion; the background keeps the clear value 0 (TAA takes its motion from
+// the camera).
+
+struct MotionView {
+    // Clip from world without jitter, this frame and the previous one.
+    clip_from_world: mat4x4<f32>,
+    previous_clip_from_world: mat4x4<f32>,
+}
+
+@group(2) @binding(0) var<uniform> motion: MotionView;
+@group(2) @binding(1) var<storage, read> previous_world: array<mat4x4<f32>>;
+
+// The clip positions (unjittered) of a vertex now and in the previous frame.
+struct MotionVarying {
+    @location(10) now: vec4<f32>,
+    @location(11) before: vec4<f32>,
+}
+
+fn motion_varying(position: vec3<f32>, inst: InstanceInput, instance: u32) -> MotionVarying {
+    let world = instance_world_from_local(inst) * vec4<f32>(position, 1.0);
+    return MotionVarying(motion.clip_from_world * world,
+                         motion.previous_clip_from_world * (previous_world[instance] * vec4<f32>(position, 1.0)));
+}
+
+// Screen motion (pixels, y down) between a point's clip positions before and now.
+fn screen_motion(now: vec4<f32>, before: vec4<f32>) -> vec2<f32> {
+    let ndc = now.xy / now.w - before.xy / before.w;
+    return vec2<f32>(ndc.x * 0.5, -ndc.y * 0.5) * view.viewport.xy;
+}
+
+struct MotionGBufferOutput {
+    @location(0) base_color_ao: vec4<f32>,
+    @location(1) normal_roughness_metallic: vec4<f32>,
+    @location(2) emissive_specular: vec4<f32>,
+    @location(3) motion: vec4<f32>,
+}
+
+fn with_motion(g: GBufferOutput, m: MotionVarying) -> MotionGBufferOutput {
+    return MotionGBufferOutput(g.base_color_ao, g.normal_roughness_metallic, g.emissive_specular,
+                               vec4<f32>(screen_motion(m.now, m.before), 0.0, 0.0));
+}
+
+struct MotionVertexOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_normal: vec3<f32>,
+    @location(1) @interpolate(flat) base_color_ao: vec4<f32>,
+    @location(2) @interpolate(flat) emissive_specular: vec4<f32>,
+    @location(3) @interpolate(flat) roughness_metallic: vec2<f32>,
+    @location(10) now: vec4<f32>,
+    @location(11) before: vec4<f32>,
+}
+
+@vertex
+fn vs_main_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32) -> MotionVertexOutput {
+    let v = plain_vertex(in, inst);
+    let m = motion_varying(in.position, inst, instance);
+    return MotionVertexOutput(v.clip, v.world_normal, v.base_color_ao, v.emissive_specular,
+                              v.roughness_metallic, m.now, m.before);
+}
+
+@fragment
+fn fs_main_motion(in: VertexOutput, m: MotionVarying, @builtin(front_facing) front: bool) -> MotionGBufferOutput {
+    return with_motion(plain_gbuffer(in, front), m);
+}
+
+struct MotionTexturedOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_normal: vec3<f32>,
+    @location(1) world_tangent: vec4<f32>,
+    @location(2) uv0: vec2<f32>,
+    @location(3) uv1: vec2<f32>,
+    @location(4) base_color: vec4<f32>,
+    @location(5) @interpolate(flat) emissive_occlusion: vec4<f32>,
+    @location(6) @interpolate(flat) params: vec4<f32>,
+    @location(10) now: vec4<f32>,
+    @location(11) before: vec4<f32>,
+}
+
+@vertex
+fn vs_textured_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32) -> MotionTexturedOutput {
+    let v = textured_vertex(in, inst);
+    let m = motion_varying(in.position, inst, instance);
+    return MotionTexturedOutput(v.clip, v.world_normal, v.world_tangent, v.uv0, v.uv1, v.base_color,
+                                v.emissive_occlusion, v.params, m.now, m.before);
+}
+
+@fragment
+fn fs_textured_motion(in: TexturedOutput, m: MotionVarying, @builtin(front_facing) front: bool) -> MotionGBufferOutput {
+    return with_motion(textured_gbuffer(in, front), m);
 }

@@ -4,7 +4,7 @@
 // 1. this frame's colour (non-finite → black, so NaN and ∞ never enter the history);
 // 2. the 3 × 3 neighbourhood's mean and standard deviation in YCoCg of the compressed
 //    colour, and the nearest depth's motion vector (dilated, so edges move with the
-//    object in front);
+//    object in front; the G-buffer's for a surface, the camera's rotation for the background);
 // 3. the history at the pixel's previous position, rejected where that position left
 //    the screen or none of the depths stored around it is the depth the neighbourhood's
 //    nearest surface had then (disocclusion), rescaled by the change of exposure;
@@ -59,6 +59,18 @@ fn world_at(uv: vec2<f32>, d: f32) -> vec4<f32> {
     return vec4<f32>(h.xyz / h.w, 1.0);
 }
 
+// Screen motion (pixels, y down) of the background seen at uv: it is infinitely far, so
+// it moves with the camera's rotation only. The direction of the view ray (from the near
+// to the far plane) is projected as a point at infinity (w = 0) through the unjittered
+// camera now and in the previous frame.
+fn background_motion(uv: vec2<f32>, size: vec2<f32>) -> vec2<f32> {
+    let direction = vec4<f32>((world_at(uv, 0.0) - world_at(uv, 1.0)).xyz, 0.0);
+    let now = params.clip_from_world * direction;
+    let before = params.previous_clip_from_world * direction;
+    let ndc = now.xy / now.w - before.xy / before.w;
+    return vec2<f32>(ndc.x * 0.5, -ndc.y * 0.5) * size;
+}
+
 // The history at `uv`, bilinear from its four nearest texels, loaded (an f32 history is
 // not filterable on every adapter).
 fn history_at(uv: vec2<f32>) -> vec4<f32> {
@@ -105,7 +117,12 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     }
     let mean = m1 / 9.0;
     let sigma = sqrt(max(m2 / 9.0 - mean * mean, vec3<f32>(0.0)));
-    let moved = textureLoad(motion, nearest, 0).xy;
+    // The G-buffer wrote the motion of every surface; the background (depth 0 across the
+    // neighbourhood) turns with the camera.
+    var moved = textureLoad(motion, nearest, 0).xy;
+    if nearest_depth <= 0.0 {
+        moved = background_motion((vec2<f32>(nearest) + vec2<f32>(0.5)) / size, size);
+    }
 
     // This pixel's view depth (stored for the next frame), and the view depth the
     // neighbourhood's nearest surface had in the previous frame.

@@ -328,6 +328,26 @@ fn no_anti_aliasing_pass_runs_when_none_is_asked_for() {
         .find(|d| d.name == "specular anti-aliasing")
         .expect("decision");
     assert!(!specular.enabled);
+    // No motion vectors: the G-buffer's optional target is neither written nor allocated.
+    let motion_planned = |report: &FrameReport| {
+        let feature = report
+            .plan
+            .features
+            .iter()
+            .find(|d| d.name == "motion vectors")
+            .expect("decision")
+            .enabled;
+        let slot = report
+            .plan
+            .lifetimes
+            .iter()
+            .any(|l| l.slot == lumen::render::graph::slots::MOTION);
+        (feature, slot)
+    };
+    assert_eq!(motion_planned(&report), (false, false));
+    app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Taa;
+    let report = app.render_headless((64, 36)).expect("frame");
+    assert_eq!(motion_planned(&report), (true, true));
     app.world_mut().resource_mut::<Quality>().aa.method = AaMethod::Fxaa;
     let report = app.render_headless((64, 36)).expect("frame");
     assert!(report.plan.runs(lumen::render::graph::PassId::Fxaa));

@@ -103,7 +103,11 @@ fn every_bind_group_list_matches_its_shader() {
     check(
         "gbuffer.wgsl",
         &[ShaderDef::Bool("SPECULAR_AA", true)],
-        &[(0, gbuffer::VIEW), (1, material_maps::BINDINGS)],
+        &[
+            (0, gbuffer::VIEW),
+            (1, material_maps::BINDINGS),
+            (2, gbuffer::MOTION_BINDINGS),
+        ],
     );
     check("accumulate.wgsl", &[], &[(0, accumulate::BINDINGS)]);
     check("copy.wgsl", &[], &[(0, copy::BINDINGS)]);

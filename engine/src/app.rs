@@ -102,8 +102,8 @@ pub enum FrameTarget {
     /// The shadow map atlas's depth (r; reversed Z, 0 where nothing was drawn), square,
     /// 1×1 when no light casts shadows.
     ShadowAtlas,
-    /// Motion vectors (rg): each pixel's screen motion in pixels since the previous
-    /// frame, without jitter (only frames with `--aa taa` have them).
+    /// Motion vectors (rg): each surface's screen motion in pixels since the previous
+    /// frame, without jitter, 0 on the background (only frames with `--aa taa` have them).
     Motion,
 }
 
@@ -679,7 +679,7 @@ impl App {
             FrameTarget::Hdr => f16_bytes_to_f32(&read_texture(gpu, texture(slots::HDR)?, 8)?),
             FrameTarget::Motion => f16_bytes_to_f32(&read_texture(
                 gpu,
-                texture(crate::render::antialiasing::motion::MOTION)?,
+                texture(crate::render::graph::slots::MOTION)?,
                 4,
             )?)
             .chunks_exact(2)

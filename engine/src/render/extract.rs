@@ -182,8 +182,8 @@ pub struct TemporalFrame {
     /// Per instance (parallel to [`ExtractedFrame::instances`]), its world-from-local
     /// transform in the previous frame (its current one if it is new).
     pub previous_world: Vec<[[f32; 4]; 4]>,
-    /// The instances whose transform changed since the previous frame, with their mesh.
-    pub moved: Vec<(u32, MeshHandle)>,
+    /// How many instances' transforms changed since the previous frame.
+    pub moved: usize,
 }
 
 /// What extraction remembers of the previous frame for [`TemporalFrame`].
@@ -485,7 +485,7 @@ pub fn extract_frame(
     // captures neither read nor update what the frame remembers.
     let temporal = capture.is_none() && quality.aa.temporal();
     frame.temporal.previous_world.clear();
-    frame.temporal.moved.clear();
+    frame.temporal.moved = 0;
     let mut remembered = std::collections::HashMap::new();
     for item in items {
         let index = frame.instances.len() as u32;
@@ -493,7 +493,7 @@ pub fn extract_frame(
             let now = Mat4::from_cols_array_2d(&item.instance.world_from_local);
             let before = memory.world.get(&item.entity).copied().unwrap_or(now);
             if before != now {
-                frame.temporal.moved.push((index, item.mesh));
+                frame.temporal.moved += 1;
             }
             frame
                 .temporal

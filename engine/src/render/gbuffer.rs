@@ -1,5 +1,8 @@
 //! G-buffer pass: every mesh instance into base colour + AO, normal + roughness +
-//! metallic, emissive + specular level, and depth (layout in `shaders/gbuffer.wgsl`).
+//! metallic, emissive + specular level, and depth (layout in `shaders/gbuffer.wgsl`);
+//! while temporal anti-aliasing runs, also each surface's screen motion since the previous
+//! frame (the optional write [`MOTION`]), from the camera's previous unjittered matrix and
+//! each instance's previous transform, which extraction keeps.
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -7,11 +10,13 @@ use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::GpuInstance;
-use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL};
+use crate::render::graph::slots::{
+    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, MOTION, MOTION_FORMAT,
+};
 use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
-use crate::render::scene_buffers::SceneBuffers;
+use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
@@ -27,6 +32,17 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
     bindings: &[("view", Binding::Uniform)],
 };
 
+/// The motion variants' group 2: the unjittered matrices of this frame and the previous
+/// one, and each instance's previous world-from-local transform.
+pub const MOTION_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "gbuffer motion",
+    visibility: wgpu::ShaderStages::VERTEX,
+    bindings: &[
+        ("motion", Binding::Uniform),
+        ("previous_world", Binding::Storage),
+    ],
+};
+
 #[allow(non_upper_case_globals)]
 impl PassId {
     /// Rasterises meshes into the G-buffer.
@@ -40,6 +56,8 @@ pub struct GBufferVariants {
     pub variants: Vec<GBufferVariant>,
     /// Geometric specular anti-aliasing widens the stored roughness (every variant).
     pub specular_aa: bool,
+    /// Motion vectors are written (every variant).
+    pub motion: bool,
 }
 
 impl FramePass for GBufferPass {
@@ -47,6 +65,7 @@ impl FramePass for GBufferPass {
     const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[];
     const WRITES: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH];
+    const OPTIONAL_WRITES: &'static [Slot] = &[MOTION];
     type Variant = GBufferVariants;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -56,16 +75,19 @@ impl FramePass for GBufferPass {
     fn decide(world: &World, _: &FramePlan) -> PassDecision<GBufferVariants> {
         let frame = world.resource::<ExtractedFrame>();
         let instances = frame.instances.len();
-        let specular_aa = world
-            .resource::<crate::quality::Quality>()
-            .aa
-            .specular
-            .enabled;
+        let aa = &world.resource::<crate::quality::Quality>().aa;
+        let specular_aa = aa.specular.enabled;
+        let motion = aa.temporal();
         let mut variants = GBufferVariants {
             variants: Vec::new(),
             specular_aa,
+            motion,
         };
-        for v in frame.batches.iter().map(|b| variant(b, specular_aa)) {
+        for v in frame
+            .batches
+            .iter()
+            .map(|b| variant(b, specular_aa, motion))
+        {
             if !variants.variants.contains(&v) {
                 variants.variants.push(v);
             }
@@ -79,7 +101,20 @@ impl FramePass for GBufferPass {
         } else {
             "no mesh in view: the G-buffer stays cleared".into()
         };
-        let mut decision = PassDecision::new(instances > 0, reason, variants);
+        let mut decision =
+            PassDecision::new(instances > 0, reason, variants).writing(MOTION, motion);
+        decision.features.push(Decision::new(
+            "motion vectors",
+            motion,
+            if motion {
+                format!(
+                    "temporal anti-aliasing reprojects its history; {} instance(s) moved",
+                    frame.temporal.moved
+                )
+            } else {
+                "only temporal anti-aliasing reads them".into()
+            },
+        ));
         decision.features.push(Decision::new(
             "specular anti-aliasing",
             specular_aa,
@@ -117,6 +152,19 @@ fn cleared_depth(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttach
     }
 }
 
+/// A colour attachment of the G-buffer pass, cleared to 0.
+fn cleared_color(view: &wgpu::TextureView) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
 /// Which G-buffer pipeline draws a batch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct GBufferVariant {
@@ -127,6 +175,16 @@ pub struct GBufferVariant {
     pub double_sided: bool,
     /// Geometric specular anti-aliasing (the shader constant `SPECULAR_AA`).
     pub specular_aa: bool,
+    /// Motion vectors as a fourth target (the `*_motion` entry points, with group 2).
+    pub motion: bool,
+}
+
+/// What the motion variants bind: the matrices, the previous transforms and their group.
+struct MotionBindings {
+    layout: wgpu::BindGroupLayout,
+    matrices: wgpu::Buffer,
+    previous_world: GrowableBuffer,
+    group: Option<wgpu::BindGroup>,
 }
 
 /// The G-buffer pass's pipelines (the plain one compiled up front, the others when a
@@ -136,37 +194,57 @@ pub struct GBufferPass {
     /// The shader, compiled without and with `SPECULAR_AA` as variants first need it.
     modules: HashMap<bool, wgpu::ShaderModule>,
     layout: wgpu::BindGroupLayout,
-    plain_layout: wgpu::PipelineLayout,
-    textured_layout: wgpu::PipelineLayout,
+    /// Pipeline layouts by (textured, motion).
+    layouts: HashMap<(bool, bool), wgpu::PipelineLayout>,
     pipelines: HashMap<GBufferVariant, wgpu::RenderPipeline>,
     bind_group: Option<(u64, wgpu::BindGroup)>,
+    motion: MotionBindings,
 }
 
 impl GBufferPass {
     /// Compiles the pass's plain variant.
     pub fn new(gpu: &Gpu, maps: &GpuMaterialMaps) -> Result<Self> {
         let layout = VIEW.layout(gpu);
-        let plain_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("gbuffer"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-        let textured_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("gbuffer (textured)"),
-                bind_group_layouts: &[Some(&layout), Some(&maps.layout)],
-                immediate_size: 0,
-            });
+        let motion_layout = MOTION_BINDINGS.layout(gpu);
+        let mut layouts = HashMap::new();
+        for textured in [false, true] {
+            for motion in [false, true] {
+                let maps = textured.then_some(&maps.layout);
+                let groups: &[Option<&wgpu::BindGroupLayout>] = if motion {
+                    &[Some(&layout), maps, Some(&motion_layout)]
+                } else if textured {
+                    &[Some(&layout), maps]
+                } else {
+                    &[Some(&layout)]
+                };
+                let descriptor = wgpu::PipelineLayoutDescriptor {
+                    label: Some("gbuffer"),
+                    bind_group_layouts: groups,
+                    immediate_size: 0,
+                };
+                layouts.insert(
+                    (textured, motion),
+                    gpu.device.create_pipeline_layout(&descriptor),
+                );
+            }
+        }
         let mut pass = GBufferPass {
             modules: HashMap::new(),
             layout,
-            plain_layout,
-            textured_layout,
+            layouts,
             pipelines: HashMap::new(),
             bind_group: None,
+            motion: MotionBindings {
+                layout: motion_layout,
+                matrices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("gbuffer motion matrices"),
+                    size: 128,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                previous_world: GrowableBuffer::new(gpu, "previous transforms", 256),
+                group: None,
+            },
         };
         pass.ensure(
             gpu,
@@ -174,6 +252,7 @@ impl GBufferPass {
                 textured: false,
                 double_sided: false,
                 specular_aa: crate::quality::SpecularAaSettings::default().enabled,
+                motion: false,
             },
         )?;
         Ok(pass)
@@ -202,10 +281,14 @@ impl GBufferPass {
                 write_mask: wgpu::ColorWrites::ALL,
             })
         };
-        let (layout, vs, fs) = if variant.textured {
-            (&self.textured_layout, "vs_textured", "fs_textured")
-        } else {
-            (&self.plain_layout, "vs_main", "fs_main")
+        let (vs, fs) = match (variant.textured, variant.motion) {
+            (false, false) => ("vs_main", "fs_main"),
+            (true, false) => ("vs_textured", "fs_textured"),
+            (false, true) => ("vs_main_motion", "fs_main_motion"),
+            (true, true) => ("vs_textured_motion", "fs_textured_motion"),
+        };
+        let Some(layout) = self.layouts.get(&(variant.textured, variant.motion)) else {
+            return Ok(());
         };
         if let std::collections::hash_map::Entry::Vacant(slot) =
             self.modules.entry(variant.specular_aa)
@@ -219,6 +302,14 @@ impl GBufferPass {
         let Some(module) = self.modules.get(&variant.specular_aa) else {
             return Ok(());
         };
+        let mut color_targets = vec![
+            target(targets::GBUFFER0_FORMAT),
+            target(targets::GBUFFER1_FORMAT),
+            target(targets::GBUFFER2_FORMAT),
+        ];
+        if variant.motion {
+            color_targets.push(target(MOTION_FORMAT));
+        }
         let pipeline = gpu.checked("gbuffer pipeline", |device| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("gbuffer"),
@@ -262,11 +353,7 @@ impl GBufferPass {
                     module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[
-                        target(targets::GBUFFER0_FORMAT),
-                        target(targets::GBUFFER1_FORMAT),
-                        target(targets::GBUFFER2_FORMAT),
-                    ],
+                    targets: &color_targets,
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -278,32 +365,37 @@ impl GBufferPass {
 }
 
 /// The variant that draws `batch`.
-fn variant(batch: &Batch, specular_aa: bool) -> GBufferVariant {
+fn variant(batch: &Batch, specular_aa: bool, motion: bool) -> GBufferVariant {
     GBufferVariant {
         textured: batch.maps.is_some(),
         double_sided: batch.double_sided,
         specular_aa,
+        motion,
     }
 }
 
-/// Compiles the variants this frame's batches need and rebuilds the pass's bind group
-/// when the scene buffers were recreated.
+/// Compiles the variants this frame's batches need, rebuilds the pass's bind group when
+/// the scene buffers were recreated, and writes what the motion variants read.
 pub fn prepare_gbuffer(
     gpu: Res<Gpu>,
     buffers: Res<SceneBuffers>,
+    frame: Res<ExtractedFrame>,
     plan: Res<FramePlan>,
     mut pass: ResMut<GBufferPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    let variants = plan
-        .variant::<GBufferPass>()
-        .map(|v| v.variants.as_slice())
-        .unwrap_or_default();
-    for &v in variants {
+    let decided = plan.variant::<GBufferPass>();
+    for &v in decided.map(|v| v.variants.as_slice()).unwrap_or_default() {
         if let Err(e) = pass.ensure(&gpu, v) {
             errors.0.push(e);
             return;
         }
+    }
+    if decided.is_some_and(|v| v.motion)
+        && let Err(e) = pass.motion.prepare(&gpu, &frame.temporal)
+    {
+        errors.0.push(e);
+        return;
     }
     if pass
         .bind_group
@@ -322,6 +414,37 @@ pub fn prepare_gbuffer(
     pass.bind_group = Some((buffers.generation, group));
 }
 
+impl MotionBindings {
+    /// Writes this frame's matrices and previous transforms, and rebuilds the group when
+    /// the transforms' buffer grew.
+    fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        temporal: &crate::render::extract::TemporalFrame,
+    ) -> Result<()> {
+        let matrices = [
+            temporal.clip_from_world.to_cols_array(),
+            temporal.previous_clip_from_world.to_cols_array(),
+        ];
+        gpu.queue
+            .write_buffer(&self.matrices, 0, bytemuck::cast_slice(&matrices));
+        let grew = self
+            .previous_world
+            .write(gpu, bytemuck::cast_slice(&temporal.previous_world));
+        if grew || self.group.is_none() {
+            self.group = Some(MOTION_BINDINGS.group(
+                gpu,
+                &self.layout,
+                vec![
+                    self.matrices.as_entire_binding(),
+                    self.previous_world.buffer.as_entire_binding(),
+                ],
+            )?);
+        }
+        Ok(())
+    }
+}
+
 /// Records the G-buffer pass.
 pub fn gbuffer_pass(
     pass: Res<GBufferPass>,
@@ -332,7 +455,14 @@ pub fn gbuffer_pass(
     plan: Res<FramePlan>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let specular_aa = plan.variant::<GBufferPass>().is_some_and(|v| v.specular_aa);
+    let Some(&GBufferVariants {
+        specular_aa,
+        motion,
+        ..
+    }) = plan.variant::<GBufferPass>()
+    else {
+        return;
+    };
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(t), Some((_, bind_group))) = (
         encoder.as_mut(),
@@ -346,35 +476,39 @@ pub fn gbuffer_pass(
     else {
         return;
     };
+    // With motion vectors: their target and the group that holds the previous transforms.
+    let motion = match (motion, t.view(MOTION), pass.motion.group.as_ref()) {
+        (false, _, _) => None,
+        (true, Some(view), Some(group)) => Some((view, group)),
+        (true, _, _) => return,
+    };
     let scope = timer.begin_pass(PassId::GBuffer);
     {
-        let clear = |view| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
+        let mut attachments = vec![
+            cleared_color(base_color),
+            cleared_color(normal),
+            cleared_color(emissive),
+        ];
+        attachments.extend(motion.map(|(view, _)| cleared_color(view)));
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
-            color_attachments: &[clear(base_color), clear(normal), clear(emissive)],
+            color_attachments: &attachments,
             depth_stencil_attachment: Some(cleared_depth(depth)),
             timestamp_writes: timer.render_writes(&scope),
             occlusion_query_set: None,
             multiview_mask: None,
         });
         rp.set_bind_group(0, bind_group, &[]);
+        if let Some((_, group)) = motion {
+            rp.set_bind_group(2, group, &[]);
+        }
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
         let mut current = None;
         for batch in &frame.batches {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
-            let v = variant(batch, specular_aa);
+            let v = variant(batch, specular_aa, motion.is_some());
             let Some(pipeline) = pass.pipelines.get(&v) else {
                 continue;
             };
@@ -400,17 +534,18 @@ pub fn gbuffer_pass(
     timer.end_pass(scope);
 }
 
-/// When the G-buffer pass is skipped (no mesh), clears depth so lighting sees background.
+/// When the G-buffer pass is skipped (no mesh), clears depth so lighting sees background,
+/// and the motion vectors where TAA reads them.
 pub fn clear_gbuffer(targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncoder>) {
-    let (Some(encoder), Some(depth)) = (
-        encoder.encoder.as_mut(),
-        targets.current.as_ref().and_then(|t| t.view(DEPTH)),
-    ) else {
+    let (Some(encoder), Some(t)) = (encoder.encoder.as_mut(), targets.current.as_ref()) else {
+        return;
+    };
+    let Some(depth) = t.view(DEPTH) else {
         return;
     };
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("clear depth"),
-        color_attachments: &[],
+        color_attachments: &[t.view(MOTION).and_then(cleared_color)],
         depth_stencil_attachment: Some(cleared_depth(depth)),
         timestamp_writes: None,
         occlusion_query_set: None,

@@ -233,6 +233,7 @@ impl FramePass for LightingPass {
                 energy_compensation,
             ],
             variant,
+            writes: Vec::new(),
         }
     }
 

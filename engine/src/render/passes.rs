@@ -5,7 +5,6 @@
 use crate::error::Result;
 use crate::render::antialiasing::accumulate::AccumulatePass;
 use crate::render::antialiasing::fxaa::FxaaPass;
-use crate::render::antialiasing::motion::MotionPass;
 use crate::render::antialiasing::smaa::SmaaPass;
 use crate::render::antialiasing::taa::TaaPass;
 use crate::render::debug_view::DebugViewPass;
@@ -35,7 +34,6 @@ pub fn builtin() -> Result<Registry> {
         .with::<SsrPass>()
         .with::<SkyPass>()
         .with::<AccumulatePass>()
-        .with::<MotionPass>()
         .with::<TaaPass>()
         .with::<ExposurePass>()
         .with::<DofPass>()

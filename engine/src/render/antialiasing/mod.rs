@@ -1,5 +1,5 @@
 //! Anti-aliasing: the accumulation of jittered frames ([`crate::render::jitter`]),
-//! temporal anti-aliasing with its motion vectors, and the post-process filters on one
+//! temporal anti-aliasing (its motion vectors come from the G-buffer pass), and the post-process filters on one
 //! frame (FXAA, SMAA) (docs/src/antialiasing.md).
 //!
 //! Geometric specular anti-aliasing is not a pass: the G-buffer pass widens the stored
@@ -8,7 +8,6 @@
 pub mod accumulate;
 pub mod copy;
 pub mod fxaa;
-pub mod motion;
 pub mod prepare;
 pub mod resolve;
 pub mod smaa;

@@ -16,13 +16,12 @@
 use crate::error::Result;
 use crate::quality::Quality;
 use crate::render::antialiasing::accumulate::mean_format;
-use crate::render::antialiasing::motion::MOTION;
 use crate::render::antialiasing::resolve::TaaResolve;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::slots::{DEPTH, HDR, MOTION};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
     create_module, draw_fullscreen, fullscreen_pipeline, one_group_layout,

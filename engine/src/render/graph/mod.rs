@@ -127,6 +127,10 @@ pub trait FramePass: Resource + Sized {
     const READS: &'static [Slot];
     /// The slots it writes (a slot it reads and writes is in both lists).
     const WRITES: &'static [Slot];
+    /// The slots it writes only in the frames whose decision names them
+    /// ([`PassDecision::writing`]): ordered like [`FramePass::WRITES`], allocated only
+    /// in those frames (the G-buffer's motion vectors exist only while TAA runs).
+    const OPTIONAL_WRITES: &'static [Slot] = &[];
     /// Whether it also runs when a probe captures the lit scene around it
     /// ([`crate::render::indirect::irradiance_volume`]): the passes that make lit HDR
     /// radiance (shadows, G-buffer, light culling, lighting, sky) do; screen-space,
@@ -193,6 +197,8 @@ pub struct PassDecision<V> {
     pub features: Vec<Decision>,
     /// Its shader variant.
     pub variant: V,
+    /// The slots of its [`FramePass::OPTIONAL_WRITES`] it writes this frame.
+    pub writes: Vec<Slot>,
 }
 
 impl<V> PassDecision<V> {
@@ -203,7 +209,16 @@ impl<V> PassDecision<V> {
             reason: reason.into(),
             features: Vec::new(),
             variant,
+            writes: Vec::new(),
         }
+    }
+
+    /// The same decision, writing the optional slot `slot` when `writes` holds.
+    pub fn writing(mut self, slot: Slot, writes: bool) -> Self {
+        if writes {
+            self.writes.push(slot);
+        }
+        self
     }
 }
 
@@ -229,6 +244,8 @@ pub struct FramePlan {
     /// The slots the passes that run use, with their lifetimes, in order of first use.
     pub lifetimes: Vec<Lifetime>,
     variants: Vec<(PassId, Arc<dyn Any + Send + Sync>)>,
+    /// The optional slots each pass writes this frame.
+    optional_writes: Vec<(PassId, Vec<Slot>)>,
 }
 
 impl FramePlan {
@@ -245,18 +262,32 @@ impl FramePlan {
             .and_then(|(_, v)| v.downcast_ref::<P::Variant>())
     }
 
-    /// Records pass `P`'s decision.
+    /// Whether `pass` writes `slot`, one of its optional writes, this frame.
+    pub fn writes_optional(&self, pass: PassId, slot: Slot) -> bool {
+        self.optional_writes
+            .iter()
+            .any(|(p, slots)| *p == pass && slots.contains(&slot))
+    }
+
+    /// Records pass `P`'s decision. Optional writes it did not declare in
+    /// [`FramePass::OPTIONAL_WRITES`] are dropped.
     pub fn push<P: FramePass>(&mut self, decision: PassDecision<P::Variant>) {
         let PassDecision {
             runs,
             reason,
             features,
             variant,
+            writes,
         } = decision;
         self.passes
             .push((P::ID, Decision::new(P::ID.name(), runs, reason)));
         self.features.extend(features);
         self.variants.push((P::ID, Arc::new(variant)));
+        let writes: Vec<Slot> = writes
+            .into_iter()
+            .filter(|s| P::OPTIONAL_WRITES.contains(s))
+            .collect();
+        self.optional_writes.push((P::ID, writes));
     }
 
     /// A human-readable account of the plan (`lumen render --explain`).

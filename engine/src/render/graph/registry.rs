@@ -11,6 +11,10 @@
 //! - a pass that writes a slot depends on the last writer before it and on every reader
 //!   since that write (it must not overwrite what they have not read yet).
 //!
+//! A pass's optional writes ([`FramePass::OPTIONAL_WRITES`]) order it like its writes; its
+//! decision says in which frames it makes them, and only then does the slot get a
+//! lifetime (and a target).
+//!
 //! The execution order is a topological order of those dependencies (Kahn's algorithm,
 //! ties broken by registration order), and a pass's prepare and record systems are
 //! chained in that order in the render schedule.
@@ -34,6 +38,8 @@ pub struct PassEntry {
     pub reads: &'static [Slot],
     /// The slots it writes.
     pub writes: &'static [Slot],
+    /// The slots it writes in the frames its decision says so.
+    pub optional_writes: &'static [Slot],
     /// Whether it runs in probe captures ([`FramePass::CAPTURE`]).
     pub capture: bool,
     create: fn(&mut World, &Gpu) -> Result<()>,
@@ -49,6 +55,7 @@ impl std::fmt::Debug for PassEntry {
             .field("id", &self.id)
             .field("reads", &self.reads)
             .field("writes", &self.writes)
+            .field("optional_writes", &self.optional_writes)
             .finish_non_exhaustive()
     }
 }
@@ -60,6 +67,7 @@ impl PassEntry {
             id: P::ID,
             reads: P::READS,
             writes: P::WRITES,
+            optional_writes: P::OPTIONAL_WRITES,
             capture: P::CAPTURE,
             create: |world, gpu| {
                 let pass = P::create(world, gpu)?;
@@ -113,7 +121,7 @@ impl Registry {
         let mut after: Vec<Vec<usize>> = vec![Vec::new(); n];
         let mut slots: Vec<Slot> = Vec::new();
         for e in &self.entries {
-            for s in e.reads.iter().chain(e.writes) {
+            for s in e.reads.iter().chain(e.writes).chain(e.optional_writes) {
                 if !slots.contains(s) {
                     slots.push(*s);
                 }
@@ -136,7 +144,7 @@ impl Registry {
                     }
                     readers.push(i);
                 }
-                if e.writes.contains(&slot) {
+                if e.writes.contains(&slot) || e.optional_writes.contains(&slot) {
                     after[i].extend(last_writer);
                     after[i].extend(readers.drain(..).filter(|&r| r != i));
                     last_writer = Some(i);
@@ -183,7 +191,13 @@ impl Registry {
         }
         let running: Vec<&PassEntry> = self.entries.iter().filter(|e| plan.runs(e.id)).collect();
         for e in running {
-            for slot in e.reads.iter().chain(e.writes) {
+            let optional: Vec<Slot> = e
+                .optional_writes
+                .iter()
+                .copied()
+                .filter(|s| plan.writes_optional(e.id, *s))
+                .collect();
+            for slot in e.reads.iter().chain(e.writes).chain(&optional) {
                 match plan.lifetimes.iter_mut().find(|l| l.slot == *slot) {
                     Some(l) => l.last = e.id,
                     None => plan.lifetimes.push(Lifetime {

@@ -11,6 +11,8 @@ pub const GBUFFER0_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm
 pub const GBUFFER1_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// G-buffer target 2: pre-exposed emissive and specular level.
 pub const GBUFFER2_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Motion vectors: two f16 channels of pixels (0.03 px steps up to 64 px).
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 /// Depth, reversed Z.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -29,6 +31,9 @@ pub const GBUFFER_EMISSIVE: Slot = Slot::target(
     "gbuffer2 emissive + specular level",
     TargetFormat::Fixed(GBUFFER2_FORMAT),
 );
+/// Screen motion in pixels since the previous frame (rg, y down), without jitter, of
+/// every surface the G-buffer drew; 0 on the background. Written only while TAA runs.
+pub const MOTION: Slot = Slot::target("motion vectors", TargetFormat::Fixed(MOTION_FORMAT));
 /// Depth, reversed Z (1 at the near plane, 0 at the far plane and background).
 pub const DEPTH: Slot = Slot::target("depth", TargetFormat::Fixed(DEPTH_FORMAT));
 /// Pre-exposed HDR luminance (rgb, cd/m² × exposure) and coverage (a).

@@ -167,6 +167,7 @@ impl FramePass for SsrPass {
             reason,
             features: vec![fallback],
             variant,
+            writes: Vec::new(),
         }
     }
 
