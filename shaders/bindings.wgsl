@@ -18,7 +18,7 @@ struct View {
     shadowed_counts: vec4<u32>,
     // Camera forward direction (xyz): view depth for cascade selection.
     forward: vec4<f32>,
-    // Geometric specular anti-aliasing: variance scale σ² (x), threshold κ (y); this
+    // Geometric specular anti-aliasing: screen scale c σ² (x), threshold κ (y); this
     // frame's camera jitter in pixels (zw).
     antialiasing: vec4<f32>,
 }

@@ -42,14 +42,15 @@ fn toksvig_variance(normal_length: f32) -> f32 {
     return max(1.0 - normal_length - NORMAL_QUANTIZATION, 0.0) / max(normal_length, 1e-4);
 }
 
-// Geometric specular anti-aliasing (Tokuyoshi & Kaplanyan 2019, isotropic form):
-// α'² = min(α² + min(2 (σ² |∂n|² + σ²_Toksvig), κ), 1), with |∂n|² = |∂n/∂x|² + |∂n/∂y|².
+// Geometric specular anti-aliasing, isotropic (Tokuyoshi & Kaplanyan 2019 in slope space,
+// 2021 in projected space, eq. 14): α'² = min(α² + min(s |∂n|² + 2 σ²_Toksvig, κ), 1), with
+// |∂n|² = |∂n/∂x|² + |∂n/∂y|² and s = c σ² the screen scale (c = 2 for 2019, 1 for 2021).
 // The roughness comes back exactly as given where nothing widens.
 fn specular_aa_roughness(perceptual_roughness: f32, normal_variation: f32, normal_length: f32,
-                         variance: f32, threshold: f32) -> f32 {
+                         screen_scale: f32, threshold: f32) -> f32 {
     let alpha = perceptual_roughness_to_alpha(perceptual_roughness);
     let alpha2 = alpha * alpha;
-    let kernel = max(min(2.0 * (variance * normal_variation + toksvig_variance(normal_length)), threshold), 0.0);
+    let kernel = max(min(screen_scale * normal_variation + 2.0 * toksvig_variance(normal_length), threshold), 0.0);
     let widened = min(alpha2 + kernel, 1.0);
     if !(widened == widened) || widened <= alpha2 {
         return perceptual_roughness;

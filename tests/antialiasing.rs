@@ -428,7 +428,7 @@ fn taa_sharpening_raises_local_contrast_and_is_explained() {
 /// one frame to the next, over 64 frames of a bump-mapped metal sphere turning by 0.25°
 /// per frame under a sun. A well-filtered highlight moves smoothly and changes little
 /// between frames; an aliased one jumps on and off.
-fn highlight_flicker(specular_aa: bool) -> f64 {
+fn highlight_flicker(specular_aa: Option<lumen::quality::SpecularAaForm>) -> f64 {
     use lumen::scene::{MaterialMaps, TextureSlot};
     let size = (128, 128);
     let mut app = App::headless().expect("a GPU adapter");
@@ -437,11 +437,13 @@ fn highlight_flicker(specular_aa: bool) -> f64 {
         .add_texture(lumen_game::scenes::aliasing::bump_map(64, 512))
         .expect("texture");
     bare_quality(&mut app);
-    app.world_mut()
-        .resource_mut::<Quality>()
-        .aa
-        .specular
-        .enabled = specular_aa;
+    app.world_mut().resource_mut::<Quality>().aa.specular = match specular_aa {
+        Some(form) => lumen::quality::SpecularAaSettings {
+            enabled: true,
+            ..lumen::quality::SpecularAaSettings::of_form(form)
+        },
+        None => lumen::quality::SpecularAaSettings::default(),
+    };
     let world = app.world_mut();
     let sphere = world
         .spawn((
@@ -498,15 +500,25 @@ fn highlight_flicker(specular_aa: bool) -> f64 {
 
 #[test]
 fn specular_aa_calms_a_bump_mapped_highlight() {
-    let off = highlight_flicker(false);
-    let on = highlight_flicker(true);
+    use lumen::quality::SpecularAaForm;
+    let off = highlight_flicker(None);
+    let slope = highlight_flicker(Some(SpecularAaForm::Slope2019));
+    let projected = highlight_flicker(Some(SpecularAaForm::Projected2021));
     eprintln!(
-        "mean squared frame-to-frame change of display luma over 64 frames: off {off:.3e}, on {on:.3e}, ratio {:.2}",
-        off / on
+        "mean squared frame-to-frame change of display luma over 64 frames: off {off:.3e}, \
+         2019 {slope:.3e} (ratio {:.2}), 2021 {projected:.3e} (ratio {:.2})",
+        off / slope,
+        off / projected
     );
     assert!(
         off > 1e-5,
         "the highlight must flicker without specular AA: {off}"
     );
-    assert!(off >= 2.0 * on, "off {off:.3e} vs on {on:.3e}");
+    // Measured 2.45× and 2.40×: the normal map's Toksvig term, the same in both forms,
+    // does most of the calming here.
+    assert!(off >= 2.0 * slope, "off {off:.3e} vs 2019 {slope:.3e}");
+    assert!(
+        off >= 2.0 * projected,
+        "off {off:.3e} vs 2021 {projected:.3e}"
+    );
 }

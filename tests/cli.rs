@@ -167,6 +167,26 @@ fn explain_prints_the_plan() {
             && err.contains("no light of this kind"),
         "{err}"
     );
+    // The specular AA form's defaults, and a value given beside it, reach the plan.
+    let out = lumen(
+        &[
+            "render",
+            "--size",
+            "16x16",
+            "--out",
+            "x.png",
+            "--explain",
+            "--specular-aa",
+            "--specular-aa-form",
+            "2021",
+            "--specular-aa-threshold",
+            "0.5",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success());
+    let err = text(&out.stderr);
+    assert!(err.contains("(2021 form, σ² 0.159, κ 0.500)"), "{err}");
 }
 
 #[test]
@@ -203,6 +223,10 @@ fn bad_input_gives_one_line_errors() {
     );
     assert_clean_failure(&lumen(&["render", "--exposure", "-1"], d), "-1");
     assert_clean_failure(&lumen(&["render", "--tonemap", "filmic"], d), "filmic");
+    assert_clean_failure(
+        &lumen(&["render", "--specular-aa-form", "2020"], d),
+        "unknown specular AA form '2020' (use 2019 or 2021)",
+    );
     assert_clean_failure(&lumen(&["frobnicate"], d), "frobnicate");
     // Unwritable output: the parent "directory" is a regular file.
     std::fs::write(d.join("file"), b"x").expect("write");

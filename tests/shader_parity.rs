@@ -241,10 +241,10 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         )
         .extend(rp::box_weight(v * 3.0, n, Vec3::new(2.5, 2.0, 3.0), k)),
         Vec4::new(
-            brdf::specular_aa_roughness(r, x * x * 4.0, 1.0, 0.15, 0.2),
-            brdf::specular_aa_roughness(r, 0.0, 0.5 + 0.5 * n_dot_h, 0.15, k),
+            brdf::specular_aa_roughness(r, x * x * 4.0, 1.0, 0.3, 0.2),
+            brdf::specular_aa_roughness(r, x * x * 4.0, 0.5 + 0.5 * n_dot_h, 0.159, k),
             brdf::toksvig_variance(0.5 + 0.5 * x),
-            brdf::specular_aa_roughness(r, 0.0, 1.0, 0.15, 0.2),
+            brdf::specular_aa_roughness(r, 0.0, 1.0, 0.3, 0.2),
         ),
         aa::running_mean(
             base.extend(x),

@@ -89,28 +89,34 @@ pub fn toksvig_variance(normal_length: f32) -> f32 {
     (1.0 - normal_length - NORMAL_QUANTIZATION).max(0.0) / normal_length.max(1e-4)
 }
 
-/// Geometric specular anti-aliasing (Tokuyoshi & Kaplanyan 2019, "Improved Geometric
-/// Specular Antialiasing"; the isotropic form Filament uses): the perceptual roughness to
-/// store so that the GGX lobe covers the normals a pixel's footprint sees.
+/// Geometric specular anti-aliasing for a deferred renderer, in the isotropic forms of
+/// Tokuyoshi & Kaplanyan 2019 ("Improved Geometric Specular Antialiasing", the slope-space
+/// form Filament uses) and 2021 ("Stable Geometric Specular Antialiasing with
+/// Projected-Space NDF Filtering", eq. 14): the perceptual roughness to store so that the
+/// GGX lobe covers the normals a pixel's footprint sees.
 /// - `normal_variation` = |∂n/∂x|² + |∂n/∂y|², the squared screen-space derivatives of
 ///   the unit normal (per pixel²);
 /// - `normal_length`: the filtered normal-map texel's length (1 without a normal map),
 ///   whose [`toksvig_variance`] adds the normals a mip level averaged;
-/// - `variance` σ² scales the screen-space term, `threshold` κ caps the added α².
+/// - `screen_scale`: the α² added per unit of `normal_variation`, c · σ², with σ² the
+///   variance of the pixel filter and c = 2 in 2019's slope space, 1 in 2021's projected
+///   space ([`crate::quality::SpecularAaForm::kernel_factor`]);
+/// - `threshold` κ caps the added α².
 ///
-/// The kernel α²_k = min(2 (σ² · normal_variation + σ²_Toksvig), κ) widens the lobe as
-/// the convolution of two GGX-like lobes does, α'² = min(α² + α²_k, 1). Where nothing
-/// changes (a flat plane), the roughness comes back exactly as given.
+/// The kernel α²_k = min(c σ² · normal_variation + 2 σ²_Toksvig, κ) widens the lobe as
+/// the convolution of two GGX-like lobes does, α'² = min(α² + α²_k, 1) (a slope variance
+/// σ² is the lobe width α² = 2σ²). Where nothing changes (a flat plane), the roughness
+/// comes back exactly as given.
 pub fn specular_aa_roughness(
     perceptual_roughness: f32,
     normal_variation: f32,
     normal_length: f32,
-    variance: f32,
+    screen_scale: f32,
     threshold: f32,
 ) -> f32 {
     let alpha = perceptual_roughness_to_alpha(perceptual_roughness);
     let alpha2 = alpha * alpha;
-    let kernel = (2.0 * (variance * normal_variation + toksvig_variance(normal_length)))
+    let kernel = (screen_scale * normal_variation + 2.0 * toksvig_variance(normal_length))
         .min(threshold)
         .max(0.0);
     let widened = (alpha2 + kernel).min(1.0);

@@ -353,10 +353,14 @@ pub struct SceneArgs {
     /// No geometric specular anti-aliasing (the default).
     #[arg(long)]
     pub no_specular_aa: bool,
-    /// Specular AA's screen-space variance scale σ² (0..=1, default 0.15).
+    /// Specular AA's kernel: 2021 (projected space, the default) or 2019 (slope space,
+    /// Filament's); sets σ² and κ to the form's defaults unless they are given.
+    #[arg(long, value_name = "YEAR", value_parser = parse_specular_aa_form)]
+    pub specular_aa_form: Option<lumen::quality::SpecularAaForm>,
+    /// Specular AA's pixel filter variance σ² (0..=1, default 1/(2π); 0.15 with 2019).
     #[arg(long, value_name = "X", value_parser = parse_unit)]
     pub specular_aa_variance: Option<f32>,
-    /// Specular AA's largest added α² κ (0..=1, default 0.2).
+    /// Specular AA's largest added α² κ (0..=1, default 0.18; 0.2 with 2019).
     #[arg(long, value_name = "X", value_parser = parse_unit)]
     pub specular_aa_threshold: Option<f32>,
     /// Sharpening of TAA's output, 0..=1 (contrast-adaptive; default 0, none)
@@ -711,6 +715,19 @@ fn parse_aa(s: &str) -> Result<lumen::quality::AaMethod, String> {
             .map(|m| m.name())
             .collect();
         format!("unknown anti-aliasing '{s}' (use {})", names.join(", "))
+    })
+}
+
+fn parse_specular_aa_form(s: &str) -> Result<lumen::quality::SpecularAaForm, String> {
+    lumen::quality::SpecularAaForm::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = lumen::quality::SpecularAaForm::ALL
+            .iter()
+            .map(|f| f.name())
+            .collect();
+        format!(
+            "unknown specular AA form '{s}' (use {})",
+            names.join(" or ")
+        )
     })
 }
 

@@ -99,10 +99,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 24u] = vec4<f32>(oct_texel_direction(vec2<u32>(i % 8u, (i / 8u) % 8u), 6u + i % 3u), basis[8]);
     results[o + 26u] = vec4<f32>(parallax_corrected(c.v.xyz * 2.0, c.l.xyz, vec3<f32>(-3.0, -2.5, -4.0), vec3<f32>(3.5, 2.0, 3.0), c.n.xyz),
                                  box_weight(c.v.xyz * 3.0, c.n.xyz, vec3<f32>(2.5, 2.0, 3.0), k));
-    results[o + 27u] = vec4<f32>(specular_aa_roughness(r, x * x * 4.0, 1.0, 0.15, 0.2),
-                                 specular_aa_roughness(r, 0.0, 0.5 + 0.5 * n_dot_h, 0.15, k),
+    results[o + 27u] = vec4<f32>(specular_aa_roughness(r, x * x * 4.0, 1.0, 0.3, 0.2),
+                                 specular_aa_roughness(r, x * x * 4.0, 0.5 + 0.5 * n_dot_h, 0.159, k),
                                  toksvig_variance(0.5 + 0.5 * x),
-                                 specular_aa_roughness(r, 0.0, 1.0, 0.15, 0.2));
+                                 specular_aa_roughness(r, 0.0, 1.0, 0.3, 0.2));
     results[o + 28u] = running_mean(vec4<f32>(c.base_metallic.rgb, x), vec4<f32>(c.n.xyz, k) * 3.0,
                                     select(n_dot_h, 1.0, i % 4u == 0u));
     let compressed = compress_hdr(c.base_metallic.rgb * (x * 40.0));

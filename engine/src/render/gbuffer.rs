@@ -119,9 +119,15 @@ impl FramePass for GBufferPass {
             "specular anti-aliasing",
             specular_aa,
             if specular_aa {
-                "the normal's screen-space variation widens the stored roughness"
+                format!(
+                    "the normal's screen-space variation widens the stored roughness \
+                     ({} form, σ² {:.3}, κ {:.3})",
+                    aa.specular.form.name(),
+                    aa.specular.variance,
+                    aa.specular.threshold
+                )
             } else {
-                "off (--specular-aa turns it on)"
+                "off (--specular-aa turns it on)".into()
             },
         ));
         decision

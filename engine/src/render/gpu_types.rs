@@ -23,7 +23,8 @@ pub struct GpuView {
     pub shadowed_counts: [u32; 4],
     /// Camera forward direction (xyz, unit) for the view depth that selects cascades.
     pub forward: [f32; 4],
-    /// Geometric specular anti-aliasing's variance scale σ² and threshold κ
+    /// Geometric specular anti-aliasing's screen scale c σ²
+    /// ([`crate::quality::SpecularAaSettings::screen_scale`]) and threshold κ
     /// (dimensionless), and this frame's camera jitter in pixels.
     pub antialiasing: [f32; 4],
 }

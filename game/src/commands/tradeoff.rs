@@ -9,7 +9,9 @@ use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
-use lumen::quality::{AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter};
+use lumen::quality::{
+    AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter, SpecularAaForm,
+};
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
@@ -150,6 +152,10 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
         knob("--aa", m.name().into(), &|a| a.aa = Some(m));
     }
     knob("--specular-aa", String::new(), &|a| a.specular_aa = true);
+    knob("--specular-aa --specular-aa-form", "2019".into(), &|a| {
+        a.specular_aa = true;
+        a.specular_aa_form = Some(SpecularAaForm::Slope2019)
+    });
     for n in [4u32, 16] {
         knob("--accumulate", n.to_string(), &|a| a.accumulate = Some(n));
     }

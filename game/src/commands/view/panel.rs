@@ -358,6 +358,20 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
     ui.add(egui::Slider::new(&mut v.aa.accumulate, 1..=64).text("accumulated renders"));
     ui.add(egui::Slider::new(&mut v.aa.taa_sharpen, 0.0..=1.0).text("TAA sharpening"));
     ui.checkbox(&mut v.aa.specular.enabled, "specular anti-aliasing");
+    let form = v.aa.specular.form;
+    combo(
+        ui,
+        "specular AA form",
+        &mut v.aa.specular.form,
+        &lumen::quality::SpecularAaForm::ALL,
+        |f| f.name(),
+    );
+    if v.aa.specular.form != form {
+        v.aa.specular = lumen::quality::SpecularAaSettings {
+            enabled: v.aa.specular.enabled,
+            ..lumen::quality::SpecularAaSettings::of_form(v.aa.specular.form)
+        };
+    }
     ui.add(egui::Slider::new(&mut v.aa.specular.variance, 0.0..=1.0).text("specular AA σ²"));
     ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));
     ui.checkbox(&mut v.energy_compensation, "energy compensation");
