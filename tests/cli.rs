@@ -71,16 +71,22 @@ fn render_png_with_json_report() {
     );
     let passes = report["passes"].as_array().cloned().unwrap_or_default();
     let names: Vec<_> = passes.iter().filter_map(|p| p["name"].as_str()).collect();
+    // The probes' captures drew the sun's atlas with the same view and casters: the frame
+    // keeps it.
     assert_eq!(
         names,
-        [
-            "shadow",
-            "gbuffer",
-            "depth pyramid",
-            "lighting",
-            "ssr",
-            "tonemap"
-        ]
+        ["gbuffer", "depth pyramid", "lighting", "ssr", "tonemap"]
+    );
+    let shadow = &report["plan"]["passes"][0];
+    assert_eq!(
+        (&shadow["name"], &shadow["runs"]),
+        (&"shadow".into(), &false.into())
+    );
+    assert!(
+        shadow["reason"]
+            .as_str()
+            .is_some_and(|r| r.starts_with("cached: the atlas already holds these 1 view(s)")),
+        "{shadow}"
     );
     for p in &passes {
         assert!(p["cpu_ms"].as_f64().is_some_and(|v| v >= 0.0), "{p}");

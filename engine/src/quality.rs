@@ -202,6 +202,10 @@ pub struct Quality {
     /// Tiled light culling for scenes with many unshadowed point and spot lights (an
     /// exact optimisation: a light is skipped only where its range window is 0).
     pub light_culling: bool,
+    /// The shadow atlas is drawn again only when its views or casters changed (an exact
+    /// optimisation: equal views and casters draw an equal atlas). Off
+    /// (`--no-shadow-cache`), it is drawn every frame, as to measure what drawing costs.
+    pub shadow_cache: bool,
     /// Texture budget: the longest side, in texels, a texture keeps when it is loaded
     /// (larger ones are downscaled with a warning; the device's own limit applies too).
     pub max_texture_size: u32,
@@ -669,6 +673,7 @@ impl Default for Quality {
             dof_rings: None,
             hdr_precision: HdrPrecision::Half,
             light_culling: true,
+            shadow_cache: true,
             max_texture_size: 4096,
             ao: AoSettings::default(),
             ssr: SsrSettings::default(),

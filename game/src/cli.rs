@@ -253,6 +253,10 @@ pub struct SceneArgs {
     /// No tiled light culling: every pixel loops over every point and spot light.
     #[arg(long)]
     pub no_light_culling: bool,
+    /// Draw the shadow atlas every frame, even when no shadow view or caster changed
+    /// (by default an unchanged atlas is kept).
+    #[arg(long)]
+    pub no_shadow_cache: bool,
     /// Quality preset: low, medium, high (default), ultra. The options below override it.
     #[arg(long, value_name = "PRESET", value_parser = parse_preset)]
     pub quality: Option<lumen::quality::QualityPreset>,

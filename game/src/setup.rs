@@ -74,6 +74,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if args.no_light_culling {
         quality.light_culling = false;
     }
+    if args.no_shadow_cache {
+        quality.shadow_cache = false;
+    }
     if args.dof_rings.is_some() {
         quality.dof_rings = args.dof_rings;
     }
@@ -302,11 +305,16 @@ pub fn check_scene_args(args: &SceneArgs) -> Result<()> {
     Ok(())
 }
 
-/// The preset whose knobs equal `quality`, or `custom`.
+/// The preset whose knobs equal `quality`, or `custom`. The shadow cache is left out: it
+/// changes no pixel, only whether an unchanged atlas is drawn again.
 pub fn preset_name(quality: &Quality) -> String {
+    let quality = Quality {
+        shadow_cache: true,
+        ..*quality
+    };
     lumen::quality::QualityPreset::ALL
         .into_iter()
-        .find(|p| p.quality() == *quality)
+        .find(|p| p.quality() == quality)
         .map_or_else(|| "custom".into(), |p| p.name().into())
 }
 
@@ -326,6 +334,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "dof_rings": q.dof_rings,
         "hdr_precision": q.hdr_precision.name(),
         "light_culling": q.light_culling,
+        "shadow_cache": q.shadow_cache,
         "max_texture_size": q.max_texture_size,
         "ao": {
             "resolution": q.ao.resolution.name(),

@@ -17,7 +17,6 @@ use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors
 use crate::render::ibl::{Ibl, face_strip};
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
 use crate::render::indirect::reflection_probes::{CapturedProbe, ReflectionProbesGpu, probes_for};
-use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::RenderTargets;
 use crate::render::{CaptureSchedule, ExtractSchedule};
 use bevy_ecs::prelude::*;
@@ -75,8 +74,6 @@ pub struct ProbeStatus {
 pub fn update_probes(world: &mut World, budget: Option<u32>) -> Result<ProbeStatus> {
     let start = Instant::now();
     let changed = world.run_system_cached(scene_changed).unwrap_or(true);
-    // The atlas may hold views of casters that have moved since the last round.
-    world.resource_mut::<ShadowPass>().captured_views = None;
     let camera_aspect = world
         .get_resource::<FrameOutput>()
         .map_or(1.0, |o| o.size.0 as f32 / o.size.1.max(1) as f32);

@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors};
+use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::create_module;
@@ -56,10 +56,54 @@ pub struct ShadowPass {
     pub layout: AtlasLayout,
     /// Bumped whenever the atlas or the view buffer is recreated.
     pub generation: u64,
-    /// The views the atlas holds when a probe capture drew it last (`None` after the
-    /// frame's own shadow pass, and before each round of captures): a capture with the
-    /// same views reuses the atlas.
-    pub captured_views: Option<Vec<ShadowView>>,
+    /// What the atlas holds since the pass last drew it (a frame's or a probe capture's),
+    /// `None` after it was recreated: a frame whose views and casters are the same reuses
+    /// it instead of drawing it again.
+    holds: Option<AtlasContents>,
+}
+
+/// What the shadow atlas was drawn from: every shadow view, and every caster's mesh and
+/// transform. Meshes are immutable once added, so equal contents draw an equal atlas.
+#[derive(Clone, Debug, PartialEq)]
+struct AtlasContents {
+    views: Vec<ShadowView>,
+    casters: Vec<(MeshHandle, [[f32; 4]; 4])>,
+}
+
+impl AtlasContents {
+    fn caster(
+        frame: &ExtractedFrame,
+        c: &crate::render::extract::Caster,
+    ) -> (MeshHandle, [[f32; 4]; 4]) {
+        let world = frame
+            .instances
+            .get(c.instance as usize)
+            .map_or([[0.0; 4]; 4], |i| i.world_from_local);
+        (c.mesh, world)
+    }
+
+    /// The contents `frame` draws.
+    fn of(frame: &ExtractedFrame) -> AtlasContents {
+        AtlasContents {
+            views: frame.shadow_views.clone(),
+            casters: frame
+                .casters
+                .iter()
+                .map(|c| Self::caster(frame, c))
+                .collect(),
+        }
+    }
+
+    /// Whether `frame` would draw exactly these contents.
+    fn matches(&self, frame: &ExtractedFrame) -> bool {
+        self.views == frame.shadow_views
+            && self.casters.len() == frame.casters.len()
+            && self
+                .casters
+                .iter()
+                .zip(&frame.casters)
+                .all(|(held, c)| *held == Self::caster(frame, c))
+    }
 }
 
 /// The shadow pass's bind group: each view's matrix at a dynamic offset.
@@ -97,14 +141,15 @@ impl FramePass for ShadowPass {
         let frame = world.resource::<ExtractedFrame>();
         let sc = frame.shadow_counts;
         let views = frame.shadow_views.len();
-        let reused = world.resource::<ShadowPass>().captured_views.as_deref();
-        if views > 0
-            && world.contains_resource::<CaptureView>()
-            && reused == Some(frame.shadow_views.as_slice())
-        {
+        let cache = world.resource::<crate::quality::Quality>().shadow_cache;
+        let holds = world.resource::<ShadowPass>().holds.as_ref();
+        if views > 0 && cache && holds.is_some_and(|h| h.matches(frame)) {
             return PassDecision::new(
                 false,
-                "probe capture: the atlas already holds these views",
+                format!(
+                    "cached: the atlas already holds these {views} view(s) and {} caster(s) (--no-shadow-cache draws it every frame)",
+                    frame.casters.len()
+                ),
                 ShadowVariant,
             );
         }
@@ -235,7 +280,7 @@ impl ShadowPass {
                 halvings: 0,
             },
             generation: 0,
-            captured_views: None,
+            holds: None,
         })
     }
 }
@@ -273,6 +318,8 @@ pub fn prepare_shadows(
             "some shadow views do not fit the atlas even at 64²: their lights are unshadowed"
         );
     }
+    // Whatever the atlas held, this frame draws it again.
+    pass.holds = None;
     if !frame.shadow_views.is_empty() && pass.atlas.texture.width() != layout.side {
         pass.atlas = atlas_target(&gpu, layout.side);
         pass.generation += 1;
@@ -395,17 +442,16 @@ pub fn shadow_pass(
     mut pass: ResMut<ShadowPass>,
     buffers: Res<SceneBuffers>,
     frame: Res<ExtractedFrame>,
-    capture: Option<Res<CaptureView>>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    pass.captured_views = capture.is_some().then(|| frame.shadow_views.clone());
-    let pass = &*pass;
+    let pass = &mut *pass;
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some((_, bind_group))) =
         (encoder.as_mut(), pass.caster_bind_group.as_ref())
     else {
         return;
     };
+    pass.holds = Some(AtlasContents::of(&frame));
     let scope = timer.begin_pass(PassId::Shadow);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

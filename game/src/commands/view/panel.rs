@@ -376,6 +376,7 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
     ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));
     ui.checkbox(&mut v.energy_compensation, "energy compensation");
     ui.checkbox(&mut v.light_culling, "light culling");
+    ui.checkbox(&mut v.shadow_cache, "shadow cache");
     ui.add(
         egui::Slider::new(&mut v.ibl_samples, 1..=4096)
             .logarithmic(true)
