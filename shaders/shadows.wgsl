@@ -1,8 +1,9 @@
 // Shadow-map lookups for the lighting pass: view selection (cascades, cube faces),
 // receiver biasing and filtering. Header constant SHADOW_FILTER: 0 hardware 2×2 PCF,
-// 1 Poisson/Vogel-disc PCF, 2 PCSS (see lumen::quality::ShadowFilter).
+// 1 Poisson/Vogel-disc PCF, 2 PCSS, 3 tent (see lumen::quality::ShadowFilter).
 #import common
 #import bindings
+#import shadow_kernel
 
 // The lighting pass's group 1 (engine/src/render/lighting.rs, LIGHTS_AND_SHADOWS).
 @group(1) @binding(4) var<storage, read> shadow_views: array<ShadowView>;
@@ -29,6 +30,7 @@ fn shadow_view(i: u32) -> ShadowView {
 const SHADOW_FILTER_HARDWARE: u32 = 0u;
 const SHADOW_FILTER_PCF: u32 = 1u;
 const SHADOW_FILTER_PCSS: u32 = 2u;
+const SHADOW_FILTER_TENT: u32 = 3u;
 const SHADOW_TAPS: u32 = 16u;
 // Radius of the PCF kernel, texels.
 const PCF_RADIUS: f32 = 1.5;
@@ -97,6 +99,23 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
     let depth = p.z - margin;
     if SHADOW_FILTER == SHADOW_FILTER_HARDWARE {
         return shadow_tap(rect, local, depth, texel_uv);
+    }
+    if SHADOW_FILTER == SHADOW_FILTER_TENT {
+        // 3 × 3 bilinear taps (shadow_kernel.wgsl): no noise, no rotation.
+        let corner = floor(p.xy + 0.5);
+        let s = p.xy + 0.5 - corner;
+        let wx = shadow_tent_weights(s.x);
+        let wy = shadow_tent_weights(s.y);
+        let tx = shadow_tent_offsets(s.x) + corner.x - 0.5;
+        let ty = shadow_tent_offsets(s.y) + corner.y - 0.5;
+        var lit = 0.0;
+        for (var j = 0; j < 3; j++) {
+            for (var i = 0; i < 3; i++) {
+                let tap = vec2<f32>(tx[i], ty[j]);
+                lit += wx[i] * wy[j] * shadow_tap(rect, tap * texel_uv, depth + dot(gradient, tap - p.xy), texel_uv);
+            }
+        }
+        return lit;
     }
     let phi = interleaved_gradient_noise(frag) * 6.28318531;
     let rotation = vec2<f32>(cos(phi), sin(phi));

@@ -13,10 +13,10 @@ use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;
-use lumen::{color, encoding, ibl, punctual};
+use lumen::{color, encoding, ibl, punctual, shadow_kernel};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 36;
+const OUTPUTS: usize = 37;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -279,6 +279,14 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             let w = aa::cas_weight(lo, base, k);
             aa::cas_apply(base * 0.8, lo * 4.0, w, x.abs() + 0.1).extend(w.y)
         },
+        {
+            let s = (x.abs() * 3.7).fract();
+            let (w, o) = (
+                shadow_kernel::shadow_tent_weights(s),
+                shadow_kernel::shadow_tent_offsets(s),
+            );
+            Vec4::new(w.x, w.z, o.x, o.z + o.y)
+        },
     ]
 }
 
@@ -319,6 +327,7 @@ const NAMES: [&str; OUTPUTS] = [
     "smaa_coverage | line_coverage",
     "smaa_edge | smaa_end_height",
     "cas_weight | cas_apply",
+    "shadow_tent_weights | shadow_tent_offsets",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

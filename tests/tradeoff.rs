@@ -26,7 +26,7 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     assert_eq!(doc["schema"], "lumen-tradeoff/1");
     let rows = doc["rows"].as_array().expect("rows");
     // 4 presets and 46 single knobs.
-    assert_eq!(rows.len(), 51, "{rows:?}");
+    assert_eq!(rows.len(), 52, "{rows:?}");
     for r in rows {
         for k in ["kind", "setting"] {
             assert!(r[k].is_string(), "{r}");
@@ -49,8 +49,8 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     // The reference was cached for the next run.
     assert_eq!(cached(dir.path(), "-64x36-16spp-8b.exr").len(), 1);
     let table = std::fs::read_to_string(dir.path().join("t.md")).expect("markdown");
-    // Header, separator and 51 rows.
-    assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 53);
+    // Header, separator and 52 rows.
+    assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 54);
     let chart = image::open(dir.path().join("t.png")).expect("chart");
     assert_eq!((chart.width(), chart.height()), (1200, 600));
 }

@@ -42,6 +42,7 @@ pub mod reference;
 pub mod reflection_probe;
 pub mod render;
 pub mod scene;
+pub mod shadow_kernel;
 pub mod trace_input;
 pub mod validate;
 pub mod workflow;

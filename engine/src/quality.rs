@@ -10,6 +10,9 @@ use bevy_ecs::prelude::Resource;
 pub enum ShadowFilter {
     /// One comparison tap: the hardware's bilinear 2×2 percentage-closer filter.
     Hardware2x2 = 0,
+    /// A 3×3-texel box of bilinear comparisons, 9 taps, no noise (Castaño 2013's
+    /// optimised PCF; [`crate::shadow_kernel`]).
+    Tent = 3,
     /// 16 hardware 2×2 taps on a Poisson disc of radius 1.5 texels, rotated per pixel
     /// (Reeves et al. 1987, percentage-closer filtering).
     #[default]
@@ -22,8 +25,9 @@ pub enum ShadowFilter {
 
 impl ShadowFilter {
     /// Every filter, cheapest first.
-    pub const ALL: [ShadowFilter; 3] = [
+    pub const ALL: [ShadowFilter; 4] = [
         ShadowFilter::Hardware2x2,
+        ShadowFilter::Tent,
         ShadowFilter::Pcf,
         ShadowFilter::Pcss,
     ];
@@ -32,6 +36,7 @@ impl ShadowFilter {
     pub fn name(self) -> &'static str {
         match self {
             ShadowFilter::Hardware2x2 => "hardware",
+            ShadowFilter::Tent => "tent",
             ShadowFilter::Pcf => "pcf",
             ShadowFilter::Pcss => "pcss",
         }

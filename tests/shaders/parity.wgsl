@@ -11,6 +11,7 @@
 #import irradiance_volume
 #import reflection_probe
 #import antialiasing
+#import shadow_kernel
 
 struct Case {
     n: vec4<f32>,
@@ -24,7 +25,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 36u;
+const OUTPUTS: u32 = 37u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -119,6 +120,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let lo = c.base_metallic.rgb * 0.5;
     let cas = cas_weight(lo, c.base_metallic.rgb, k);
     results[o + 35u] = vec4<f32>(cas_apply(c.base_metallic.rgb * 0.8, lo * 4.0, cas, abs(x) + 0.1), cas.y);
+    let tent_s = fract(abs(x) * 3.7);
+    let tent_w = shadow_tent_weights(tent_s);
+    let tent_o = shadow_tent_offsets(tent_s);
+    results[o + 36u] = vec4<f32>(tent_w.x, tent_w.z, tent_o.x, tent_o.z + tent_o.y);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

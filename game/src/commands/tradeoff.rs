@@ -71,7 +71,10 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
         change(&mut a);
         out.push((kind.into(), setting, a));
     };
-    for f in [ShadowFilter::Hardware2x2, ShadowFilter::Pcss] {
+    for f in ShadowFilter::ALL
+        .into_iter()
+        .filter(|f| *f != QualityPreset::High.quality().shadow_filter)
+    {
         knob("--shadow-filter", f.name().into(), &|a| {
             a.shadow_filter = Some(f)
         });

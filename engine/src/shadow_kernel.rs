@@ -1,0 +1,71 @@
+//! CPU twin of `shaders/shadow_kernel.wgsl`: the taps of the `tent` shadow filter
+//! ([`crate::quality::ShadowFilter::Tent`]).
+//!
+//! Castaño's optimised PCF (Castaño 2013, "Shadow Mapping Summary – Part 1"): the
+//! comparison results of a 3 × 3-texel box around the receiver, each read with the
+//! sampler's bilinear 2 × 2 comparison, so the kernel moves continuously with the receiver.
+//! Per axis its weights over 6 texels are (1 − s, 3 − 2s, 4 − s, 3 + s, 1 + 2s, s) / 12
+//! (the box [1 1 1] convolved with the bilinear tent), where s ∈ [0, 1) is how far the
+//! receiver lies past the texel corner nearest to it. Three bilinear taps per axis give
+//! exactly those weights: 9 comparison taps in all instead of 36 point comparisons.
+
+use glam::Vec3;
+
+/// The weights of the three taps along one axis (dimensionless, sum 1), for the receiver
+/// `s` texels past its nearest texel corner (0 ≤ s < 1).
+pub fn shadow_tent_weights(s: f32) -> Vec3 {
+    Vec3::new(4.0 - 3.0 * s, 7.0, 1.0 + 3.0 * s) / 12.0
+}
+
+/// Where the three taps along one axis sample, in texels from the centre of the texel
+/// just before the receiver's nearest corner (0 ≤ s < 1).
+pub fn shadow_tent_offsets(s: f32) -> Vec3 {
+    Vec3::new(
+        (3.0 - 2.0 * s) / (4.0 - 3.0 * s) - 2.0,
+        (3.0 + s) / 7.0,
+        s / (1.0 + 3.0 * s) + 2.0,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The weight each texel gets from the three bilinear taps, for texels −2..=3 from the
+    /// texel before the corner: a tap at offset u splits its weight between the texels
+    /// floor(u) and floor(u) + 1 by the fraction of u.
+    fn texel_weights(s: f32) -> [f32; 6] {
+        let (w, o) = (shadow_tent_weights(s), shadow_tent_offsets(s));
+        let mut out = [0.0; 6];
+        for k in 0..3 {
+            let first = o[k].floor();
+            let f = o[k] - first;
+            let i = (first as i32 + 2) as usize;
+            out[i] += w[k] * (1.0 - f);
+            if f > 0.0 {
+                out[i + 1] += w[k] * f;
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn three_bilinear_taps_are_the_box_convolved_with_the_tent() {
+        for i in 0..=64 {
+            let s = i as f32 / 64.0 * 0.999;
+            let want =
+                [1.0 - s, 3.0 - 2.0 * s, 4.0 - s, 3.0 + s, 1.0 + 2.0 * s, s].map(|x| x / 12.0);
+            let got = texel_weights(s);
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() < 1e-6, "s = {s}: {got:?} vs {want:?}");
+            }
+            assert!((shadow_tent_weights(s).element_sum() - 1.0).abs() < 1e-6);
+        }
+        // Continuous as the receiver crosses a corner: s → 1 is s = 0 one texel on.
+        let end = texel_weights(0.99999);
+        let start = texel_weights(0.0);
+        for k in 0..5 {
+            assert!((end[k + 1] - start[k]).abs() < 1e-4, "{end:?} vs {start:?}");
+        }
+    }
+}
