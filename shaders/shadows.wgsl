@@ -101,7 +101,7 @@ fn filter_shadow(rect: vec4<f32>, texel: vec4<f32>, p: vec3<f32>, size: f32, gra
         return shadow_tap(rect, local, depth, texel_uv);
     }
     if SHADOW_FILTER == SHADOW_FILTER_TENT {
-        // 3 × 3 bilinear taps (shadow_kernel.wgsl): no noise, no rotation.
+        // 3 × 3 bilinear taps of a 5 × 5-texel kernel (shadow_kernel.wgsl): no noise.
         let corner = floor(p.xy + 0.5);
         let s = p.xy + 0.5 - corner;
         let wx = shadow_tent_weights(s.x);

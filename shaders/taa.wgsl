@@ -121,7 +121,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     // neighbourhood) turns with the camera.
     var moved = textureLoad(motion, nearest, 0).xy;
     if nearest_depth <= 0.0 {
-        moved = background_motion((vec2<f32>(nearest) + vec2<f32>(0.5)) / size, size);
+        moved = background_motion((vec2<f32>(p) + vec2<f32>(0.5)) / size, size);
     }
 
     // This pixel's view depth (stored for the next frame), and the view depth the

@@ -569,6 +569,14 @@ impl App {
         self.world.run_schedule(RenderSchedule);
         stage("record", t);
         let taken = self.world.resource_mut::<FrameEncoder>().encoder.take();
+        if !self.world.resource::<FrameErrors>().0.is_empty()
+            && let Some(mut shadows) = self
+                .world
+                .get_resource_mut::<crate::render::shadow::pass::ShadowPass>()
+        {
+            // This frame's commands never reach the GPU: its shadow atlas was not drawn.
+            shadows.forget();
+        }
         self.take_errors()?;
         let mut encoder =
             taken.ok_or_else(|| Error::Gpu("the frame recorded no commands".into()))?;

@@ -10,8 +10,8 @@ use bevy_ecs::prelude::Resource;
 pub enum ShadowFilter {
     /// One comparison tap: the hardware's bilinear 2×2 percentage-closer filter.
     Hardware2x2 = 0,
-    /// A 3×3-texel box of bilinear comparisons, 9 taps, no noise (Castaño 2013's
-    /// optimised PCF; [`crate::shadow_kernel`]).
+    /// A 5×5-texel kernel ([1 3 4 3 1] per axis) read with 9 bilinear comparison taps,
+    /// no noise (Castaño 2013's optimised PCF; [`crate::shadow_kernel`]).
     Tent = 3,
     /// 16 hardware 2×2 taps on a Poisson disc of radius 1.5 texels, rotated per pixel
     /// (Reeves et al. 1987, percentage-closer filtering).

@@ -1,24 +1,24 @@
 //! CPU twin of `shaders/shadow_kernel.wgsl`: the taps of the `tent` shadow filter
 //! ([`crate::quality::ShadowFilter::Tent`]).
 //!
-//! Castaño's optimised PCF (Castaño 2013, "Shadow Mapping Summary – Part 1"): the
-//! comparison results of a 3 × 3-texel box around the receiver, each read with the
-//! sampler's bilinear 2 × 2 comparison, so the kernel moves continuously with the receiver.
-//! Per axis its weights over 6 texels are (1 − s, 3 − 2s, 4 − s, 3 + s, 1 + 2s, s) / 12
-//! (the box [1 1 1] convolved with the bilinear tent), where s ∈ [0, 1) is how far the
-//! receiver lies past the texel corner nearest to it. Three bilinear taps per axis give
-//! exactly those weights: 9 comparison taps in all instead of 36 point comparisons.
+//! Castaño's optimised PCF (Castaño 2013, "Shadow Mapping Summary – Part 1"): per axis the
+//! kernel [1 3 4 3 1] / 12 (the 3-texel box convolved with the [1 2 1] tent), 5 × 5
+//! texels, moved continuously with the receiver by bilinear interpolation. Per axis its
+//! weights over 6 texels are (1 − s, 3 − 2s, 4 − s, 3 + s, 1 + 2s, s) / 12, where
+//! s ∈ [0, 1) is how far the receiver lies past the centre of the texel just before its
+//! nearest texel corner. Three bilinear comparison taps per axis give exactly those
+//! weights: 9 taps in all instead of 36 point comparisons.
 
 use glam::Vec3;
 
 /// The weights of the three taps along one axis (dimensionless, sum 1), for the receiver
-/// `s` texels past its nearest texel corner (0 ≤ s < 1).
+/// `s` texels past the centre of the texel just before its nearest corner (0 ≤ s < 1).
 pub fn shadow_tent_weights(s: f32) -> Vec3 {
     Vec3::new(4.0 - 3.0 * s, 7.0, 1.0 + 3.0 * s) / 12.0
 }
 
 /// Where the three taps along one axis sample, in texels from the centre of the texel
-/// just before the receiver's nearest corner (0 ≤ s < 1).
+/// just before the receiver's nearest corner (`s` as for [`shadow_tent_weights`]).
 pub fn shadow_tent_offsets(s: f32) -> Vec3 {
     Vec3::new(
         (3.0 - 2.0 * s) / (4.0 - 3.0 * s) - 2.0,

@@ -305,7 +305,12 @@ fn capture_face(world: &mut World, gpu: &Gpu, view: CaptureView, size: u32) -> R
     std::mem::swap(&mut targets, &mut *world.resource_mut::<RenderTargets>());
     world.resource_mut::<IrradianceVolumeGpu>().capture_targets = targets;
     world.remove_resource::<CaptureView>();
-    if let Some(e) = world.resource_mut::<FrameErrors>().0.drain(..).next() {
+    let error = world.resource_mut::<FrameErrors>().0.drain(..).next();
+    if let Some(e) = error {
+        // The capture's commands are dropped: its shadow atlas was not drawn.
+        world
+            .resource_mut::<crate::render::shadow::pass::ShadowPass>()
+            .forget();
         return Err(Error::Gpu(format!(
             "capturing {:?}, face {}: {e}",
             view.target, view.face

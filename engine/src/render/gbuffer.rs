@@ -77,7 +77,9 @@ impl FramePass for GBufferPass {
         let instances = frame.instances.len();
         let aa = &world.resource::<crate::quality::Quality>().aa;
         let specular_aa = aa.specular.enabled;
-        let motion = aa.temporal();
+        // Probe captures have no previous frame: only the frame itself writes motion.
+        let motion =
+            aa.temporal() && !world.contains_resource::<crate::render::frame::CaptureView>();
         let mut variants = GBufferVariants {
             variants: Vec::new(),
             specular_aa,

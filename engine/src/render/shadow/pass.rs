@@ -62,6 +62,14 @@ pub struct ShadowPass {
     holds: Option<AtlasContents>,
 }
 
+impl ShadowPass {
+    /// Forgets what the atlas holds, so that the next frame draws it: for a frame whose
+    /// commands were recorded but never submitted (an error after the shadow pass).
+    pub fn forget(&mut self) {
+        self.holds = None;
+    }
+}
+
 /// What the shadow atlas was drawn from: every shadow view, and every caster's mesh and
 /// transform. Meshes are immutable once added, so equal contents draw an equal atlas.
 #[derive(Clone, Debug, PartialEq)]
