@@ -312,6 +312,14 @@ impl SpecularAaSettings {
         }
     }
 
+    /// The same on/off, with `form` and its default σ² and κ.
+    pub fn with_form(self, form: SpecularAaForm) -> SpecularAaSettings {
+        SpecularAaSettings {
+            enabled: self.enabled,
+            ..SpecularAaSettings::of_form(form)
+        }
+    }
+
     /// The α² the kernel adds per unit of the normal's screen-space variation (the
     /// `screen_scale` of [`crate::brdf::specular_aa_roughness`]): c · σ².
     pub fn screen_scale(&self) -> f32 {

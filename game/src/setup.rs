@@ -172,10 +172,7 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
         quality.aa.specular.enabled = false;
     }
     if let Some(form) = args.specular_aa_form {
-        quality.aa.specular = lumen::quality::SpecularAaSettings {
-            enabled: quality.aa.specular.enabled,
-            ..lumen::quality::SpecularAaSettings::of_form(form)
-        };
+        quality.aa.specular = quality.aa.specular.with_form(form);
     }
     if let Some(x) = args.specular_aa_variance {
         quality.aa.specular.variance = x;

@@ -390,12 +390,7 @@ pub fn prepare_shadows(
                 Some(d) if d.0 == caster.mesh => d.2 += 1,
                 _ => draws.push((caster.mesh, index, 1)),
             }
-            visible.push(
-                frame
-                    .instances
-                    .get(caster.instance as usize)
-                    .map_or([[0.0; 4]; 4], |i| i.world_from_local),
-            );
+            visible.push(AtlasContents::caster(&frame, caster).1);
         }
         caster_views.push(GpuCasterView {
             clip_from_world: view.clip_from_world.to_cols_array_2d(),

@@ -367,10 +367,7 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
         |f| f.name(),
     );
     if v.aa.specular.form != form {
-        v.aa.specular = lumen::quality::SpecularAaSettings {
-            enabled: v.aa.specular.enabled,
-            ..lumen::quality::SpecularAaSettings::of_form(v.aa.specular.form)
-        };
+        v.aa.specular = v.aa.specular.with_form(v.aa.specular.form);
     }
     ui.add(egui::Slider::new(&mut v.aa.specular.variance, 0.0..=1.0).text("specular AA σ²"));
     ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));
