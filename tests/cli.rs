@@ -461,7 +461,7 @@ fn shadow_flags() {
             .as_str()
             .is_some_and(|r| r.contains("--no-shadows"))
     );
-    for filter in ["hardware", "pcf", "pcss"] {
+    for filter in ["hardware", "tent", "pcf", "pcss"] {
         let out = lumen(
             &[
                 "render",

@@ -58,7 +58,11 @@ const fn ibl_case(name: &'static str, args: &'static [&'static str]) -> Case {
 const CASES: &[Case] = &[
     case("spheres", &["--scene", "spheres"]),
     case("plane", &["--scene", "plane"]),
-    case("shadows-pcf", &["--scene", "shadows"]),
+    case("shadows-tent", &["--scene", "shadows"]),
+    case(
+        "shadows-pcf",
+        &["--scene", "shadows", "--shadow-filter", "pcf"],
+    ),
     case(
         "shadows-hardware",
         &["--scene", "shadows", "--shadow-filter", "hardware"],

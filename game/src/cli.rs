@@ -226,8 +226,8 @@ pub struct SceneArgs {
     /// The lights of a glTF file cast no shadows (they do by default).
     #[arg(long)]
     pub no_gltf_light_shadows: bool,
-    /// Shadow filtering: hardware (2×2 PCF), tent (3×3 bilinear taps), pcf (16 taps, default),
-    /// pcss (soft, from the light's size).
+    /// Shadow filtering: hardware (2×2 PCF), tent (3×3 bilinear taps, default), pcf (16
+    /// taps), pcss (soft, from the light's size).
     #[arg(long, value_name = "NAME", value_parser = parse_shadow_filter)]
     pub shadow_filter: Option<lumen::quality::ShadowFilter>,
     /// Environment image (OpenEXR or Radiance .hdr, equirectangular) lighting the scene.
