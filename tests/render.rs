@@ -471,3 +471,92 @@ fn bad_sizes_are_errors() {
         );
     }
 }
+
+/// The G-buffer pass's decision in `report`: (runs, reason).
+fn gbuffer_decision(report: &lumen::FrameReport) -> (bool, String) {
+    report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == PassId::GBuffer)
+        .map(|(_, d)| (d.enabled, d.reason.clone()))
+        .expect("the G-buffer pass is registered")
+}
+
+#[test]
+fn meshes_outside_the_view_are_not_drawn() {
+    // The G-buffer pass draws only the instances whose bounding sphere touches the view
+    // frustum. Spheres behind the camera and far to its side add no draw and no triangle,
+    // and the image stays bit-identical; a sphere across the image's edge is drawn; with
+    // nothing in view the pass does not run.
+    let size = (96, 64);
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    let mesh = lumen::assets::procedural::uv_sphere(1.0, 32, 16);
+    let triangles = mesh.triangle_count() as u64;
+    let sphere = app.add_mesh(mesh).expect("sphere");
+    let material = Material::new(Vec3::splat(0.8), 0.0, 0.5);
+    let world = app.world_mut();
+    world.spawn((Mesh3d(sphere), material, Transform::IDENTITY));
+    world.spawn((
+        DirectionalLight::default(),
+        Transform::from_xyz(1.0, 2.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let one = app.render_headless(size).expect("frame");
+    let alone = app.read_display_image().expect("image");
+    assert_eq!((one.stats.draws, one.stats.triangles), (1, triangles));
+
+    let world = app.world_mut();
+    // Not casters, so that the sun's shadow views (fitted to the casters' depth) stay
+    // the same and the image can be compared bit for bit.
+    for at in [Vec3::new(0.0, 0.0, 9.0), Vec3::new(-60.0, 0.0, 0.0)] {
+        world.spawn((
+            Mesh3d(sphere),
+            material,
+            Transform::from_translation(at),
+            NotShadowCaster,
+        ));
+    }
+    let culled = app.render_headless(size).expect("frame");
+    assert_eq!(culled.stats.instances, 3);
+    assert_eq!((culled.stats.draws, culled.stats.triangles), (1, triangles));
+    let (runs, reason) = gbuffer_decision(&culled);
+    assert!(
+        runs && reason.contains("1 of 3 instance(s) in view"),
+        "{reason}"
+    );
+    let image = app.read_display_image().expect("image");
+    assert!(
+        image.as_raw() == alone.as_raw(),
+        "culled spheres changed the image"
+    );
+
+    // At x = 3.2 the sphere crosses the right edge (the half-width at z = 0 is
+    // 5 · tan(22.5°) · 1.5 ≈ 3.1 m for the default 45° vertical field of view).
+    app.world_mut()
+        .spawn((Mesh3d(sphere), material, Transform::from_xyz(3.2, 0.0, 0.0)));
+    let edge = app.render_headless(size).expect("frame");
+    assert_eq!((edge.stats.draws, edge.stats.triangles), (1, 2 * triangles));
+
+    let mut cameras = app.world_mut().query::<(&Camera, &mut Transform)>();
+    for (_, mut t) in cameras.iter_mut(app.world_mut()) {
+        *t = Transform::from_xyz(0.0, 0.0, 5.0).looking_at(Vec3::new(0.0, 0.0, 10.0), Vec3::Y);
+    }
+    // Looking away, the sphere at z = 9 is in view again; turned up, nothing is.
+    let back = app.render_headless(size).expect("frame");
+    assert_eq!((back.stats.draws, back.stats.triangles), (1, triangles));
+    for (_, mut t) in cameras.iter_mut(app.world_mut()) {
+        *t = Transform::from_xyz(0.0, 50.0, 0.0).looking_at(Vec3::new(0.0, 100.0, 0.0), Vec3::Z);
+    }
+    let none = app.render_headless(size).expect("frame");
+    let (runs, reason) = gbuffer_decision(&none);
+    assert!(
+        !runs && reason.contains("none of 4 instance(s) in view"),
+        "{reason}"
+    );
+    assert_eq!((none.stats.draws, none.stats.triangles), (0, 0));
+}

@@ -623,3 +623,36 @@ fn an_unchanged_atlas_is_kept_and_a_moved_caster_draws_it_again() {
         redrawn.as_raw()
     );
 }
+
+#[test]
+fn casters_outside_every_shadow_view_are_not_drawn() {
+    // Casters are culled per shadow view against its frustum (bounding spheres): a caster
+    // 400 m from the scene adds no draw to any of `shadows`' 10 views, while one more
+    // caster among the others adds a draw to each view that sees it.
+    let draws = |app: &App| {
+        app.world()
+            .resource::<lumen::render::shadow::pass::ShadowPass>()
+            .caster_draws()
+    };
+    let mut app = shadows_scene(ShadowFilter::Tent);
+    app.world_mut().resource_mut::<Quality>().shadow_cache = false;
+    let sphere = app.add_mesh(uv_sphere(0.5, 16, 8)).expect("mesh");
+    let material = Material::new(Vec3::splat(0.5), 0.0, 0.5);
+    app.render_headless((16, 16)).expect("frame");
+    let before = draws(&app);
+    app.world_mut().spawn((
+        Mesh3d(sphere),
+        material,
+        Transform::from_xyz(400.0, 1.0, -400.0),
+    ));
+    app.render_headless((16, 16)).expect("frame");
+    let far = draws(&app);
+    app.world_mut()
+        .spawn((Mesh3d(sphere), material, Transform::from_xyz(0.0, 1.0, 0.0)));
+    app.render_headless((16, 16)).expect("frame");
+    let near = draws(&app);
+    eprintln!("caster draws: {before}, with a far caster {far}, with a near one {near}");
+    assert!(before > 0);
+    assert_eq!(far, before, "a caster far outside every view was drawn");
+    assert!(near > far, "a caster in the scene was not drawn ({near})");
+}

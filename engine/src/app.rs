@@ -37,11 +37,11 @@ pub struct PostUpdate;
 /// Scene statistics of one frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct SceneStats {
-    /// Drawn mesh instances.
+    /// Mesh instances in the scene (in view or not).
     pub instances: usize,
-    /// Instanced draw calls.
+    /// The G-buffer pass's instanced draw calls (instances outside the view are culled).
     pub draws: usize,
-    /// Triangles drawn.
+    /// Triangles the G-buffer pass draws (those of the instances in view).
     pub triangles: u64,
     /// Lights of all kinds.
     pub lights: u32,
@@ -535,7 +535,7 @@ impl App {
             ev100: camera.ev100,
             stats: SceneStats {
                 instances: extracted.instances.len(),
-                draws: extracted.batches.len(),
+                draws: extracted.draws(),
                 triangles: extracted.triangles,
                 lights: extracted.light_counts.total(),
             },

@@ -191,6 +191,7 @@ mod tests {
             double_sided: false,
             first_instance: 1,
             count: 2,
+            visible: 2,
         }];
         frame.camera = Some(crate::render::extract::ExtractedCamera {
             position: Vec3::new(0.0, 1.0, 5.0),

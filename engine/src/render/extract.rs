@@ -12,7 +12,8 @@ use crate::render::frame::{CaptureView, FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
 use crate::render::jitter::Jitter;
 use crate::render::shadow_views::{
-    CameraForShadows, ShadowView, directional_views, point_views, spot_view,
+    CameraForShadows, ShadowView, directional_views, frustum_planes, point_views,
+    sphere_in_frustum, spot_view,
 };
 use crate::scene::{
     Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
@@ -55,7 +56,9 @@ pub struct ExtractedCamera {
     pub notes: Vec<String>,
 }
 
-/// Consecutive instances of one mesh, drawn with one instanced draw call.
+/// Consecutive instances of one mesh, drawn with one instanced draw call. Those whose
+/// bounding sphere touches the camera's view frustum come first: the G-buffer pass draws
+/// only them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Batch {
     /// The mesh.
@@ -69,6 +72,8 @@ pub struct Batch {
     pub first_instance: u32,
     /// Number of instances.
     pub count: u32,
+    /// How many of them, from the first, are inside the camera's view frustum.
+    pub visible: u32,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -152,7 +157,7 @@ pub struct ExtractedFrame {
     pub light_counts: LightCounts,
     /// How many directional, point and spot lights cast shadows this frame.
     pub shadowed_counts: [u32; 3],
-    /// Triangles drawn by the G-buffer pass.
+    /// Triangles drawn by the G-buffer pass (those of the instances in view).
     pub triangles: u64,
     /// Instances that cast shadows, sorted by mesh.
     pub casters: Vec<Caster>,
@@ -168,6 +173,18 @@ pub struct ExtractedFrame {
     pub environment: Option<ExtractedEnvironment>,
     /// What motion vectors and temporal anti-aliasing need of the previous frame.
     pub temporal: TemporalFrame,
+}
+
+impl ExtractedFrame {
+    /// Instances inside the camera's view frustum: the ones the G-buffer pass draws.
+    pub fn visible_instances(&self) -> u32 {
+        self.batches.iter().map(|b| b.visible).sum()
+    }
+
+    /// The G-buffer pass's draw calls: one per batch with an instance in view.
+    pub fn draws(&self) -> usize {
+        self.batches.iter().filter(|b| b.visible > 0).count()
+    }
 }
 
 /// This frame and the previous one, for motion vectors: the matrices on every frame that
@@ -408,13 +425,15 @@ pub fn extract_frame(
         notes,
     });
 
-    // Instances, sorted by mesh (casters first within a mesh) so each mesh is one
-    // instanced draw.
+    // Instances, sorted by mesh (those in view first, then casters first within a mesh)
+    // so each mesh is one instanced draw of the instances in view.
+    let view_planes = frustum_planes(&clip_from_world);
     struct Item {
         mesh: MeshHandle,
         maps: Option<u32>,
         double_sided: bool,
         casts: bool,
+        in_view: bool,
         sphere: Option<(Vec3, f32)>,
         instance: GpuInstance,
         entity: Entity,
@@ -445,13 +464,15 @@ pub fn extract_frame(
             };
             index as u32
         });
+        let sphere = bounding_sphere(&meshes, mesh.0, &m);
         items.push(Item {
             entity,
             mesh: mesh.0,
             maps,
             double_sided: material.double_sided,
             casts: !not_caster,
-            sphere: bounding_sphere(&meshes, mesh.0, &m),
+            in_view: sphere.is_none_or(|(c, r)| sphere_in_frustum(&view_planes, c, r)),
+            sphere,
             instance: GpuInstance {
                 world_from_local: m.to_cols_array_2d(),
                 normal_matrix: normal,
@@ -474,7 +495,15 @@ pub fn extract_frame(
             },
         });
     }
-    items.sort_by_key(|item| (item.mesh, item.maps, item.double_sided, !item.casts));
+    items.sort_by_key(|item| {
+        (
+            item.mesh,
+            item.maps,
+            item.double_sided,
+            !item.in_view,
+            !item.casts,
+        )
+    });
     frame.instances.clear();
     frame.batches.clear();
     frame.casters.clear();
@@ -507,7 +536,8 @@ pub fn extract_frame(
                     && b.maps == item.maps
                     && b.double_sided == item.double_sided =>
             {
-                b.count += 1
+                b.count += 1;
+                b.visible += u32::from(item.in_view);
             }
             _ => frame.batches.push(Batch {
                 mesh: item.mesh,
@@ -515,6 +545,7 @@ pub fn extract_frame(
                 double_sided: item.double_sided,
                 first_instance: index,
                 count: 1,
+                visible: u32::from(item.in_view),
             }),
         }
         if let Some((center, radius)) = item.sphere {
@@ -530,9 +561,11 @@ pub fn extract_frame(
         }
         frame.receivers += usize::from(item.instance.params[3] > 0.0);
         frame.instances.push(item.instance);
-        frame.triangles += meshes
-            .get(item.mesh)
-            .map_or(0, |m| m.triangle_count() as u64);
+        if item.in_view {
+            frame.triangles += meshes
+                .get(item.mesh)
+                .map_or(0, |m| m.triangle_count() as u64);
+        }
     }
     if temporal {
         memory.world = remembered;

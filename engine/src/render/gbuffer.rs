@@ -88,23 +88,26 @@ impl FramePass for GBufferPass {
         for v in frame
             .batches
             .iter()
+            .filter(|b| b.visible > 0)
             .map(|b| variant(b, specular_aa, motion))
         {
             if !variants.variants.contains(&v) {
                 variants.variants.push(v);
             }
         }
-        let reason = if instances > 0 {
+        let visible = frame.visible_instances();
+        let reason = if visible > 0 {
             format!(
-                "{instances} instance(s) of {} mesh(es), {} triangles",
-                frame.batches.len(),
+                "{visible} of {instances} instance(s) in view, {} draw(s), {} triangles",
+                frame.draws(),
                 frame.triangles
             )
+        } else if instances > 0 {
+            format!("none of {instances} instance(s) in view: the G-buffer stays cleared")
         } else {
             "no mesh in view: the G-buffer stays cleared".into()
         };
-        let mut decision =
-            PassDecision::new(instances > 0, reason, variants).writing(MOTION, motion);
+        let mut decision = PassDecision::new(visible > 0, reason, variants).writing(MOTION, motion);
         decision.features.push(Decision::new(
             "motion vectors",
             motion,
@@ -512,7 +515,7 @@ pub fn gbuffer_pass(
         }
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
         let mut current = None;
-        for batch in &frame.batches {
+        for batch in frame.batches.iter().filter(|b| b.visible > 0) {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
@@ -535,14 +538,14 @@ pub fn gbuffer_pass(
             rp.draw_indexed(
                 0..mesh.index_count,
                 0,
-                batch.first_instance..batch.first_instance + batch.count,
+                batch.first_instance..batch.first_instance + batch.visible,
             );
         }
     }
     timer.end_pass(scope);
 }
 
-/// When the G-buffer pass is skipped (no mesh), clears depth so lighting sees background,
+/// When the G-buffer pass is skipped (no mesh in view), clears depth so lighting sees background,
 /// and the motion vectors where TAA reads them.
 pub fn clear_gbuffer(targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncoder>) {
     let (Some(encoder), Some(t)) = (encoder.encoder.as_mut(), targets.current.as_ref()) else {

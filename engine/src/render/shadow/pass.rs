@@ -68,6 +68,15 @@ impl ShadowPass {
     pub fn forget(&mut self) {
         self.holds = None;
     }
+
+    /// Caster draws of this frame's views, summed: an instance counts once per view whose
+    /// frustum its bounding sphere touches.
+    pub fn caster_draws(&self) -> u32 {
+        self.views
+            .iter()
+            .flat_map(|v| v.draws.iter().map(|d| d.2))
+            .sum()
+    }
 }
 
 /// What the shadow atlas was drawn from: every shadow view, and every caster's mesh and

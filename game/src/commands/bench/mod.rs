@@ -141,7 +141,7 @@ fn scene_stats(app: &App) -> [usize; 4] {
         .map_or([0; 4], |f| {
             [
                 f.instances.len(),
-                f.batches.len(),
+                f.draws(),
                 usize::try_from(f.triangles).unwrap_or(usize::MAX),
                 f.light_counts.total() as usize,
             ]
