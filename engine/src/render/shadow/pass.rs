@@ -80,7 +80,8 @@ impl ShadowPass {
 }
 
 /// What the shadow atlas was drawn from: every shadow view, and every caster's mesh and
-/// transform. Meshes are immutable once added, so equal contents draw an equal atlas.
+/// transform (in a canonical order). Meshes are immutable once added, so equal contents
+/// draw an equal atlas.
 #[derive(Clone, Debug, PartialEq)]
 struct AtlasContents {
     views: Vec<ShadowView>,
@@ -99,15 +100,25 @@ impl AtlasContents {
         (c.mesh, world)
     }
 
+    /// `frame`'s casters in a canonical order (by mesh, then by the transform's bits).
+    /// Depth-only draws give the same atlas in any order, and the order of
+    /// [`ExtractedFrame::casters`] follows the camera's frustum (instances in view first),
+    /// which a probe capture's differs from.
+    fn casters_of(frame: &ExtractedFrame) -> Vec<(MeshHandle, [[f32; 4]; 4])> {
+        let mut casters: Vec<_> = frame
+            .casters
+            .iter()
+            .map(|c| Self::caster(frame, c))
+            .collect();
+        casters.sort_by_key(|(mesh, m)| (*mesh, m.map(|row| row.map(f32::to_bits))));
+        casters
+    }
+
     /// The contents `frame` draws.
     fn of(frame: &ExtractedFrame) -> AtlasContents {
         AtlasContents {
             views: frame.shadow_views.clone(),
-            casters: frame
-                .casters
-                .iter()
-                .map(|c| Self::caster(frame, c))
-                .collect(),
+            casters: Self::casters_of(frame),
         }
     }
 
@@ -115,11 +126,7 @@ impl AtlasContents {
     fn matches(&self, frame: &ExtractedFrame) -> bool {
         self.views == frame.shadow_views
             && self.casters.len() == frame.casters.len()
-            && self
-                .casters
-                .iter()
-                .zip(&frame.casters)
-                .all(|(held, c)| *held == Self::caster(frame, c))
+            && self.casters == Self::casters_of(frame)
     }
 }
 
