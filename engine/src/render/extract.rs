@@ -181,9 +181,14 @@ impl ExtractedFrame {
         self.batches.iter().map(|b| b.visible).sum()
     }
 
+    /// The batches the G-buffer pass draws: those with an instance in view.
+    pub fn drawn_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.batches.iter().filter(|b| b.visible > 0)
+    }
+
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
     pub fn draws(&self) -> usize {
-        self.batches.iter().filter(|b| b.visible > 0).count()
+        self.drawn_batches().count()
     }
 }
 

@@ -86,9 +86,7 @@ impl FramePass for GBufferPass {
             motion,
         };
         for v in frame
-            .batches
-            .iter()
-            .filter(|b| b.visible > 0)
+            .drawn_batches()
             .map(|b| variant(b, specular_aa, motion))
         {
             if !variants.variants.contains(&v) {
@@ -515,7 +513,7 @@ pub fn gbuffer_pass(
         }
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
         let mut current = None;
-        for batch in frame.batches.iter().filter(|b| b.visible > 0) {
+        for batch in frame.drawn_batches() {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
