@@ -102,10 +102,14 @@ fn environment_radiance(dir: vec3<f32>, r: f32) -> vec3<f32> {
     return environment.uniform_radiance.rgb;
 }
 
-// The nearest depth of texel `cell` of pyramid level `level`.
+// The nearest depth of texel `cell` of pyramid level `level` (level 0 is the depth
+// buffer).
 fn pyramid_depth(cell: vec2<i32>, level: i32) -> f32 {
     let l = pyramid_layout.levels[level];
     let c = clamp(cell, vec2<i32>(0), vec2<i32>(i32(l.y), i32(l.z)) - vec2<i32>(1));
+    if level == 0 {
+        return textureLoad(depth_buffer, c, 0).r;
+    }
     return bitcast<f32>(pyramid[l.x + u32(c.y) * l.y + u32(c.x)]);
 }
 

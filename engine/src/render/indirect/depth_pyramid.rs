@@ -4,8 +4,9 @@
 //! "Hi-Z Screen-Space Cone-Traced Reflections", GPU Pro 5): a ray skips a whole texel of a
 //! high level when it stays in front of that texel's nearest surface.
 //!
-//! The levels live one after the other in a storage buffer ([`PyramidLayout`]), built by
-//! one compute dispatch per level. A mip chain does not serve every backend: GL cannot
+//! Level 0 is the depth buffer itself, read in place; the levels above live one after
+//! the other in a storage buffer ([`PyramidLayout`]), built by one compute dispatch per
+//! level (copying level 0 into the buffer cost more than the whole rest of the pyramid). A mip chain does not serve every backend: GL cannot
 //! render R32Float, and reads the upper mips of an R32Uint texture as 0.
 //!
 //! It runs only when screen-space reflections do (the same conditions,
@@ -52,7 +53,8 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 };
 
 /// `PyramidLayout` of `pyramid_layout.wgsl`: per level, its first element in the
-/// buffer, width and height; and the number of levels.
+/// buffer, width and height; and the number of levels. Level 0 is the depth buffer and
+/// takes no room in the buffer.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PyramidLayout {
@@ -64,8 +66,8 @@ pub struct PyramidLayout {
 
 impl PyramidLayout {
     /// The levels over a depth buffer of `size`: each half the one below (rounded
-    /// down, at least 1), down to 1×1, packed one after the other; and the number of
-    /// elements in all.
+    /// down, at least 1), down to 1×1, the ones above level 0 packed one after the other
+    /// from element 0; and the number of elements they take in all.
     pub fn new(size: (u32, u32)) -> (PyramidLayout, u64) {
         let mut layout = PyramidLayout {
             levels: [[0; 4]; MAX_LEVELS],
@@ -75,7 +77,9 @@ impl PyramidLayout {
         let mut offset = 0u64;
         for (k, level) in layout.levels.iter_mut().enumerate() {
             *level = [offset as u32, w, h, 0];
-            offset += u64::from(w) * u64::from(h);
+            if k > 0 {
+                offset += u64::from(w) * u64::from(h);
+            }
             layout.count[0] = k as u32 + 1;
             if w == 1 && h == 1 {
                 break;
@@ -86,7 +90,7 @@ impl PyramidLayout {
     }
 }
 
-/// The pyramid's buffers and the groups that build each level.
+/// The pyramid's buffers and the groups that build each level above level 0.
 pub struct Pyramid {
     /// Size of level 0 (the frame's).
     pub size: (u32, u32),
@@ -271,13 +275,14 @@ pub fn prepare_pyramid(
         });
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("depth pyramid"),
-        size: elements * 4,
+        // At least one element: a 1×1 frame has no level above the depth buffer.
+        size: elements.max(1) * 4,
         usage: wgpu::BufferUsages::STORAGE,
         mapped_at_creation: false,
     });
     let count = layout.count[0] as usize;
     let mut groups = Vec::with_capacity(count);
-    for step in &pass.steps[..count] {
+    for step in &pass.steps[1..count] {
         match BINDINGS.group(
             &gpu,
             &pass.layout,
@@ -306,7 +311,7 @@ pub fn prepare_pyramid(
     pass.generation += 1;
 }
 
-/// Records one dispatch per level, level 0 first (each reads the one below it).
+/// Records one dispatch per level from level 1 up (each reads the one below it).
 pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(p), Some(pipeline)) = (
@@ -323,7 +328,7 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
             timestamp_writes: timer.compute_writes(&scope),
         });
         cp.set_pipeline(pipeline);
-        for (group, level) in p.groups.iter().zip(&p.levels.levels) {
+        for (group, level) in p.groups.iter().zip(&p.levels.levels[1..]) {
             cp.set_bind_group(0, group, &[]);
             cp.dispatch_workgroups(level[1].div_ceil(8), level[2].div_ceil(8), 1);
         }
@@ -341,15 +346,20 @@ mod tests {
         let count = layout.count[0] as usize;
         assert_eq!(count, 11, "1280 → 640 → … → 1");
         assert_eq!(layout.levels[0], [0, 1280, 720, 0]);
-        assert_eq!(layout.levels[1], [1280 * 720, 640, 360, 0]);
+        assert_eq!(
+            layout.levels[1],
+            [0, 640, 360, 0],
+            "level 0 is the depth buffer"
+        );
+        assert_eq!(layout.levels[2], [640 * 360, 320, 180, 0]);
         assert_eq!(&layout.levels[count - 1][1..3], &[1, 1]);
-        let sum: u64 = layout.levels[..count]
+        let sum: u64 = layout.levels[1..count]
             .iter()
             .map(|l| u64::from(l[1]) * u64::from(l[2]))
             .sum();
         assert_eq!(sum, elements);
         let (one, n) = PyramidLayout::new((1, 1));
-        assert_eq!((one.count[0], n), (1, 1));
+        assert_eq!((one.count[0], n), (1, 0));
         let (big, _) = PyramidLayout::new((32768, 3));
         assert_eq!(big.count[0] as usize, MAX_LEVELS);
     }
