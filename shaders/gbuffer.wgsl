@@ -12,6 +12,7 @@
 // averages diverging normals).
 #import common
 #import brdf
+#import material_maps
 #import color
 #import encoding
 #import bindings
@@ -122,36 +123,6 @@ fn plain_gbuffer(in: VertexOutput, front: bool) -> GBufferOutput {
 
 // ---- Textured variant: entities with MaterialMaps (textures and/or vertex colours) ----
 
-// Texture slots, in binding order.
-const SLOT_BASE: u32 = 0u;
-const SLOT_METALLIC_ROUGHNESS: u32 = 1u;
-const SLOT_NORMAL: u32 = 2u;
-const SLOT_OCCLUSION: u32 = 3u;
-const SLOT_EMISSIVE: u32 = 4u;
-
-struct Maps {
-    // Per slot, the rows of its 2 × 3 texture-coordinate transform (xyz of two vec4s).
-    transforms: array<vec4<f32>, 10>,
-    // Per slot, the texture coordinate set (0 or 1); the emissive slot's is in `extra.x`.
-    uv_sets: vec4<u32>,
-    // x: emissive coordinate set; y: 1 when a normal map is bound.
-    extra: vec4<u32>,
-    // x: normal scale; y: occlusion strength; z: alpha cutoff (< 0: opaque).
-    params: vec4<f32>,
-}
-
-@group(1) @binding(0) var<uniform> maps: Maps;
-@group(1) @binding(1) var base_color_map: texture_2d<f32>;
-@group(1) @binding(2) var metallic_roughness_map: texture_2d<f32>;
-@group(1) @binding(3) var normal_map: texture_2d<f32>;
-@group(1) @binding(4) var occlusion_map: texture_2d<f32>;
-@group(1) @binding(5) var emissive_map: texture_2d<f32>;
-@group(1) @binding(6) var base_color_sampler: sampler;
-@group(1) @binding(7) var metallic_roughness_sampler: sampler;
-@group(1) @binding(8) var normal_sampler: sampler;
-@group(1) @binding(9) var occlusion_sampler: sampler;
-@group(1) @binding(10) var emissive_sampler: sampler;
-
 struct TexturedOutput {
     @builtin(position) clip: vec4<f32>,
     @location(0) world_normal: vec3<f32>,
@@ -187,12 +158,6 @@ fn textured_vertex(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     return out;
 }
 
-// The coordinates of `slot` after its set choice and KHR_texture_transform.
-fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
-    let uv = vec3<f32>(select(uv0, uv1, uv_set == 1u), 1.0);
-    return vec2<f32>(dot(maps.transforms[slot * 2u].xyz, uv), dot(maps.transforms[slot * 2u + 1u].xyz, uv));
-}
-
 @fragment
 fn fs_textured(in: TexturedOutput, @builtin(front_facing) front: bool) -> GBufferOutput {
     return textured_gbuffer(in, front);
@@ -206,7 +171,7 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     let dng_dy = dpdy(ng);
     let base_texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
     let base = in.base_color * base_texel;
-    if maps.params.z >= 0.0 && base.a < maps.params.z {
+    if masked_out(base.a) {
         discard;
     }
     let mr = textureSample(metallic_roughness_map, metallic_roughness_sampler,

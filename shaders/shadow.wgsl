@@ -1,6 +1,9 @@
 // Shadow pass: depth of every caster visible to one shadow view. The view's matrix comes
-// from a dynamic uniform offset; each visible caster's world matrix is an instance
-// attribute (the views' visible lists, one after another).
+// from a dynamic uniform offset; each visible caster's world matrix and base colour are
+// instance attributes (the views' visible lists, one after another). Casters with an
+// alpha-masked material (glTF `alphaMode: MASK`) draw with `vs_masked` / `fs_masked`,
+// which drop the texels the G-buffer drops, so the shadow has the mask's shape.
+#import material_maps
 
 struct CasterView {
     clip_from_world: mat4x4<f32>,
@@ -18,4 +21,41 @@ fn vs_main(
 ) -> @builtin(position) vec4<f32> {
     let world_from_local = mat4x4<f32>(world_0, world_1, world_2, world_3);
     return caster_view.clip_from_world * (world_from_local * vec4<f32>(position, 1.0));
+}
+
+struct MaskedOutput {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) uv0: vec2<f32>,
+    @location(1) uv1: vec2<f32>,
+    // Base colour factor alpha × vertex colour alpha.
+    @location(2) alpha: f32,
+}
+
+@vertex
+fn vs_masked(
+    @location(0) position: vec3<f32>,
+    @location(1) world_0: vec4<f32>,
+    @location(2) world_1: vec4<f32>,
+    @location(3) world_2: vec4<f32>,
+    @location(4) world_3: vec4<f32>,
+    @location(5) base_color: vec4<f32>,
+    @location(6) uv0: vec2<f32>,
+    @location(7) uv1: vec2<f32>,
+    @location(8) color: vec4<f32>,
+) -> MaskedOutput {
+    let world_from_local = mat4x4<f32>(world_0, world_1, world_2, world_3);
+    var out: MaskedOutput;
+    out.clip = caster_view.clip_from_world * (world_from_local * vec4<f32>(position, 1.0));
+    out.uv0 = uv0;
+    out.uv1 = uv1;
+    out.alpha = base_color.a * color.a;
+    return out;
+}
+
+@fragment
+fn fs_masked(in: MaskedOutput) {
+    let texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
+    if masked_out(in.alpha * texel.a) {
+        discard;
+    }
 }

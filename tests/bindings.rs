@@ -121,7 +121,11 @@ fn every_bind_group_list_matches_its_shader() {
     );
     check("smaa_blend.wgsl", &[], &[(0, smaa::BLEND_BINDINGS)]);
     check("fxaa.wgsl", &[], &[(0, fxaa::BINDINGS)]);
-    check("shadow.wgsl", &[], &[(0, shadow::pass::CASTERS)]);
+    check(
+        "shadow.wgsl",
+        &[],
+        &[(0, shadow::pass::CASTERS), (1, material_maps::BINDINGS)],
+    );
     check(
         "sky.wgsl",
         &[ShaderDef::Bool("ENV_MAP", true)],

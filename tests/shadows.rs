@@ -656,3 +656,122 @@ fn casters_outside_every_shadow_view_are_not_drawn() {
     assert_eq!(far, before, "a caster far outside every view was drawn");
     assert!(near > far, "a caster in the scene was not drawn ({near})");
 }
+
+/// Floor luminance in the sun's shadow of a 2 m square held 1 m above the floor, whose
+/// base colour texture is transparent on one half and opaque on the other (alpha 0 and 1,
+/// nearest texels), with `alpha_cutoff`: under the transparent half's shadow, under the
+/// opaque half's, and on open floor; from the rasterizer, then from the path tracer
+/// (direct light, 16 paths per pixel). The sun comes from (2, 1, 0), so the shadow falls
+/// 2 m beside the square, from x = −3 to x = −1, where the camera sees the floor.
+fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
+    use lumen::scene::{ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureSlot};
+    let mut app = App::headless().expect("GPU");
+    common::indirect_off(&mut app);
+    let ground = app.add_mesh(plane(40.0, 40.0)).expect("mesh");
+    let square = app.add_mesh(plane(2.0, 2.0)).expect("mesh");
+    let half_clear = app
+        .add_texture(TextureData {
+            width: 2,
+            height: 1,
+            rgba8: vec![255, 255, 255, 0, 255, 255, 255, 255],
+            color_space: ColorSpace::Srgb,
+        })
+        .expect("texture");
+    let nearest = Sampler {
+        mag: Filter::Nearest,
+        min: Filter::Nearest,
+        mipmap: Filter::Nearest,
+        ..Sampler::default()
+    };
+    let world = app.world_mut();
+    world.spawn((Mesh3d(ground), Material::default(), Transform::IDENTITY));
+    world.spawn((
+        Mesh3d(square),
+        Material {
+            double_sided: true,
+            ..Material::default()
+        },
+        MaterialMaps {
+            base_color: Some(TextureSlot {
+                sampler: nearest,
+                ..TextureSlot::new(half_clear)
+            }),
+            alpha_cutoff,
+            ..MaterialMaps::default()
+        },
+        Transform::from_xyz(0.0, 1.0, 0.0),
+    ));
+    world.spawn((
+        DirectionalLight {
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        Transform::from_translation(Vec3::new(2.0, 1.0, 0.0) * 8.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Ev100(12.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(-2.0, 6.0, 5.0).looking_at(Vec3::new(-2.0, 0.0, 0.0), Vec3::Y),
+    ));
+    let size = (128, 128);
+    app.render_headless(size).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let scene = lumen::trace_input::trace_scene(&mut app, size).expect("trace scene");
+    let options = lumen::reference::path::ReferenceOptions {
+        size,
+        samples_per_pixel: 16,
+        max_bounces: 1,
+        seed: 1,
+    };
+    let reference = lumen::reference::path::render(&scene, &options, &|_| {}).image;
+    let pixels = [
+        Vec3::new(-2.5, 0.0, 0.0),
+        Vec3::new(-1.5, 0.0, 0.0),
+        Vec3::new(-2.0, 0.0, 3.0),
+    ]
+    .map(|p| common::pixel_of(&app, p, size));
+    [raster, reference].map(|image| {
+        let [a, b, open] =
+            pixels.map(|(x, y)| lum(image.get_pixel_checked(x, y).expect("on screen")));
+        // Which half of the texture lands on which side depends on the plane's texture
+        // coordinates: the brighter side is under the transparent half.
+        [a.max(b), a.min(b), open]
+    })
+}
+
+#[test]
+fn a_masked_caster_casts_the_shape_of_its_mask() {
+    // The rasterizer and the path tracer alike: light passes the transparent half and not
+    // the opaque one.
+    for (judge, [clear, opaque, open]) in ["rasterizer", "path tracer"]
+        .into_iter()
+        .zip(masked_shadow(Some(0.5)))
+    {
+        eprintln!(
+            "{judge}, masked: under the clear half {clear}, under the opaque half {opaque}, \
+             open floor {open}"
+        );
+        assert!(open > 0.0, "{judge}");
+        assert!(
+            (clear - open).abs() < 0.05 * open,
+            "{judge}: the transparent half cast a shadow: {clear} against open floor {open}"
+        );
+        assert!(
+            opaque < 0.1 * open,
+            "{judge}: the opaque half cast no shadow: {opaque} against {open}"
+        );
+    }
+    // The same texture without a cutoff is opaque: both halves shadow.
+    for (judge, [clear, opaque, open]) in ["rasterizer", "path tracer"]
+        .into_iter()
+        .zip(masked_shadow(None))
+    {
+        eprintln!("{judge}, not masked: {clear}, {opaque}, open floor {open}");
+        assert!(
+            clear < 0.1 * open && opaque < 0.1 * open,
+            "{judge}: {clear} {opaque} {open}"
+        );
+    }
+}

@@ -87,6 +87,10 @@ pub struct Caster {
     pub center: Vec3,
     /// Bounding sphere radius (m).
     pub radius: f32,
+    /// Index into [`ExtractedFrame::material_maps`] of its maps where they mask by alpha
+    /// (glTF `alphaMode: MASK`): the shadow pass drops the texels the G-buffer drops.
+    /// `None`: an opaque caster.
+    pub mask: Option<u32>,
 }
 
 /// The environment as the passes need it.
@@ -556,11 +560,18 @@ pub fn extract_frame(
         if let Some((center, radius)) = item.sphere {
             bounds.push((center, radius));
             if item.casts {
+                let mask = item.maps.filter(|&m| {
+                    frame
+                        .material_maps
+                        .get(m as usize)
+                        .is_some_and(|maps| maps.alpha_cutoff.is_some())
+                });
                 frame.casters.push(Caster {
                     instance: index,
                     mesh: item.mesh,
                     center,
                     radius,
+                    mask,
                 });
             }
         }

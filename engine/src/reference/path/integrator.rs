@@ -303,11 +303,7 @@ impl TraceScene {
             let f = bsdf.eval(v, l);
             let tested =
                 light.casts_shadows() || self.light_visibility == LightVisibility::Physical;
-            if f == Vec3::ZERO
-                || (tested
-                    && self
-                        .bvh
-                        .occluded(p + offset, l, 0.0, distance * (1.0 - 1e-4)))
+            if f == Vec3::ZERO || (tested && self.occluded(p + offset, l, distance * (1.0 - 1e-4)))
             {
                 continue;
             }
@@ -315,7 +311,7 @@ impl TraceScene {
         }
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
-            if f != Vec3::ZERO && !self.bvh.occluded(p + offset, l, 0.0, f32::MAX) {
+            if f != Vec3::ZERO && !self.occluded(p + offset, l, f32::MAX) {
                 let w = power_heuristic(pdf, bsdf.pdf(v, l));
                 sum += f * radiance * (w / pdf);
             }
@@ -362,6 +358,15 @@ impl TraceScene {
             }
         }
         None
+    }
+
+    /// Whether a surface its alpha mask keeps lies along the ray from `origin` closer than
+    /// `t_max`: masked-out texels let light through, as the shadow pass drops them. Any
+    /// hit is enough where no material is masked.
+    fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.bvh.occluded(origin, dir, 0.0, t_max)
+            && (!self.maps.iter().any(|m| m.alpha_cutoff.is_some())
+                || self.trace(origin, dir).is_some_and(|(t, _, _)| t < t_max))
     }
 
     /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned

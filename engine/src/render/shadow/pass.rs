@@ -2,6 +2,9 @@
 //! view's casters into its rectangle, all in one render pass. Per view only the depth draws
 //! repeat: the casters are culled on the CPU against the view's frustum, and each view
 //! selects its matrix with a dynamic offset (no per-view pipeline, pass or target).
+//! Casters whose material masks by alpha (glTF `alphaMode: MASK`) draw with a second
+//! pipeline that samples their base colour and drops the texels the G-buffer drops, so
+//! their shadows have the mask's shape; opaque casters write depth only.
 
 use super::atlas::{AtlasLayout, AtlasRect, pack};
 use crate::error::Result;
@@ -11,11 +14,12 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
 use crate::render::targets::Target;
-use crate::scene::{MeshHandle, Vertex};
+use crate::scene::{MeshHandle, TextureSlot, Vertex};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -26,16 +30,44 @@ pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Largest atlas side; views are halved until they fit (README, "Shadows").
 pub const MAX_ATLAS_SIDE: u32 = 8192;
 
-struct ViewDraws {
-    rect: AtlasRect,
-    /// (mesh, first index into the visible list, count).
-    draws: Vec<(MeshHandle, u32, u32)>,
+/// One draw of a view: consecutive visible casters of one mesh and one mask.
+struct CasterDraw {
+    mesh: MeshHandle,
+    /// Index into [`ExtractedFrame::material_maps`] of the casters' alpha mask.
+    mask: Option<u32>,
+    /// First index into the visible list.
+    first: u32,
+    count: u32,
 }
 
-/// The shadow pass's pipeline, atlas and buffers.
+struct ViewDraws {
+    rect: AtlasRect,
+    draws: Vec<CasterDraw>,
+}
+
+/// One visible caster, as the shadow pass's instance attributes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct CasterInstance {
+    /// World from local, column-major.
+    world_from_local: [[f32; 4]; 4],
+    /// Linear base colour factor and alpha (the mask reads the alpha).
+    base_color: [f32; 4],
+}
+
+/// What decides a masked caster's shadow besides its mesh and transform: the base colour
+/// texture, the cutoff's bits and the base colour factor alpha's bits.
+type MaskKey = (Option<TextureSlot>, u32, u32);
+
+/// A caster as the atlas cache compares it.
+type CasterKey = (MeshHandle, [[f32; 4]; 4], Option<MaskKey>);
+
+/// The shadow pass's pipelines, atlas and buffers.
 #[derive(Resource)]
 pub struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
+    /// Casters with an alpha mask: samples their base colour (group 1, the material maps).
+    masked: wgpu::RenderPipeline,
     caster_layout: wgpu::BindGroupLayout,
     caster_views: wgpu::Buffer,
     visible: GrowableBuffer,
@@ -74,43 +106,47 @@ impl ShadowPass {
     pub fn caster_draws(&self) -> u32 {
         self.views
             .iter()
-            .flat_map(|v| v.draws.iter().map(|d| d.2))
+            .flat_map(|v| v.draws.iter().map(|d| d.count))
             .sum()
     }
 }
 
-/// What the shadow atlas was drawn from: every shadow view, and every caster's mesh and
-/// transform (in a canonical order). Meshes are immutable once added, so equal contents
-/// draw an equal atlas.
+/// What the shadow atlas was drawn from: every shadow view, and every caster's mesh,
+/// transform and mask (in a canonical order). Meshes and textures are immutable once
+/// added, so equal contents draw an equal atlas.
 #[derive(Clone, Debug, PartialEq)]
 struct AtlasContents {
     views: Vec<ShadowView>,
-    casters: Vec<(MeshHandle, [[f32; 4]; 4])>,
+    casters: Vec<CasterKey>,
 }
 
 impl AtlasContents {
-    fn caster(
-        frame: &ExtractedFrame,
-        c: &crate::render::extract::Caster,
-    ) -> (MeshHandle, [[f32; 4]; 4]) {
-        let world = frame
-            .instances
-            .get(c.instance as usize)
-            .map_or([[0.0; 4]; 4], |i| i.world_from_local);
-        (c.mesh, world)
+    fn caster(frame: &ExtractedFrame, c: &crate::render::extract::Caster) -> CasterKey {
+        let instance = caster_instance(frame, c);
+        let mask = c.mask.map(|m| {
+            let maps = frame.material_maps.get(m as usize);
+            (
+                maps.and_then(|maps| maps.base_color),
+                maps.and_then(|maps| maps.alpha_cutoff)
+                    .unwrap_or(0.0)
+                    .to_bits(),
+                instance.base_color[3].to_bits(),
+            )
+        });
+        (c.mesh, instance.world_from_local, mask)
     }
 
     /// `frame`'s casters in a canonical order (by mesh, then by the transform's bits).
     /// Depth-only draws give the same atlas in any order, and the order of
     /// [`ExtractedFrame::casters`] follows the camera's frustum (instances in view first),
     /// which a probe capture's differs from.
-    fn casters_of(frame: &ExtractedFrame) -> Vec<(MeshHandle, [[f32; 4]; 4])> {
+    fn casters_of(frame: &ExtractedFrame) -> Vec<CasterKey> {
         let mut casters: Vec<_> = frame
             .casters
             .iter()
             .map(|c| Self::caster(frame, c))
             .collect();
-        casters.sort_by_key(|(mesh, m)| (*mesh, m.map(|row| row.map(f32::to_bits))));
+        casters.sort_by_key(|(mesh, m, _)| (*mesh, m.map(|row| row.map(f32::to_bits))));
         casters
     }
 
@@ -128,6 +164,17 @@ impl AtlasContents {
             && self.casters.len() == frame.casters.len()
             && self.casters == Self::casters_of(frame)
     }
+}
+
+/// Caster `c`'s instance attributes (zero for an index out of range).
+fn caster_instance(frame: &ExtractedFrame, c: &crate::render::extract::Caster) -> CasterInstance {
+    frame.instances.get(c.instance as usize).map_or(
+        <CasterInstance as bytemuck::Zeroable>::zeroed(),
+        |i| CasterInstance {
+            world_from_local: i.world_from_local,
+            base_color: i.base_color,
+        },
+    )
 }
 
 /// The shadow pass's bind group: each view's matrix at a dynamic offset.
@@ -157,8 +204,8 @@ impl FramePass for ShadowPass {
     const WRITES: &'static [Slot] = &[SHADOW_ATLAS];
     type Variant = ShadowVariant;
 
-    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
-        ShadowPass::new(gpu)
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        ShadowPass::new(gpu, &world.resource::<GpuMaterialMaps>().layout)
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<ShadowVariant> {
@@ -214,65 +261,120 @@ fn atlas_target(gpu: &Gpu, side: u32) -> Target {
 }
 
 impl ShadowPass {
-    /// Compiles the pass and creates an empty atlas.
-    pub fn new(gpu: &Gpu) -> Result<Self> {
+    /// Compiles the pass (its masked pipeline against the material maps' `maps_layout`)
+    /// and creates an empty atlas.
+    pub fn new(gpu: &Gpu, maps_layout: &wgpu::BindGroupLayout) -> Result<Self> {
         let source = gpu.shaders.compose("shadow.wgsl", &[])?;
         let module = create_module(gpu, "shadow", &source)?;
         let caster_layout = CASTERS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow"),
-                bind_group_layouts: &[Some(&caster_layout)],
-                immediate_size: 0,
-            });
-        let attributes = wgpu::vertex_attr_array![0 => Float32x3];
-        // Each visible caster's world matrix, per instance (vertex fetch is cheaper than
-        // storage reads on lavapipe).
-        let instance_attributes = wgpu::vertex_attr_array![
-            1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
+        let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
+            gpu.device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: groups,
+                    immediate_size: 0,
+                })
+        };
+        let opaque_layout = layout("shadow", &[Some(&caster_layout)]);
+        let masked_layout = layout("shadow masked", &[Some(&caster_layout), Some(maps_layout)]);
+        let attribute = |location, format, offset| wgpu::VertexAttribute {
+            format,
+            offset: offset as u64,
+            shader_location: location,
+        };
+        let position = attribute(0, wgpu::VertexFormat::Float32x3, 0);
+        let opaque_vertex = [position];
+        let masked_vertex = [
+            position,
+            attribute(
+                6,
+                wgpu::VertexFormat::Float32x2,
+                std::mem::offset_of!(Vertex, uv),
+            ),
+            attribute(
+                7,
+                wgpu::VertexFormat::Float32x2,
+                std::mem::offset_of!(Vertex, uv1),
+            ),
+            attribute(
+                8,
+                wgpu::VertexFormat::Float32x4,
+                std::mem::offset_of!(Vertex, color),
+            ),
         ];
-        let pipeline = gpu.checked("shadow pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("shadow"),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &[
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attributes,
-                        }),
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: 64,
-                            step_mode: wgpu::VertexStepMode::Instance,
-                            attributes: &instance_attributes,
-                        }),
-                    ],
-                },
-                // Both faces cast: single-sided planes and open meshes must shadow too.
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: None,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: ATLAS_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: None,
-                multiview_mask: None,
-                cache: None,
+        // Each visible caster's world matrix and base colour, per instance (vertex fetch
+        // is cheaper than storage reads on lavapipe).
+        let instance_attributes = wgpu::vertex_attr_array![
+            1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4
+        ];
+        let opaque_instance = &instance_attributes[..4];
+        let pipeline = |label: &str,
+                        layout: &wgpu::PipelineLayout,
+                        entry: (&str, Option<&str>),
+                        vertex: &[wgpu::VertexAttribute],
+                        instance: &[wgpu::VertexAttribute]| {
+            gpu.checked(label, |device| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some(entry.0),
+                        compilation_options: Default::default(),
+                        buffers: &[
+                            Some(wgpu::VertexBufferLayout {
+                                array_stride: std::mem::size_of::<Vertex>() as u64,
+                                step_mode: wgpu::VertexStepMode::Vertex,
+                                attributes: vertex,
+                            }),
+                            Some(wgpu::VertexBufferLayout {
+                                array_stride: std::mem::size_of::<CasterInstance>() as u64,
+                                step_mode: wgpu::VertexStepMode::Instance,
+                                attributes: instance,
+                            }),
+                        ],
+                    },
+                    // Both faces cast: single-sided planes and open meshes must shadow too.
+                    primitive: wgpu::PrimitiveState {
+                        cull_mode: None,
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: ATLAS_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Less),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: entry.1.map(|fs| wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &[],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
             })
-        })?;
+        };
+        let opaque = pipeline(
+            "shadow pipeline",
+            &opaque_layout,
+            ("vs_main", None),
+            &opaque_vertex,
+            opaque_instance,
+        )?;
+        let masked = pipeline(
+            "shadow masked pipeline",
+            &masked_layout,
+            ("vs_masked", Some("fs_masked")),
+            &masked_vertex,
+            &instance_attributes,
+        )?;
         Ok(ShadowPass {
-            pipeline,
+            pipeline: opaque,
+            masked,
             caster_layout,
             caster_views: caster_view_buffer(gpu, 16),
             visible: GrowableBuffer::new(gpu, "shadow visible casters", 1024),
@@ -388,25 +490,31 @@ pub fn prepare_shadows(
     gpu.queue
         .write_buffer(&pass.views_uniform, 0, &data[..in_uniform]);
 
-    // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh.
-    let mut visible: Vec<[[f32; 4]; 4]> = Vec::new();
+    // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh
+    // and mask.
+    let mut visible: Vec<CasterInstance> = Vec::new();
     let mut caster_views: Vec<GpuCasterView> = Vec::new();
     for ((view, rect), p) in frame.shadow_views.iter().zip(&layout.rects).zip(&placed) {
         if p.is_none() {
             continue;
         }
         let planes = frustum_planes(&view.clip_from_world);
-        let mut draws: Vec<(MeshHandle, u32, u32)> = Vec::new();
+        let mut draws: Vec<CasterDraw> = Vec::new();
         for caster in &frame.casters {
             if !sphere_in_frustum(&planes, caster.center, caster.radius) {
                 continue;
             }
             let index = visible.len() as u32;
             match draws.last_mut() {
-                Some(d) if d.0 == caster.mesh => d.2 += 1,
-                _ => draws.push((caster.mesh, index, 1)),
+                Some(d) if d.mesh == caster.mesh && d.mask == caster.mask => d.count += 1,
+                _ => draws.push(CasterDraw {
+                    mesh: caster.mesh,
+                    mask: caster.mask,
+                    first: index,
+                    count: 1,
+                }),
             }
-            visible.push(AtlasContents::caster(&frame, caster).1);
+            visible.push(caster_instance(&frame, caster));
         }
         caster_views.push(GpuCasterView {
             clip_from_world: view.clip_from_world.to_cols_array_2d(),
@@ -426,7 +534,7 @@ pub fn prepare_shadows(
     gpu.queue
         .write_buffer(&pass.caster_views, 0, bytemuck::cast_slice(&caster_views));
     if visible.is_empty() {
-        visible.push([[0.0; 4]; 4]);
+        visible.push(<CasterInstance as bytemuck::Zeroable>::zeroed());
     }
     if pass.visible.write(&gpu, bytemuck::cast_slice(&visible)) {
         pass.caster_generation += 1;
@@ -460,6 +568,7 @@ pub fn prepare_shadows(
 pub fn shadow_pass(
     mut pass: ResMut<ShadowPass>,
     buffers: Res<SceneBuffers>,
+    maps: Res<GpuMaterialMaps>,
     frame: Res<ExtractedFrame>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
@@ -489,6 +598,7 @@ pub fn shadow_pass(
             multiview_mask: None,
         });
         rp.set_pipeline(&pass.pipeline);
+        let mut masked = false;
         rp.set_vertex_buffer(1, pass.visible.buffer.slice(..));
         for (i, view) in pass.views.iter().enumerate() {
             let r = view.rect;
@@ -503,10 +613,21 @@ pub fn shadow_pass(
             rp.set_scissor_rect(r.x, r.y, r.size, r.size);
             let offset = (i * std::mem::size_of::<GpuCasterView>()) as u32;
             rp.set_bind_group(0, bind_group, &[offset]);
-            for &(mesh, first, count) in &view.draws {
-                let Some(gpu_mesh) = buffers.meshes.get(&mesh) else {
+            for draw in &view.draws {
+                let Some(gpu_mesh) = buffers.meshes.get(&draw.mesh) else {
                     continue;
                 };
+                // A mask whose maps have no bind group (not uploaded) casts its whole
+                // outline, as an opaque caster.
+                let group = draw.mask.and_then(|m| maps.group(m));
+                if group.is_some() != masked {
+                    masked = group.is_some();
+                    rp.set_pipeline(if masked { &pass.masked } else { &pass.pipeline });
+                }
+                if let Some(group) = group {
+                    rp.set_bind_group(1, group, &[]);
+                }
+                let (first, count) = (draw.first, draw.count);
                 rp.set_vertex_buffer(0, gpu_mesh.vertices.slice(..));
                 rp.set_index_buffer(gpu_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 rp.draw_indexed(0..gpu_mesh.index_count, 0, first..first + count);
