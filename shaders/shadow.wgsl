@@ -11,16 +11,23 @@ struct CasterView {
 
 @group(0) @binding(0) var<uniform> caster_view: CasterView;
 
-@vertex
-fn vs_main(
+// A caster's vertex position and its instance's world matrix.
+struct CasterVertex {
     @location(0) position: vec3<f32>,
     @location(1) world_0: vec4<f32>,
     @location(2) world_1: vec4<f32>,
     @location(3) world_2: vec4<f32>,
     @location(4) world_3: vec4<f32>,
-) -> @builtin(position) vec4<f32> {
-    let world_from_local = mat4x4<f32>(world_0, world_1, world_2, world_3);
-    return caster_view.clip_from_world * (world_from_local * vec4<f32>(position, 1.0));
+}
+
+fn caster_clip(in: CasterVertex) -> vec4<f32> {
+    let world_from_local = mat4x4<f32>(in.world_0, in.world_1, in.world_2, in.world_3);
+    return caster_view.clip_from_world * (world_from_local * vec4<f32>(in.position, 1.0));
+}
+
+@vertex
+fn vs_main(in: CasterVertex) -> @builtin(position) vec4<f32> {
+    return caster_clip(in);
 }
 
 struct MaskedOutput {
@@ -33,19 +40,14 @@ struct MaskedOutput {
 
 @vertex
 fn vs_masked(
-    @location(0) position: vec3<f32>,
-    @location(1) world_0: vec4<f32>,
-    @location(2) world_1: vec4<f32>,
-    @location(3) world_2: vec4<f32>,
-    @location(4) world_3: vec4<f32>,
+    in: CasterVertex,
     @location(5) base_color: vec4<f32>,
     @location(6) uv0: vec2<f32>,
     @location(7) uv1: vec2<f32>,
     @location(8) color: vec4<f32>,
 ) -> MaskedOutput {
-    let world_from_local = mat4x4<f32>(world_0, world_1, world_2, world_3);
     var out: MaskedOutput;
-    out.clip = caster_view.clip_from_world * (world_from_local * vec4<f32>(position, 1.0));
+    out.clip = caster_clip(in);
     out.uv0 = uv0;
     out.uv1 = uv1;
     out.alpha = base_color.a * color.a;
