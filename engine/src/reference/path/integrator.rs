@@ -363,10 +363,9 @@ impl TraceScene {
     /// Whether a surface its alpha mask keeps lies along the ray from `origin` closer than
     /// `t_max`: masked-out texels let light through, as the shadow pass drops them. Any
     /// hit is enough where no material is masked.
-    fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         self.bvh.occluded(origin, dir, 0.0, t_max)
-            && (!self.maps.iter().any(|m| m.alpha_cutoff.is_some())
-                || self.trace(origin, dir).is_some_and(|(t, _, _)| t < t_max))
+            && (!self.masked || self.trace(origin, dir).is_some_and(|(t, _, _)| t < t_max))
     }
 
     /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned

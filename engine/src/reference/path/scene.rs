@@ -391,6 +391,9 @@ pub struct TraceScene {
     pub corners: Vec<[Corner; 3]>,
     /// The material maps of textured materials.
     pub maps: Vec<super::textures::TraceMaps>,
+    /// Whether any of `maps` masks by alpha: shadow rays then look past the texels it
+    /// drops ([`TraceScene::occluded`]); otherwise any hit occludes.
+    pub masked: bool,
     /// Per triangle: index into `materials`.
     pub material: Vec<u32>,
     /// Materials.
@@ -479,6 +482,7 @@ impl TraceScene {
         TraceScene {
             bvh: Bvh::build(triangles),
             corners,
+            masked: maps.iter().any(|m| m.alpha_cutoff.is_some()),
             maps,
             material,
             materials,
