@@ -1,7 +1,8 @@
 // The depth pyramid (engine/src/render/indirect/depth_pyramid.rs): level 0 is the depth
-// buffer itself (read in place, never copied), each level above holds, per texel, the largest depth (reversed Z: the nearest
-// surface) of the texels it covers in the level below, so a ray that stays in front of
-// a level-k texel's value passes in front of everything under it.
+// buffer itself (read in place, never copied), each level above holds, per texel, the
+// largest depth (reversed Z: the nearest surface) of the texels it covers in the level
+// below, so a ray that stays in front of a level-k texel's value passes in front of
+// everything under it.
 //
 // The levels are stored one after the other in a storage buffer, each row by row, as
 // the bits of the depths: depths are ≥ 0, whose bit patterns order as the numbers do, so

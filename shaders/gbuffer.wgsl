@@ -169,8 +169,7 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     let ng = safe_normalize(in.world_normal * sign, vec3<f32>(0.0, 0.0, 1.0));
     let dng_dx = dpdx(ng);
     let dng_dy = dpdy(ng);
-    let base_texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
-    let base = in.base_color * base_texel;
+    let base = in.base_color * base_color_texel(in.uv0, in.uv1);
     if masked_out(base.a) {
         discard;
     }

@@ -38,6 +38,11 @@ fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> 
     return vec2<f32>(dot(maps.transforms[slot * 2u].xyz, uv), dot(maps.transforms[slot * 2u + 1u].xyz, uv));
 }
 
+// The base colour map's texel at the base slot's coordinates.
+fn base_color_texel(uv0: vec2<f32>, uv1: vec2<f32>) -> vec4<f32> {
+    return textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, uv0, uv1));
+}
+
 // Whether a masked material's coverage `alpha` (base colour factor × vertex colour ×
 // texel) falls below its cutoff (glTF `alphaMode: MASK`): the fragment is not drawn and
 // casts no shadow.

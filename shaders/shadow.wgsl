@@ -56,8 +56,7 @@ fn vs_masked(
 
 @fragment
 fn fs_masked(in: MaskedOutput) {
-    let texel = textureSample(base_color_map, base_color_sampler, slot_uv(SLOT_BASE, maps.uv_sets.x, in.uv0, in.uv1));
-    if masked_out(in.alpha * texel.a) {
+    if masked_out(in.alpha * base_color_texel(in.uv0, in.uv1).a) {
         discard;
     }
 }

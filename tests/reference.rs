@@ -322,7 +322,7 @@ fn textured_materials_match_the_rasterizer() {
     // A plane seen from above with a 4 × 4 red/blue checker (nearest), a tilted normal
     // map and an alpha mask that cuts out one column of texels: the direct-only
     // reference and the rasterizer agree, and both show the checker and the hole.
-    use lumen::scene::{ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureSlot};
+    use lumen::scene::{ColorSpace, MaterialMaps, TextureData, TextureSlot};
     let size = (64, 64);
     let mut app = App::headless().expect("a GPU adapter");
     let plane = app
@@ -350,21 +350,12 @@ fn textured_materials_match_the_rasterizer() {
     let normal = app
         .add_texture(TextureData::solid([170, 128, 230, 255], ColorSpace::Linear))
         .expect("texture");
-    let nearest = Sampler {
-        mag: Filter::Nearest,
-        min: Filter::Nearest,
-        mipmap: Filter::Nearest,
-        ..Sampler::default()
-    };
     let world = app.world_mut();
     world.spawn((
         Mesh3d(plane),
         Material::new(Vec3::ONE, 0.0, 0.6),
         MaterialMaps {
-            base_color: Some(TextureSlot {
-                sampler: nearest,
-                ..TextureSlot::new(base)
-            }),
+            base_color: Some(common::nearest_slot(base)),
             normal: Some(TextureSlot::new(normal)),
             alpha_cutoff: Some(0.5),
             ..MaterialMaps::default()

@@ -664,7 +664,7 @@ fn casters_outside_every_shadow_view_are_not_drawn() {
 /// (direct light, 16 paths per pixel). The sun comes from (2, 1, 0), so the shadow falls
 /// 2 m beside the square, from x = −3 to x = −1, where the camera sees the floor.
 fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
-    use lumen::scene::{ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureSlot};
+    use lumen::scene::{ColorSpace, MaterialMaps, TextureData};
     let mut app = App::headless().expect("GPU");
     common::indirect_off(&mut app);
     let ground = app.add_mesh(plane(40.0, 40.0)).expect("mesh");
@@ -677,12 +677,6 @@ fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
             color_space: ColorSpace::Srgb,
         })
         .expect("texture");
-    let nearest = Sampler {
-        mag: Filter::Nearest,
-        min: Filter::Nearest,
-        mipmap: Filter::Nearest,
-        ..Sampler::default()
-    };
     let world = app.world_mut();
     world.spawn((Mesh3d(ground), Material::default(), Transform::IDENTITY));
     world.spawn((
@@ -692,10 +686,7 @@ fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
             ..Material::default()
         },
         MaterialMaps {
-            base_color: Some(TextureSlot {
-                sampler: nearest,
-                ..TextureSlot::new(half_clear)
-            }),
+            base_color: Some(common::nearest_slot(half_clear)),
             alpha_cutoff,
             ..MaterialMaps::default()
         },

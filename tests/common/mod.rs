@@ -191,3 +191,17 @@ pub fn indirect_off(app: &mut App) {
     q.ao.resolution = lumen::quality::AoResolution::Off;
     q.ssr.enabled = false;
 }
+
+/// A texture slot of `texture` sampled nearest at every level: texel-exact lookups.
+pub fn nearest_slot(texture: lumen::scene::TextureHandle) -> lumen::scene::TextureSlot {
+    use lumen::scene::{Filter, Sampler, TextureSlot};
+    TextureSlot {
+        sampler: Sampler {
+            mag: Filter::Nearest,
+            min: Filter::Nearest,
+            mipmap: Filter::Nearest,
+            ..Sampler::default()
+        },
+        ..TextureSlot::new(texture)
+    }
+}

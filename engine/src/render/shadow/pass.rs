@@ -627,10 +627,13 @@ pub fn shadow_pass(
                 if let Some(group) = group {
                     rp.set_bind_group(1, group, &[]);
                 }
-                let (first, count) = (draw.first, draw.count);
                 rp.set_vertex_buffer(0, gpu_mesh.vertices.slice(..));
                 rp.set_index_buffer(gpu_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                rp.draw_indexed(0..gpu_mesh.index_count, 0, first..first + count);
+                rp.draw_indexed(
+                    0..gpu_mesh.index_count,
+                    0,
+                    draw.first..draw.first + draw.count,
+                );
             }
         }
     }
