@@ -448,3 +448,61 @@ fn the_reference_can_match_the_frames_light_visibility() {
         "frame visibility {as_frame} is not clearly closer than physical {physical}"
     );
 }
+
+/// Mean luminance of each of the 4 × 2 blocks of an image.
+fn block_luminance(image: &image::Rgba32FImage) -> Vec<f64> {
+    let (w, h) = image.dimensions();
+    let mut sums = vec![0.0f64; 8];
+    for (x, y, p) in image.enumerate_pixels() {
+        let block = (y * 2 / h * 4 + x * 4 / w) as usize;
+        sums[block] +=
+            0.2126 * f64::from(p.0[0]) + 0.7152 * f64::from(p.0[1]) + 0.0722 * f64::from(p.0[2]);
+    }
+    let per_block = f64::from(w * h / 8);
+    sums.into_iter().map(|s| s / per_block).collect()
+}
+
+#[test]
+fn light_connections_keep_the_expectation_and_cut_the_noise() {
+    // `cornell` is lit by a point light 2 cm under the ceiling: the bright patch above it
+    // lights the room, and BSDF sampling alone finds it rarely. Light connections trace
+    // rays from the light to that patch instead; MIS must keep the same expectation.
+    let size = (64, 36);
+    let (_app, mut scene) = scene_of("cornell", size);
+    let render_with =
+        |scene: &TraceScene, spp, seed| render(scene, &options(size, spp, 8, seed), &|_| {}).image;
+    let connected = [render_with(&scene, 64, 1), render_with(&scene, 64, 2)];
+    let converged = render_with(&scene, 1024, 3);
+    scene.light_connections = false;
+    let unidirectional = [render_with(&scene, 64, 1), render_with(&scene, 64, 2)];
+    let unidirectional_converged = render_with(&scene, 4096, 3);
+
+    // Same expectation: the converged images agree block by block.
+    let a = block_luminance(&converged);
+    let b = block_luminance(&unidirectional_converged);
+    println!("block luminance, connected {a:.4?}\n          unidirectional {b:.4?}");
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x / y - 1.0).abs() < 0.03, "{x} against {y}");
+    }
+    // Less noise: two seeds' images are nearer each other with connections, compared as
+    // a display shows them (x / (1 + x) of the exposed radiance, so that the few pixels
+    // on the light's bright patch do not outweigh the room).
+    let compress = |image: &image::Rgba32FImage| {
+        let mut out = image.clone();
+        for p in out.pixels_mut() {
+            for c in 0..3 {
+                p.0[c] /= 1.0 + p.0[c];
+            }
+        }
+        out
+    };
+    let noise = |pair: &[image::Rgba32FImage; 2]| rmse(&compress(&pair[0]), &compress(&pair[1]));
+    let (noise_connected, noise_unidirectional) = (noise(&connected), noise(&unidirectional));
+    println!(
+        "seed-to-seed RMSE at 64 spp: connected {noise_connected:.5}, unidirectional \
+         {noise_unidirectional:.5}; linear {:.5} and {:.5}",
+        rmse(&connected[0], &connected[1]),
+        rmse(&unidirectional[0], &unidirectional[1])
+    );
+    assert!(noise_connected * 2.0 < noise_unidirectional);
+}

@@ -452,6 +452,11 @@ pub struct ReferenceArgs {
     /// lights whose shadow the rasterized frame draws).
     #[arg(long, value_name = "MODE", default_value = "physical", value_parser = parse_light_visibility)]
     pub light_visibility: lumen::reference::path::LightVisibility,
+    /// Unidirectional paths only: no light connections (rays traced from point and spot
+    /// lights to a surface, then joined to the path). The same expectation with more
+    /// noise indoors; for comparing the estimators.
+    #[arg(long)]
+    pub no_light_connections: bool,
     /// Ray-trace ambient occlusion instead of radiance, within the AO radius
     /// (`--ao-radius`, default 1 m): the ground truth of `--debug-view occlusion`. A PNG
     /// shows it as grey (value × 255), as the debug view does.

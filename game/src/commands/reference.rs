@@ -43,6 +43,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     build_scene(&mut app, &args.scene)?;
     let mut scene = trace_scene(&mut app, args.size)?;
     scene.light_visibility = args.light_visibility;
+    scene.light_connections = !args.no_light_connections;
     let options = ReferenceOptions {
         size: args.size,
         samples_per_pixel: args.spp,
@@ -85,6 +86,8 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     }
     let what = if args.occlusion {
         format!("ambient occlusion within {radius_m} m")
+    } else if args.no_light_connections {
+        format!("{} bounce(s), unidirectional", args.max_bounces)
     } else {
         format!("{} bounce(s)", args.max_bounces)
     };

@@ -224,12 +224,13 @@ fn reference(
         format!("-seed{}", kind.seed)
     };
     let cache = PathBuf::from("out/reference-cache").join(format!(
-        "{}-{options:08x}-{}x{}-{}spp-{}b{visibility}{seed}.exr",
+        "{}-{options:08x}-{}x{}-{}spp-{}b{visibility}{seed}-{}.exr",
         scene.label(),
         size.0,
         size.1,
         spp,
-        kind.bounces
+        kind.bounces,
+        lumen::reference::path::ESTIMATOR
     ));
     {
         let mut q = app.world_mut().resource_mut::<lumen::prelude::Quality>();

@@ -10,6 +10,14 @@
 //! - the BSDF is `brdf.rs`'s Cook-Torrance with the scene's visibility term (and the
 //!   rasterizer's energy compensation when it is on), sampled as a mixture of a cosine
 //!   lobe and GGX visible normals (Heitz 2018);
+//! - light that reaches a surface after one bounce off another is found two ways: by
+//!   sampling the BSDF towards the other surface and a shadow ray from there to the light,
+//!   and by tracing a ray from a point or spot light to a surface and connecting that
+//!   surface to the path's vertex (the s = 2 strategy of bidirectional path tracing,
+//!   Veach & Guibas 1995, "Bidirectional Estimators for Light Transport"). The power
+//!   heuristic (Veach 1997) weights the two by their densities over the bounce surface's
+//!   area. The second finds the small bright patch a light just under a ceiling makes,
+//!   which BSDF sampling hits rarely (the fireflies of an indoor scene);
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
 //!
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
@@ -88,6 +96,21 @@ fn concentric_disk(xi: Vec2) -> Vec2 {
         (p.y, PI / 2.0 - PI / 4.0 * (p.x / p.y))
     };
     Vec2::new(r * theta.cos(), r * theta.sin())
+}
+
+/// A direction drawn uniformly from the cone of directions within `cos_max` of the unit
+/// `axis` (cos_max = −1: the whole sphere); its solid-angle density is [`cone_pdf`].
+fn uniform_cone(axis: Vec3, cos_max: f32, xi: Vec2) -> Vec3 {
+    let cos_t = 1.0 - xi.x * (1.0 - cos_max);
+    let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+    let phi = 2.0 * PI * xi.y;
+    basis(axis) * Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+}
+
+/// Solid-angle density (1/sr) of [`uniform_cone`]: one over the cone's solid angle
+/// 2π(1 − cos_max).
+fn cone_pdf(cos_max: f32) -> f32 {
+    1.0 / (2.0 * PI * (1.0 - cos_max)).max(1e-12)
 }
 
 /// Smith's masking for GGX (the exact separable form).
@@ -200,6 +223,96 @@ impl Bsdf {
     }
 }
 
+/// How a path reached a surface by sampling the BSDF of the surface before it.
+#[derive(Clone, Copy)]
+struct Arrival {
+    /// Density over the surface's area (1/m²): the BSDF's solid-angle density × cos θ / d².
+    pdf_area: f32,
+    /// The surface's geometric normal, turned to where the path came from.
+    facing: Vec3,
+}
+
+/// Where a point or spot light sends light rays from, and into which cone.
+struct Emitter {
+    /// Position (m).
+    position: Vec3,
+    /// Unit axis of the cone.
+    axis: Vec3,
+    /// Cosine of the cone's half angle (−1: every direction).
+    cos_max: f32,
+}
+
+impl Emitter {
+    /// Solid-angle density (1/sr) of a light ray along the unit `dir`.
+    fn pdf(&self, dir: Vec3) -> f32 {
+        if dir.dot(self.axis) >= self.cos_max {
+            cone_pdf(self.cos_max)
+        } else {
+            0.0
+        }
+    }
+}
+
+impl TraceLight {
+    /// The light's [`Emitter`]; None for a sun, which has no position to trace from. A
+    /// spot light emits into its outer cone, where its cone factor
+    /// `saturate(cos θ · scale + offset)²` is above 0: cos θ > −offset / scale.
+    fn emitter(&self) -> Option<Emitter> {
+        match *self {
+            TraceLight::Directional { .. } => None,
+            TraceLight::Point { position_m, .. } => Some(Emitter {
+                position: position_m,
+                axis: Vec3::Y,
+                cos_max: -1.0,
+            }),
+            TraceLight::Spot {
+                position_m,
+                axis,
+                cone_scale,
+                cone_offset,
+                ..
+            } => {
+                let cos_outer = if cone_scale > 0.0 {
+                    (-cone_offset / cone_scale).clamp(-1.0, 1.0)
+                } else {
+                    -1.0
+                };
+                Some(Emitter {
+                    position: position_m,
+                    axis: axis.normalize_or(Vec3::NEG_Y),
+                    cos_max: cos_outer,
+                })
+            }
+        }
+    }
+
+    /// Pre-exposed illuminance (lux, rgb) on a surface facing a point or spot light, `d2`
+    /// m² away from it along the unit `dir` (away from the light): I × the range-windowed
+    /// inverse square law (× the cone factor for a spot). Zero for a sun.
+    fn illuminance(&self, dir: Vec3, d2: f32) -> Vec3 {
+        match *self {
+            TraceLight::Directional { .. } => Vec3::ZERO,
+            TraceLight::Point {
+                intensity,
+                inv_range2,
+                ..
+            } => intensity * distance_attenuation(d2, inv_range2),
+            TraceLight::Spot {
+                axis,
+                intensity,
+                inv_range2,
+                cone_scale,
+                cone_offset,
+                ..
+            } => {
+                intensity
+                    * distance_attenuation(d2, inv_range2)
+                    * spot_attenuation(dir.dot(axis), cone_scale, cone_offset)
+            }
+        }
+    }
+}
+
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
@@ -238,9 +351,48 @@ impl TraceScene {
         }
     }
 
+    /// Whether light connections reach `light`: a point or spot light whose shadow rays
+    /// are tested (a light the frame lets through walls has no light rays to trace).
+    fn connectable(&self, light: &TraceLight) -> bool {
+        self.light_connections
+            && light.emitter().is_some()
+            && (light.casts_shadows() || self.light_visibility == LightVisibility::Physical)
+    }
+
+    /// How many lights [`TraceScene::bounced_light`] chooses from, uniformly.
+    fn connectable_count(&self) -> usize {
+        self.lights.iter().filter(|l| self.connectable(l)).count()
+    }
+
+    /// Density over the area of a surface at `y` (1/m²) with which a light connection
+    /// reaches `y` from `light`, one of `count` connectable lights: the light's emission
+    /// density towards `y` (along `dir`, unit, away from the light) × cos θ_y / d².
+    /// `cos_y` is the cosine between the direction to the light and `y`'s geometric
+    /// normal, `d2` the squared distance (m²).
+    fn connection_pdf(light: &TraceLight, count: usize, dir: Vec3, cos_y: f32, d2: f32) -> f32 {
+        light.emitter().map_or(0.0, |emitter| {
+            emitter.pdf(dir) * cos_y.abs() / (d2.max(1e-12) * count.max(1) as f32)
+        })
+    }
+
     /// Light from every punctual light and the environment reaching `p` and reflected
-    /// towards `v`.
-    fn direct(&self, p: Vec3, offset: Vec3, v: Vec3, bsdf: &Bsdf, rng: &mut Rng) -> Vec3 {
+    /// towards `v`. `arrival` is set when the path reached `p` by sampling the BSDF of a
+    /// surface before it: the light of connectable lights is then weighted against the
+    /// light connections from that surface ([`TraceScene::bounced_light`]).
+    fn direct(
+        &self,
+        p: Vec3,
+        offset: Vec3,
+        v: Vec3,
+        bsdf: &Bsdf,
+        arrival: Option<Arrival>,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let count = if arrival.is_some() {
+            self.connectable_count()
+        } else {
+            0
+        };
         let mut sum = Vec3::ZERO;
         // Unit direction and squared distance (m²) from `p` to a light at `position`.
         let towards = |position: Vec3| {
@@ -262,39 +414,15 @@ impl TraceScene {
                     // illuminance of the whole disc.
                     let l = if tan_radius > 0.0 && tan_radius.is_finite() {
                         let cos_max = 1.0 / (1.0 + tan_radius * tan_radius).sqrt();
-                        let xi = rng.pair();
-                        let cos_t = 1.0 - xi.x * (1.0 - cos_max);
-                        let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-                        let phi = 2.0 * PI * xi.y;
-                        basis(axis) * Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+                        uniform_cone(axis, cos_max, rng.pair())
                     } else {
                         axis
                     };
                     (l, illuminance, f32::MAX)
                 }
-                TraceLight::Point {
-                    position_m,
-                    intensity,
-                    inv_range2,
-                    ..
-                } => {
+                TraceLight::Point { position_m, .. } | TraceLight::Spot { position_m, .. } => {
                     let (l, d2) = towards(position_m);
-                    let e = intensity * distance_attenuation(d2, inv_range2);
-                    (l, e, d2.sqrt())
-                }
-                TraceLight::Spot {
-                    position_m,
-                    axis,
-                    intensity,
-                    inv_range2,
-                    cone_scale,
-                    cone_offset,
-                    ..
-                } => {
-                    let (l, d2) = towards(position_m);
-                    let mut e = intensity * distance_attenuation(d2, inv_range2);
-                    e *= spot_attenuation((-l).dot(axis), cone_scale, cone_offset);
-                    (l, e, d2.sqrt())
+                    (l, light.illuminance(-l, d2), d2.sqrt())
                 }
             };
             if e == Vec3::ZERO || bsdf.n().dot(l) <= 0.0 {
@@ -307,7 +435,15 @@ impl TraceScene {
             {
                 continue;
             }
-            sum += f * e;
+            let weight = match arrival {
+                Some(a) if count > 0 && self.connectable(light) => {
+                    let d2 = distance * distance;
+                    let pdf = Self::connection_pdf(light, count, -l, a.facing.dot(l), d2);
+                    power_heuristic(a.pdf_area, pdf)
+                }
+                _ => 1.0,
+            };
+            sum += f * e * weight;
         }
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
@@ -317,6 +453,69 @@ impl TraceScene {
             }
         }
         sum
+    }
+
+    /// Light that reaches `p` after one bounce off another surface, by a light
+    /// connection: one of the connectable lights, chosen uniformly, sends a ray into its
+    /// cone of emission; the surface y it meets is connected to `p` by a shadow ray, and
+    /// the light y reflects towards `p` is reflected towards `v`. Weighted by the power
+    /// heuristic against reaching y by sampling `bsdf` (the light [`TraceScene::direct`]
+    /// finds at y with `arrival` set). `facing` is `p`'s geometric normal turned to `v`.
+    fn bounced_light(
+        &self,
+        p: Vec3,
+        offset: Vec3,
+        facing: Vec3,
+        v: Vec3,
+        bsdf: &Bsdf,
+        rng: &mut Rng,
+    ) -> Option<Vec3> {
+        let count = self.connectable_count();
+        if count == 0 {
+            return None;
+        }
+        let pick = ((rng.uniform() * count as f32) as usize).min(count - 1);
+        let light = self
+            .lights
+            .iter()
+            .filter(|l| self.connectable(l))
+            .nth(pick)?;
+        let emitter = light.emitter()?;
+        let dir = uniform_cone(emitter.axis, emitter.cos_max, rng.pair());
+        let (t_light, t, surface) = self.trace(emitter.position, dir)?;
+        let y = emitter.position + dir * t_light;
+        let e = light.illuminance(dir, t_light * t_light);
+        // y's side facing the light, which `p` must be on: reflection only.
+        let (facing_y, n_y) = self.facing_normals(t, surface.normal, -dir);
+        let origin = p + offset;
+        let y_lifted = y + facing_y * (1e-4 * (1.0 + y.abs().max_element()));
+        let to_y = y_lifted - origin;
+        let d2 = to_y.length_squared();
+        let d = d2.sqrt();
+        let l = to_y / d;
+        let cos_y = facing_y.dot(-l);
+        if e == Vec3::ZERO || d <= 0.0 || !d.is_finite() || cos_y <= 0.0 || l.dot(facing) <= 0.0 {
+            return None;
+        }
+        let f_p = bsdf.eval(v, l);
+        if f_p == Vec3::ZERO {
+            return None;
+        }
+        let bsdf_y = Bsdf::new(
+            n_y,
+            -l,
+            &surface.material,
+            self.visibility,
+            self.energy_compensation.as_ref(),
+        );
+        let f_y = bsdf_y.eval(-l, -dir);
+        if f_y == Vec3::ZERO || self.occluded(origin, l, d * (1.0 - 1e-4)) {
+            return None;
+        }
+        let pdf = Self::connection_pdf(light, count, dir, facing_y.dot(-dir), t_light * t_light);
+        let bsdf_pdf = bsdf.pdf(v, l) * cos_y / d2;
+        let weight = power_heuristic(pdf, bsdf_pdf);
+        Some(f_p * f_y * e * (cos_y / d2) * (weight / pdf))
     }
 
     /// The camera ray through image position `pixel` (pixels from the top-left) of an
@@ -421,6 +620,9 @@ impl TraceScene {
         let mut ray_dir = dir;
         let mut throughput = Vec3::ONE;
         let mut radiance = hit.2.material.emissive;
+        // Density over the area of the current hit with which the previous surface's BSDF
+        // sample reached it (None at the first hit).
+        let mut arrival_pdf: Option<f32> = None;
         for bounce in 0..max_bounces {
             let (distance, t, surface) = hit;
             let p = ray_origin + ray_dir * distance;
@@ -434,7 +636,13 @@ impl TraceScene {
                 self.energy_compensation.as_ref(),
             );
             let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
-            radiance += throughput * self.direct(p, offset, v, &bsdf, rng);
+            let arrival = arrival_pdf.map(|pdf_area| Arrival { pdf_area, facing });
+            radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, rng);
+            if bounce + 1 < max_bounces
+                && let Some(bounced) = self.bounced_light(p, offset, facing, v, &bsdf, rng)
+            {
+                radiance += throughput * bounced;
+            }
             let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
                 break;
             };
@@ -452,6 +660,9 @@ impl TraceScene {
                 }
                 Some(next) => {
                     radiance += throughput * next.2.material.emissive;
+                    let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
+                    arrival_pdf =
+                        Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));
                     hit = next;
                 }
             }

@@ -22,6 +22,12 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 pub use integrator::Rng;
+
+/// Names the path tracer's estimator in the file names of cached references
+/// (`lumen tradeoff`), so that a reference traced by an earlier estimator, with other
+/// noise, is traced again rather than reused: `lc` is next-event estimation with light
+/// connections.
+pub const ESTIMATOR: &str = "lc";
 pub use scene::{
     LightVisibility, TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene,
 };

@@ -412,6 +412,11 @@ pub struct TraceScene {
     pub energy_compensation: Option<AlbedoTable>,
     /// Which lights shadow rays test ([`LightVisibility::Physical`] unless set).
     pub light_visibility: LightVisibility,
+    /// Whether paths also reach point and spot lights through a surface lit from the light
+    /// (bidirectional connections, combined by MIS); true unless set. Off, the estimator is
+    /// the unidirectional one, with the same expectation and more noise where a small
+    /// patch near a light lights the rest.
+    pub light_connections: bool,
 }
 
 impl TraceScene {
@@ -495,6 +500,7 @@ impl TraceScene {
                 .energy_compensation
                 .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
             light_visibility: LightVisibility::Physical,
+            light_connections: true,
         }
     }
 }
