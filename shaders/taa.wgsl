@@ -59,8 +59,16 @@ const DISOCCLUSION_TOLERANCE: f32 = 0.05;
 // gather on a CPU rasterizer; 8 % of the pass on lavapipe, and no change of the converged
 // error). Disocclusion keeps all 9: on thin wires, fewer stored depths reject more
 // history (`aliasing`, FLIP against 64 renders, 0.0193 → 0.0209).
-const CORNERS = array<vec2<i32>, 5>(
-    vec2<i32>(0, 0), vec2<i32>(-1, -1), vec2<i32>(1, -1), vec2<i32>(-1, 1), vec2<i32>(1, 1),
+// The centre is loaded once, before the loops, and reused: each of the three reads it
+// again (colour, depth, stored depth) would cost a gather of its own.
+const CORNERS = array<vec2<i32>, 4>(
+    vec2<i32>(-1, -1), vec2<i32>(1, -1), vec2<i32>(-1, 1), vec2<i32>(1, 1),
+);
+
+// The eight neighbours of a pixel in its 3 × 3 block.
+const NEIGHBOURS = array<vec2<i32>, 8>(
+    vec2<i32>(-1, -1), vec2<i32>(0, -1), vec2<i32>(1, -1), vec2<i32>(-1, 0),
+    vec2<i32>(1, 0), vec2<i32>(-1, 1), vec2<i32>(0, 1), vec2<i32>(1, 1),
 );
 
 // The world position seen at uv (0..1, y down) with depth d, through this frame's
@@ -108,19 +116,19 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     let raw = textureLoad(hdr, p, 0);
     let current = finite_or_black(raw);
 
-    var m1 = vec3<f32>(0.0);
-    var m2 = vec3<f32>(0.0);
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let q = clamp(p + vec2<i32>(dx, dy), vec2<i32>(0), last);
-            let c = rgb_to_ycocg(compress_hdr(finite_or_black(textureLoad(hdr, q, 0)).rgb));
-            m1 += c;
-            m2 += c * c;
-        }
+    let centre_color = rgb_to_ycocg(compress_hdr(current.rgb));
+    var m1 = centre_color;
+    var m2 = centre_color * centre_color;
+    for (var k = 0; k < 8; k++) {
+        let q = clamp(p + NEIGHBOURS[k], vec2<i32>(0), last);
+        let c = rgb_to_ycocg(compress_hdr(finite_or_black(textureLoad(hdr, q, 0)).rgb));
+        m1 += c;
+        m2 += c * c;
     }
+    let centre_depth = textureLoad(depth, p, 0).r;
     var nearest = p;
-    var nearest_depth = -1.0;
-    for (var k = 0; k < 5; k++) {
+    var nearest_depth = centre_depth;
+    for (var k = 0; k < 4; k++) {
         let q = clamp(p + CORNERS[k], vec2<i32>(0), last);
         // Reversed Z: the nearest surface has the largest depth.
         let d = textureLoad(depth, q, 0).r;
@@ -141,7 +149,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     // This pixel's view depth (stored for the next frame), and the view depth the
     // neighbourhood's nearest surface had in the previous frame.
     let uv = frag.xy / size;
-    let view_depth = (params.clip_from_world * world_at(uv, textureLoad(depth, p, 0).r)).w;
+    let view_depth = (params.clip_from_world * world_at(uv, centre_depth)).w;
     let nearest_uv = (vec2<f32>(nearest) + vec2<f32>(0.5)) / size;
     // Clamped like the stored depths (f16).
     let expected = min((params.previous_clip_from_world * world_at(nearest_uv, nearest_depth)).w, 65000.0);
@@ -153,14 +161,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> TaaOutput {
     let inside = all(previous_uv >= vec2<f32>(0.0)) && all(previous_uv <= vec2<f32>(1.0));
     let centre = clamp(vec2<i32>(previous_uv * size), vec2<i32>(0), last);
     let stored = textureLoad(history_depth, centre, 0);
-    var same_surface = false;
-    for (var dy = -1; dy <= 1; dy++) {
-        for (var dx = -1; dx <= 1; dx++) {
-            let q = clamp(centre + vec2<i32>(dx, dy), vec2<i32>(0), last);
-            let before = textureLoad(history_depth, q, 0).x;
-            same_surface = same_surface
-                || abs(before - expected) <= DISOCCLUSION_TOLERANCE * max(abs(expected), 1e-3);
-        }
+    let tolerance = DISOCCLUSION_TOLERANCE * max(abs(expected), 1e-3);
+    var same_surface = abs(stored.x - expected) <= tolerance;
+    for (var k = 0; k < 8; k++) {
+        let q = clamp(centre + NEIGHBOURS[k], vec2<i32>(0), last);
+        same_surface = same_surface || abs(textureLoad(history_depth, q, 0).x - expected) <= tolerance;
     }
     let valid = params.settings.x > 0.5 && inside && same_surface;
 

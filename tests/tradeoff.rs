@@ -47,7 +47,7 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     println!("FLIP low {}, ultra {}", flip("low"), flip("ultra"));
     assert!(flip("ultra") < flip("low"));
     // The reference was cached for the next run.
-    assert_eq!(cached(dir.path(), "-64x36-16spp-8b.exr").len(), 1);
+    assert_eq!(cached(dir.path(), "-64x36-16spp-8b").len(), 1);
     let table = std::fs::read_to_string(dir.path().join("t.md")).expect("markdown");
     // Header, separator and 52 rows.
     assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 54);
@@ -144,17 +144,19 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
     assert!(flip("reference noise") > 0.01);
     // Four references, each cached under its own name.
     for name in ["1b-frame", "1b", "8b", "8b-seed1"] {
-        let suffix = format!("-64x36-16spp-{name}.exr");
+        let suffix = format!("-64x36-16spp-{name}");
         assert_eq!(cached(dir.path(), &suffix).len(), 1, "{suffix}");
     }
 }
 
-/// The cached references of `spheres` in `dir` whose names end with `suffix`.
+/// The cached references of `spheres` in `dir` whose names end with `suffix`
+/// followed by the estimator's tag and `.exr`.
 fn cached(dir: &std::path::Path, suffix: &str) -> Vec<String> {
+    let suffix = format!("{suffix}-{}.exr", lumen::reference::path::ESTIMATOR);
     std::fs::read_dir(dir.join("out/reference-cache"))
         .expect("the cache folder")
         .filter_map(|e| e.ok()?.file_name().into_string().ok())
-        .filter(|n| n.starts_with("spheres-") && n.ends_with(suffix))
+        .filter(|n| n.starts_with("spheres-") && n.ends_with(&suffix))
         .collect()
 }
 
@@ -185,5 +187,5 @@ fn references_of_one_scene_with_different_options_are_cached_apart() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    assert_eq!(cached(dir.path(), "-32x18-4spp-8b.exr").len(), 2);
+    assert_eq!(cached(dir.path(), "-32x18-4spp-8b").len(), 2);
 }
