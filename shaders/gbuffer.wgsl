@@ -16,39 +16,9 @@
 #import color
 #import encoding
 #import bindings
+#import mesh_vertex
 
 @group(0) @binding(0) var<uniform> view: View;
-
-struct VertexInput {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) tangent: vec4<f32>,
-    @location(14) uv1: vec2<f32>,
-    @location(15) color: vec4<f32>,
-}
-
-// The instance (the `Instance` layout of bindings.wgsl) as per-instance attributes.
-struct InstanceInput {
-    @location(4) world_0: vec4<f32>,
-    @location(5) world_1: vec4<f32>,
-    @location(6) world_2: vec4<f32>,
-    @location(7) world_3: vec4<f32>,
-    @location(8) normal_matrix_0: vec4<f32>,
-    @location(9) normal_matrix_1: vec4<f32>,
-    @location(10) normal_matrix_2: vec4<f32>,
-    @location(11) base_color: vec4<f32>,
-    @location(12) emissive_occlusion: vec4<f32>,
-    @location(13) params: vec4<f32>,
-}
-
-fn instance_world_from_local(inst: InstanceInput) -> mat4x4<f32> {
-    return mat4x4<f32>(inst.world_0, inst.world_1, inst.world_2, inst.world_3);
-}
-
-fn instance_normal_matrix(inst: InstanceInput) -> mat3x3<f32> {
-    return mat3x3<f32>(inst.normal_matrix_0.xyz, inst.normal_matrix_1.xyz, inst.normal_matrix_2.xyz);
-}
 
 // The material is resolved once per vertex and passed flat, not read from the instance
 // buffer per fragment: 34 → 23 ms for `spheres` at 1280×720 on lavapipe.
@@ -123,39 +93,9 @@ fn plain_gbuffer(in: VertexOutput, front: bool) -> GBufferOutput {
 
 // ---- Textured variant: entities with MaterialMaps (textures and/or vertex colours) ----
 
-struct TexturedOutput {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world_normal: vec3<f32>,
-    @location(1) world_tangent: vec4<f32>,
-    @location(2) uv0: vec2<f32>,
-    @location(3) uv1: vec2<f32>,
-    // Linear base colour factor × vertex colour (rgba).
-    @location(4) base_color: vec4<f32>,
-    @location(5) @interpolate(flat) emissive_occlusion: vec4<f32>,
-    // Metallic, perceptual roughness, specular level, receives shadows.
-    @location(6) @interpolate(flat) params: vec4<f32>,
-}
-
 @vertex
 fn vs_textured(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     return textured_vertex(in, inst);
-}
-
-fn textured_vertex(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
-    let world_from_local = instance_world_from_local(inst);
-    let world = world_from_local * vec4<f32>(in.position, 1.0);
-    let normal_matrix = instance_normal_matrix(inst);
-    var out: TexturedOutput;
-    out.clip = view.clip_from_world * world;
-    out.world_normal = normal_matrix * in.normal;
-    // Tangents transform with the model matrix (they lie in the surface).
-    out.world_tangent = vec4<f32>((world_from_local * vec4<f32>(in.tangent.xyz, 0.0)).xyz, in.tangent.w);
-    out.uv0 = in.uv;
-    out.uv1 = in.uv1;
-    out.base_color = inst.base_color * in.color;
-    out.emissive_occlusion = inst.emissive_occlusion;
-    out.params = inst.params;
-    return out;
 }
 
 @fragment
@@ -173,36 +113,16 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     if masked_out(base.a) {
         discard;
     }
-    let mr = textureSample(metallic_roughness_map, metallic_roughness_sampler,
-                           slot_uv(SLOT_METALLIC_ROUGHNESS, maps.uv_sets.y, in.uv0, in.uv1));
-    let occlusion_texel = textureSample(occlusion_map, occlusion_sampler,
-                                        slot_uv(SLOT_OCCLUSION, maps.uv_sets.w, in.uv0, in.uv1)).r;
-    let emissive_texel = textureSample(emissive_map, emissive_sampler,
-                                       slot_uv(SLOT_EMISSIVE, maps.extra.x, in.uv0, in.uv1)).rgb;
-    let normal_texel = textureSample(normal_map, normal_sampler,
-                                     slot_uv(SLOT_NORMAL, maps.uv_sets.z, in.uv0, in.uv1)).xyz;
-
-    // glTF: the geometric normal and tangent, flipped for back faces of double-sided
-    // materials; bitangent = cross(normal, tangent) × w.
-    var n = ng;
-    var normal_length = 1.0;
-    if maps.extra.y != 0u {
-        let t = safe_normalize(in.world_tangent.xyz - ng * dot(ng, in.world_tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
-        let b = cross(ng, t) * select(-1.0, 1.0, in.world_tangent.w >= 0.0);
-        let tn = (normal_texel * 2.0 - 1.0) * vec3<f32>(maps.params.x, maps.params.x, 1.0);
-        n = safe_normalize(t * tn.x + b * tn.y + ng * tn.z, ng);
-        // The filtered texel's own length, before the normal scale changes it.
-        normal_length = length(normal_texel * 2.0 - 1.0);
-    }
-
-    let metallic = clamp(in.params.x * mr.b, 0.0, 1.0);
-    var roughness = clamp_perceptual_roughness(in.params.y * mr.g);
+    let mapped = mapped_material(in.uv0, in.uv1, ng, in.world_tangent, in.params, in.emissive_occlusion);
+    var roughness = mapped.roughness;
     if SPECULAR_AA {
         roughness = specular_aa_roughness(roughness, dot(dng_dx, dng_dx) + dot(dng_dy, dng_dy),
-                                          normal_length, view.antialiasing.x, view.antialiasing.y);
+                                          mapped.normal_length, view.antialiasing.x, view.antialiasing.y);
     }
-    let occlusion = in.emissive_occlusion.w * (1.0 + maps.params.y * (occlusion_texel - 1.0));
-    let emissive = min(in.emissive_occlusion.rgb * emissive_texel, vec3<f32>(F16_MAX));
+    let n = mapped.n;
+    let metallic = mapped.metallic;
+    let occlusion = mapped.occlusion;
+    let emissive = min(mapped.emissive, vec3<f32>(F16_MAX));
     let rgb = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
 
     var out: GBufferOutput;

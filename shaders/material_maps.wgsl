@@ -1,6 +1,9 @@
-// A textured material's maps (engine/src/render/material_maps.rs, `BINDINGS`): group 1 of
-// the G-buffer's textured variants and of the shadow pass's alpha-masked casters, and
-// the texture coordinates of each slot.
+// A textured material's maps (engine/src/render/material_maps.rs, `BINDINGS`) and the
+// texture coordinates of each slot. They are group MAPS_GROUP, a header constant
+// (`material_maps::GROUP_DEF`): group 1 of the G-buffer's textured variants and of the
+// shadow pass's alpha-masked casters, group 4 of the transparent pass.
+#import common
+#import brdf
 
 // Texture slots, in binding order.
 const SLOT_BASE: u32 = 0u;
@@ -20,17 +23,17 @@ struct Maps {
     params: vec4<f32>,
 }
 
-@group(1) @binding(0) var<uniform> maps: Maps;
-@group(1) @binding(1) var base_color_map: texture_2d<f32>;
-@group(1) @binding(2) var metallic_roughness_map: texture_2d<f32>;
-@group(1) @binding(3) var normal_map: texture_2d<f32>;
-@group(1) @binding(4) var occlusion_map: texture_2d<f32>;
-@group(1) @binding(5) var emissive_map: texture_2d<f32>;
-@group(1) @binding(6) var base_color_sampler: sampler;
-@group(1) @binding(7) var metallic_roughness_sampler: sampler;
-@group(1) @binding(8) var normal_sampler: sampler;
-@group(1) @binding(9) var occlusion_sampler: sampler;
-@group(1) @binding(10) var emissive_sampler: sampler;
+@group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;
+@group(MAPS_GROUP) @binding(1) var base_color_map: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(2) var metallic_roughness_map: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(3) var normal_map: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(4) var occlusion_map: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(5) var emissive_map: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(6) var base_color_sampler: sampler;
+@group(MAPS_GROUP) @binding(7) var metallic_roughness_sampler: sampler;
+@group(MAPS_GROUP) @binding(8) var normal_sampler: sampler;
+@group(MAPS_GROUP) @binding(9) var occlusion_sampler: sampler;
+@group(MAPS_GROUP) @binding(10) var emissive_sampler: sampler;
 
 // The coordinates of `slot` after its set choice and KHR_texture_transform.
 fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
@@ -48,4 +51,53 @@ fn base_color_texel(uv0: vec2<f32>, uv1: vec2<f32>) -> vec4<f32> {
 // casts no shadow.
 fn masked_out(alpha: f32) -> bool {
     return maps.params.z >= 0.0 && alpha < maps.params.z;
+}
+
+// A textured material at one fragment, after its maps (every slot but the base colour,
+// which the caller samples first, for its alpha test or its coverage).
+struct MappedMaterial {
+    // Shading normal (world, unit): the geometric one bent by the normal map.
+    n: vec3<f32>,
+    // The filtered normal-map texel's own length, before the normal scale (1 without one).
+    normal_length: f32,
+    // Metallic (0..1) and perceptual roughness (clamped).
+    metallic: f32,
+    roughness: f32,
+    // Occlusion of indirect light (0 occluded .. 1 open).
+    occlusion: f32,
+    // Pre-exposed emitted luminance (cd/m² × exposure): the factor × the texel.
+    emissive: vec3<f32>,
+}
+
+// The material's maps at (uv0, uv1) for a fragment with geometric normal `ng` (flipped for
+// back faces of double-sided materials) and world tangent `tangent` (w: the bitangent's
+// sign); `params` and `emissive_occlusion` are the instance's factors (metallic,
+// perceptual roughness, specular level, receives shadows; emissive and occlusion).
+fn mapped_material(uv0: vec2<f32>, uv1: vec2<f32>, ng: vec3<f32>, tangent: vec4<f32>,
+                   params: vec4<f32>, emissive_occlusion: vec4<f32>) -> MappedMaterial {
+    let mr = textureSample(metallic_roughness_map, metallic_roughness_sampler,
+                           slot_uv(SLOT_METALLIC_ROUGHNESS, maps.uv_sets.y, uv0, uv1));
+    let occlusion_texel = textureSample(occlusion_map, occlusion_sampler,
+                                        slot_uv(SLOT_OCCLUSION, maps.uv_sets.w, uv0, uv1)).r;
+    let emissive_texel = textureSample(emissive_map, emissive_sampler,
+                                       slot_uv(SLOT_EMISSIVE, maps.extra.x, uv0, uv1)).rgb;
+    let normal_texel = textureSample(normal_map, normal_sampler,
+                                     slot_uv(SLOT_NORMAL, maps.uv_sets.z, uv0, uv1)).xyz;
+
+    var out: MappedMaterial;
+    // glTF: bitangent = cross(normal, tangent) × w.
+    out.n = ng;
+    out.normal_length = 1.0;
+    if maps.extra.y != 0u {
+        let t = safe_normalize(tangent.xyz - ng * dot(ng, tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
+        let b = cross(ng, t) * select(-1.0, 1.0, tangent.w >= 0.0);
+        let tn = (normal_texel * 2.0 - 1.0) * vec3<f32>(maps.params.x, maps.params.x, 1.0);
+        out.n = safe_normalize(t * tn.x + b * tn.y + ng * tn.z, ng);
+        out.normal_length = length(normal_texel * 2.0 - 1.0);
+    }
+    out.metallic = clamp(params.x * mr.b, 0.0, 1.0);
+    out.roughness = clamp_perceptual_roughness(params.y * mr.g);
+    out.occlusion = emissive_occlusion.w * (1.0 + maps.params.y * (occlusion_texel - 1.0));
+    out.emissive = emissive_occlusion.rgb * emissive_texel;
+    return out;
 }

@@ -102,7 +102,10 @@ fn every_bind_group_list_matches_its_shader() {
     );
     check(
         "gbuffer.wgsl",
-        &[ShaderDef::Bool("SPECULAR_AA", true)],
+        &[
+            ShaderDef::Bool("SPECULAR_AA", true),
+            material_maps::group_def(1),
+        ],
         &[
             (0, gbuffer::VIEW),
             (1, material_maps::BINDINGS),
@@ -123,7 +126,7 @@ fn every_bind_group_list_matches_its_shader() {
     check("fxaa.wgsl", &[], &[(0, fxaa::BINDINGS)]);
     check(
         "shadow.wgsl",
-        &[],
+        &[material_maps::group_def(1)],
         &[(0, shadow::pass::CASTERS), (1, material_maps::BINDINGS)],
     );
     check(

@@ -304,7 +304,10 @@ impl GBufferPass {
         {
             let source = gpu.shaders.compose(
                 "gbuffer.wgsl",
-                &[ShaderDef::Bool("SPECULAR_AA", variant.specular_aa)],
+                &[
+                    ShaderDef::Bool("SPECULAR_AA", variant.specular_aa),
+                    crate::render::material_maps::group_def(1),
+                ],
             )?;
             slot.insert(create_module(gpu, "gbuffer", &source)?);
         }

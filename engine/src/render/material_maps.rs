@@ -161,6 +161,13 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("emissive_sampler", Binding::Sampler),
     ],
 };
+/// The header constant that places the maps' bind group (`MAPS_GROUP` in
+/// `material_maps.wgsl`) at `group`: 1 in the G-buffer and shadow passes, 4 in the
+/// transparent pass, whose groups 1 to 3 are the lighting pass's.
+pub const fn group_def(group: u32) -> crate::render::shaders::ShaderDef {
+    crate::render::shaders::ShaderDef::U32("MAPS_GROUP", group)
+}
+
 /// The GPU side of textured materials.
 #[derive(Resource)]
 pub struct GpuMaterialMaps {

@@ -264,7 +264,9 @@ impl ShadowPass {
     /// Compiles the pass (its masked pipeline against the material maps' `maps_layout`)
     /// and creates an empty atlas.
     pub fn new(gpu: &Gpu, maps_layout: &wgpu::BindGroupLayout) -> Result<Self> {
-        let source = gpu.shaders.compose("shadow.wgsl", &[])?;
+        let source = gpu
+            .shaders
+            .compose("shadow.wgsl", &[crate::render::material_maps::group_def(1)])?;
         let module = create_module(gpu, "shadow", &source)?;
         let caster_layout = CASTERS.layout(gpu);
         let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {

@@ -1,0 +1,284 @@
+// The light leaving one surface point towards the viewer: the Cook-Torrance BRDF of every
+// light that reaches it, plus the indirect light of the environment and the probes. Shared
+// by the deferred lighting pass (lighting.wgsl, from the G-buffer) and the transparent pass
+// (transparent.wgsl, from the material): both call `surface_light`, so a blended surface
+// is lit by the same code as an opaque one. The entry module declares group 0 (`view`)
+// and the header constants.
+//
+// Header constants: HAS_DIRECTIONAL, HAS_POINT, HAS_SPOT (light kinds present in the
+// scene; absent kinds compile to nothing), VISIBILITY_MODEL, DIRECTIONAL_SHADOWS,
+// POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights), SHADOW_FILTER,
+// HAS_ENVIRONMENT and ENV_MAP (image-based lighting from an image or a uniform colour),
+// ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe),
+// SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
+// multiple-bounce fit), IRRADIANCE_VOLUME (diffuse indirect light from the probe grid,
+// volume_lookup.wgsl, in place of the environment's irradiance once a capture pass has
+// completed), REFLECTION_PROBES (specular indirect light from the reflection probes,
+// probe_reflections.wgsl, blended with the environment's).
+//
+// Shadowed lights come first within their kind and get their own loop: software
+// rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
+// unshadowed lights would cost as if every light were shadowed (measured: +53 ms at
+// 1280×720 for one unused branch).
+//
+// LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
+// (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
+// whole range in the same loop (no branch).
+#import common
+#import brdf
+#import punctual
+#import color
+#import ibl
+#import bindings
+#import shadows
+#import light_tiles
+#import ambient_occlusion
+#import volume_lookup
+#import probe_reflections
+
+// Group 2, indirect light: the environment and the AO pass's occlusion (ENVIRONMENT).
+@group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
+@group(2) @binding(1) var env_cube: texture_cube<f32>;
+@group(2) @binding(2) var env_sampler: sampler;
+@group(2) @binding(3) var brdf_lut: texture_2d<f32>;
+@group(2) @binding(4) var screen_ao: texture_2d<f32>;
+
+// Group 1, the lights and their shadows (LIGHTS_AND_SHADOWS); the shadow bindings,
+// 4 to 8, are declared in shadows.wgsl, which uses them.
+@group(1) @binding(0) var<storage, read> lights: array<Light>;
+@group(1) @binding(3) var<storage, read> light_tiles: array<u32>;
+
+// The first UNIFORM_LIGHT_CAPACITY lights again, compact, in a uniform buffer: the
+// unshadowed loops read from here when every light fits (UNIFORM_LIGHTS), because uniform
+// loads in the loops cost a third of storage loads on lavapipe. Shadowed lights, few and
+// each far costlier, read the full `lights` entry.
+struct UniformLights {
+    items: array<PunctualLight, UNIFORM_LIGHT_CAPACITY>,
+}
+@group(1) @binding(1) var<uniform> uniform_lights: UniformLights;
+
+// The shadowed lights again, whole and packed (directional, point, spot): read from here
+// when UNIFORM_LIGHTS.
+struct ShadowedLights {
+    items: array<Light, SHADOWED_LIGHT_CAPACITY>,
+}
+@group(1) @binding(2) var<uniform> shadowed_lights: ShadowedLights;
+
+// Shadowed light i of `lights`, the `slot`-th shadowed light overall.
+fn shadowed_light(i: u32, slot: u32) -> Light {
+    if UNIFORM_LIGHTS {
+        return shadowed_lights.items[min(slot, SHADOWED_LIGHT_CAPACITY - 1u)];
+    }
+    return lights[i];
+}
+
+fn punctual_at(i: u32) -> PunctualLight {
+    if UNIFORM_LIGHTS {
+        return uniform_lights.items[min(i, UNIFORM_LIGHT_CAPACITY - 1u)];
+    }
+    return punctual_of(lights[i]);
+}
+
+// The number of lights to loop over for one kind whose unshadowed lights span
+// [first, end), and the tile list they come from (`list`: the word after the counts).
+struct LightList {
+    count: u32,
+    list: u32,
+    first: u32,
+    overflow: bool,
+}
+
+fn light_list(tile: u32, which: u32, first: u32, end: u32) -> LightList {
+    var out: LightList;
+    out.first = first;
+    if LIGHT_CULLING {
+        let stored = light_tiles[tile + which];
+        out.overflow = stored == TILE_OVERFLOW;
+        out.count = select(stored, end - first, out.overflow);
+        out.list = tile + 2u + which * MAX_TILE_LIGHTS;
+    } else {
+        out.overflow = true;
+        out.count = end - first;
+    }
+    return out;
+}
+
+// Index into `lights` of entry k of a list.
+fn list_light(list: LightList, k: u32) -> u32 {
+    if LIGHT_CULLING {
+        return select(light_tiles[list.list + min(k, MAX_TILE_LIGHTS - 1u)], list.first + k, list.overflow);
+    }
+    return list.first + k;
+}
+
+// The specular lobe's multiple-scattering compensation for this pixel (1 when off).
+var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
+
+// Radiance leaving the surface towards v for light arriving from l with illuminance
+// `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
+// pixel's energy compensation.
+fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance: vec3<f32>) -> vec3<f32> {
+    let n_dot_l = dot(n, l);
+    if !(n_dot_l > 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
+    return (lobes.diffuse + lobes.specular * specular_energy) * illuminance * n_dot_l;
+}
+
+// Direction towards a point or spot light and the illuminance (× exposure) it gives at
+// `world`, before any spot cone: inverse-square law times the range window.
+struct Incident {
+    l: vec3<f32>,
+    illuminance: vec3<f32>,
+}
+
+fn punctual_incident(light: PunctualLight, world: vec3<f32>, n: vec3<f32>) -> Incident {
+    let to_light = light.position_inv_range2.xyz - world;
+    let d2 = dot(to_light, to_light);
+    var incident: Incident;
+    incident.l = safe_normalize(to_light, n);
+    incident.illuminance = light.color_spot_scale.rgb * distance_attenuation(d2, light.position_inv_range2.w);
+    return incident;
+}
+
+// A surface point as the light loops need it.
+struct ShadingPoint {
+    // World position (m).
+    world: vec3<f32>,
+    // Unit normal, facing the viewer.
+    n: vec3<f32>,
+    // Unit direction towards the viewer.
+    v: vec3<f32>,
+    // The fragment's position in the target (px, pixel centres at .5).
+    frag: vec2<f32>,
+    // The material's occlusion of indirect light (0 occluded .. 1 open).
+    occlusion: f32,
+    // 1 where shadows are received, 0 where not.
+    receives: f32,
+}
+
+// Pre-exposed radiance (cd/m² × exposure) leaving `p` towards the viewer, emission
+// excluded: every light's direct term and the indirect terms.
+fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
+    let n = p.n;
+    let v = p.v;
+    let world = p.world;
+    let pixel = vec2<i32>(p.frag);
+    let counts = view.light_counts;
+    var color = vec3<f32>(0.0);
+    // Split-sum terms shared by energy compensation and image-based lighting.
+    let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
+    let r = clamp_perceptual_roughness(surface.perceptual_roughness);
+    let f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
+    var dfg = vec2<f32>(1.0, 0.0);
+    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
+        dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
+    }
+    if ENERGY_COMPENSATION {
+        specular_energy = energy_compensation(f0, dfg);
+    }
+    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
+        // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
+        // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
+        // surface in a uniform environment returns exactly that environment. Inside an
+        // irradiance volume whose first capture pass is done, the irradiance comes from
+        // its probes (pre-exposed here), which saw the environment and the lit scene.
+        // Occlusion of indirect light only: the material's, and the AO pass's where it
+        // runs (the smaller of the two, combine_occlusion).
+        var ao = p.occlusion;
+        var diffuse_ao = vec3<f32>(ao);
+        if SCREEN_AO {
+            ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
+            diffuse_ao = vec3<f32>(ao);
+            if AO_MULTI_BOUNCE {
+                diffuse_ao = gtao_multi_bounce(ao, surface.base_color);
+            }
+        }
+        let e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
+        var irradiance = vec3<f32>(0.0);
+        var prefiltered = vec3<f32>(0.0);
+        if HAS_ENVIRONMENT {
+            let rotation = environment.params.y;
+            irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
+            prefiltered = environment.uniform_radiance.rgb;
+            if ENV_MAP {
+                let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
+                prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
+            }
+        }
+        if REFLECTION_PROBES {
+            prefiltered = probe_reflection(world, 2.0 * dot(n, v) * n - v, r, prefiltered, view.position_exposure.w);
+        }
+        if IRRADIANCE_VOLUME {
+            if volume.origin_ready.w > 0.5 {
+                irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+            }
+        }
+        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao;
+        color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
+    }
+    let shadowed = view.shadowed_counts;
+    let receives = p.receives;
+    let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
+    var tile = 0u;
+    if LIGHT_CULLING {
+        tile = tile_base(vec2<u32>(pixel), u32(view.viewport.x));
+    }
+
+    if HAS_DIRECTIONAL {
+        var first = 0u;
+        if DIRECTIONAL_SHADOWS {
+            first = shadowed.x;
+            for (var i = 0u; i < shadowed.x; i++) {
+                let light = shadowed_light(i, i);
+                let l = light.direction.xyz;
+                let lit = mix(1.0, directional_shadow(light, world, n, p.frag, view_depth), receives);
+                color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
+            }
+        }
+        for (var i = first; i < counts.x; i++) {
+            let light = punctual_at(i);
+            color += shade(n, v, light.direction_spot_offset.xyz, surface, light.color_spot_scale.rgb);
+        }
+    }
+    if HAS_POINT {
+        var first = counts.x;
+        if POINT_SHADOWS {
+            first = counts.x + shadowed.y;
+            for (var i = counts.x; i < first; i++) {
+                let light = shadowed_light(i, i - counts.x + shadowed.x);
+                let incident = punctual_incident(punctual_of(light), world, n);
+                let lit = mix(1.0, point_shadow(light, world, n, incident.l, p.frag), receives);
+                color += shade(n, v, incident.l, surface, incident.illuminance * lit);
+            }
+        }
+        let list = light_list(tile, 0u, first, counts.x + counts.y);
+        for (var k = 0u; k < list.count; k++) {
+            let incident = punctual_incident(punctual_at(list_light(list, k)), world, n);
+            color += shade(n, v, incident.l, surface, incident.illuminance);
+        }
+    }
+    if HAS_SPOT {
+        let start = counts.x + counts.y;
+        var first = start;
+        if SPOT_SHADOWS {
+            first = start + shadowed.z;
+            for (var i = start; i < first; i++) {
+                let light = shadowed_light(i, i - start + shadowed.x + shadowed.y);
+                let incident = punctual_incident(punctual_of(light), world, n);
+                let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
+                let lit = mix(1.0, spot_shadow(light, world, n, incident.l, p.frag), receives);
+                color += shade(n, v, incident.l, surface, incident.illuminance * (cone * lit));
+            }
+        }
+        let list = light_list(tile, 1u, first, counts.w);
+        for (var k = 0u; k < list.count; k++) {
+            let light = punctual_at(list_light(list, k));
+            let incident = punctual_incident(light, world, n);
+            let cone = spot_attenuation(dot(-incident.l, light.direction_spot_offset.xyz), light.color_spot_scale.w, light.direction_spot_offset.w);
+            color += shade(n, v, incident.l, surface, incident.illuminance * cone);
+        }
+    }
+    return color;
+}
