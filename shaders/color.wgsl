@@ -127,3 +127,16 @@ fn tonemap(op: u32, c: vec3<f32>) -> vec3<f32> {
     }
     return tonemap_none(c);
 }
+
+// Largest finite f16, the limit of the half-precision HDR target.
+const HALF_MAX: f32 = 65504.0;
+
+// A blended surface's premultiplied colour and coverage (Porter & Duff 1984): `lit` is the
+// radiance it reflects and emits (cd/m² × exposure), `alpha` the fraction of the pixel it
+// covers (clamped to 0..1). NaN radiance becomes 0 and the colour stays finite in f16.
+// The target then composites it with "over": dst ← src + dst·(1 − α).
+fn premultiplied(lit: vec3<f32>, alpha: f32) -> vec4<f32> {
+    let a = clamp(alpha, 0.0, 1.0);
+    let finite = select(lit, vec3<f32>(0.0), lit != lit);
+    return vec4<f32>(min(finite, vec3<f32>(HALF_MAX)) * a, a);
+}

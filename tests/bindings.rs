@@ -15,6 +15,7 @@ use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
 use lumen::render::tonemap;
+use lumen::render::transparent::{self, TransparentPass, TransparentVariant};
 use lumen::render::{debug_view, gbuffer, light_culling, lighting, material_maps, shadow, sky};
 use lumen::wgpu::naga;
 
@@ -87,6 +88,17 @@ fn every_bind_group_list_matches_its_shader() {
             (1, lighting::LIGHTS_AND_SHADOWS),
             (2, lighting::ENVIRONMENT),
             (3, lighting::PROBES),
+        ],
+    );
+    check(
+        "transparent.wgsl",
+        &TransparentPass::defs(TransparentVariant::of(everything), 8),
+        &[
+            (0, transparent::VIEW),
+            (1, lighting::LIGHTS_AND_SHADOWS),
+            (2, lighting::ENVIRONMENT),
+            (3, lighting::PROBES),
+            (4, material_maps::BINDINGS),
         ],
     );
     check(

@@ -694,6 +694,70 @@ fn vertex_colours_alpha_masks_and_double_sided_faces() {
 }
 
 #[test]
+fn blended_materials_are_drawn_with_their_coverage() {
+    // alphaMode BLEND: the quad is drawn by the transparent pass over the black
+    // background, so each pixel keeps α × the opaque quad's radiance (and coverage α).
+    let dir = tempfile::tempdir().expect("temp dir");
+    let identity = [0.0, 0.0, 0.0, 1.0];
+    let opaque = render_image(
+        &write_quad(
+            dir.path(),
+            json!({"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 1.0], "metallicFactor": 0.0}}),
+            &[],
+        ),
+        |_| {},
+    );
+    let quarter = render_image(
+        &write_quad(
+            dir.path(),
+            json!({"alphaMode": "BLEND",
+                   "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.4, 0.25], "metallicFactor": 0.0}}),
+            &[],
+        ),
+        |_| {},
+    );
+    let (o, q) = (
+        opaque.get_pixel(SIZE.0 / 2, SIZE.1 / 2).0,
+        quarter.get_pixel(SIZE.0 / 2, SIZE.1 / 2).0,
+    );
+    println!("blend α 0.25: {q:?} against opaque {o:?}");
+    for c in 0..3 {
+        assert!(
+            relative_error(Vec3::splat(q[c]), Vec3::splat(0.25 * o[c])) < 5e-3,
+            "{q:?} vs {o:?}"
+        );
+    }
+    assert!((q[3] - 0.25).abs() < 1e-3, "coverage {}", q[3]);
+    // A textured alpha: the left texel (α 0) leaves the background, the right one (α 1)
+    // the opaque quad.
+    write_png(
+        &dir.path().join("alpha.png"),
+        2,
+        1,
+        &[[255, 255, 255, 0], [255, 255, 255, 255]],
+    );
+    let textured = json!({"alphaMode": "BLEND",
+                          "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}});
+    let img = render_image(
+        &write_quad_with(
+            dir.path(),
+            textured,
+            &[],
+            texture_json(&["alpha.png"], true),
+            identity,
+        ),
+        |_| {},
+    );
+    let left = img.get_pixel(SIZE.0 / 4, SIZE.1 / 2).0;
+    let right = common::lum(img.get_pixel(SIZE.0 * 3 / 4, SIZE.1 / 2));
+    println!("textured alpha: left {left:?}, right {right}");
+    assert!(
+        left == [0.0; 4] && right > 0.05,
+        "left {left:?} right {right}"
+    );
+}
+
+#[test]
 fn spec_gloss_textures_convert_texel_by_texel() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Metal/rough: base 0.5 (linear), dielectric, roughness 0.6. Its spec/gloss twin as

@@ -16,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual, shadow_kernel};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 37;
+const OUTPUTS: usize = 38;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -287,6 +287,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             );
             Vec4::new(w.x, w.z, o.x, o.z + o.y)
         },
+        color::premultiplied(base * (k * 1e5), x),
     ]
 }
 
@@ -328,6 +329,7 @@ const NAMES: [&str; OUTPUTS] = [
     "smaa_edge | smaa_end_height",
     "cas_weight | cas_apply",
     "shadow_tent_weights | shadow_tent_offsets",
+    "premultiplied",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

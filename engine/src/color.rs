@@ -1,12 +1,35 @@
 //! Colour on the CPU: the sRGB transfer curve, luminance, tone mappers (the same as
 //! `shaders/color.wgsl`), and colour temperature.
 
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec3, Vec4};
 
 /// Relative luminance of linear Rec.709/sRGB primaries (ITU-R BT.709):
 /// `Y = 0.2126 R + 0.7152 G + 0.0722 B`.
 pub fn luminance(c: Vec3) -> f32 {
     c.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+}
+
+/// Largest finite f16 (65504), the limit of the half-precision HDR target.
+pub const HALF_MAX: f32 = 65504.0;
+
+/// A blended surface's premultiplied colour and coverage, `(L·α, α)` (Porter & Duff 1984,
+/// "Compositing Digital Images"): `lit` is the radiance it reflects and emits (cd/m² ×
+/// exposure), `alpha` the fraction of the pixel it covers, clamped to [0, 1]. NaN radiance
+/// becomes 0, and the colour is capped at [`HALF_MAX`].
+pub fn premultiplied(lit: Vec3, alpha: f32) -> Vec4 {
+    let a = if alpha.is_nan() {
+        0.0
+    } else {
+        alpha.clamp(0.0, 1.0)
+    };
+    let finite = Vec3::select(lit.is_nan_mask(), Vec3::ZERO, lit);
+    (finite.min(Vec3::splat(HALF_MAX)) * a).extend(a)
+}
+
+/// Porter & Duff's "over": premultiplied `src` in front of premultiplied `dst`,
+/// `src + dst·(1 − α_src)`; the blend state of the transparent pass.
+pub fn over(src: Vec4, dst: Vec4) -> Vec4 {
+    src + dst * (1.0 - src.w)
 }
 
 /// The exact piecewise sRGB encoding of one linear channel (IEC 61966-2-1):

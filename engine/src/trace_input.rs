@@ -189,6 +189,7 @@ mod tests {
             mesh: crate::scene::MeshHandle(7),
             maps: Some(1),
             double_sided: false,
+            blend: false,
             first_instance: 1,
             count: 2,
             visible: 2,

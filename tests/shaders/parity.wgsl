@@ -25,7 +25,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 37u;
+const OUTPUTS: u32 = 38u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -124,6 +124,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let tent_w = shadow_tent_weights(tent_s);
     let tent_o = shadow_tent_offsets(tent_s);
     results[o + 36u] = vec4<f32>(tent_w.x, tent_w.z, tent_o.x, tent_o.z + tent_o.y);
+    results[o + 37u] = premultiplied(c.base_metallic.rgb * (k * 1e5), x);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

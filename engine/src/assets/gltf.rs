@@ -12,7 +12,8 @@
 //!   converted to metal/roughness at load ([`crate::workflow`]); `KHR_materials_ior` and
 //!   `KHR_materials_specular` give the dielectric F0; `KHR_materials_emissive_strength`
 //!   scales the emission. Alpha mode `MASK` keeps or drops a primitive by its constant
-//!   alpha; `BLEND` primitives are not drawn (a warning), unless their alpha is exactly 1.
+//!   alpha; `BLEND` primitives are blended ([`crate::scene::Material::blend`]), unless
+//!   their alpha is a constant 1 (then opaque).
 //!
 //! Textures (base colour, metallic-roughness, normal, occlusion, emissive) are decoded
 //! within the texture budget ([`gltf_material`]). Every file and URI is read through

@@ -266,8 +266,8 @@ pub(super) fn material_input(
 }
 
 /// The material of a primitive and its maps (`None` when it has no texture and the
-/// mesh no vertex colour), or `None` when the primitive is not drawn (alpha mode
-/// `BLEND`, or `MASK` with a constant alpha below the cutoff).
+/// mesh no vertex colour), or `None` when the primitive is not drawn (alpha mode `MASK`
+/// with a constant alpha below the cutoff). Alpha mode `BLEND` sets [`Material::blend`].
 pub(super) fn material(
     m: &gltf::Material,
     what: &str,
@@ -363,6 +363,7 @@ pub(super) fn material(
 
     let alpha = if base.w.is_nan() { 1.0 } else { base.w };
     let alpha_textured = maps.base_color.is_some() || has_vertex_colors;
+    let mut blend = false;
     match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => {}
         gltf::material::AlphaMode::Mask => {
@@ -376,14 +377,8 @@ pub(super) fn material(
                 return None;
             }
         }
-        gltf::material::AlphaMode::Blend => {
-            if alpha < 1.0 || alpha_textured {
-                loader.warnings.push(format!(
-                    "{what}: alpha blending is not drawn yet: primitive skipped"
-                ));
-                return None;
-            }
-        }
+        // Constant full coverage is opaque: it keeps its depth and casts its shadow.
+        gltf::material::AlphaMode::Blend => blend = alpha < 1.0 || alpha_textured,
     }
     let strength = m.emissive_strength().unwrap_or(1.0);
     let material = Material {
@@ -396,6 +391,7 @@ pub(super) fn material(
         emissive: Vec3::from(m.emissive_factor()) * strength,
         occlusion: 1.0,
         double_sided: m.double_sided(),
+        blend,
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))

@@ -266,6 +266,8 @@ impl Gpu {
         if timestamps {
             required_features |= wgpu::Features::TIMESTAMP_QUERY;
         }
+        // Blending into an f32 HDR target (the transparent pass with `HdrPrecision::Full`).
+        required_features |= adapter.features() & wgpu::Features::FLOAT32_BLENDABLE;
         let desc = wgpu::DeviceDescriptor {
             label: Some("lumen"),
             required_features,

@@ -58,7 +58,8 @@ pub struct ExtractedCamera {
 
 /// Consecutive instances of one mesh, drawn with one instanced draw call. Those whose
 /// bounding sphere touches the camera's view frustum come first: the G-buffer pass draws
-/// only them.
+/// only them. Blended instances come after every opaque batch, one per batch, farthest
+/// from the camera first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Batch {
     /// The mesh.
@@ -68,6 +69,9 @@ pub struct Batch {
     pub maps: Option<u32>,
     /// Back faces drawn too.
     pub double_sided: bool,
+    /// Alpha-blended ([`crate::scene::Material::blend`]): one instance, drawn by the
+    /// transparent pass instead of the G-buffer.
+    pub blend: bool,
     /// Index of the first instance in [`ExtractedFrame::instances`].
     pub first_instance: u32,
     /// Number of instances.
@@ -149,7 +153,7 @@ pub struct ExtractedFrame {
     pub camera: Option<ExtractedCamera>,
     /// Per-frame view uniform.
     pub view: GpuView,
-    /// Instances, sorted by mesh.
+    /// Instances, sorted by mesh; the blended ones last, back to front.
     pub instances: Vec<GpuInstance>,
     /// Draw batches over `instances`.
     pub batches: Vec<Batch>,
@@ -185,9 +189,15 @@ impl ExtractedFrame {
         self.batches.iter().map(|b| b.visible).sum()
     }
 
-    /// The batches the G-buffer pass draws: those with an instance in view.
+    /// The batches the G-buffer pass draws: the opaque ones with an instance in view.
     pub fn drawn_batches(&self) -> impl Iterator<Item = &Batch> {
-        self.batches.iter().filter(|b| b.visible > 0)
+        self.batches.iter().filter(|b| b.visible > 0 && !b.blend)
+    }
+
+    /// The blended batches in view, farthest first: what the transparent pass draws, in
+    /// its order.
+    pub fn blended_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.batches.iter().filter(|b| b.visible > 0 && b.blend)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -441,6 +451,9 @@ pub fn extract_frame(
         mesh: MeshHandle,
         maps: Option<u32>,
         double_sided: bool,
+        blend: bool,
+        // Squared distance (m²) from the camera to the bounding sphere's centre.
+        distance2: f32,
         casts: bool,
         in_view: bool,
         sphere: Option<(Vec3, f32)>,
@@ -448,6 +461,7 @@ pub fn extract_frame(
         entity: Entity,
     }
     let mut items: Vec<Item> = Vec::new();
+    let neutral_maps = crate::scene::MaterialMaps::default();
     frame.material_maps.clear();
     for (entity, mesh, material, transform, not_caster, not_receiver, maps) in &drawables {
         if meshes.get(mesh.0).is_none() {
@@ -463,7 +477,10 @@ pub fn extract_frame(
             continue;
         };
         let base = material.base_color;
-        let maps = maps.map(|m| {
+        // The transparent pass draws through the maps' bind group: a blended material
+        // without maps gets the neutral ones (every slot white, every factor as given).
+        let blend = material.blend;
+        let maps = maps.or(blend.then_some(&neutral_maps)).map(|m| {
             let index = match frame.material_maps.iter().position(|x| x == m) {
                 Some(i) => i,
                 None => {
@@ -479,7 +496,12 @@ pub fn extract_frame(
             mesh: mesh.0,
             maps,
             double_sided: material.double_sided,
-            casts: !not_caster,
+            blend,
+            distance2: sphere
+                .map_or(m.w_axis.truncate(), |(c, _)| c)
+                .distance_squared(position),
+            // Blended surfaces cast no shadow (docs/src/materials.md#blending).
+            casts: !not_caster && !blend,
             in_view: sphere.is_none_or(|(c, r)| sphere_in_frustum(&view_planes, c, r)),
             sphere,
             instance: GpuInstance {
@@ -504,14 +526,24 @@ pub fn extract_frame(
             },
         });
     }
-    items.sort_by_key(|item| {
-        (
-            item.mesh,
-            item.maps,
-            item.double_sided,
-            !item.in_view,
-            !item.casts,
-        )
+    // Opaque instances by mesh; the blended ones after them, back to front.
+    items.sort_by(|a, b| {
+        let key = |item: &Item| {
+            (
+                item.mesh,
+                item.maps,
+                item.double_sided,
+                !item.in_view,
+                !item.casts,
+            )
+        };
+        a.blend.cmp(&b.blend).then_with(|| {
+            if a.blend {
+                b.distance2.total_cmp(&a.distance2)
+            } else {
+                key(a).cmp(&key(b))
+            }
+        })
     });
     frame.instances.clear();
     frame.batches.clear();
@@ -541,7 +573,9 @@ pub fn extract_frame(
         }
         match frame.batches.last_mut() {
             Some(b)
-                if b.mesh == item.mesh
+                if !item.blend
+                    && !b.blend
+                    && b.mesh == item.mesh
                     && b.maps == item.maps
                     && b.double_sided == item.double_sided =>
             {
@@ -552,6 +586,7 @@ pub fn extract_frame(
                 mesh: item.mesh,
                 maps: item.maps,
                 double_sided: item.double_sided,
+                blend: item.blend,
                 first_instance: index,
                 count: 1,
                 visible: u32::from(item.in_view),

@@ -335,6 +335,20 @@ impl LightingPass {
         }
     }
 
+    /// The layouts of its four bind groups; the transparent pass shares groups 1 to 3.
+    pub fn layouts(&self) -> &[wgpu::BindGroupLayout; 4] {
+        &self.layouts
+    }
+
+    /// This frame's groups 1 to 3 (lights and shadows, indirect light, probes), once
+    /// prepared: the transparent pass binds them as they are.
+    pub fn shared_groups(&self) -> Option<[&wgpu::BindGroup; 3]> {
+        let [_, Some((_, g1)), Some((_, g2)), Some((_, g3))] = &self.bind_groups else {
+            return None;
+        };
+        Some([g1, g2, g3])
+    }
+
     /// The shader defs of one variant, for a uniform light copy of `uniform_capacity`
     /// lights.
     pub fn defs(variant: LightingVariant, uniform_capacity: u32) -> Vec<ShaderDef> {

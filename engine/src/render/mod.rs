@@ -38,6 +38,7 @@ pub mod sky;
 pub mod targets;
 pub mod timing;
 pub mod tonemap;
+pub mod transparent;
 
 use crate::error::Result;
 use bevy_ecs::prelude::*;

@@ -20,6 +20,7 @@ use crate::render::lighting::LightingPass;
 use crate::render::shadow::pass::ShadowPass;
 use crate::render::sky::SkyPass;
 use crate::render::tonemap::TonemapPass;
+use crate::render::transparent::TransparentPass;
 
 /// Lumen's frame, in registration order (the order in which passes touching the same
 /// slot see it).
@@ -33,6 +34,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<SkyPass>()
+        .with::<TransparentPass>()
         .with::<AccumulatePass>()
         .with::<TaaPass>()
         .with::<ExposurePass>()

@@ -26,6 +26,12 @@ pub struct Material {
     /// Draw back faces too, lit with the normal flipped towards the viewer (glTF's
     /// `doubleSided`); off, back faces are culled.
     pub double_sided: bool,
+    /// Alpha blending (glTF's `alphaMode: BLEND`): the base colour's alpha (× its texel
+    /// and the vertex colour's) is the fraction of each pixel the surface covers. Such
+    /// surfaces are drawn after the opaque frame by the transparent pass, nearest last,
+    /// each over what is behind it (docs/src/materials.md#blending). Off, alpha is ignored
+    /// unless the material's maps mask by it.
+    pub blend: bool,
 }
 
 impl Default for Material {
@@ -38,6 +44,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             occlusion: 1.0,
             double_sided: false,
+            blend: false,
         }
     }
 }

@@ -37,6 +37,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             emissive: Vec3::new(1e9, f32::INFINITY, -5.0),
             occlusion: f32::NAN,
             double_sided: true,
+            blend: false,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

@@ -13,6 +13,7 @@ pub const PLANE_MATERIAL: Material = Material {
     emissive: Vec3::ZERO,
     occlusion: 1.0,
     double_sided: false,
+    blend: false,
 };
 
 /// Illuminance of the light in lux.

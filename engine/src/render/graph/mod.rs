@@ -295,7 +295,7 @@ impl FramePlan {
         let mut out = String::from("passes:\n");
         for (_, d) in &self.passes {
             out.push_str(&format!(
-                "  {:<10} {:<4} {}\n",
+                "  {:<11} {:<4} {}\n",
                 d.name,
                 if d.enabled { "run" } else { "skip" },
                 d.reason

@@ -1,0 +1,397 @@
+//! The transparent pass (`shaders/transparent.wgsl`): alpha-blended surfaces
+//! ([`crate::scene::Material::blend`]), drawn after the opaque frame is lit, one primitive
+//! at a time, farthest first (the order of [`ExtractedFrame::blended_batches`]).
+//!
+//! Each fragment is lit by the deferred pass's own code (`surface_light.wgsl`: every light
+//! kind, shadows, the environment, the irradiance volume and the reflection probes), from
+//! its material's maps instead of the G-buffer, and composited over the HDR target with
+//! premultiplied alpha: `dst ← src·α + dst·(1 − α)`, Porter & Duff's "over" (1984). The
+//! alpha channel, the frame's coverage, composites the same way. The pass depth-tests
+//! against the opaque depth and writes no depth.
+//!
+//! It binds the lighting pass's groups 1 to 3 as they are, and the material maps as group
+//! 4 (`material_maps::group_def`): it runs only on adapters with five bind groups.
+//! Compiled per (lighting variant, double-sided, HDR format); the variant is the lighting
+//! pass's without its screen-space inputs: the AO pass's occlusion and the light tiles
+//! belong to the opaque surface behind the fragment.
+
+use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::gpu_types::GpuInstance;
+use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::light_culling::LIGHT_TILES;
+use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::material_maps::{GpuMaterialMaps, group_def};
+use crate::render::pipelines::create_module;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shadow::pass::SHADOW_ATLAS;
+use crate::render::targets::{self, RenderTargets};
+use crate::scene::Vertex;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// Alpha-blended surfaces over the lit frame.
+    pub const Transparent: PassId = PassId::new("transparent");
+}
+
+/// The bind group index of the material maps in this pass.
+const MAPS_GROUP: u32 = 4;
+
+/// Group 0: the view.
+pub const VIEW: BindGroupSpec = BindGroupSpec {
+    label: "transparent: view",
+    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+    bindings: &[("view", Binding::Uniform)],
+};
+
+/// The pass's shader variant: the lighting pass's variant without its screen-space
+/// inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TransparentVariant {
+    /// The lights and indirect terms compiled in.
+    pub lighting: LightingVariant,
+}
+
+impl TransparentVariant {
+    /// The variant for a frame whose lighting pass compiles `lighting`.
+    pub fn of(lighting: LightingVariant) -> TransparentVariant {
+        TransparentVariant {
+            lighting: LightingVariant {
+                screen_ao: false,
+                ao_multi_bounce: false,
+                light_culling: false,
+                ..lighting
+            },
+        }
+    }
+}
+
+impl FramePass for TransparentPass {
+    const ID: PassId = PassId::Transparent;
+    const READS: &'static [Slot] = &[HDR, DEPTH, SHADOW_ATLAS, LIGHT_TILES, AMBIENT_OCCLUSION];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = Option<TransparentVariant>;
+
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        let lighting = world.resource::<LightingPass>();
+        let maps = world.resource::<GpuMaterialMaps>();
+        Ok(TransparentPass::new(gpu, lighting.layouts(), &maps.layout))
+    }
+
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<TransparentVariant>> {
+        let frame = world.resource::<ExtractedFrame>();
+        let gpu = world.resource::<Gpu>();
+        let blended = frame.blended_batches().count();
+        let lighting = plan.variant::<LightingPass>().copied();
+        let hdr = world
+            .resource::<crate::quality::Quality>()
+            .hdr_precision
+            .format();
+        let blendable = hdr != wgpu::TextureFormat::Rgba32Float
+            || gpu
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_BLENDABLE);
+        let (runs, reason) = if blended == 0 {
+            (false, "no blended surface in view".to_string())
+        } else if lighting.is_none() {
+            (false, "the lighting pass does not run".into())
+        } else if gpu.device.limits().max_bind_groups <= MAPS_GROUP {
+            (
+                false,
+                format!(
+                    "{blended} blended surface(s) not drawn: the adapter has {} bind groups, the pass needs 5",
+                    gpu.device.limits().max_bind_groups
+                ),
+            )
+        } else if !blendable {
+            (
+                false,
+                format!(
+                    "{blended} blended surface(s) not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
+                ),
+            )
+        } else {
+            (
+                true,
+                format!("{blended} blended surface(s), back to front, premultiplied alpha"),
+            )
+        };
+        PassDecision::new(
+            runs,
+            reason,
+            lighting.filter(|_| runs).map(TransparentVariant::of),
+        )
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_transparent.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        transparent_pass.into_configs()
+    }
+}
+
+/// The transparent pass's pipelines and its view group.
+#[derive(Resource)]
+pub struct TransparentPass {
+    view_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    pipelines: HashMap<(TransparentVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    view_group: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl TransparentPass {
+    /// The layouts: the view, the lighting pass's groups 1 to 3 (`lighting`), and the
+    /// material maps' (`maps`).
+    pub fn new(
+        gpu: &Gpu,
+        lighting: &[wgpu::BindGroupLayout; 4],
+        maps: &wgpu::BindGroupLayout,
+    ) -> TransparentPass {
+        let view_layout = VIEW.layout(gpu);
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("transparent"),
+                bind_group_layouts: &[
+                    Some(&view_layout),
+                    Some(&lighting[1]),
+                    Some(&lighting[2]),
+                    Some(&lighting[3]),
+                    Some(maps),
+                ],
+                immediate_size: 0,
+            });
+        TransparentPass {
+            view_layout,
+            pipeline_layout,
+            pipelines: HashMap::new(),
+            view_group: None,
+        }
+    }
+
+    /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights.
+    pub fn defs(
+        variant: TransparentVariant,
+        uniform_capacity: u32,
+    ) -> Vec<crate::render::shaders::ShaderDef> {
+        let mut defs = LightingPass::defs(variant.lighting, uniform_capacity);
+        defs.push(group_def(MAPS_GROUP));
+        defs
+    }
+
+    fn ensure(
+        &mut self,
+        gpu: &Gpu,
+        key: (TransparentVariant, bool, wgpu::TextureFormat),
+        uniform_capacity: u32,
+    ) -> Result<()> {
+        if self.pipelines.contains_key(&key) {
+            return Ok(());
+        }
+        let (variant, double_sided, format) = key;
+        let source = gpu
+            .shaders
+            .compose("transparent.wgsl", &Self::defs(variant, uniform_capacity))?;
+        let module = create_module(gpu, "transparent", &source)?;
+        let attributes = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4,
+            14 => Float32x2, 15 => Float32x4
+        ];
+        let instance_attributes = wgpu::vertex_attr_array![
+            4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4,
+            8 => Float32x4, 9 => Float32x4, 10 => Float32x4,
+            11 => Float32x4, 12 => Float32x4, 13 => Float32x4
+        ];
+        // Premultiplied "over" for colour and coverage alike.
+        let over = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let pipeline = gpu.checked("transparent pipeline", |device| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("transparent"),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<Vertex>() as u64,
+                            step_mode: wgpu::VertexStepMode::Vertex,
+                            attributes: &attributes,
+                        }),
+                        Some(wgpu::VertexBufferLayout {
+                            array_stride: std::mem::size_of::<GpuInstance>() as u64,
+                            step_mode: wgpu::VertexStepMode::Instance,
+                            attributes: &instance_attributes,
+                        }),
+                    ],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: (!double_sided).then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: targets::DEPTH_FORMAT,
+                    depth_write_enabled: Some(false),
+                    // Reversed Z: in front of the opaque surface.
+                    depth_compare: Some(wgpu::CompareFunction::Greater),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: Some(wgpu::BlendState {
+                            color: over,
+                            alpha: over,
+                        }),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })?;
+        self.pipelines.insert(key, pipeline);
+        Ok(())
+    }
+}
+
+/// Compiles the pipelines this frame's blended batches need and rebuilds the view group
+/// when the scene buffers were recreated.
+pub fn prepare_transparent(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    frame: Res<ExtractedFrame>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    mut pass: ResMut<TransparentPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let (Some(Some(variant)), Some(t)) = (
+        plan.variant::<TransparentPass>().copied(),
+        targets.current.as_ref(),
+    ) else {
+        return;
+    };
+    for batch in frame.blended_batches() {
+        let key = (variant, batch.double_sided, t.hdr_format);
+        if let Err(e) = pass.ensure(&gpu, key, buffers.uniform_light_capacity) {
+            errors.0.push(e);
+            return;
+        }
+    }
+    if pass
+        .view_group
+        .as_ref()
+        .is_some_and(|(g, _)| *g == buffers.generation)
+    {
+        return;
+    }
+    match VIEW.group(
+        &gpu,
+        &pass.view_layout,
+        vec![buffers.view.as_entire_binding()],
+    ) {
+        Ok(group) => pass.view_group = Some((buffers.generation, group)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the blended batches, farthest first, over the HDR target.
+pub fn transparent_pass(
+    plan: Res<FramePlan>,
+    pass: Res<TransparentPass>,
+    lighting: Res<LightingPass>,
+    maps: Res<GpuMaterialMaps>,
+    buffers: Res<SceneBuffers>,
+    frame: Res<ExtractedFrame>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
+        encoder.as_mut(),
+        targets.current.as_ref(),
+        plan.variant::<TransparentPass>().copied(),
+        pass.view_group.as_ref(),
+        lighting.shared_groups(),
+    ) else {
+        return;
+    };
+    let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {
+        return;
+    };
+    let scope = timer.begin_pass(PassId::Transparent);
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("transparent"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_bind_group(0, view_group, &[]);
+        for (i, group) in shared.into_iter().enumerate() {
+            rp.set_bind_group(i as u32 + 1, group, &[]);
+        }
+        rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
+        for batch in frame.blended_batches() {
+            let (Some(mesh), Some(group), Some(pipeline)) = (
+                buffers.meshes.get(&batch.mesh),
+                batch.maps.and_then(|m| maps.group(m)),
+                pass.pipelines
+                    .get(&(variant, batch.double_sided, t.hdr_format)),
+            ) else {
+                continue;
+            };
+            rp.set_pipeline(pipeline);
+            rp.set_bind_group(MAPS_GROUP, group, &[]);
+            rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+            rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+            rp.draw_indexed(
+                0..mesh.index_count,
+                0,
+                batch.first_instance..batch.first_instance + batch.visible,
+            );
+        }
+    }
+    timer.end_pass(scope);
+}

@@ -1,0 +1,50 @@
+// Transparent pass (engine/src/render/transparent.rs): an alpha-blended primitive over the
+// lit frame. Each fragment's material comes from its maps (group 4, MAPS_GROUP) and the
+// instance's factors, as in the G-buffer's textured variant; it is lit by
+// surface_light.wgsl, the deferred pass's code, and leaves premultiplied: (L·α, α), which
+// the pipeline composites with "over", dst ← src + dst·(1 − α) (Porter & Duff 1984).
+// Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING off (the
+// AO pass's occlusion and the light tiles belong to the opaque surface behind).
+#import common
+#import brdf
+#import color
+#import bindings
+#import mesh_vertex
+#import material_maps
+#import surface_light
+
+@group(0) @binding(0) var<uniform> view: View;
+
+@vertex
+fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
+    return textured_vertex(in, inst);
+}
+
+@fragment
+fn fs_main(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    // Back faces reach here only for double-sided materials: lit from the side the
+    // viewer sees.
+    let ng = safe_normalize(in.world_normal * select(-1.0, 1.0, front), vec3<f32>(0.0, 0.0, 1.0));
+    let base = in.base_color * base_color_texel(in.uv0, in.uv1);
+    let mapped = mapped_material(in.uv0, in.uv1, ng, in.world_tangent, in.params, in.emissive_occlusion);
+
+    var surface: Surface;
+    surface.base_color = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    surface.perceptual_roughness = mapped.roughness;
+    surface.metallic = mapped.metallic;
+    surface.specular_level = clamp(in.params.z, 0.0, 1.0);
+
+    // World position from the fragment's depth, as the deferred pass finds it.
+    let ndc = vec2<f32>(in.clip.x * view.viewport.z * 2.0 - 1.0, 1.0 - in.clip.y * view.viewport.w * 2.0);
+    let world_h = view.world_from_clip * vec4<f32>(ndc, in.clip.z, 1.0);
+    let world = world_h.xyz / world_h.w;
+
+    var point: ShadingPoint;
+    point.world = world;
+    point.n = mapped.n;
+    point.v = safe_normalize(view.position_exposure.xyz - world, mapped.n);
+    point.frag = in.clip.xy;
+    point.occlusion = mapped.occlusion;
+    point.receives = select(0.0, 1.0, in.params.w > 0.5);
+    return premultiplied(mapped.emissive + surface_light(point, surface), base.a);
+}

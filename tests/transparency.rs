@@ -1,0 +1,196 @@
+//! Blended surfaces (`Material::blend`): the transparent pass composites each one over the
+//! lit frame with premultiplied "over", farthest first, and runs only when a scene has one.
+//! Expectations come from the same scene rendered with the panes opaque or absent,
+//! composited on the CPU with `lumen::color::over`.
+
+mod common;
+
+use glam::{Quat, Vec3, Vec4};
+use lumen::App;
+use lumen::prelude::*;
+use lumen::render::graph::PassId;
+
+const SIZE: (u32, u32) = (96, 64);
+
+/// A pane in front of the camera: 1.6 m square, facing +Z, centred at `at`.
+#[derive(Clone, Copy)]
+struct Pane {
+    at: Vec3,
+    color: Vec3,
+    /// `None`: opaque; `Some(α)`: blended with coverage α.
+    alpha: Option<f32>,
+}
+
+/// A grey wall at z = −2, the sun from the camera's side, no shadows or indirect light,
+/// and `panes` spawned in the order given.
+fn render(panes: &[Pane]) -> (image::Rgba32FImage, lumen::FrameReport, App) {
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    app.world_mut().resource_mut::<Quality>().shadows = false;
+    let wall = app
+        .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+        .expect("wall");
+    let pane = app
+        .add_mesh(lumen::assets::procedural::plane(1.6, 1.6))
+        .expect("pane");
+    let facing_camera = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(wall),
+        Material::new(Vec3::splat(0.5), 0.0, 0.8),
+        Transform::from_xyz(0.0, 0.0, -2.0).with_rotation(facing_camera),
+    ));
+    for p in panes {
+        let mut material = Material::new(p.color, 0.0, 0.6);
+        if let Some(a) = p.alpha {
+            material.base_color.w = a;
+            material.blend = true;
+        }
+        world.spawn((
+            Mesh3d(pane),
+            material,
+            Transform::from_translation(p.at).with_rotation(facing_camera),
+        ));
+    }
+    world.spawn((
+        DirectionalLight::default(),
+        Transform::from_xyz(1.0, 2.0, 4.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let report = app.render_headless(SIZE).expect("frame");
+    let image = app.read_hdr_image().expect("readback");
+    (image, report, app)
+}
+
+fn at(image: &image::Rgba32FImage, (x, y): (u32, u32)) -> Vec4 {
+    Vec4::from(image.get_pixel(x, y).0)
+}
+
+fn transparent_decision(report: &lumen::FrameReport) -> (bool, String) {
+    let d = report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == PassId::Transparent)
+        .map(|(_, d)| d.clone())
+        .expect("the transparent pass is in the plan");
+    (d.enabled, d.reason)
+}
+
+/// The largest relative difference (floor 1e-3) between two colours' rgb.
+fn relative(got: Vec4, want: Vec4) -> f32 {
+    ((got - want).truncate().abs() / want.truncate().abs().max(Vec3::splat(1e-3))).max_element()
+}
+
+#[test]
+fn overlapping_panes_are_composited_back_to_front() {
+    // A red pane 1 m in front of a blue one, overlapping over a third of their width. The
+    // front one is spawned first, so drawing in spawn order would put it underneath.
+    let front = Pane {
+        at: Vec3::new(-0.5, 0.0, 1.0),
+        color: Vec3::new(0.9, 0.1, 0.1),
+        alpha: Some(0.6),
+    };
+    let back = Pane {
+        at: Vec3::new(0.5, 0.0, 0.0),
+        color: Vec3::new(0.1, 0.2, 0.9),
+        alpha: Some(0.5),
+    };
+    let (blended, report, app) = render(&[front, back]);
+    let (runs, reason) = transparent_decision(&report);
+    assert!(runs && reason.contains("2 blended surface(s)"), "{reason}");
+    // The points to look at: the front pane alone, the overlap, the back pane alone.
+    let only_front = common::pixel_of(&app, Vec3::new(-1.0, 0.0, 1.0), SIZE);
+    let overlap = common::pixel_of(&app, Vec3::new(0.0, 0.0, 0.5), SIZE);
+    let only_back = common::pixel_of(&app, Vec3::new(0.95, 0.0, 0.0), SIZE);
+
+    let (wall, _, _) = render(&[]);
+    let (front_opaque, _, _) = render(&[Pane {
+        alpha: None,
+        ..front
+    }]);
+    let (back_opaque, _, _) = render(&[Pane {
+        alpha: None,
+        ..back
+    }]);
+    // Premultiplied colours of the panes: their opaque radiance × α.
+    let paint =
+        |opaque: &image::Rgba32FImage, pixel, a: f32| (at(opaque, pixel).truncate() * a).extend(a);
+    let over = lumen::color::over;
+    let cases = [
+        (
+            "front pane",
+            only_front,
+            over(paint(&front_opaque, only_front, 0.6), at(&wall, only_front)),
+        ),
+        (
+            "overlap",
+            overlap,
+            over(
+                paint(&front_opaque, overlap, 0.6),
+                over(paint(&back_opaque, overlap, 0.5), at(&wall, overlap)),
+            ),
+        ),
+        (
+            "back pane",
+            only_back,
+            over(paint(&back_opaque, only_back, 0.5), at(&wall, only_back)),
+        ),
+    ];
+    for (name, pixel, want) in cases {
+        let got = at(&blended, pixel);
+        let err = relative(got, want);
+        println!("{name} at {pixel:?}: {got} expected {want} (relative {err:.2e})");
+        // f16 targets: each value carries 2⁻¹¹ of relative rounding.
+        assert!(err < 8e-3, "{name}: {got} vs {want}");
+        // Coverage: the wall is opaque, so the composite stays 1.
+        assert!((got.w - 1.0).abs() < 1e-3, "{name}: coverage {}", got.w);
+    }
+    // The other order, for scale: drawn front first, the overlap would be far off.
+    let wrong = over(
+        paint(&back_opaque, overlap, 0.5),
+        over(paint(&front_opaque, overlap, 0.6), at(&wall, overlap)),
+    );
+    assert!(relative(at(&blended, overlap), wrong) > 0.1);
+}
+
+#[test]
+fn blended_surfaces_are_lit_and_skipped_when_absent() {
+    // A pane of α = 0.25 adds a quarter of its opaque radiance (the same lighting, scaled)
+    // to three quarters of the wall behind it; α = 0 leaves the wall as it was.
+    let raised = Vec3::new(0.0, 0.8, 1.0);
+    let pane = |alpha| Pane {
+        at: raised,
+        color: Vec3::new(0.2, 0.7, 0.3),
+        alpha,
+    };
+    let (opaque, opaque_report, app) = render(&[pane(None)]);
+    let (runs, reason) = transparent_decision(&opaque_report);
+    assert!(
+        !runs && reason.contains("no blended surface"),
+        "without a blended surface the pass must not run: {reason}"
+    );
+    let pixel = common::pixel_of(&app, raised, SIZE);
+    let (quarter, report, _) = render(&[pane(Some(0.25))]);
+    let (wall, _, _) = render(&[]);
+    assert!(transparent_decision(&report).0);
+    // The opaque pane is in view there: green, where the wall is grey.
+    let seen = at(&opaque, pixel);
+    assert!(
+        seen.y > 1.5 * seen.x,
+        "the pane is not at {pixel:?}: {seen}"
+    );
+    let want = lumen::color::over(
+        (at(&opaque, pixel).truncate() * 0.25).extend(0.25),
+        at(&wall, pixel),
+    );
+    let got = at(&quarter, pixel);
+    println!("α = 0.25 at {pixel:?}: {got} expected {want}");
+    assert!(relative(got, want) < 8e-3, "{got} vs {want}");
+    // Fully transparent: the wall alone, up to f16 rounding.
+    let (clear, _, _) = render(&[pane(Some(0.0))]);
+    assert!(relative(at(&clear, pixel), at(&wall, pixel)) < 1e-3);
+}
