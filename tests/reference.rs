@@ -506,3 +506,119 @@ fn light_connections_keep_the_expectation_and_cut_the_noise() {
     );
     assert!(noise_connected * 2.0 < noise_unidirectional);
 }
+
+/// A grey wall at z = −1 and a 1.2 m pane at z = 0.5 (colour (0.2, 0.6, 0.9), coverage
+/// `alpha`, blended unless `alpha` is 1), both facing the camera at z = 4; the sun comes
+/// from +x at 45°, casting shadows when `shadows`.
+fn pane_scene(alpha: f32, shadows: bool) -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    let wall = app
+        .add_mesh(lumen::assets::procedural::plane(12.0, 12.0))
+        .expect("wall");
+    let pane = app
+        .add_mesh(lumen::assets::procedural::plane(1.2, 1.2))
+        .expect("pane");
+    let facing = glam::Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(wall),
+        Material::new(Vec3::splat(0.5), 0.0, 1.0),
+        Transform::from_xyz(0.0, 0.0, -1.0).with_rotation(facing),
+    ));
+    let mut material = Material::new(Vec3::new(0.2, 0.6, 0.9), 0.0, 0.6);
+    material.base_color.w = alpha;
+    material.blend = alpha < 1.0;
+    world.spawn((
+        Mesh3d(pane),
+        material,
+        Transform::from_xyz(0.0, 0.0, 0.5).with_rotation(facing),
+    ));
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 1000.0,
+            cast_shadows: shadows,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(1.0, 0.0, 1.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Linear(1e-3),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 0.0, 4.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.resource_mut::<Quality>().energy_compensation = false;
+    app
+}
+
+/// The mean rgb of the 5 × 5 pixels around world point `p`.
+fn block_mean(app: &App, img: &image::Rgba32FImage, p: Vec3) -> Vec3 {
+    let (x, y) = common::pixel_of(app, p, img.dimensions());
+    let mut sum = Vec3::ZERO;
+    for dy in -2..=2i32 {
+        for dx in -2..=2i32 {
+            let q = img
+                .get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32)
+                .0;
+            sum += Vec3::new(q[0], q[1], q[2]);
+        }
+    }
+    sum / 25.0
+}
+
+#[test]
+fn blended_surfaces_are_stochastic_coverage_in_the_reference() {
+    // The reference passes a ray through a blended surface with probability 1 − α. At the
+    // pane it converges to the rasterizer's premultiplied "over" (same visibility: the sun
+    // casts no shadow), and in the pane's shadow on the wall (sun shadows on, direct
+    // light) it lets 1 − α of the sun through.
+    let size = (64, 48);
+    let alpha = 0.4;
+    let mut app = pane_scene(alpha, false);
+    app.render_headless(size).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let mut scene = trace_scene(&mut app, size).expect("trace scene");
+    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
+    let reference = render(&scene, &options(size, 256, 1, 5), &|_| {}).image;
+    let at_pane = Vec3::new(0.0, 0.0, 0.5);
+    let (r, t) = (
+        block_mean(&app, &raster, at_pane),
+        block_mean(&app, &reference, at_pane),
+    );
+    let err = ((r - t).abs() / t).max_element();
+    println!("pane: rasterizer {r}, reference {t} ({:.2} %)", 100.0 * err);
+    assert!(err < 0.03, "{r} vs {t}");
+    // Treated as opaque, the pane would be far from both.
+    let mut opaque = pane_scene(1.0, false);
+    opaque.render_headless(size).expect("frame");
+    let solid = block_mean(
+        &opaque,
+        &opaque.read_hdr_image().expect("readback"),
+        at_pane,
+    );
+    assert!(
+        ((solid - t).abs() / t).max_element() > 0.2,
+        "{solid} vs {t}"
+    );
+
+    // The sun from +x at 45° throws the pane's shadow 1.5 m to the left on the wall,
+    // beside the pane in the image.
+    let in_shadow = Vec3::new(-1.5, 0.0, -1.0);
+    let shaded = |alpha: f32| {
+        let mut app = pane_scene(alpha, true);
+        let scene = trace_scene(&mut app, size).expect("trace scene");
+        let img = render(&scene, &options(size, 256, 1, 7), &|_| {}).image;
+        block_mean(&app, &img, in_shadow)
+    };
+    let ratio = shaded(alpha) / shaded(0.0);
+    println!(
+        "wall in the pane's shadow: {ratio} of the unshadowed wall (expected {})",
+        1.0 - alpha
+    );
+    assert!(
+        (ratio - Vec3::splat(1.0 - alpha)).abs().max_element() < 0.04,
+        "{ratio}"
+    );
+}

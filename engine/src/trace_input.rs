@@ -45,7 +45,7 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
     for batch in &frame.batches {
         let range = batch.first_instance as usize..(batch.first_instance + batch.count) as usize;
         for inst in frame.instances.get(range).into_iter().flatten() {
-            let [r, g, b, _] = inst.base_color;
+            let [r, g, b, alpha] = inst.base_color;
             let [er, eg, eb, _] = inst.emissive_occlusion;
             instances.push(TraceInstance {
                 mesh: batch.mesh,
@@ -62,6 +62,8 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                     specular_level: inst.params[2],
                     emissive: Vec3::new(er, eg, eb),
                     maps: batch.maps,
+                    alpha,
+                    blend: batch.blend,
                 },
             });
         }

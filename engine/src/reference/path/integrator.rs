@@ -313,6 +313,22 @@ impl TraceLight {
     }
 }
 
+/// The uniform number in [0, 1) that decides whether a ray passes a blended surface:
+/// a hash of the ray (its origin, direction and the hit distance, as bits) through
+/// SplitMix64's finalizer (Steele et al. 2014). Rays differ from sample to sample, so the
+/// draws are independent across paths, and a render stays a function of its seed.
+fn transparency_draw(origin: Vec3, dir: Vec3, t: f32) -> f32 {
+    let mut h: u64 = 0x9e37_79b9_7f4a_7c15;
+    for x in [origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, t] {
+        h = (h ^ u64::from(x.to_bits())).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        h ^= h >> 31;
+    }
+    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^= h >> 31;
+    (h >> 40) as f32 / (1u64 << 24) as f32
+}
+
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
@@ -540,28 +556,35 @@ impl TraceScene {
         }
     }
 
-    /// The closest surface along the ray that its alpha mask keeps: masked-out texels are
-    /// passed through (up to 64 of them), as the G-buffer discards them. Returns the hit
-    /// distance from `origin`, the triangle and the surface there.
+    /// The closest surface along the ray that stops it: masked-out texels are passed
+    /// through, as the G-buffer discards them, and a blended surface of coverage α with
+    /// probability 1 − α (stochastic transparency, Enderton et al. 2010: its expectation
+    /// is α × the surface + (1 − α) × what lies behind, the rasterizer's "over"). Up to 64
+    /// surfaces are passed. Returns the hit distance from `origin`, the triangle and the
+    /// surface there.
     fn trace(&self, origin: Vec3, dir: Vec3) -> Option<(f32, usize, SurfacePoint)> {
         let mut start = 0.0;
         for _ in 0..64 {
             let hit = self.bvh.closest(origin, dir, start, f32::MAX)?;
             let t = hit.triangle as usize;
             let surface = self.surface(t, hit.u, hit.v);
-            match surface.alpha_cutoff {
-                Some(cutoff) if surface.alpha < cutoff => {
-                    start = hit.t * (1.0 + 1e-5) + 1e-5;
-                }
-                _ => return Some((hit.t, t, surface)),
+            let masked_out = surface
+                .alpha_cutoff
+                .is_some_and(|cutoff| surface.alpha < cutoff);
+            let passed =
+                surface.material.blend && transparency_draw(origin, dir, hit.t) >= surface.alpha;
+            if !(masked_out || passed) {
+                return Some((hit.t, t, surface));
             }
+            start = hit.t * (1.0 + 1e-5) + 1e-5;
         }
         None
     }
 
-    /// Whether a surface its alpha mask keeps lies along the ray from `origin` closer than
-    /// `t_max`: masked-out texels let light through, as the shadow pass drops them. Any
-    /// hit is enough where no material is masked.
+    /// Whether a surface that stops the ray ([`TraceScene::trace`]) lies along it from
+    /// `origin` closer than `t_max`: masked-out texels let light through, as the shadow
+    /// pass drops them, and blended surfaces 1 − α of it on average. Any hit is enough
+    /// where no material masks or blends.
     pub fn occluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         self.bvh.occluded(origin, dir, 0.0, t_max)
             && (!self.masked || self.trace(origin, dir).is_some_and(|(t, _, _)| t < t_max))
@@ -709,6 +732,8 @@ mod tests {
                 specular_level: 0.5,
                 emissive: Vec3::ZERO,
                 maps: None,
+                alpha: 1.0,
+                blend: false,
             };
             let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
             let steps = 600;

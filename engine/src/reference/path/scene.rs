@@ -151,6 +151,12 @@ pub struct TraceMaterial {
     /// Index into [`TraceScene::maps`] (the same order as [`TraceInput::material_maps`])
     /// of its textures, if any.
     pub maps: Option<u32>,
+    /// The base colour factor's alpha: the coverage (0..1) before the texel's and the
+    /// vertex colour's.
+    pub alpha: f32,
+    /// Alpha-blended ([`crate::scene::Material::blend`]): rays pass through with
+    /// probability 1 − alpha (stochastic transparency).
+    pub blend: bool,
 }
 
 impl TraceMaterial {
@@ -162,6 +168,11 @@ impl TraceMaterial {
             metallic: self.metallic.clamp(0.0, 1.0),
             roughness: crate::brdf::clamp_perceptual_roughness(self.roughness),
             specular_level: self.specular_level.clamp(0.0, 1.0),
+            alpha: if self.alpha.is_nan() {
+                1.0
+            } else {
+                self.alpha.clamp(0.0, 1.0)
+            },
             ..self
         }
     }
@@ -391,8 +402,9 @@ pub struct TraceScene {
     pub corners: Vec<[Corner; 3]>,
     /// The material maps of textured materials.
     pub maps: Vec<super::textures::TraceMaps>,
-    /// Whether any of `maps` masks by alpha: shadow rays then look past the texels it
-    /// drops ([`TraceScene::occluded`]); otherwise any hit occludes.
+    /// Whether any of `maps` masks by alpha or any material blends: shadow rays then look
+    /// past the texels a mask drops and through blended surfaces
+    /// ([`TraceScene::occluded`]); otherwise any hit occludes.
     pub masked: bool,
     /// Per triangle: index into `materials`.
     pub material: Vec<u32>,
@@ -487,7 +499,8 @@ impl TraceScene {
         TraceScene {
             bvh: Bvh::build(triangles),
             corners,
-            masked: maps.iter().any(|m| m.alpha_cutoff.is_some()),
+            masked: maps.iter().any(|m| m.alpha_cutoff.is_some())
+                || materials.iter().any(|m| m.blend),
             maps,
             material,
             materials,
@@ -513,7 +526,7 @@ pub struct SurfacePoint {
     pub material: TraceMaterial,
     /// Shading normal (unit, not yet turned towards the viewer).
     pub normal: Vec3,
-    /// Base-colour alpha (1 without maps).
+    /// Coverage: the base colour factor's alpha × the texel's × the vertex colour's.
     pub alpha: f32,
     /// The material's alpha cutoff, if it is masked.
     pub alpha_cutoff: Option<f32>,
@@ -531,7 +544,7 @@ impl TraceScene {
             return SurfacePoint {
                 material,
                 normal,
-                alpha: 1.0,
+                alpha: material.alpha,
                 alpha_cutoff: None,
             };
         };
@@ -556,7 +569,7 @@ impl TraceScene {
         SurfacePoint {
             material,
             normal: n,
-            alpha: base.w,
+            alpha: material.alpha * base.w,
             alpha_cutoff: maps.alpha_cutoff,
         }
     }
