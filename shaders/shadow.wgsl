@@ -2,8 +2,11 @@
 // from a dynamic uniform offset; each visible caster's world matrix and base colour are
 // instance attributes (the views' visible lists, one after another). Casters with an
 // alpha-masked material (glTF `alphaMode: MASK`) draw with `vs_masked` / `fs_masked`,
-// which drop the texels the G-buffer drops, so the shadow has the mask's shape.
+// which drop the texels the G-buffer drops, so the shadow has the mask's shape. Blended
+// casters (`Material::blend`) draw with them too, keeping a fraction α of their texels in
+// an ordered dither (blended_shadow_threshold), so their shadow lets about 1 − α through.
 #import material_maps
+#import shadow_kernel
 
 struct CasterView {
     clip_from_world: mat4x4<f32>,
@@ -34,14 +37,14 @@ struct MaskedOutput {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv0: vec2<f32>,
     @location(1) uv1: vec2<f32>,
-    // Base colour factor alpha × vertex colour alpha.
-    @location(2) alpha: f32,
+    // Base colour factor alpha × vertex colour alpha (x), 1 for a blended caster (y).
+    @location(2) coverage: vec2<f32>,
 }
 
 @vertex
 fn vs_masked(
     in: CasterVertex,
-    @location(5) base_color: vec4<f32>,
+    @location(5) coverage: vec4<f32>,
     @location(6) uv0: vec2<f32>,
     @location(7) uv1: vec2<f32>,
     @location(8) color: vec4<f32>,
@@ -50,13 +53,16 @@ fn vs_masked(
     out.clip = caster_clip(in);
     out.uv0 = uv0;
     out.uv1 = uv1;
-    out.alpha = base_color.a * color.a;
+    out.coverage = vec2<f32>(coverage.x * color.a, coverage.y);
     return out;
 }
 
 @fragment
 fn fs_masked(in: MaskedOutput) {
-    if masked_out(in.alpha * base_color_texel(in.uv0, in.uv1).a) {
+    let alpha = in.coverage.x * base_color_texel(in.uv0, in.uv1).a;
+    let blended = in.coverage.y > 0.5;
+    let dropped = select(masked_out(alpha), alpha <= blended_shadow_threshold(vec2<u32>(in.clip.xy)), blended);
+    if dropped {
         discard;
     }
 }

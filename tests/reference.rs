@@ -621,4 +621,17 @@ fn blended_surfaces_are_stochastic_coverage_in_the_reference() {
         (ratio - Vec3::splat(1.0 - alpha)).abs().max_element() < 0.04,
         "{ratio}"
     );
+    // The rasterizer's shadow of a blended caster: an ordered dither of density α in the
+    // atlas, read through the tent filter.
+    let rastered = |alpha: f32| {
+        let mut app = pane_scene(alpha, true);
+        app.render_headless(size).expect("frame");
+        block_mean(&app, &app.read_hdr_image().expect("readback"), in_shadow)
+    };
+    let raster_ratio = rastered(alpha) / rastered(0.0);
+    println!("rasterizer: {raster_ratio} of the unshadowed wall");
+    assert!(
+        (raster_ratio - ratio).abs().max_element() < 0.06,
+        "{raster_ratio} vs the reference's {ratio}"
+    );
 }

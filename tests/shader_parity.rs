@@ -16,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual, shadow_kernel};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 38;
+const OUTPUTS: usize = 39;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -288,6 +288,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             Vec4::new(w.x, w.z, o.x, o.z + o.y)
         },
         color::premultiplied(base * (k * 1e5), x),
+        Vec4::new(
+            shadow_kernel::blended_shadow_threshold(i as u32, i as u32 / 7),
+            shadow_kernel::bayer2(i as u32 & 1, (i as u32 >> 1) & 1) as f32,
+            0.0,
+            0.0,
+        ),
     ]
 }
 
@@ -330,6 +336,7 @@ const NAMES: [&str; OUTPUTS] = [
     "cas_weight | cas_apply",
     "shadow_tent_weights | shadow_tent_offsets",
     "premultiplied",
+    "blended_shadow_threshold | bayer2",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -27,6 +27,23 @@ pub fn shadow_tent_offsets(s: f32) -> Vec3 {
     )
 }
 
+/// The 2 × 2 Bayer index of (x, y) in {0, 1}²: `0 2 / 3 1` by rows.
+pub fn bayer2(x: u32, y: u32) -> u32 {
+    2 * (x ^ y) + y
+}
+
+/// The ordered-dither threshold (0..1) of shadow-atlas texel (x, y) for a blended caster:
+/// the 4 × 4 Bayer matrix (Bayer 1973, "An optimum method for two-level rendition of
+/// continuous-tone pictures"), built from the 2 × 2 one, as (index + 0.5) / 16. A blended
+/// caster of coverage α keeps the texels whose threshold is below α: every 4 × 4 block
+/// holds 16 α of them (rounded), and the `tent` filter's 5 × 5 footprint reads a visibility
+/// close to 1 − α.
+pub fn blended_shadow_threshold(x: u32, y: u32) -> f32 {
+    let (x, y) = (x & 3, y & 3);
+    let index = 4 * bayer2(x & 1, y & 1) + bayer2(x >> 1, y >> 1);
+    (index as f32 + 0.5) / 16.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +84,28 @@ mod tests {
         for k in 0..5 {
             assert!((end[k + 1] - start[k]).abs() < 1e-4, "{end:?} vs {start:?}");
         }
+    }
+
+    #[test]
+    fn every_4x4_block_holds_each_dither_threshold_once() {
+        // The 16 thresholds of any aligned 4 × 4 block are (k + 0.5) / 16 for k = 0..15,
+        // so a coverage α keeps round(16 α) texels of every block.
+        for (bx, by) in [(0, 0), (4, 8), (1000, 12)] {
+            let mut seen: Vec<f32> = (0..16)
+                .map(|k| blended_shadow_threshold(bx + k % 4, by + k / 4))
+                .collect();
+            seen.sort_by(f32::total_cmp);
+            let want: Vec<f32> = (0..16).map(|k| (k as f32 + 0.5) / 16.0).collect();
+            assert_eq!(seen, want);
+        }
+        // The 2 × 2 matrix 0 2 / 3 1, and its first row spread out: 0 8 2 10.
+        assert_eq!(
+            [bayer2(0, 0), bayer2(1, 0), bayer2(0, 1), bayer2(1, 1)],
+            [0, 2, 3, 1]
+        );
+        let row: Vec<f32> = (0..4)
+            .map(|x| blended_shadow_threshold(x, 0) * 16.0 - 0.5)
+            .collect();
+        assert_eq!(row, [0.0, 8.0, 2.0, 10.0]);
     }
 }

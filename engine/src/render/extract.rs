@@ -92,9 +92,12 @@ pub struct Caster {
     /// Bounding sphere radius (m).
     pub radius: f32,
     /// Index into [`ExtractedFrame::material_maps`] of its maps where they mask by alpha
-    /// (glTF `alphaMode: MASK`): the shadow pass drops the texels the G-buffer drops.
-    /// `None`: an opaque caster.
+    /// (glTF `alphaMode: MASK`, the shadow pass drops the texels the G-buffer drops) or
+    /// where it is blended. `None`: an opaque caster.
     pub mask: Option<u32>,
+    /// Blended: the shadow pass keeps a fraction α of its texels, in an ordered dither
+    /// (docs/src/materials.md#blended-shadows).
+    pub blend: bool,
 }
 
 /// The environment as the passes need it.
@@ -500,8 +503,7 @@ pub fn extract_frame(
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
-            // Blended surfaces cast no shadow (docs/src/materials.md#blending).
-            casts: !not_caster && !blend,
+            casts: !not_caster,
             in_view: sphere.is_none_or(|(c, r)| sphere_in_frustum(&view_planes, c, r)),
             sphere,
             instance: GpuInstance {
@@ -596,10 +598,11 @@ pub fn extract_frame(
             bounds.push((center, radius));
             if item.casts {
                 let mask = item.maps.filter(|&m| {
-                    frame
-                        .material_maps
-                        .get(m as usize)
-                        .is_some_and(|maps| maps.alpha_cutoff.is_some())
+                    item.blend
+                        || frame
+                            .material_maps
+                            .get(m as usize)
+                            .is_some_and(|maps| maps.alpha_cutoff.is_some())
                 });
                 frame.casters.push(Caster {
                     instance: index,
@@ -607,6 +610,7 @@ pub fn extract_frame(
                     center,
                     radius,
                     mask,
+                    blend: item.blend,
                 });
             }
         }

@@ -51,13 +51,14 @@ struct ViewDraws {
 struct CasterInstance {
     /// World from local, column-major.
     world_from_local: [[f32; 4]; 4],
-    /// Linear base colour factor and alpha (the mask reads the alpha).
-    base_color: [f32; 4],
+    /// The base colour factor's alpha (x), which the mask reads, and 1 for a blended
+    /// caster (y), whose texels are kept in an ordered dither of density α; z and w are 0.
+    coverage: [f32; 4],
 }
 
-/// What decides a masked caster's shadow besides its mesh and transform: the base colour
-/// texture, the cutoff's bits and the base colour factor alpha's bits.
-type MaskKey = (Option<TextureSlot>, u32, u32);
+/// What decides a masked or blended caster's shadow besides its mesh and transform: the
+/// base colour texture, the cutoff's bits and the coverage's bits (factor alpha, blend).
+type MaskKey = (Option<TextureSlot>, u32, [u32; 2]);
 
 /// A caster as the atlas cache compares it.
 type CasterKey = (MeshHandle, [[f32; 4]; 4], Option<MaskKey>);
@@ -130,7 +131,10 @@ impl AtlasContents {
                 maps.and_then(|maps| maps.alpha_cutoff)
                     .unwrap_or(0.0)
                     .to_bits(),
-                instance.base_color[3].to_bits(),
+                [
+                    instance.coverage[0].to_bits(),
+                    instance.coverage[1].to_bits(),
+                ],
             )
         });
         (c.mesh, instance.world_from_local, mask)
@@ -172,7 +176,7 @@ fn caster_instance(frame: &ExtractedFrame, c: &crate::render::extract::Caster) -
         <CasterInstance as bytemuck::Zeroable>::zeroed(),
         |i| CasterInstance {
             world_from_local: i.world_from_local,
-            base_color: i.base_color,
+            coverage: [i.base_color[3], if c.blend { 1.0 } else { 0.0 }, 0.0, 0.0],
         },
     )
 }
