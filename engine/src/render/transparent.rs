@@ -34,7 +34,7 @@ use crate::render::targets::{self, RenderTargets};
 use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
+use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
@@ -319,17 +319,30 @@ pub fn prepare_transparent(
     }
 }
 
+/// What the transparent pass draws with, besides its own resource.
+#[derive(SystemParam)]
+pub struct TransparentInputs<'w> {
+    lighting: Res<'w, LightingPass>,
+    maps: Res<'w, GpuMaterialMaps>,
+    buffers: Res<'w, SceneBuffers>,
+    frame: Res<'w, ExtractedFrame>,
+    targets: Res<'w, RenderTargets>,
+}
+
 /// Records the blended batches, farthest first, over the HDR target.
 pub fn transparent_pass(
     plan: Res<FramePlan>,
     pass: Res<TransparentPass>,
-    lighting: Res<LightingPass>,
-    maps: Res<GpuMaterialMaps>,
-    buffers: Res<SceneBuffers>,
-    frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
+    inputs: TransparentInputs,
     mut encoder: ResMut<FrameEncoder>,
 ) {
+    let TransparentInputs {
+        lighting,
+        maps,
+        buffers,
+        frame,
+        targets,
+    } = inputs;
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
         encoder.as_mut(),
