@@ -3,8 +3,10 @@
 // instance's factors, as in the G-buffer's textured variant; it is lit by
 // surface_light.wgsl, the deferred pass's code, and leaves premultiplied: (L·α, α), which
 // the pipeline composites with "over", dst ← src + dst·(1 − α) (Porter & Duff 1984).
-// Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING off (the
-// AO pass's occlusion and the light tiles belong to the opaque surface behind).
+// `fs_weighted` (--transparency weighted) writes the same premultiplied colour, weighted
+// (transparency.wgsl), into the accumulation and revealage targets of weighted blended OIT
+// instead. Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING
+// off (the AO pass's occlusion and the light tiles belong to the opaque surface behind).
 #import common
 #import brdf
 #import color
@@ -12,6 +14,7 @@
 #import mesh_vertex
 #import material_maps
 #import surface_light
+#import transparency
 
 @group(0) @binding(0) var<uniform> view: View;
 
@@ -20,8 +23,13 @@ fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     return textured_vertex(in, inst);
 }
 
-@fragment
-fn fs_main(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+// A blended fragment's premultiplied colour and coverage, and its view depth (m).
+struct BlendedFragment {
+    color: vec4<f32>,
+    depth_m: f32,
+}
+
+fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     // Back faces reach here only for double-sided materials: lit from the side the
     // viewer sees.
     let ng = safe_normalize(in.world_normal * select(-1.0, 1.0, front), vec3<f32>(0.0, 0.0, 1.0));
@@ -46,5 +54,25 @@ fn fs_main(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
     point.frag = in.clip.xy;
     point.occlusion = mapped.occlusion;
     point.receives = select(0.0, 1.0, in.params.w > 0.5);
-    return premultiplied(mapped.emissive + surface_light(point, surface), base.a);
+    let color = premultiplied(mapped.emissive + surface_light(point, surface), base.a);
+    return BlendedFragment(color, dot(world - view.position_exposure.xyz, view.forward.xyz));
+}
+
+@fragment
+fn fs_main(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return blended_fragment(in, front).color;
+}
+
+// The sums of weighted blended OIT: Σ w·(Lα, α) and, through the blend state, Π(1 − α).
+struct WeightedOutput {
+    @location(0) accum: vec4<f32>,
+    @location(1) reveal: vec4<f32>,
+}
+
+@fragment
+fn fs_weighted(in: TexturedOutput, @builtin(front_facing) front: bool) -> WeightedOutput {
+    let f = blended_fragment(in, front);
+    let w = oit_weight(f.depth_m, f.color.a);
+    // Kept finite in the f16 accumulation.
+    return WeightedOutput(min(f.color * w, vec4<f32>(HALF_MAX)), vec4<f32>(f.color.a));
 }

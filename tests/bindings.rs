@@ -92,7 +92,10 @@ fn every_bind_group_list_matches_its_shader() {
     );
     check(
         "transparent.wgsl",
-        &TransparentPass::defs(TransparentVariant::of(everything), 8),
+        &TransparentPass::defs(
+            TransparentVariant::of(everything, lumen::quality::Transparency::WeightedBlended),
+            8,
+        ),
         &[
             (0, transparent::VIEW),
             (1, lighting::LIGHTS_AND_SHADOWS),
@@ -100,6 +103,11 @@ fn every_bind_group_list_matches_its_shader() {
             (3, lighting::PROBES),
             (4, material_maps::BINDINGS),
         ],
+    );
+    check(
+        "transparent_resolve.wgsl",
+        &[],
+        &[(0, transparent::weighted::RESOLVE_BINDINGS)],
     );
     check(
         "probe_capture.wgsl",

@@ -171,7 +171,7 @@ fn a_pass_added_with_one_line_runs_in_order_and_is_planned_timed_and_explained()
         report
             .plan
             .explain()
-            .contains("dim        run  halves the HDR image"),
+            .contains("dim         run  halves the HDR image"),
         "{}",
         report.plan.explain()
     );

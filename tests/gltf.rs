@@ -758,6 +758,48 @@ fn blended_materials_are_drawn_with_their_coverage() {
 }
 
 #[test]
+fn flight_helmet_draws_its_lenses_blended() {
+    // The CC0 FlightHelmet: its lenses material is alphaMode BLEND with a textured alpha.
+    // It loads without a warning, the lenses are the frame's one blended surface, and
+    // they change the pixels in front of the goggles.
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary =
+        load_gltf(&mut app, &asset("FlightHelmet/FlightHelmet.gltf")).expect("FlightHelmet loads");
+    assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
+    // No probe captures: they would take most of the test's time.
+    common::indirect_off(&mut app);
+    let report = app.render_headless(SIZE).expect("frame");
+    let lenses = report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == lumen::render::graph::PassId::Transparent)
+        .map(|(_, d)| d.clone())
+        .expect("the transparent pass is planned");
+    assert!(
+        lenses.enabled && lenses.reason.starts_with("1 blended surface"),
+        "{}",
+        lenses.reason
+    );
+    let with = app.read_hdr_image().expect("readback");
+    let mut blended = app.world_mut().query::<&mut lumen::prelude::Material>();
+    for mut m in blended.iter_mut(app.world_mut()) {
+        if m.blend {
+            m.base_color.w = 0.0;
+        }
+    }
+    app.render_headless(SIZE).expect("frame");
+    let without = app.read_hdr_image().expect("readback");
+    let changed = with
+        .pixels()
+        .zip(without.pixels())
+        .filter(|(a, b)| (common::lum(a) - common::lum(b)).abs() > 1e-3 * common::lum(b).max(1e-3))
+        .count();
+    println!("FlightHelmet: the lenses change {changed} pixels");
+    assert!(changed > 10, "{changed}");
+}
+
+#[test]
 fn spec_gloss_textures_convert_texel_by_texel() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Metal/rough: base 0.5 (linear), dielectric, roughness 0.6. Its spec/gloss twin as

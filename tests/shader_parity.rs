@@ -13,10 +13,10 @@ use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;
-use lumen::{color, encoding, ibl, punctual, shadow_kernel};
+use lumen::{color, encoding, ibl, punctual, shadow_kernel, transparency};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 39;
+const OUTPUTS: usize = 41;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -294,6 +294,13 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             0.0,
             0.0,
         ),
+        Vec4::new(
+            transparency::oit_weight(x * 400.0 - 5.0, k),
+            transparency::oit_weight(r * 3.0, 1.0),
+            0.0,
+            0.0,
+        ),
+        transparency::oit_resolve((base * 50.0).extend(k * 100.0), x),
     ]
 }
 
@@ -337,6 +344,8 @@ const NAMES: [&str; OUTPUTS] = [
     "shadow_tent_weights | shadow_tent_offsets",
     "premultiplied",
     "blended_shadow_threshold | bayer2",
+    "oit_weight",
+    "oit_resolve",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -226,6 +226,35 @@ pub struct Quality {
     pub reflection_probes: ReflectionProbeSettings,
     /// Anti-aliasing: geometric specular AA, post-process AA and accumulation.
     pub aa: AaSettings,
+    /// How blended surfaces are composited (`--transparency`).
+    pub transparency: Transparency,
+}
+
+/// How the transparent pass composites blended surfaces (docs/src/materials.md#blending).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Transparency {
+    /// Sorted back to front per primitive and composited with "over": exact where the
+    /// primitives do not interleave in depth.
+    #[default]
+    Sorted,
+    /// Weighted blended order-independent transparency (McGuire & Bavoil 2013): every
+    /// blended fragment is accumulated in any order, weighted by its coverage and depth,
+    /// then resolved once. No sort and no order artefacts where primitives interleave;
+    /// the colour of overlapping layers is a weighted average, not the exact "over".
+    WeightedBlended,
+}
+
+impl Transparency {
+    /// Both, in the order `--transparency` lists them.
+    pub const ALL: [Transparency; 2] = [Transparency::Sorted, Transparency::WeightedBlended];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Transparency::Sorted => "sorted",
+            Transparency::WeightedBlended => "weighted",
+        }
+    }
 }
 
 /// Which anti-aliasing filter runs on each finished frame (docs/src/antialiasing.md for
@@ -695,6 +724,7 @@ impl Default for Quality {
             gi: GiSettings::default(),
             reflection_probes: ReflectionProbeSettings::default(),
             aa: AaSettings::default(),
+            transparency: Transparency::default(),
         }
     }
 }

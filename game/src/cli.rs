@@ -276,6 +276,10 @@ pub struct SceneArgs {
     /// Samples per texel of the split-sum BRDF table (1..=65536).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub brdf_lut_samples: Option<u32>,
+    /// How blended surfaces are composited: sorted (back to front, the default) or
+    /// weighted (weighted blended order-independent transparency).
+    #[arg(long, value_name = "MODE", value_parser = parse_transparency)]
+    pub transparency: Option<lumen::quality::Transparency>,
     /// Precision of the HDR target: f16 (default) or f32.
     #[arg(long, value_name = "P", value_parser = parse_hdr_precision)]
     pub hdr: Option<lumen::quality::HdrPrecision>,
@@ -802,6 +806,14 @@ fn parse_shadow_scale(s: &str) -> Result<f32, String> {
             Err(format!("{s} must be in 0.125..=4"))
         }
     })
+}
+
+fn parse_transparency(s: &str) -> Result<lumen::quality::Transparency, String> {
+    use lumen::quality::Transparency;
+    Transparency::ALL
+        .into_iter()
+        .find(|t| t.name().eq_ignore_ascii_case(s))
+        .ok_or_else(|| format!("unknown transparency '{s}' (use sorted, weighted)"))
 }
 
 fn parse_hdr_precision(s: &str) -> Result<lumen::quality::HdrPrecision, String> {

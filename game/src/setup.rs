@@ -71,6 +71,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(p) = args.hdr {
         quality.hdr_precision = p;
     }
+    if let Some(t) = args.transparency {
+        quality.transparency = t;
+    }
     if args.no_light_culling {
         quality.light_culling = false;
     }
@@ -330,6 +333,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "brdf_lut_samples": q.brdf_lut_samples,
         "dof_rings": q.dof_rings,
         "hdr_precision": q.hdr_precision.name(),
+        "transparency": q.transparency.name(),
         "light_culling": q.light_culling,
         "shadow_cache": q.shadow_cache,
         "max_texture_size": q.max_texture_size,

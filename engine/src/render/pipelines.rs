@@ -15,12 +15,25 @@ pub fn fullscreen_pipeline(
     label: &str,
     layout: Option<&wgpu::PipelineLayout>,
     module: &wgpu::ShaderModule,
-    (vertex_entry, fragment_entry): (&str, &str),
+    entries: (&str, &str),
     formats: &[wgpu::TextureFormat],
     depth_stencil: Option<wgpu::DepthStencilState>,
 ) -> Result<wgpu::RenderPipeline> {
     let targets: Vec<Option<wgpu::ColorTargetState>> =
         formats.iter().map(|f| Some((*f).into())).collect();
+    fullscreen_target_pipeline(gpu, label, layout, module, entries, &targets, depth_stencil)
+}
+
+/// [`fullscreen_pipeline`] into colour targets given whole (with their blend states).
+pub fn fullscreen_target_pipeline(
+    gpu: &Gpu,
+    label: &str,
+    layout: Option<&wgpu::PipelineLayout>,
+    module: &wgpu::ShaderModule,
+    (vertex_entry, fragment_entry): (&str, &str),
+    targets: &[Option<wgpu::ColorTargetState>],
+    depth_stencil: Option<wgpu::DepthStencilState>,
+) -> Result<wgpu::RenderPipeline> {
     gpu.checked(&format!("{label} pipeline"), |device| {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(label),
@@ -38,7 +51,7 @@ pub fn fullscreen_pipeline(
                 module,
                 entry_point: Some(fragment_entry),
                 compilation_options: Default::default(),
-                targets: &targets,
+                targets,
             }),
             multiview_mask: None,
             cache: None,
@@ -71,14 +84,31 @@ pub fn fullscreen_variant(
     defs: &[ShaderDef],
     format: wgpu::TextureFormat,
 ) -> Result<wgpu::RenderPipeline> {
+    fullscreen_blended_variant(gpu, label, layout, entry, defs, format, None)
+}
+
+/// [`fullscreen_variant`] blending into the target with `blend` (`None`: replace).
+pub fn fullscreen_blended_variant(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    entry: &str,
+    defs: &[ShaderDef],
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> Result<wgpu::RenderPipeline> {
     let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
-    fullscreen_pipeline(
+    fullscreen_target_pipeline(
         gpu,
         label,
         Some(layout),
         &module,
         ("vs_fullscreen", "fs_main"),
-        &[format],
+        &[Some(wgpu::ColorTargetState {
+            format,
+            blend,
+            write_mask: wgpu::ColorWrites::ALL,
+        })],
         None,
     )
 }
@@ -168,6 +198,7 @@ pub struct PerFormat {
     label: &'static str,
     entry: &'static str,
     layout: wgpu::PipelineLayout,
+    blend: Option<wgpu::BlendState>,
     pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
 }
 
@@ -183,15 +214,31 @@ impl PerFormat {
             label,
             entry,
             layout: one_group_layout(gpu, label, group),
+            blend: None,
             pipelines: HashMap::new(),
+        }
+    }
+
+    /// The same pipelines, blending into the target with `blend`.
+    pub fn blending(self, blend: wgpu::BlendState) -> PerFormat {
+        PerFormat {
+            blend: Some(blend),
+            ..self
         }
     }
 
     /// Compiles the pipeline into `format` unless it exists.
     pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
         if !self.pipelines.contains_key(&format) {
-            let pipeline =
-                fullscreen_variant(gpu, self.label, &self.layout, self.entry, &[], format)?;
+            let pipeline = fullscreen_blended_variant(
+                gpu,
+                self.label,
+                &self.layout,
+                self.entry,
+                &[],
+                format,
+                self.blend,
+            )?;
             self.pipelines.insert(format, pipeline);
         }
         Ok(())

@@ -1,6 +1,8 @@
 //! The transparent pass (`shaders/transparent.wgsl`): alpha-blended surfaces
 //! ([`crate::scene::Material::blend`]), drawn after the opaque frame is lit, one primitive
-//! at a time, farthest first (the order of [`ExtractedFrame::blended_batches`]).
+//! at a time, farthest first (the order of [`ExtractedFrame::blended_batches`]); or, with
+//! `--transparency weighted`, in any order into the targets of weighted blended OIT,
+//! resolved over the frame once ([`weighted`]).
 //!
 //! Each fragment is lit by the deferred pass's own code (`surface_light.wgsl`: every light
 //! kind, shadows, the environment, the irradiance volume and the reflection probes), from
@@ -16,6 +18,7 @@
 //! belong to the opaque surface behind the fragment.
 
 use crate::error::Result;
+use crate::quality::Transparency;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -28,6 +31,7 @@ use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
 use crate::render::material_maps::{GpuMaterialMaps, group_def};
 use crate::render::pipelines::create_module;
+use crate::render::pipelines::draw_fullscreen_with;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
@@ -36,6 +40,9 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use std::collections::HashMap;
+use weighted::{OIT_ACCUM, OIT_REVEAL, OVER, WeightedResolve};
+
+pub mod weighted;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -54,16 +61,19 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 };
 
 /// The pass's shader variant: the lighting pass's variant without its screen-space
-/// inputs.
+/// inputs, and the compositing mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct TransparentVariant {
     /// The lights and indirect terms compiled in.
     pub lighting: LightingVariant,
+    /// Weighted blended OIT instead of sorted "over".
+    pub weighted: bool,
 }
 
 impl TransparentVariant {
-    /// The variant for a frame whose lighting pass compiles `lighting`.
-    pub fn of(lighting: LightingVariant) -> TransparentVariant {
+    /// The variant for a frame whose lighting pass compiles `lighting`, compositing as
+    /// `transparency` says.
+    pub fn of(lighting: LightingVariant, transparency: Transparency) -> TransparentVariant {
         TransparentVariant {
             lighting: LightingVariant {
                 screen_ao: false,
@@ -71,6 +81,7 @@ impl TransparentVariant {
                 light_culling: false,
                 ..lighting
             },
+            weighted: transparency == Transparency::WeightedBlended,
         }
     }
 }
@@ -79,6 +90,7 @@ impl FramePass for TransparentPass {
     const ID: PassId = PassId::Transparent;
     const READS: &'static [Slot] = &[HDR, DEPTH, SHADOW_ATLAS, LIGHT_TILES, AMBIENT_OCCLUSION];
     const WRITES: &'static [Slot] = &[HDR];
+    const OPTIONAL_WRITES: &'static [Slot] = &[OIT_ACCUM, OIT_REVEAL];
     type Variant = Option<TransparentVariant>;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -92,10 +104,9 @@ impl FramePass for TransparentPass {
         let gpu = world.resource::<Gpu>();
         let blended = frame.blended_batches().count();
         let lighting = plan.variant::<LightingPass>().copied();
-        let hdr = world
-            .resource::<crate::quality::Quality>()
-            .hdr_precision
-            .format();
+        let quality = world.resource::<crate::quality::Quality>();
+        let hdr = quality.hdr_precision.format();
+        let mode = quality.transparency;
         let blendable = hdr != wgpu::TextureFormat::Rgba32Float
             || gpu
                 .device
@@ -123,14 +134,23 @@ impl FramePass for TransparentPass {
         } else {
             (
                 true,
-                format!("{blended} blended surface(s), back to front, premultiplied alpha"),
+                match mode {
+                    Transparency::Sorted => {
+                        format!("{blended} blended surface(s), back to front, premultiplied alpha")
+                    }
+                    Transparency::WeightedBlended => format!(
+                        "{blended} blended surface(s), weighted blended OIT (any order, one resolve)"
+                    ),
+                },
             )
         };
-        PassDecision::new(
-            runs,
-            reason,
-            lighting.filter(|_| runs).map(TransparentVariant::of),
-        )
+        let variant = lighting
+            .filter(|_| runs)
+            .map(|l| TransparentVariant::of(l, mode));
+        let weighted = variant.is_some_and(|v| v.weighted);
+        PassDecision::new(runs, reason, variant)
+            .writing(OIT_ACCUM, weighted)
+            .writing(OIT_REVEAL, weighted)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -149,6 +169,7 @@ pub struct TransparentPass {
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(TransparentVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
     view_group: Option<(u64, wgpu::BindGroup)>,
+    resolve: WeightedResolve,
 }
 
 impl TransparentPass {
@@ -178,6 +199,7 @@ impl TransparentPass {
             pipeline_layout,
             pipelines: HashMap::new(),
             view_group: None,
+            resolve: WeightedResolve::new(gpu),
         }
     }
 
@@ -214,11 +236,20 @@ impl TransparentPass {
             8 => Float32x4, 9 => Float32x4, 10 => Float32x4,
             11 => Float32x4, 12 => Float32x4, 13 => Float32x4
         ];
-        // Premultiplied "over" for colour and coverage alike.
-        let over = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-            operation: wgpu::BlendOperation::Add,
+        // Sorted: premultiplied "over" into the HDR target; weighted: the sums.
+        let targets: Vec<Option<wgpu::ColorTargetState>> = if variant.weighted {
+            weighted::accumulate_targets().to_vec()
+        } else {
+            vec![Some(wgpu::ColorTargetState {
+                format,
+                blend: Some(OVER),
+                write_mask: wgpu::ColorWrites::ALL,
+            })]
+        };
+        let entry = if variant.weighted {
+            "fs_weighted"
+        } else {
+            "fs_main"
         };
         let pipeline = gpu.checked("transparent pipeline", |device| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -258,16 +289,9 @@ impl TransparentPass {
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(entry),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: Some(wgpu::BlendState {
-                            color: over,
-                            alpha: over,
-                        }),
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
+                    targets: &targets,
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -298,6 +322,21 @@ pub fn prepare_transparent(
     for batch in frame.blended_batches() {
         let key = (variant, batch.double_sided, t.hdr_format);
         if let Err(e) = pass.ensure(&gpu, key, buffers.uniform_light_capacity) {
+            errors.0.push(e);
+            return;
+        }
+    }
+    if variant.weighted {
+        let Some([accum, reveal]) = t.views([OIT_ACCUM, OIT_REVEAL]) else {
+            return;
+        };
+        let pass = &mut *pass;
+        if let Err(e) = pass
+            .resolve
+            .pipelines
+            .ensure(&gpu, t.hdr_format)
+            .and_then(|()| pass.resolve.prepare(&gpu, t.generation, accum, reveal))
+        {
             errors.0.push(e);
             return;
         }
@@ -356,19 +395,43 @@ pub fn transparent_pass(
     let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {
         return;
     };
+    // Weighted: the sums' targets, the resolve's group and its pipeline.
+    let oit = if variant.weighted {
+        match (
+            t.views([OIT_ACCUM, OIT_REVEAL]),
+            pass.resolve.group.as_ref(),
+            pass.resolve.pipelines.get(t.hdr_format),
+        ) {
+            (Some(views), Some((_, group)), Some(pipeline)) => Some((views, group, pipeline)),
+            _ => return,
+        }
+    } else {
+        None
+    };
+    let attachment = |view, load| {
+        Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load,
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    };
+    // Sorted: straight over the HDR target; weighted: into the sums, cleared to 0 and 1.
+    let color_attachments = match oit {
+        Some(([accum, reveal], _, _)) => vec![
+            attachment(accum, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)),
+            attachment(reveal, wgpu::LoadOp::Clear(wgpu::Color::WHITE)),
+        ],
+        None => vec![attachment(hdr, wgpu::LoadOp::Load)],
+    };
     let scope = timer.begin_pass(PassId::Transparent);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("transparent"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: hdr,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &color_attachments,
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: depth,
                 depth_ops: Some(wgpu::Operations {
@@ -407,4 +470,15 @@ pub fn transparent_pass(
         }
     }
     timer.end_pass(scope);
+    if let Some((_, group, pipeline)) = oit {
+        draw_fullscreen_with(
+            encoder,
+            timer,
+            "transparent resolve",
+            &[hdr],
+            pipeline,
+            group,
+            wgpu::LoadOp::Load,
+        );
+    }
 }

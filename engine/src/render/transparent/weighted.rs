@@ -1,0 +1,128 @@
+//! The transparent pass's order-independent mode (`--transparency weighted`): weighted
+//! blended OIT ([`crate::transparency`]). Its two targets, the accumulation and the
+//! revealage, exist only in frames that use the mode; the resolve
+//! (`shaders/transparent_resolve.wgsl`) composites them over the HDR target with "over".
+
+use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::graph::{Slot, TargetFormat};
+use crate::render::pipelines::PerFormat;
+
+/// Σ wᵢLᵢαᵢ (rgb) and Σ wᵢαᵢ (a): half floats, as McGuire & Bavoil use.
+pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Π(1 − αᵢ).
+pub const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
+
+/// The accumulation target (cleared to 0 each frame the mode runs).
+pub const OIT_ACCUM: Slot = Slot::target("oit accumulation", TargetFormat::Fixed(ACCUM_FORMAT));
+/// The revealage target (cleared to 1).
+pub const OIT_REVEAL: Slot = Slot::target("oit revealage", TargetFormat::Fixed(REVEAL_FORMAT));
+
+/// The resolve's inputs.
+pub const RESOLVE_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "transparent resolve",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("oit_accum", Binding::TextureLoad),
+        ("oit_reveal", Binding::TextureLoad),
+    ],
+};
+
+/// Premultiplied "over": `dst ← src + dst · (1 − α_src)`, for colour and coverage.
+pub const OVER: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// The accumulation's colour targets: the sum (additive) and the product of `1 − α`
+/// (the revealage is multiplied by one minus what the fragment writes).
+pub fn accumulate_targets() -> [Option<wgpu::ColorTargetState>; 2] {
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    let reveal = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::OneMinusSrc,
+        operation: wgpu::BlendOperation::Add,
+    };
+    [
+        Some(wgpu::ColorTargetState {
+            format: ACCUM_FORMAT,
+            blend: Some(wgpu::BlendState {
+                color: add,
+                alpha: add,
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        }),
+        Some(wgpu::ColorTargetState {
+            format: REVEAL_FORMAT,
+            blend: Some(wgpu::BlendState {
+                color: reveal,
+                alpha: reveal,
+            }),
+            write_mask: wgpu::ColorWrites::ALL,
+        }),
+    ]
+}
+
+/// The resolve: its layout, its pipeline per HDR format, and its bind group with the
+/// generation of the targets it was built from.
+pub struct WeightedResolve {
+    layout: wgpu::BindGroupLayout,
+    /// One pipeline per HDR format, blending with [`OVER`].
+    pub pipelines: PerFormat,
+    /// The bind group and the targets' generation it reads.
+    pub group: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl WeightedResolve {
+    /// The layout; pipelines compile on first use.
+    pub fn new(gpu: &Gpu) -> WeightedResolve {
+        let layout = RESOLVE_BINDINGS.layout(gpu);
+        WeightedResolve {
+            pipelines: PerFormat::new(
+                gpu,
+                "transparent resolve",
+                "transparent_resolve.wgsl",
+                &layout,
+            )
+            .blending(OVER),
+            layout,
+            group: None,
+        }
+    }
+
+    /// Rebuilds the bind group unless it reads the targets of `generation` already.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        generation: u64,
+        accum: &wgpu::TextureView,
+        reveal: &wgpu::TextureView,
+    ) -> Result<()> {
+        if self.group.as_ref().is_some_and(|(g, _)| *g == generation) {
+            return Ok(());
+        }
+        let group = RESOLVE_BINDINGS.group(
+            gpu,
+            &self.layout,
+            vec![
+                wgpu::BindingResource::TextureView(accum),
+                wgpu::BindingResource::TextureView(reveal),
+            ],
+        )?;
+        self.group = Some((generation, group));
+        Ok(())
+    }
+}
