@@ -248,3 +248,96 @@ fn weighted_oit_is_exact_for_one_layer_and_order_independent() {
     );
     assert!((at(&weighted, overlap).w - 1.0).abs() < 1e-3);
 }
+
+/// Three double-sided panes along the view axis, a sun on each side, no wall, seen from
+/// z = `eye_z` towards the origin; each pane blended with its α, or opaque, or absent.
+fn three_panes(eye_z: f32, panes: [Option<Option<f32>>; 3]) -> image::Rgba32FImage {
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    app.world_mut().resource_mut::<Quality>().shadows = false;
+    let mesh = app
+        .add_mesh(lumen::assets::procedural::plane(1.6, 1.6))
+        .expect("pane");
+    let facing = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let colours = [
+        Vec3::new(0.9, 0.1, 0.1),
+        Vec3::new(0.1, 0.8, 0.1),
+        Vec3::new(0.1, 0.2, 0.9),
+    ];
+    let world = app.world_mut();
+    for (k, pane) in panes.into_iter().enumerate() {
+        let Some(alpha) = pane else {
+            continue;
+        };
+        let mut material = Material::new(colours[k], 0.0, 0.6);
+        material.double_sided = true;
+        if let Some(a) = alpha {
+            material.base_color.w = a;
+            material.blend = true;
+        }
+        let at = Vec3::new(0.4 * (k as f32 - 1.0), 0.0, 1.0 - k as f32);
+        world.spawn((
+            Mesh3d(mesh),
+            material,
+            Transform::from_translation(at).with_rotation(facing),
+        ));
+    }
+    for side in [1.0, -1.0] {
+        world.spawn((
+            DirectionalLight::default(),
+            Transform::from_xyz(1.0, 2.0, 4.0 * side).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+    }
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, eye_z).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    app.render_headless(SIZE).expect("frame");
+    app.read_hdr_image().expect("readback")
+}
+
+#[test]
+fn three_panes_composite_in_order_from_both_sides() {
+    // Panes at z = 1, 0 and −1 (α 0.6, 0.5, 0.4) all cross the view axis. Seen from +z
+    // the one at z = 1 is in front, seen from −z the one at z = −1: the centre pixel is
+    // "over" of the three in that order over the background, each pane's premultiplied
+    // colour taken from a render of it alone and opaque.
+    let alphas = [0.6, 0.5, 0.4];
+    let centre = (SIZE.0 / 2, SIZE.1 / 2);
+    for eye_z in [6.0f32, -6.0] {
+        let blended = at(&three_panes(eye_z, alphas.map(|a| Some(Some(a)))), centre);
+        let background = at(&three_panes(eye_z, [None; 3]), centre);
+        let layer = |k: usize| {
+            let mut only = [None; 3];
+            only[k] = Some(None);
+            (at(&three_panes(eye_z, only), centre).truncate() * alphas[k]).extend(alphas[k])
+        };
+        let layers = [layer(0), layer(1), layer(2)];
+        // Front to back as this eye sees them.
+        let order: [usize; 3] = if eye_z > 0.0 { [0, 1, 2] } else { [2, 1, 0] };
+        let over = lumen::color::over;
+        let want = over(
+            layers[order[0]],
+            over(layers[order[1]], over(layers[order[2]], background)),
+        );
+        let reversed = over(
+            layers[order[2]],
+            over(layers[order[1]], over(layers[order[0]], background)),
+        );
+        let err = relative(blended, want);
+        println!(
+            "eye z = {eye_z}: {blended} expected {want} (relative {err:.2e}); the other order {reversed}"
+        );
+        assert!(err < 8e-3, "eye z = {eye_z}: {blended} vs {want}");
+        assert!(
+            relative(blended, reversed) > 0.05,
+            "the order makes no difference here"
+        );
+        assert!(
+            (blended.w - want.w).abs() < 2e-3,
+            "coverage {} vs {}",
+            blended.w,
+            want.w
+        );
+    }
+}
