@@ -78,6 +78,23 @@ fn render_with(
     (image, report, app)
 }
 
+/// A red pane (α 0.6) 1 m in front of a blue one (α 0.5), overlapping over a third of
+/// their width: front, then back.
+fn overlapping_panes() -> [Pane; 2] {
+    [
+        Pane {
+            at: Vec3::new(-0.5, 0.0, 1.0),
+            color: Vec3::new(0.9, 0.1, 0.1),
+            alpha: Some(0.6),
+        },
+        Pane {
+            at: Vec3::new(0.5, 0.0, 0.0),
+            color: Vec3::new(0.1, 0.2, 0.9),
+            alpha: Some(0.5),
+        },
+    ]
+}
+
 fn at(image: &image::Rgba32FImage, (x, y): (u32, u32)) -> Vec4 {
     Vec4::from(image.get_pixel(x, y).0)
 }
@@ -102,16 +119,7 @@ fn relative(got: Vec4, want: Vec4) -> f32 {
 fn overlapping_panes_are_composited_back_to_front() {
     // A red pane 1 m in front of a blue one, overlapping over a third of their width. The
     // front one is spawned first, so drawing in spawn order would put it underneath.
-    let front = Pane {
-        at: Vec3::new(-0.5, 0.0, 1.0),
-        color: Vec3::new(0.9, 0.1, 0.1),
-        alpha: Some(0.6),
-    };
-    let back = Pane {
-        at: Vec3::new(0.5, 0.0, 0.0),
-        color: Vec3::new(0.1, 0.2, 0.9),
-        alpha: Some(0.5),
-    };
+    let [front, back] = overlapping_panes();
     let (blended, report, app) = render(&[front, back]);
     let (runs, reason) = transparent_decision(&report);
     assert!(runs && reason.contains("2 blended surface(s)"), "{reason}");
@@ -214,16 +222,7 @@ fn weighted_oit_is_exact_for_one_layer_and_order_independent() {
     // pane covers the wall the two agree to f16 rounding; where both overlap the coverage
     // is exact and the colour is a depth-weighted average instead of "over"; spawning the
     // panes in the other order changes nothing.
-    let front = Pane {
-        at: Vec3::new(-0.5, 0.0, 1.0),
-        color: Vec3::new(0.9, 0.1, 0.1),
-        alpha: Some(0.6),
-    };
-    let back = Pane {
-        at: Vec3::new(0.5, 0.0, 0.0),
-        color: Vec3::new(0.1, 0.2, 0.9),
-        alpha: Some(0.5),
-    };
+    let [front, back] = overlapping_panes();
     let (sorted, _, app) = render(&[front, back]);
     let (weighted, report, _) = render_with(&[front, back], Transparency::WeightedBlended);
     let (swapped, _, _) = render_with(&[back, front], Transparency::WeightedBlended);

@@ -9,7 +9,6 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::gpu_types::GpuInstance;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, MOTION, MOTION_FORMAT,
 };
@@ -19,7 +18,6 @@ use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
-use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -272,17 +270,6 @@ impl GBufferPass {
         if self.pipelines.contains_key(&variant) {
             return Ok(());
         }
-        let attributes = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4,
-            14 => Float32x2, 15 => Float32x4
-        ];
-        // The instance buffer read as per-instance vertex attributes: on lavapipe vertex
-        // fetch is cheaper than a storage-buffer read per vertex.
-        let instance_attributes = wgpu::vertex_attr_array![
-            4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4,
-            8 => Float32x4, 9 => Float32x4, 10 => Float32x4,
-            11 => Float32x4, 12 => Float32x4, 13 => Float32x4
-        ];
         let target = |format| {
             Some(wgpu::ColorTargetState {
                 format,
@@ -330,18 +317,7 @@ impl GBufferPass {
                     module,
                     entry_point: Some(vs),
                     compilation_options: Default::default(),
-                    buffers: &[
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attributes,
-                        }),
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<GpuInstance>() as u64,
-                            step_mode: wgpu::VertexStepMode::Instance,
-                            attributes: &instance_attributes,
-                        }),
-                    ],
+                    buffers: &crate::render::mesh_vertex::buffers(),
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,

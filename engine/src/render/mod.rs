@@ -27,6 +27,7 @@ pub mod jitter;
 pub mod light_culling;
 pub mod lighting;
 pub mod material_maps;
+pub mod mesh_vertex;
 pub mod passes;
 pub mod pipelines;
 pub mod readback;

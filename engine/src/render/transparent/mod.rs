@@ -23,7 +23,6 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::gpu_types::GpuInstance;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
@@ -35,7 +34,6 @@ use crate::render::pipelines::draw_fullscreen_with;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
-use crate::scene::Vertex;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
@@ -227,15 +225,6 @@ impl TransparentPass {
             .shaders
             .compose("transparent.wgsl", &Self::defs(variant, uniform_capacity))?;
         let module = create_module(gpu, "transparent", &source)?;
-        let attributes = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4,
-            14 => Float32x2, 15 => Float32x4
-        ];
-        let instance_attributes = wgpu::vertex_attr_array![
-            4 => Float32x4, 5 => Float32x4, 6 => Float32x4, 7 => Float32x4,
-            8 => Float32x4, 9 => Float32x4, 10 => Float32x4,
-            11 => Float32x4, 12 => Float32x4, 13 => Float32x4
-        ];
         // Sorted: premultiplied "over" into the HDR target; weighted: the sums.
         let targets: Vec<Option<wgpu::ColorTargetState>> = if variant.weighted {
             weighted::accumulate_targets().to_vec()
@@ -259,18 +248,7 @@ impl TransparentPass {
                     module: &module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<Vertex>() as u64,
-                            step_mode: wgpu::VertexStepMode::Vertex,
-                            attributes: &attributes,
-                        }),
-                        Some(wgpu::VertexBufferLayout {
-                            array_stride: std::mem::size_of::<GpuInstance>() as u64,
-                            step_mode: wgpu::VertexStepMode::Instance,
-                            attributes: &instance_attributes,
-                        }),
-                    ],
+                    buffers: &crate::render::mesh_vertex::buffers(),
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
