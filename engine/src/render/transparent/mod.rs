@@ -7,7 +7,7 @@
 //! Each fragment is lit by the deferred pass's own code (`surface_light.wgsl`: every light
 //! kind, shadows, the environment, the irradiance volume and the reflection probes), from
 //! its material's maps instead of the G-buffer, and composited over the HDR target with
-//! premultiplied alpha: `dst ← src·α + dst·(1 − α)`, Porter & Duff's "over" (1984). The
+//! premultiplied alpha: `dst ← src + dst·(1 − α_src)`, Porter & Duff's "over" (1984). The
 //! alpha channel, the frame's coverage, composites the same way. The pass depth-tests
 //! against the opaque depth and writes no depth.
 //!
@@ -19,7 +19,6 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
-use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -51,12 +50,8 @@ impl PassId {
 /// The bind group index of the material maps in this pass.
 const MAPS_GROUP: u32 = 4;
 
-/// Group 0: the view.
-pub const VIEW: BindGroupSpec = BindGroupSpec {
-    label: "transparent: view",
-    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-    bindings: &[("view", Binding::Uniform)],
-};
+/// Group 0: the view, as the G-buffer pass binds it.
+pub use crate::render::gbuffer::VIEW;
 
 /// The pass's shader variant: the lighting pass's variant without its screen-space
 /// inputs, and the compositing mode.
@@ -165,6 +160,8 @@ impl FramePass for TransparentPass {
 pub struct TransparentPass {
     view_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// The shader of each variant: double- and single-sided pipelines share it.
+    modules: HashMap<TransparentVariant, wgpu::ShaderModule>,
     pipelines: HashMap<(TransparentVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
     view_group: Option<(u64, wgpu::BindGroup)>,
     resolve: WeightedResolve,
@@ -195,6 +192,7 @@ impl TransparentPass {
         TransparentPass {
             view_layout,
             pipeline_layout,
+            modules: HashMap::new(),
             pipelines: HashMap::new(),
             view_group: None,
             resolve: WeightedResolve::new(gpu),
@@ -221,10 +219,15 @@ impl TransparentPass {
             return Ok(());
         }
         let (variant, double_sided, format) = key;
-        let source = gpu
-            .shaders
-            .compose("transparent.wgsl", &Self::defs(variant, uniform_capacity))?;
-        let module = create_module(gpu, "transparent", &source)?;
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry(variant) {
+            let source = gpu
+                .shaders
+                .compose("transparent.wgsl", &Self::defs(variant, uniform_capacity))?;
+            slot.insert(create_module(gpu, "transparent", &source)?);
+        }
+        let Some(module) = self.modules.get(&variant) else {
+            return Ok(());
+        };
         // Sorted: premultiplied "over" into the HDR target; weighted: the sums.
         let targets: Vec<Option<wgpu::ColorTargetState>> = if variant.weighted {
             weighted::accumulate_targets().to_vec()
@@ -245,7 +248,7 @@ impl TransparentPass {
                 label: Some("transparent"),
                 layout: Some(&self.pipeline_layout),
                 vertex: wgpu::VertexState {
-                    module: &module,
+                    module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
                     buffers: &crate::render::mesh_vertex::buffers(),
@@ -266,7 +269,7 @@ impl TransparentPass {
                 }),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
-                    module: &module,
+                    module,
                     entry_point: Some(entry),
                     compilation_options: Default::default(),
                     targets: &targets,
