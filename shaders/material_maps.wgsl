@@ -21,6 +21,12 @@ struct Maps {
     extra: vec4<u32>,
     // x: normal scale; y: occlusion strength; z: alpha cutoff (< 0: opaque).
     params: vec4<f32>,
+    // Transmissive materials (transparent pass): x: transmission factor (0: none); y:
+    // index of refraction; z: thickness (world m, 0: thin-walled); w: attenuation
+    // distance (m, ∞: no absorption).
+    transmission: vec4<f32>,
+    // rgb: the attenuation colour; w: 1 where blended (the base alpha is coverage).
+    attenuation: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

@@ -113,6 +113,9 @@ fn list_light(list: LightList, k: u32) -> u32 {
 
 // The specular lobe's multiple-scattering compensation for this pixel (1 when off).
 var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
+// Multiplies every diffuse term: 1 − transmission on a transmissive surface (set by the
+// transparent pass before surface_light), 1 everywhere else.
+var<private> diffuse_weight: f32 = 1.0;
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
@@ -123,7 +126,7 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
         return vec3<f32>(0.0);
     }
     let lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
-    return (lobes.diffuse + lobes.specular * specular_energy) * illuminance * n_dot_l;
+    return (lobes.diffuse * diffuse_weight + lobes.specular * specular_energy) * illuminance * n_dot_l;
 }
 
 // Direction towards a point or spot light and the illuminance (× exposure) it gives at
@@ -215,7 +218,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
                 irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
             }
         }
-        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao;
+        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao * diffuse_weight;
         color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
     }
     let shadowed = view.shadowed_counts;

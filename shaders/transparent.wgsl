@@ -5,8 +5,12 @@
 // the pipeline composites with "over", dst ← src + dst·(1 − α) (Porter & Duff 1984).
 // `fs_weighted` (--transparency weighted) writes the same premultiplied colour, weighted
 // (transparency.wgsl), into the accumulation and revealage targets of weighted blended OIT
-// instead. Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING
-// off (the AO pass's occlusion and the light tiles belong to the opaque surface behind).
+// instead. A transmissive fragment (TRANSMISSION, and a transmission factor in its maps)
+// covers what is behind it and passes on the opaque frame seen along its refracted ray
+// (transmission.wgsl): its diffuse lobe is scaled by 1 − transmission, as glTF mixes
+// them. Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING
+// off (the AO pass's occlusion and the light tiles belong to the opaque surface behind),
+// and TRANSMISSION.
 #import common
 #import brdf
 #import color
@@ -15,12 +19,37 @@
 #import material_maps
 #import surface_light
 #import transparency
+#import transmission
 
 @group(0) @binding(0) var<uniform> view: View;
+// The opaque frame and its mip chain (a 1 × 1 texture without TRANSMISSION).
+@group(0) @binding(1) var opaque_frame: texture_2d<f32>;
+@group(0) @binding(2) var opaque_sampler: sampler;
 
 @vertex
 fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     return textured_vertex(in, inst);
+}
+
+// Pre-exposed radiance a transmissive fragment passes from the opaque frame behind it:
+// the frame where the refracted ray leaves a slab of the material's thickness, at the
+// mip level of its roughness, × (1 − metallic) × transmission × (1 − F) × the base colour
+// × the volume's Beer–Lambert transmittance over the path (KHR_materials_transmission
+// and _volume; one interface, as the Khronos sample renderer).
+fn transmitted_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
+    let t = maps.transmission;
+    let path_m = refraction_path_m(p.n, p.v, t.y, t.z);
+    let exit = p.world + refracted_direction(p.n, p.v, t.y) * path_m;
+    let clip = view.clip_from_world * vec4<f32>(exit, 1.0);
+    let ndc = clip.xy / max(clip.w, 1e-6);
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let lod = transmission_lod(surface.perceptual_roughness, t.y, f32(textureDimensions(opaque_frame).x));
+    let behind = textureSampleLevel(opaque_frame, opaque_sampler, uv, lod).rgb;
+    let f0 = compute_f0(surface.base_color, 0.0, surface.specular_level);
+    let fresnel = f_schlick(f0, max(dot(p.n, p.v), MIN_N_DOT_V));
+    let weight = (1.0 - clamp(surface.metallic, 0.0, 1.0)) * t.x;
+    return weight * (vec3<f32>(1.0) - fresnel) * surface.base_color
+        * volume_transmittance(maps.attenuation.rgb, t.w, path_m) * behind;
 }
 
 // A blended fragment's premultiplied colour and coverage, and its view depth (m).
@@ -54,7 +83,17 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     point.frag = in.clip.xy;
     point.occlusion = mapped.occlusion;
     point.receives = select(0.0, 1.0, in.params.w > 0.5);
-    let color = premultiplied(mapped.emissive + surface_light(point, surface), base.a);
+    // Coverage: the base alpha where blended, else whole.
+    var alpha = select(1.0, base.a, maps.attenuation.w > 0.5);
+    var transmitted = vec3<f32>(0.0);
+    if TRANSMISSION && maps.transmission.x > 0.0 {
+        if masked_out(base.a) {
+            alpha = 0.0;
+        }
+        diffuse_weight = 1.0 - maps.transmission.x;
+        transmitted = transmitted_light(point, surface);
+    }
+    let color = premultiplied(mapped.emissive + surface_light(point, surface) + transmitted, alpha);
     return BlendedFragment(color, dot(world - view.position_exposure.xyz, view.forward.xyz));
 }
 

@@ -93,7 +93,11 @@ fn every_bind_group_list_matches_its_shader() {
     check(
         "transparent.wgsl",
         &TransparentPass::defs(
-            TransparentVariant::of(everything, lumen::quality::Transparency::WeightedBlended),
+            TransparentVariant::of(
+                everything,
+                lumen::quality::Transparency::WeightedBlended,
+                true,
+            ),
             8,
         ),
         &[
@@ -133,6 +137,11 @@ fn every_bind_group_list_matches_its_shader() {
         ],
     );
     check("accumulate.wgsl", &[], &[(0, accumulate::BINDINGS)]);
+    check(
+        "frame_mips.wgsl",
+        &[],
+        &[(0, transparent::transmission_source::BINDINGS)],
+    );
     check("copy.wgsl", &[], &[(0, copy::BINDINGS)]);
     check("aa_prepare.wgsl", &[], &[(0, prepare::BINDINGS)]);
     check("taa_resolve.wgsl", &[], &[(0, resolve::BINDINGS)]);

@@ -221,6 +221,53 @@ fn material_extensions_map_onto_the_material() {
 }
 
 #[test]
+fn transmission_and_volume_map_onto_the_material() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {
+            "KHR_materials_transmission": {"transmissionFactor": 0.9},
+            "KHR_materials_volume": {
+                "thicknessFactor": 0.25,
+                "attenuationDistance": 2.0,
+                "attenuationColor": [0.5, 0.75, 1.0]
+            },
+            "KHR_materials_ior": {"ior": 1.33}
+        }
+    });
+    let path = write_quad(
+        dir.path(),
+        material,
+        &[
+            "KHR_materials_transmission",
+            "KHR_materials_volume",
+            "KHR_materials_ior",
+        ],
+    );
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let materials: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    let t = materials[0].transmission.expect("transmissive");
+    assert_eq!(t.factor, 0.9);
+    assert_eq!(t.ior, 1.33);
+    assert_eq!(t.thickness_m, 0.25);
+    assert_eq!(t.attenuation_distance_m, 2.0);
+    assert_eq!(t.attenuation_color, Vec3::new(0.5, 0.75, 1.0));
+    // Without the volume extension: thin-walled, no absorption.
+    let thin = json!({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}});
+    let path = write_quad(dir.path(), thin, &["KHR_materials_transmission"]);
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert_eq!(
+        m[0].transmission,
+        Some(lumen::scene::Transmission::default())
+    );
+}
+
+#[test]
 fn generated_tangents_follow_the_texture_directions() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = write_quad(dir.path(), json!({}), &[]);

@@ -13,10 +13,10 @@ use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::camera;
-use lumen::{color, encoding, ibl, punctual, shadow_kernel, transparency};
+use lumen::{color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 41;
+const OUTPUTS: usize = 43;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -301,6 +301,11 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             0.0,
         ),
         transparency::oit_resolve((base * 50.0).extend(k * 100.0), x),
+        transmission::refracted_direction(n, v, 1.0 + x * 3.0).extend(
+            transmission::refraction_path_m(n, v, 1.0 + x * 3.0, r * 0.5),
+        ),
+        transmission::volume_transmittance(base, x * 3.0, k * 2.0)
+            .extend(transmission::transmission_lod(r, 1.0 + x, 256.0)),
     ]
 }
 
@@ -346,6 +351,8 @@ const NAMES: [&str; OUTPUTS] = [
     "blended_shadow_threshold | bayer2",
     "oit_weight",
     "oit_resolve",
+    "refracted_direction | refraction_path_m",
+    "volume_transmittance | transmission_lod",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -370,7 +377,7 @@ fn coc_focus(i: usize) -> f32 {
 }
 
 /// Outputs that are unit vectors (or directions' coordinates).
-const UNIT_VECTORS: [usize; 6] = [7, 11, 13, 16, 22, 24];
+const UNIT_VECTORS: [usize; 7] = [7, 11, 13, 16, 22, 24, 41];
 /// Outputs that are angles from `acos` (or integrals of them), held in absolute terms
 /// with a looser tolerance: near ±1, one rounding of the cosine moves `acos` by
 /// √(2 · 6e-8) ≈ 3.5e-4 rad.

@@ -44,6 +44,7 @@ pub mod render;
 pub mod scene;
 pub mod shadow_kernel;
 pub mod trace_input;
+pub mod transmission;
 pub mod transparency;
 pub mod validate;
 pub mod workflow;

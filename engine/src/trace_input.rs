@@ -64,6 +64,10 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                     maps: batch.maps,
                     alpha,
                     blend: batch.blend,
+                    transmission: batch
+                        .maps
+                        .and_then(|m| frame.material_maps.get(m as usize))
+                        .and_then(|entry| entry.transmission),
                 },
             });
         }
@@ -116,7 +120,11 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
     });
     Ok(TraceInput {
         instances,
-        material_maps: frame.material_maps.clone(),
+        material_maps: frame
+            .material_maps
+            .iter()
+            .map(|entry| entry.maps.clone())
+            .collect(),
         lights,
         camera: TraceCamera {
             world_from_clip: Mat4::from_cols_array_2d(&frame.view.world_from_clip),
@@ -192,6 +200,7 @@ mod tests {
             maps: Some(1),
             double_sided: false,
             blend: false,
+            transmissive: false,
             first_instance: 1,
             count: 2,
             visible: 2,

@@ -13,6 +13,7 @@
 #import antialiasing
 #import shadow_kernel
 #import transparency
+#import transmission
 
 struct Case {
     n: vec4<f32>,
@@ -26,7 +27,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 41u;
+const OUTPUTS: u32 = 43u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -129,6 +130,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 38u] = vec4<f32>(blended_shadow_threshold(vec2<u32>(i, i / 7u)), f32(bayer2(i & 1u, (i >> 1u) & 1u)), 0.0, 0.0);
     results[o + 39u] = vec4<f32>(oit_weight(x * 400.0 - 5.0, k), oit_weight(r * 3.0, 1.0), 0.0, 0.0);
     results[o + 40u] = oit_resolve(vec4<f32>(c.base_metallic.rgb * 50.0, k * 100.0), x);
+    results[o + 41u] = vec4<f32>(refracted_direction(c.n.xyz, c.v.xyz, 1.0 + x * 3.0),
+                                 refraction_path_m(c.n.xyz, c.v.xyz, 1.0 + x * 3.0, r * 0.5));
+    results[o + 42u] = vec4<f32>(volume_transmittance(c.base_metallic.rgb, x * 3.0, k * 2.0),
+                                 transmission_lod(r, 1.0 + x, 256.0));
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

@@ -13,7 +13,7 @@ use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
     ColorSpace, Filter, Material, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot,
-    Textures, UvTransform, Wrap,
+    Textures, Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -392,6 +392,7 @@ pub(super) fn material(
         occlusion: 1.0,
         double_sided: m.double_sided(),
         blend,
+        transmission: transmission(m, what, &mut loader.warnings),
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))
@@ -485,6 +486,43 @@ fn spec_gloss_textures(
     };
     maps.base_color = add(store, base, ColorSpace::Srgb);
     maps.metallic_roughness = add(store, mr, ColorSpace::Linear);
+}
+
+/// `KHR_materials_transmission` with `KHR_materials_volume` and `KHR_materials_ior`:
+/// the factors (a transmission or thickness texture is not sampled: a warning says so,
+/// and the factor alone applies). No transmission extension, or a factor of 0: opaque.
+fn transmission(
+    m: &gltf::Material,
+    what: &str,
+    warnings: &mut Vec<String>,
+) -> Option<Transmission> {
+    let t = m.transmission()?;
+    if t.transmission_texture().is_some() {
+        warnings.push(format!(
+            "{what}: KHR_materials_transmission's texture is not sampled; its factor applies"
+        ));
+    }
+    let volume = m.volume();
+    if volume
+        .as_ref()
+        .is_some_and(|v| v.thickness_texture().is_some())
+    {
+        warnings.push(format!(
+            "{what}: KHR_materials_volume's thickness texture is not sampled; its factor applies"
+        ));
+    }
+    let factor = t.transmission_factor();
+    (factor > 0.0).then(|| Transmission {
+        factor,
+        ior: m.ior().unwrap_or(1.5),
+        thickness_m: volume.as_ref().map_or(0.0, |v| v.thickness_factor()),
+        attenuation_color: volume
+            .as_ref()
+            .map_or(Vec3::ONE, |v| Vec3::from(v.attenuation_color())),
+        attenuation_distance_m: volume
+            .as_ref()
+            .map_or(f32::INFINITY, |v| v.attenuation_distance()),
+    })
 }
 
 /// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):

@@ -18,7 +18,7 @@ use crate::render::shadow_views::{
 use crate::scene::{
     Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
     GlobalTransform, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver,
-    PointLight, ShadowSettings, SpotLight,
+    PointLight, ShadowSettings, SpotLight, Transmission,
 };
 use bevy_ecs::prelude::*;
 use glam::{Mat3, Mat4, Vec3};
@@ -58,8 +58,8 @@ pub struct ExtractedCamera {
 
 /// Consecutive instances of one mesh, drawn with one instanced draw call. Those whose
 /// bounding sphere touches the camera's view frustum come first: the G-buffer pass draws
-/// only them. Blended instances come after every opaque batch, one per batch, farthest
-/// from the camera first.
+/// only them. Blended and transmissive instances come after every opaque batch, one per
+/// batch, farthest from the camera first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Batch {
     /// The mesh.
@@ -72,12 +72,36 @@ pub struct Batch {
     /// Alpha-blended ([`crate::scene::Material::blend`]): one instance, drawn by the
     /// transparent pass instead of the G-buffer.
     pub blend: bool,
+    /// Transmissive ([`crate::scene::Material::transmission`]): one instance, drawn by
+    /// the transparent pass over a copy of the opaque frame; its maps entry holds the
+    /// transmission.
+    pub transmissive: bool,
     /// Index of the first instance in [`ExtractedFrame::instances`].
     pub first_instance: u32,
     /// Number of instances.
     pub count: u32,
     /// How many of them, from the first, are inside the camera's view frustum.
     pub visible: u32,
+}
+
+impl Batch {
+    /// Drawn by the transparent pass (blended or transmissive), not the G-buffer.
+    pub fn transparent(&self) -> bool {
+        self.blend || self.transmissive
+    }
+}
+
+/// A textured or forward-drawn material as the frame's passes bind it: its maps and, for
+/// a transmissive one, its transmission with the thickness in world metres.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameMaps {
+    /// The textures and their factors.
+    pub maps: crate::scene::MaterialMaps,
+    /// The transmission, its thickness scaled by the instance's transform (m).
+    pub transmission: Option<Transmission>,
+    /// Alpha-blended: the transparent pass composites with the base alpha as coverage
+    /// (a transmissive surface that is not blended covers what is behind it).
+    pub blend: bool,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -161,7 +185,7 @@ pub struct ExtractedFrame {
     /// Draw batches over `instances`.
     pub batches: Vec<Batch>,
     /// The distinct material maps of this frame's instances.
-    pub material_maps: Vec<crate::scene::MaterialMaps>,
+    pub material_maps: Vec<FrameMaps>,
     /// Lights: directional, then point, then spot.
     pub lights: Vec<GpuLight>,
     /// How many of each kind.
@@ -194,13 +218,23 @@ impl ExtractedFrame {
 
     /// The batches the G-buffer pass draws: the opaque ones with an instance in view.
     pub fn drawn_batches(&self) -> impl Iterator<Item = &Batch> {
-        self.batches.iter().filter(|b| b.visible > 0 && !b.blend)
+        self.batches
+            .iter()
+            .filter(|b| b.visible > 0 && !b.transparent())
     }
 
-    /// The blended batches in view, farthest first: what the transparent pass draws, in
-    /// its order.
-    pub fn blended_batches(&self) -> impl Iterator<Item = &Batch> {
-        self.batches.iter().filter(|b| b.visible > 0 && b.blend)
+    /// The blended and transmissive batches in view, farthest first: what the
+    /// transparent pass draws, in its order.
+    pub fn transparent_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.batches
+            .iter()
+            .filter(|b| b.visible > 0 && b.transparent())
+    }
+
+    /// Whether a transmissive batch is in view: the transparent pass then samples a copy
+    /// of the opaque frame.
+    pub fn transmissive_in_view(&self) -> bool {
+        self.transparent_batches().any(|b| b.transmissive)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -302,6 +336,31 @@ fn shadow_fields(
 const NO_CASCADES: [f32; 4] = [f32::MAX; 4];
 
 const NO_SHADOW: [f32; 4] = [-1.0, 0.0, 0.0, 0.0];
+
+/// `t` with its factor clamped to 0..1, its index of refraction to 1..10, and its
+/// thickness in world metres: the mesh's thickness × the transform's mean scale (the cube
+/// root of |det|, as glTF's volume thickness is in the mesh's own units). Non-finite or
+/// negative thicknesses become 0 (thin-walled), NaN attenuation values their defaults.
+fn world_transmission(t: &Transmission, world_from_local: &Mat4) -> Transmission {
+    let scale = world_from_local.determinant().abs().cbrt();
+    let thickness = finite_or(t.thickness_m, 0.0).max(0.0) * finite_or(scale, 1.0);
+    Transmission {
+        factor: finite_or(t.factor, 0.0).clamp(0.0, 1.0),
+        ior: crate::transmission::clamp_ior(t.ior),
+        thickness_m: finite_or(thickness, 0.0),
+        attenuation_color: Vec3::select(
+            t.attenuation_color.cmpeq(t.attenuation_color),
+            t.attenuation_color,
+            Vec3::ONE,
+        )
+        .clamp(Vec3::ZERO, Vec3::ONE),
+        attenuation_distance_m: if t.attenuation_distance_m.is_nan() {
+            f32::INFINITY
+        } else {
+            t.attenuation_distance_m.max(0.0)
+        },
+    }
+}
 
 fn finite_or(x: f32, fallback: f32) -> f32 {
     if x.is_finite() { x } else { fallback }
@@ -455,6 +514,7 @@ pub fn extract_frame(
         maps: Option<u32>,
         double_sided: bool,
         blend: bool,
+        transmissive: bool,
         // Squared distance (m²) from the camera to the bounding sphere's centre.
         distance2: f32,
         casts: bool,
@@ -480,19 +540,32 @@ pub fn extract_frame(
             continue;
         };
         let base = material.base_color;
-        // The transparent pass draws through the maps' bind group: a blended material
-        // without maps gets the neutral ones (every slot white, every factor as given).
+        // The transparent pass draws through the maps' bind group: a blended or
+        // transmissive material without maps gets the neutral ones (every slot white,
+        // every factor as given).
         let blend = material.blend;
-        let maps = maps.or(blend.then_some(&neutral_maps)).map(|m| {
-            let index = match frame.material_maps.iter().position(|x| x == m) {
-                Some(i) => i,
-                None => {
-                    frame.material_maps.push(m.clone());
-                    frame.material_maps.len() - 1
-                }
-            };
-            index as u32
-        });
+        let transmission = material
+            .transmission
+            .map(|t| world_transmission(&t, &m))
+            .filter(|t| t.factor > 0.0);
+        let transmissive = transmission.is_some();
+        let maps = maps
+            .or((blend || transmissive).then_some(&neutral_maps))
+            .map(|m| {
+                let entry = FrameMaps {
+                    maps: m.clone(),
+                    transmission,
+                    blend,
+                };
+                let index = match frame.material_maps.iter().position(|x| *x == entry) {
+                    Some(i) => i,
+                    None => {
+                        frame.material_maps.push(entry);
+                        frame.material_maps.len() - 1
+                    }
+                };
+                index as u32
+            });
         let sphere = bounding_sphere(&meshes, mesh.0, &m);
         items.push(Item {
             entity,
@@ -500,6 +573,7 @@ pub fn extract_frame(
             maps,
             double_sided: material.double_sided,
             blend,
+            transmissive,
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
@@ -528,7 +602,8 @@ pub fn extract_frame(
             },
         });
     }
-    // Opaque instances by mesh; the blended ones after them, back to front.
+    // Opaque instances by mesh; the blended and transmissive ones after them, back to
+    // front.
     items.sort_by(|a, b| {
         let key = |item: &Item| {
             (
@@ -539,8 +614,9 @@ pub fn extract_frame(
                 !item.casts,
             )
         };
-        a.blend.cmp(&b.blend).then_with(|| {
-            if a.blend {
+        let transparent = |item: &Item| item.blend || item.transmissive;
+        transparent(a).cmp(&transparent(b)).then_with(|| {
+            if transparent(a) {
                 b.distance2.total_cmp(&a.distance2)
             } else {
                 key(a).cmp(&key(b))
@@ -576,7 +652,8 @@ pub fn extract_frame(
         match frame.batches.last_mut() {
             Some(b)
                 if !item.blend
-                    && !b.blend
+                    && !item.transmissive
+                    && !b.transparent()
                     && b.mesh == item.mesh
                     && b.maps == item.maps
                     && b.double_sided == item.double_sided =>
@@ -589,6 +666,7 @@ pub fn extract_frame(
                 maps: item.maps,
                 double_sided: item.double_sided,
                 blend: item.blend,
+                transmissive: item.transmissive,
                 first_instance: index,
                 count: 1,
                 visible: u32::from(item.in_view),
@@ -602,7 +680,7 @@ pub fn extract_frame(
                         || frame
                             .material_maps
                             .get(m as usize)
-                            .is_some_and(|maps| maps.alpha_cutoff.is_some())
+                            .is_some_and(|entry| entry.maps.alpha_cutoff.is_some())
                 });
                 frame.casters.push(Caster {
                     instance: index,

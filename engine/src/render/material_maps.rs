@@ -7,11 +7,9 @@
 use crate::color::{srgb_decode, srgb_encode};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
+use crate::render::extract::{ExtractedFrame, FrameMaps};
 use crate::render::frame::FrameErrors;
-use crate::scene::{
-    ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, Textures, Wrap,
-};
+use crate::scene::{ColorSpace, Filter, Sampler, TextureData, TextureHandle, Textures, Wrap};
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
@@ -24,10 +22,13 @@ struct GpuMaps {
     uv_sets: [u32; 4],
     extra: [u32; 4],
     params: [f32; 4],
+    transmission: [f32; 4],
+    attenuation: [f32; 4],
 }
 
 impl GpuMaps {
-    fn new(maps: &MaterialMaps) -> Self {
+    fn new(entry: &FrameMaps) -> Self {
+        let maps = &entry.maps;
         let mut out = GpuMaps::default();
         for (k, slot) in maps.slots().iter().enumerate() {
             let m = slot.map_or(glam::Mat3::IDENTITY, |s| s.transform.matrix());
@@ -50,6 +51,13 @@ impl GpuMaps {
             maps.alpha_cutoff.map_or(-1.0, |c| finite(c, 0.5)),
             0.0,
         ];
+        // Extraction has clamped the transmission; the attenuation distance stays ∞
+        // where nothing is absorbed (`INFINITE_DISTANCE_M` in the shader).
+        if let Some(t) = entry.transmission {
+            out.transmission = [t.factor, t.ior, t.thickness_m, t.attenuation_distance_m];
+            out.attenuation = t.attenuation_color.extend(0.0).into();
+        }
+        out.attenuation[3] = if entry.blend { 1.0 } else { 0.0 };
         out
     }
 }
@@ -177,7 +185,7 @@ pub struct GpuMaterialMaps {
     samplers: HashMap<Sampler, wgpu::Sampler>,
     /// 1 × 1 white, for slots without a texture (sRGB and linear).
     white: Option<[(wgpu::Texture, wgpu::TextureView); 2]>,
-    groups: Vec<(MaterialMaps, wgpu::BindGroup)>,
+    groups: Vec<(FrameMaps, wgpu::BindGroup)>,
     /// For each entry of [`ExtractedFrame::material_maps`], its index in `groups`.
     frame_groups: Vec<usize>,
     anisotropy: u16,
@@ -278,11 +286,12 @@ pub fn prepare_material_maps(
     if maps.groups.len() > 4096 {
         maps.groups.clear();
     }
-    for m in &frame.material_maps {
-        if let Some(i) = maps.groups.iter().position(|(k, _)| k == m) {
+    for entry in &frame.material_maps {
+        if let Some(i) = maps.groups.iter().position(|(k, _)| k == entry) {
             maps.frame_groups.push(i);
             continue;
         }
+        let m = &entry.maps;
         for slot in m.slots().into_iter().flatten() {
             if !maps.textures.contains_key(&slot.texture)
                 && let Some(data) = store.get(slot.texture)
@@ -346,7 +355,7 @@ pub fn prepare_material_maps(
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("material maps"),
-                contents: bytemuck::bytes_of(&GpuMaps::new(m)),
+                contents: bytemuck::bytes_of(&GpuMaps::new(entry)),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
         let resources = std::iter::once(uniform.as_entire_binding())
@@ -360,7 +369,7 @@ pub fn prepare_material_maps(
                 return;
             }
         };
-        maps.groups.push((m.clone(), group));
+        maps.groups.push((entry.clone(), group));
         maps.frame_groups.push(maps.groups.len() - 1);
     }
 }

@@ -21,6 +21,7 @@ use crate::render::shadow::pass::ShadowPass;
 use crate::render::sky::SkyPass;
 use crate::render::tonemap::TonemapPass;
 use crate::render::transparent::TransparentPass;
+use crate::render::transparent::transmission_source::TransmissionSourcePass;
 
 /// Lumen's frame, in registration order (the order in which passes touching the same
 /// slot see it).
@@ -34,6 +35,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<SkyPass>()
+        .with::<TransmissionSourcePass>()
         .with::<TransparentPass>()
         .with::<AccumulatePass>()
         .with::<TaaPass>()

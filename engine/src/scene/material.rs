@@ -32,6 +32,47 @@ pub struct Material {
     /// each over what is behind it (docs/src/materials.md#blending). Off, alpha is ignored
     /// unless the material's maps mask by it.
     pub blend: bool,
+    /// Light transmitted through the surface and, beneath it, a volume
+    /// (`KHR_materials_transmission`, `_volume`, `_ior`): glass, water, thin plastic.
+    /// `None`: opaque. Such surfaces are drawn by the transparent pass over a copy of the
+    /// opaque frame, sampled along the refracted ray (docs/src/materials.md#transmission).
+    pub transmission: Option<Transmission>,
+}
+
+/// The transmission and volume of a [`Material`] (glTF's `KHR_materials_transmission`,
+/// `KHR_materials_volume` and `KHR_materials_ior`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transmission {
+    /// Fraction (0..1) of the light the dielectric base does not reflect specularly that
+    /// passes through it instead of being reflected diffusely. Metals transmit nothing.
+    pub factor: f32,
+    /// Index of refraction of the interior relative to the outside (dimensionless,
+    /// clamped to 1..10; glTF's default 1.5). It also sets the refraction; the specular
+    /// reflectance stays [`Material::specular_level`]'s.
+    pub ior: f32,
+    /// Thickness of the volume beneath the surface, measured along the normal, in metres
+    /// of the mesh's own space (scaled by the instance's transform). 0 is thin-walled:
+    /// light passes straight through without bending or absorption.
+    pub thickness_m: f32,
+    /// The colour (linear RGB, 0..1) white light takes after travelling
+    /// `attenuation_distance_m` through the volume (Beer–Lambert).
+    pub attenuation_color: Vec3,
+    /// The distance in metres at which light takes `attenuation_color`; `f32::INFINITY`:
+    /// no absorption.
+    pub attenuation_distance_m: f32,
+}
+
+impl Default for Transmission {
+    /// Clear thin-walled glass: everything transmitted, IOR 1.5, no absorption.
+    fn default() -> Self {
+        Transmission {
+            factor: 1.0,
+            ior: 1.5,
+            thickness_m: 0.0,
+            attenuation_color: Vec3::ONE,
+            attenuation_distance_m: f32::INFINITY,
+        }
+    }
 }
 
 impl Default for Material {
@@ -45,6 +86,7 @@ impl Default for Material {
             occlusion: 1.0,
             double_sided: false,
             blend: false,
+            transmission: None,
         }
     }
 }

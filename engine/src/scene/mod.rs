@@ -17,7 +17,7 @@ pub mod transform;
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
-pub use material::Material;
+pub use material::{Material, Transmission};
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
 pub use probes::{IrradianceVolume, ReflectionProbe};
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};

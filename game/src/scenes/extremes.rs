@@ -38,6 +38,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             occlusion: f32::NAN,
             double_sided: true,
             blend: false,
+            transmission: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

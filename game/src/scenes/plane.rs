@@ -14,6 +14,7 @@ pub const PLANE_MATERIAL: Material = Material {
     occlusion: 1.0,
     double_sided: false,
     blend: false,
+    transmission: None,
 };
 
 /// Illuminance of the light in lux.

@@ -18,6 +18,12 @@
 //!   heuristic (Veach 1997) weights the two by their densities over the bounce surface's
 //!   area. The second finds the small bright patch a light just under a ceiling makes,
 //!   which BSDF sampling hits rarely (the fireflies of an indoor scene);
+//! - a transmissive surface (`KHR_materials_transmission`) is, with probability
+//!   (1 − metallic) × transmission, a rough dielectric interface that reflects or
+//!   refracts ([`super::dielectric`]), absorbing by Beer–Lambert inside its volume; its
+//!   lights are sampled through its specular reflection lobe only, and everything it
+//!   refracts is found by following the ray (no light is connected through glass: shadow
+//!   rays stop at it, as the rasterizer's shadow maps do);
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
 //!
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
@@ -329,6 +335,30 @@ fn transparency_draw(origin: Vec3, dir: Vec3, t: f32) -> f32 {
     (h >> 40) as f32 / (1u64 << 24) as f32
 }
 
+/// Which part of a transmissive material a path meets: with probability
+/// (1 − metallic) × transmission its dielectric interface (`Some` transmission), else the
+/// rest of it, an opaque material whose metallic is renormalised to
+/// metallic / (1 − that probability), so the expectation is glTF's mix of the metal and
+/// the dielectric base. Opaque materials draw nothing from `rng`.
+fn transmission_choice(
+    m: &TraceMaterial,
+    rng: &mut Rng,
+) -> (TraceMaterial, Option<crate::scene::Transmission>) {
+    let Some(tr) = m.transmission.filter(|t| t.factor > 0.0) else {
+        return (*m, None);
+    };
+    let p = (1.0 - m.metallic.clamp(0.0, 1.0)) * tr.factor.clamp(0.0, 1.0);
+    if rng.uniform() < p {
+        (*m, Some(tr))
+    } else {
+        let opaque = TraceMaterial {
+            metallic: (m.metallic / (1.0 - p).max(1e-6)).clamp(0.0, 1.0),
+            ..*m
+        };
+        (opaque, None)
+    }
+}
+
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
@@ -402,6 +432,7 @@ impl TraceScene {
         v: Vec3,
         bsdf: &Bsdf,
         arrival: Option<Arrival>,
+        environment: bool,
         rng: &mut Rng,
     ) -> Vec3 {
         let count = if arrival.is_some() {
@@ -460,6 +491,9 @@ impl TraceScene {
                 _ => 1.0,
             };
             sum += f * e * weight;
+        }
+        if !environment {
+            return sum;
         }
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
@@ -590,6 +624,32 @@ impl TraceScene {
             && (!self.masked || self.trace(origin, dir).is_some_and(|(t, _, _)| t < t_max))
     }
 
+    /// Triangle `t`'s unit geometric normal by its winding (counter-clockwise seen from
+    /// the outside of a closed mesh, as glTF winds its triangles).
+    fn geometric_normal(&self, t: usize) -> Vec3 {
+        let tri = self.bvh.triangles()[t];
+        (tri.p[1] - tri.p[0])
+            .cross(tri.p[2] - tri.p[0])
+            .normalize_or(Vec3::Z)
+    }
+
+    /// The fraction of light left at `hit`, reached along `dir`, of what entered the
+    /// volume behind it: Beer–Lambert over the distance travelled where the ray leaves a
+    /// transmissive volume (it meets the surface from the inside), else 1.
+    fn absorption(&self, hit: &(f32, usize, SurfacePoint), dir: Vec3) -> Vec3 {
+        let (distance, t, surface) = hit;
+        match surface.material.transmission {
+            Some(tr) if tr.thickness_m > 0.0 && self.geometric_normal(*t).dot(dir) > 0.0 => {
+                crate::transmission::volume_transmittance(
+                    tr.attenuation_color,
+                    tr.attenuation_distance_m,
+                    *distance,
+                )
+            }
+            _ => Vec3::ONE,
+        }
+    }
+
     /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned
     /// to the side `v` comes from: (geometric, shading).
     fn facing_normals(&self, t: usize, normal: Vec3, v: Vec3) -> (Vec3, Vec3) {
@@ -651,42 +711,88 @@ impl TraceScene {
             let p = ray_origin + ray_dir * distance;
             let v = -ray_dir;
             let (facing, n) = self.facing_normals(t, surface.normal, v);
-            let bsdf = Bsdf::new(
-                n,
-                v,
-                &surface.material,
-                self.visibility,
-                self.energy_compensation.as_ref(),
-            );
             let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
             let arrival = arrival_pdf.map(|pdf_area| Arrival { pdf_area, facing });
-            radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, rng);
-            if bounce + 1 < max_bounces
-                && let Some(bounced) = self.bounced_light(p, offset, facing, v, &bsdf, rng)
-            {
-                radiance += throughput * bounced;
-            }
-            let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
-                break;
-            };
-            if l.dot(facing) <= 0.0 {
-                break;
-            }
-            throughput *= weight;
-            ray_origin = p + offset;
-            ray_dir = l;
-            match self.trace(ray_origin, ray_dir) {
-                None => {
-                    let w = power_heuristic(pdf, self.environment_pdf(l, n));
-                    radiance += throughput * self.environment_radiance(l) * w;
+            let (material, transmission) = transmission_choice(&surface.material, rng);
+            // Through the interface: its specular reflection of the lights, then the
+            // sampled reflection or refraction, followed without light connections.
+            if let Some(tr) = transmission {
+                let mirror = TraceMaterial {
+                    base_color: Vec3::ZERO,
+                    metallic: 0.0,
+                    ..material
+                };
+                let bsdf = Bsdf::new(
+                    n,
+                    v,
+                    &mirror,
+                    self.visibility,
+                    self.energy_compensation.as_ref(),
+                );
+                radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, false, rng);
+                let entering = self.geometric_normal(t).dot(v) > 0.0;
+                let alpha = material.roughness * material.roughness;
+                let Some(scattered) =
+                    super::dielectric::sample(&tr, n, v, alpha, material.base_color, entering, rng)
+                else {
+                    break;
+                };
+                throughput *= scattered.weight;
+                ray_origin = if scattered.transmitted {
+                    p - offset
+                } else {
+                    p + offset
+                };
+                ray_dir = scattered.l;
+                arrival_pdf = None;
+                match self.trace(ray_origin, ray_dir) {
+                    None => {
+                        radiance += throughput * self.environment_radiance(ray_dir);
+                        break;
+                    }
+                    Some(next) => {
+                        throughput *= self.absorption(&next, ray_dir);
+                        radiance += throughput * next.2.material.emissive;
+                        hit = next;
+                    }
+                }
+            } else {
+                let bsdf = Bsdf::new(
+                    n,
+                    v,
+                    &material,
+                    self.visibility,
+                    self.energy_compensation.as_ref(),
+                );
+                radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, true, rng);
+                if bounce + 1 < max_bounces
+                    && let Some(bounced) = self.bounced_light(p, offset, facing, v, &bsdf, rng)
+                {
+                    radiance += throughput * bounced;
+                }
+                let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
+                    break;
+                };
+                if l.dot(facing) <= 0.0 {
                     break;
                 }
-                Some(next) => {
-                    radiance += throughput * next.2.material.emissive;
-                    let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
-                    arrival_pdf =
-                        Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));
-                    hit = next;
+                throughput *= weight;
+                ray_origin = p + offset;
+                ray_dir = l;
+                match self.trace(ray_origin, ray_dir) {
+                    None => {
+                        let w = power_heuristic(pdf, self.environment_pdf(l, n));
+                        radiance += throughput * self.environment_radiance(l) * w;
+                        break;
+                    }
+                    Some(next) => {
+                        throughput *= self.absorption(&next, l);
+                        radiance += throughput * next.2.material.emissive;
+                        let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
+                        arrival_pdf =
+                            Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));
+                        hit = next;
+                    }
                 }
             }
             if bounce >= 3 {
@@ -734,6 +840,7 @@ mod tests {
                 maps: None,
                 alpha: 1.0,
                 blend: false,
+                transmission: None,
             };
             let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
             let steps = 600;

@@ -13,6 +13,7 @@
 //! are sampled as the G-buffer's textured variant samples them.
 
 pub mod bvh;
+pub mod dielectric;
 pub mod integrator;
 pub mod scene;
 pub mod textures;

@@ -157,6 +157,9 @@ pub struct TraceMaterial {
     /// Alpha-blended ([`crate::scene::Material::blend`]): rays pass through with
     /// probability 1 − alpha (stochastic transparency).
     pub blend: bool,
+    /// Transmission and volume, the thickness in world metres (the path tracer follows
+    /// the geometry instead; a thickness of 0 marks a thin wall).
+    pub transmission: Option<crate::scene::Transmission>,
 }
 
 impl TraceMaterial {

@@ -125,7 +125,7 @@ impl AtlasContents {
     fn caster(frame: &ExtractedFrame, c: &crate::render::extract::Caster) -> CasterKey {
         let instance = caster_instance(frame, c);
         let mask = c.mask.map(|m| {
-            let maps = frame.material_maps.get(m as usize);
+            let maps = frame.material_maps.get(m as usize).map(|entry| &entry.maps);
             (
                 maps.and_then(|maps| maps.base_color),
                 maps.and_then(|maps| maps.alpha_cutoff)

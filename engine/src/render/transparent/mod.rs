@@ -1,8 +1,11 @@
 //! The transparent pass (`shaders/transparent.wgsl`): alpha-blended surfaces
-//! ([`crate::scene::Material::blend`]), drawn after the opaque frame is lit, one primitive
-//! at a time, farthest first (the order of [`ExtractedFrame::blended_batches`]); or, with
-//! `--transparency weighted`, in any order into the targets of weighted blended OIT,
-//! resolved over the frame once ([`weighted`]).
+//! ([`crate::scene::Material::blend`]) and transmissive ones
+//! ([`crate::scene::Material::transmission`]), drawn after the opaque frame is lit, one
+//! primitive at a time, farthest first (the order of
+//! [`ExtractedFrame::transparent_batches`]); or, with `--transparency weighted`, in any
+//! order into the targets of weighted blended OIT, resolved over the frame once
+//! ([`weighted`]). A transmissive surface samples the opaque frame's mip chain
+//! ([`transmission_source`]) along its refracted ray (docs/src/materials.md#transmission).
 //!
 //! Each fragment is lit by the deferred pass's own code (`surface_light.wgsl`: every light
 //! kind, shadows, the environment, the irradiance volume and the reflection probes), from
@@ -11,8 +14,9 @@
 //! alpha channel, the frame's coverage, composites the same way. The pass depth-tests
 //! against the opaque depth and writes no depth.
 //!
-//! It binds the lighting pass's groups 1 to 3 as they are, and the material maps as group
-//! 4 (`material_maps::group_def`): it runs only on adapters with five bind groups.
+//! Its group 0 is the view and the opaque frame's chain ([`VIEW`]). It binds the lighting
+//! pass's groups 1 to 3 as they are, and the material maps as group 4
+//! (`material_maps::group_def`): it runs only on adapters with five bind groups.
 //! Compiled per (lighting variant, double-sided, HDR format); the variant is the lighting
 //! pass's without its screen-space inputs: the AO pass's occlusion and the light tiles
 //! belong to the opaque surface behind the fragment.
@@ -37,8 +41,10 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use std::collections::HashMap;
+use transmission_source::{TRANSMISSION_SOURCE, TransmissionSourcePass};
 use weighted::{OIT_ACCUM, OIT_REVEAL, OVER, WeightedResolve};
 
+pub mod transmission_source;
 pub mod weighted;
 
 #[allow(non_upper_case_globals)]
@@ -50,8 +56,19 @@ impl PassId {
 /// The bind group index of the material maps in this pass.
 const MAPS_GROUP: u32 = 4;
 
-/// Group 0: the view, as the G-buffer pass binds it.
-pub use crate::render::gbuffer::VIEW;
+/// Group 0: the view, and the opaque frame's mip chain with its sampler.
+pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings::BindGroupSpec {
+    label: "transparent",
+    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+    bindings: &[
+        ("view", crate::render::bindings::Binding::Uniform),
+        (
+            "opaque_frame",
+            crate::render::bindings::Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("opaque_sampler", crate::render::bindings::Binding::Sampler),
+    ],
+};
 
 /// The pass's shader variant: the lighting pass's variant without its screen-space
 /// inputs, and the compositing mode.
@@ -61,12 +78,18 @@ pub struct TransparentVariant {
     pub lighting: LightingVariant,
     /// Weighted blended OIT instead of sorted "over".
     pub weighted: bool,
+    /// A transmissive surface is in view: the refraction code is compiled in.
+    pub transmission: bool,
 }
 
 impl TransparentVariant {
     /// The variant for a frame whose lighting pass compiles `lighting`, compositing as
-    /// `transparency` says.
-    pub fn of(lighting: LightingVariant, transparency: Transparency) -> TransparentVariant {
+    /// `transparency` says, with refraction where `transmission`.
+    pub fn of(
+        lighting: LightingVariant,
+        transparency: Transparency,
+        transmission: bool,
+    ) -> TransparentVariant {
         TransparentVariant {
             lighting: LightingVariant {
                 screen_ao: false,
@@ -75,13 +98,21 @@ impl TransparentVariant {
                 ..lighting
             },
             weighted: transparency == Transparency::WeightedBlended,
+            transmission,
         }
     }
 }
 
 impl FramePass for TransparentPass {
     const ID: PassId = PassId::Transparent;
-    const READS: &'static [Slot] = &[HDR, DEPTH, SHADOW_ATLAS, LIGHT_TILES, AMBIENT_OCCLUSION];
+    const READS: &'static [Slot] = &[
+        HDR,
+        DEPTH,
+        SHADOW_ATLAS,
+        LIGHT_TILES,
+        AMBIENT_OCCLUSION,
+        TRANSMISSION_SOURCE,
+    ];
     const WRITES: &'static [Slot] = &[HDR];
     const OPTIONAL_WRITES: &'static [Slot] = &[OIT_ACCUM, OIT_REVEAL];
     type Variant = Option<TransparentVariant>;
@@ -95,7 +126,8 @@ impl FramePass for TransparentPass {
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<TransparentVariant>> {
         let frame = world.resource::<ExtractedFrame>();
         let gpu = world.resource::<Gpu>();
-        let blended = frame.blended_batches().count();
+        let blended = frame.transparent_batches().count();
+        let transmissive = frame.transmissive_in_view();
         let lighting = plan.variant::<LightingPass>().copied();
         let quality = world.resource::<crate::quality::Quality>();
         let hdr = quality.hdr_precision.format();
@@ -129,17 +161,19 @@ impl FramePass for TransparentPass {
                 true,
                 match mode {
                     Transparency::Sorted => {
-                        format!("{blended} blended surface(s), back to front, premultiplied alpha")
+                        format!(
+                            "{blended} blended or transmissive surface(s), back to front, premultiplied alpha"
+                        )
                     }
                     Transparency::WeightedBlended => format!(
-                        "{blended} blended surface(s), weighted blended OIT (any order, one resolve)"
+                        "{blended} blended or transmissive surface(s), weighted blended OIT (any order, one resolve)"
                     ),
                 },
             )
         };
         let variant = lighting
             .filter(|_| runs)
-            .map(|l| TransparentVariant::of(l, mode));
+            .map(|l| TransparentVariant::of(l, mode, transmissive));
         let weighted = variant.is_some_and(|v| v.weighted);
         PassDecision::new(runs, reason, variant)
             .writing(OIT_ACCUM, weighted)
@@ -163,7 +197,11 @@ pub struct TransparentPass {
     /// The shader of each variant: double- and single-sided pipelines share it.
     modules: HashMap<TransparentVariant, wgpu::ShaderModule>,
     pipelines: HashMap<(TransparentVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
-    view_group: Option<(u64, wgpu::BindGroup)>,
+    /// The view group and what it was built from: the scene buffers' generation and the
+    /// chain's (`None`: the black stand-in).
+    view_group: Option<((u64, Option<u64>), wgpu::BindGroup)>,
+    /// 1 × 1 black, bound in the chain's place when no surface transmits.
+    no_frame: wgpu::TextureView,
     resolve: WeightedResolve,
 }
 
@@ -189,12 +227,30 @@ impl TransparentPass {
                 ],
                 immediate_size: 0,
             });
+        let no_frame = gpu
+            .device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("no transmission source"),
+                size: wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: transmission_source::FORMAT,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&wgpu::TextureViewDescriptor::default());
         TransparentPass {
             view_layout,
             pipeline_layout,
             modules: HashMap::new(),
             pipelines: HashMap::new(),
             view_group: None,
+            no_frame,
             resolve: WeightedResolve::new(gpu),
         }
     }
@@ -206,6 +262,10 @@ impl TransparentPass {
     ) -> Vec<crate::render::shaders::ShaderDef> {
         let mut defs = LightingPass::defs(variant.lighting, uniform_capacity);
         defs.push(group_def(MAPS_GROUP));
+        defs.push(crate::render::shaders::ShaderDef::Bool(
+            "TRANSMISSION",
+            variant.transmission,
+        ));
         defs
     }
 
@@ -291,6 +351,7 @@ pub fn prepare_transparent(
     frame: Res<ExtractedFrame>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
+    source: Res<TransmissionSourcePass>,
     mut pass: ResMut<TransparentPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -300,7 +361,7 @@ pub fn prepare_transparent(
     ) else {
         return;
     };
-    for batch in frame.blended_batches() {
+    for batch in frame.transparent_batches() {
         let key = (variant, batch.double_sided, t.hdr_format);
         if let Err(e) = pass.ensure(&gpu, key, buffers.uniform_light_capacity) {
             errors.0.push(e);
@@ -322,19 +383,22 @@ pub fn prepare_transparent(
             return;
         }
     }
-    if pass
-        .view_group
-        .as_ref()
-        .is_some_and(|(g, _)| *g == buffers.generation)
-    {
+    let chain = source.chain.as_ref().filter(|_| variant.transmission);
+    let key = (buffers.generation, chain.map(|c| c.key));
+    if pass.view_group.as_ref().is_some_and(|(k, _)| *k == key) {
         return;
     }
+    let frame_view = chain.map_or(&pass.no_frame, |c| &c.view);
     match VIEW.group(
         &gpu,
         &pass.view_layout,
-        vec![buffers.view.as_entire_binding()],
+        vec![
+            buffers.view.as_entire_binding(),
+            wgpu::BindingResource::TextureView(frame_view),
+            wgpu::BindingResource::Sampler(source.sampler()),
+        ],
     ) {
-        Ok(group) => pass.view_group = Some((buffers.generation, group)),
+        Ok(group) => pass.view_group = Some((key, group)),
         Err(e) => errors.0.push(e),
     }
 }
@@ -430,7 +494,7 @@ pub fn transparent_pass(
             rp.set_bind_group(i as u32 + 1, group, &[]);
         }
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
-        for batch in frame.blended_batches() {
+        for batch in frame.transparent_batches() {
             let (Some(mesh), Some(group), Some(pipeline)) = (
                 buffers.meshes.get(&batch.mesh),
                 batch.maps.and_then(|m| maps.group(m)),

@@ -1,0 +1,416 @@
+//! Transmissive materials (`Material::transmission`): the transparent pass refracts the
+//! opaque frame through them and absorbs by Beer–Lambert, the path tracer follows the
+//! same light through real interfaces, and both are held against closed-form optics
+//! (Snell's law, Beer–Lambert) and against each other.
+
+mod common;
+
+use glam::{Quat, Vec3};
+use lumen::App;
+use lumen::prelude::*;
+use lumen::reference::path::{ReferenceOptions, render};
+use lumen::render::graph::PassId;
+use lumen::scene::Transmission;
+use lumen::trace_input::trace_scene;
+
+const SIZE: (u32, u32) = (128, 128);
+
+/// Emitted luminance of the backdrop's bright parts (cd/m²); the exposure 10⁻³ makes them 1.
+const EMISSION: f32 = 1000.0;
+
+/// A camera 40 m away on +z with a 2.5 m tall view of the origin: nearly parallel rays,
+/// so a ray's lateral shift through a slab is a shift in the image.
+fn camera(world: &mut World) {
+    world.spawn((
+        Camera {
+            projection: lumen::scene::Projection {
+                fov_y_rad: 2.0 * (1.25f32 / 40.0).atan(),
+                near_m: 30.0,
+                far_m: 60.0,
+                ..Default::default()
+            },
+            exposure: Exposure::Linear(1.0 / EMISSION),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 0.0, 40.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+}
+
+fn app() -> App {
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    app.world_mut()
+        .resource_mut::<Quality>()
+        .energy_compensation = false;
+    app
+}
+
+/// A material that emits `EMISSION` × `colour` and reflects nothing.
+fn emitter(colour: Vec3) -> Material {
+    Material {
+        emissive: colour * EMISSION,
+        ..Material::new(Vec3::ZERO, 0.0, 1.0)
+    }
+}
+
+/// Clear glass (white, smooth) of index `ior` and volume `thickness_m`, absorbing to
+/// `attenuation` over `distance_m`.
+fn glass(ior: f32, thickness_m: f32, attenuation: Vec3, distance_m: f32) -> Material {
+    Material {
+        transmission: Some(Transmission {
+            factor: 1.0,
+            ior,
+            thickness_m,
+            attenuation_color: attenuation,
+            attenuation_distance_m: distance_m,
+        }),
+        ..Material::new(Vec3::ONE, 0.0, 0.0)
+    }
+}
+
+const FACING_CAMERA: Quat = Quat::from_xyzw(
+    std::f32::consts::FRAC_1_SQRT_2,
+    0.0,
+    0.0,
+    std::f32::consts::FRAC_1_SQRT_2,
+);
+
+/// A black wall at z = −1 with a vertical emissive stripe 0.1 m wide at x = 0, and a
+/// glass slab 1 × 1 m, `thickness` deep, turned 45° about y, at the origin.
+fn stripe_scene(thickness: f32) -> App {
+    let mut app = app();
+    let wall = app
+        .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+        .expect("wall");
+    let stripe = app
+        .add_mesh(lumen::assets::procedural::plane(0.1, 20.0))
+        .expect("stripe");
+    let slab = app
+        .add_mesh(lumen::assets::procedural::cuboid(Vec3::new(
+            1.0, 1.0, thickness,
+        )))
+        .expect("slab");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(wall),
+        Material::new(Vec3::ZERO, 0.0, 1.0),
+        Transform::from_xyz(0.0, 0.0, -1.0).with_rotation(FACING_CAMERA),
+    ));
+    world.spawn((
+        Mesh3d(stripe),
+        emitter(Vec3::ONE),
+        Transform::from_xyz(0.0, 0.0, -0.99).with_rotation(FACING_CAMERA),
+    ));
+    world.spawn((
+        Mesh3d(slab),
+        glass(1.5, thickness, Vec3::ONE, f32::INFINITY),
+        Transform::IDENTITY.with_rotation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_4)),
+    ));
+    camera(world);
+    app
+}
+
+/// The image x (pixels, fractional) of world point `p` in the last frame.
+fn image_x(app: &App, p: Vec3) -> f32 {
+    let camera = app
+        .world()
+        .resource::<lumen::render::extract::ExtractedFrame>()
+        .camera
+        .clone()
+        .expect("camera");
+    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
+    (clip.x / clip.w * 0.5 + 0.5) * SIZE.0 as f32
+}
+
+/// The luminance-weighted mean column of the bright pixels of row `y` (the stripe's
+/// centre), and how many there are.
+fn stripe_centre(image: &image::Rgba32FImage, y: u32) -> (f32, u32) {
+    let (mut sum, mut weight, mut count) = (0.0, 0.0, 0);
+    for x in 0..image.width() {
+        let l = common::lum(image.get_pixel(x, y));
+        if l > 0.1 {
+            sum += (x as f32 + 0.5) * l;
+            weight += l;
+            count += 1;
+        }
+    }
+    (sum / weight.max(1e-9), count)
+}
+
+/// The x shift (m) of a ray travelling down −z through a slab of `thickness` (along its
+/// normal) turned 45° about y, index `ior`: Snell's law at the front face, the path to the
+/// parallel back face, written out here in 2D (x, z) apart from the engine's code.
+fn snell_shift(thickness: f32, ior: f32) -> f32 {
+    let (s, c) = std::f32::consts::FRAC_PI_4.sin_cos();
+    // The front face's outward normal after the turn, and the incident direction.
+    let n = (s, c);
+    let d = (0.0f32, -1.0f32);
+    let cos_i = -(d.0 * n.0 + d.1 * n.1);
+    let eta = 1.0 / ior;
+    let cos_t = (1.0 - eta * eta * (1.0 - cos_i * cos_i)).sqrt();
+    let t = (
+        eta * d.0 + (eta * cos_i - cos_t) * n.0,
+        eta * d.1 + (eta * cos_i - cos_t) * n.1,
+    );
+    // Inside, the path crosses `thickness` along −n; the ray leaves parallel to d.
+    let path = thickness / -(t.0 * n.0 + t.1 * n.1);
+    t.0 * path - d.0 * path
+}
+
+#[test]
+fn a_slab_shifts_a_stripe_by_the_snell_offset() {
+    // A slab of IOR 1.5, seen at 45°, shifts the stripe behind it sideways by
+    // t·sin(θi − θt)/cos θt: within a pixel in the rasterizer (the frame sampled where the
+    // refracted ray leaves the slab) and in the path tracer (two real interfaces).
+    let thickness = 0.4;
+    let mut app = stripe_scene(thickness);
+    let report = app.render_headless(SIZE).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let source = report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == PassId::TransmissionSource)
+        .map(|(_, d)| d.clone())
+        .expect("the transmission source is in the plan");
+    assert!(
+        source.enabled && source.reason.contains("1 transmissive"),
+        "{}",
+        source.reason
+    );
+
+    let shift_m = snell_shift(thickness, 1.5);
+    let expected_px = image_x(&app, Vec3::new(-shift_m, 0.0, 0.0)) - image_x(&app, Vec3::ZERO);
+    // Rows through the slab's middle and above it (it is 1 m tall, the view 2.5 m).
+    let through = SIZE.1 / 2;
+    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
+    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
+    let options = ReferenceOptions {
+        size: SIZE,
+        samples_per_pixel: 8,
+        max_bounces: 6,
+        seed: 3,
+    };
+    let traced = render(&scene, &options, &|_| {}).image;
+    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
+        let (seen, n_through) = stripe_centre(image, through);
+        let (direct, n_above) = stripe_centre(image, above);
+        let shift = seen - direct;
+        println!(
+            "{name}: stripe at {direct:.2} px, through the slab at {seen:.2} px: shift {shift:.2} px, Snell {expected_px:.2} px"
+        );
+        assert!(
+            n_through >= 3 && n_above >= 3,
+            "{name}: the stripe is seen ({n_through}, {n_above} px)"
+        );
+        assert!(
+            (shift - expected_px).abs() < 1.0,
+            "{name}: {shift} px vs {expected_px} px"
+        );
+    }
+    // The shift is real: more than 3 px here.
+    assert!(expected_px.abs() > 3.0, "{expected_px}");
+}
+
+/// Three glass slabs facing the camera, 0.5 m wide and `thicknesses` deep, side by side
+/// in front of an emissive wall, absorbing to `colour` over `distance` metres.
+fn absorbing_slabs(thicknesses: [f32; 3], colour: Vec3, distance: f32) -> App {
+    let mut app = app();
+    let wall = app
+        .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+        .expect("wall");
+    let world_wall = emitter(Vec3::ONE);
+    let slabs: Vec<_> = thicknesses
+        .iter()
+        .map(|&t| {
+            app.add_mesh(lumen::assets::procedural::cuboid(Vec3::new(0.5, 0.5, t)))
+                .expect("slab")
+        })
+        .collect();
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(wall),
+        world_wall,
+        Transform::from_xyz(0.0, 0.0, -1.0).with_rotation(FACING_CAMERA),
+    ));
+    for (k, (&t, mesh)) in thicknesses.iter().zip(slabs).enumerate() {
+        world.spawn((
+            Mesh3d(mesh),
+            glass(1.5, t, colour, distance),
+            Transform::from_xyz(-0.7 + 0.7 * k as f32, 0.0, 0.0),
+        ));
+    }
+    camera(world);
+    app
+}
+
+/// The mean rgb of the 11 × 11 pixels at the image of `p`.
+fn block(app: &App, image: &image::Rgba32FImage, p: Vec3) -> Vec3 {
+    let (x, y) = common::pixel_of(app, p, SIZE);
+    let mut sum = Vec3::ZERO;
+    for dy in -5..=5i32 {
+        for dx in -5..=5i32 {
+            let q = image
+                .get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32)
+                .0;
+            sum += Vec3::new(q[0], q[1], q[2]);
+        }
+    }
+    sum / 121.0
+}
+
+#[test]
+fn absorption_follows_beer_lambert_through_known_thicknesses() {
+    // Light through 0.1, 0.3 and 0.6 m of a volume that turns white into (0.5, 0.7, 0.9)
+    // over 0.5 m. Beer–Lambert: the ratio of two thicknesses is c^(Δt/d), whatever the
+    // interfaces take (the same for each slab). Rasterizer and path tracer within 2 %.
+    let thicknesses = [0.1, 0.3, 0.6];
+    let colour = Vec3::new(0.5, 0.7, 0.9);
+    let distance = 0.5;
+    let mut app = absorbing_slabs(thicknesses, colour, distance);
+    app.render_headless(SIZE).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    let options = ReferenceOptions {
+        size: SIZE,
+        samples_per_pixel: 256,
+        max_bounces: 6,
+        seed: 11,
+    };
+    let traced = render(&scene, &options, &|_| {}).image;
+    let centres: Vec<Vec3> = (0..3)
+        .map(|k| Vec3::new(-0.7 + 0.7 * k as f32, 0.0, 0.0))
+        .collect();
+    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
+        let seen: Vec<Vec3> = centres.iter().map(|&c| block(&app, image, c)).collect();
+        for k in 1..3 {
+            let ratio = seen[k] / seen[0];
+            let beer = Vec3::new(
+                colour.x.powf((thicknesses[k] - thicknesses[0]) / distance),
+                colour.y.powf((thicknesses[k] - thicknesses[0]) / distance),
+                colour.z.powf((thicknesses[k] - thicknesses[0]) / distance),
+            );
+            let err = ((ratio - beer).abs() / beer).max_element();
+            println!(
+                "{name}: {} m vs {} m: {ratio} (Beer–Lambert {beer}, {:.2} %)",
+                thicknesses[k],
+                thicknesses[0],
+                100.0 * err
+            );
+            assert!(err < 0.02, "{name}: {ratio} vs {beer}");
+        }
+    }
+    // The rasterizer counts one interface, the path tracer both (and the light reflected
+    // between them): at normal incidence the rasterizer is brighter by 1/(1 − F0),
+    // F0 = 0.04, within 1 %.
+    let (r, t) = (
+        block(&app, &raster, centres[0]),
+        block(&app, &traced, centres[0]),
+    );
+    let excess = (r / t).element_sum() / 3.0;
+    println!(
+        "thinnest slab: rasterizer {r}, path tracer {t}, ratio {excess:.4} (1/(1 − F0) = {:.4})",
+        1.0 / 0.96
+    );
+    assert!((excess - 1.0 / 0.96).abs() < 0.01, "{excess}");
+}
+
+#[test]
+fn extreme_transmissions_stay_finite() {
+    // IOR 1 and 10, zero thickness, attenuation distances 0 and ∞, roughness 0 and 1:
+    // every pixel finite in the rasterizer and the path tracer, and none brighter than
+    // the emitter behind.
+    let cases: [(f32, f32, f32, f32); 6] = [
+        (1.0, 0.2, 1.0, 0.0),
+        (10.0, 0.2, 1.0, 0.0),
+        (1.5, 0.0, 1.0, 0.0),
+        (1.5, 0.2, 0.0, 1.0),
+        (1.5, 0.2, f32::INFINITY, 0.5),
+        (1.0, 0.0, 0.0, 1.0),
+    ];
+    for (ior, thickness, distance, roughness) in cases {
+        let mut app = app();
+        let wall = app
+            .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+            .expect("wall");
+        let slab = app
+            .add_mesh(lumen::assets::procedural::cuboid(Vec3::new(
+                1.0,
+                1.0,
+                thickness.max(0.01),
+            )))
+            .expect("slab");
+        let world = app.world_mut();
+        world.spawn((
+            Mesh3d(wall),
+            emitter(Vec3::ONE),
+            Transform::from_xyz(0.0, 0.0, -1.0).with_rotation(FACING_CAMERA),
+        ));
+        let mut material = glass(ior, thickness, Vec3::new(0.2, 0.5, 1.0), distance);
+        material.perceptual_roughness = roughness;
+        world.spawn((
+            Mesh3d(slab),
+            material,
+            Transform::IDENTITY.with_rotation(Quat::from_rotation_y(0.6)),
+        ));
+        camera(world);
+        app.render_headless((32, 32)).expect("frame");
+        common::assert_finite(&app);
+        let hdr = app.read_hdr_image().expect("readback");
+        let brightest = hdr
+            .pixels()
+            .map(|p| Vec3::from_slice(&p.0[..3]).max_element())
+            .fold(0.0, f32::max);
+        assert!(
+            brightest <= 1.01,
+            "ior {ior}, thickness {thickness}, distance {distance}: {brightest}"
+        );
+        let scene = trace_scene(&mut app, (32, 32)).expect("trace scene");
+        let options = ReferenceOptions {
+            size: (32, 32),
+            samples_per_pixel: 2,
+            max_bounces: 8,
+            seed: 1,
+        };
+        let result = render(&scene, &options, &|_| {});
+        assert!(
+            result
+                .image
+                .pixels()
+                .all(|p| p.0.iter().all(|v| v.is_finite())),
+            "ior {ior}, thickness {thickness}, distance {distance}: the reference is not finite"
+        );
+    }
+}
+
+#[test]
+fn opaque_scenes_build_no_transmission_source() {
+    let mut app = absorbing_slabs([0.1, 0.2, 0.3], Vec3::ONE, f32::INFINITY);
+    let world = app.world_mut();
+    let mut materials = world.query::<&mut Material>();
+    for mut m in materials.iter_mut(world) {
+        m.transmission = None;
+    }
+    let report = app.render_headless((32, 32)).expect("frame");
+    let source = report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == PassId::TransmissionSource)
+        .map(|(_, d)| d.clone())
+        .expect("in the plan");
+    assert!(
+        !source.enabled && source.reason.contains("no transmissive"),
+        "{}",
+        source.reason
+    );
+    // The transparent pass does not run either: nothing is blended or transmissive.
+    assert!(
+        report
+            .plan
+            .passes
+            .iter()
+            .any(|(id, d)| *id == PassId::Transparent && !d.enabled)
+    );
+}
