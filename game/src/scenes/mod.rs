@@ -6,6 +6,7 @@ mod dof;
 mod extremes;
 mod furnace;
 mod lights;
+pub mod materials;
 mod plane;
 mod shadows;
 pub mod spheres;
@@ -63,6 +64,11 @@ pub const SCENES: &[SceneInfo] = &[
         name: "aliasing",
         description: "what aliases worst: sub-pixel wires, rails towards the horizon, a fine checker floor, a bump-mapped sphere, sub-pixel highlights",
         build: aliasing::build,
+    },
+    SceneInfo {
+        name: "materials",
+        description: "one object per material feature: opaque, clear, absorbing and rough glass spheres, a thin glass pane and a blended pane before a striped wall",
+        build: materials::build,
     },
     SceneInfo {
         name: "extremes",

@@ -126,8 +126,18 @@ impl FramePass for TransparentPass {
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<TransparentVariant>> {
         let frame = world.resource::<ExtractedFrame>();
         let gpu = world.resource::<Gpu>();
-        let blended = frame.transparent_batches().count();
-        let transmissive = frame.transmissive_in_view();
+        let transmitting = frame
+            .transparent_batches()
+            .filter(|b| b.transmissive)
+            .count();
+        let transmissive = transmitting > 0;
+        // "3 blended surface(s)", or "2 blended and 1 transmissive surface(s)".
+        let count = frame.transparent_batches().count();
+        let blended = match (count - transmitting, transmitting) {
+            (b, 0) => format!("{b} blended"),
+            (0, t) => format!("{t} transmissive"),
+            (b, t) => format!("{b} blended and {t} transmissive"),
+        };
         let lighting = plan.variant::<LightingPass>().copied();
         let quality = world.resource::<crate::quality::Quality>();
         let hdr = quality.hdr_precision.format();
@@ -137,15 +147,15 @@ impl FramePass for TransparentPass {
                 .device
                 .features()
                 .contains(wgpu::Features::FLOAT32_BLENDABLE);
-        let (runs, reason) = if blended == 0 {
-            (false, "no blended surface in view".to_string())
+        let (runs, reason) = if count == 0 {
+            (false, "no blended or transmissive surface in view".to_string())
         } else if lighting.is_none() {
             (false, "the lighting pass does not run".into())
         } else if gpu.device.limits().max_bind_groups <= MAPS_GROUP {
             (
                 false,
                 format!(
-                    "{blended} blended surface(s) not drawn: the adapter has {} bind groups, the pass needs 5",
+                    "{blended} surface(s) not drawn: the adapter has {} bind groups, the pass needs 5",
                     gpu.device.limits().max_bind_groups
                 ),
             )
@@ -153,7 +163,7 @@ impl FramePass for TransparentPass {
             (
                 false,
                 format!(
-                    "{blended} blended surface(s) not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
+                    "{blended} surface(s) not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
                 ),
             )
         } else {
@@ -162,11 +172,11 @@ impl FramePass for TransparentPass {
                 match mode {
                     Transparency::Sorted => {
                         format!(
-                            "{blended} blended or transmissive surface(s), back to front, premultiplied alpha"
+                            "{blended} surface(s), back to front, premultiplied alpha"
                         )
                     }
                     Transparency::WeightedBlended => format!(
-                        "{blended} blended or transmissive surface(s), weighted blended OIT (any order, one resolve)"
+                        "{blended} surface(s), weighted blended OIT (any order, one resolve)"
                     ),
                 },
             )

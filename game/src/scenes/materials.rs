@@ -1,0 +1,112 @@
+//! `materials`: one object per material feature beyond the metal/roughness base, in a row
+//! on a grey floor in front of a striped wall (the stripes show refraction), under a
+//! uniform sky and a shadow-casting sun. Left to right:
+//!
+//! 1. an opaque white dielectric sphere, for comparison;
+//! 2. a clear glass sphere (`KHR_materials_transmission` + `_volume`, IOR 1.5, thickness
+//!    its diameter): the stripes behind it refracted;
+//! 3. a green absorbing glass sphere (its attenuation colour over 0.6 m, Beer–Lambert);
+//! 4. a rough glass sphere (roughness 0.35): the stripes blurred;
+//! 5. a thin-walled glass pane (thickness 0): the stripes through it unbent;
+//! 6. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4).
+//!
+//! docs/src/materials.md describes each.
+
+use lumen::assets::procedural::{cuboid, plane, uv_sphere};
+use lumen::prelude::*;
+use lumen::scene::Transmission;
+
+/// The objects' x positions (m), left to right, at the floor's centre line z = 0.
+pub const MATERIALS_X: [f32; 6] = [-2.5, -1.5, -0.5, 0.5, 1.5, 2.5];
+/// Radius of the spheres (m).
+pub const MATERIALS_RADIUS: f32 = 0.4;
+
+fn glass(tint: Vec3, distance_m: f32, roughness: f32, thickness_m: f32) -> Material {
+    Material {
+        transmission: Some(Transmission {
+            factor: 1.0,
+            ior: 1.5,
+            thickness_m,
+            attenuation_color: tint,
+            attenuation_distance_m: distance_m,
+        }),
+        ..Material::new(Vec3::ONE, 0.0, roughness)
+    }
+}
+
+pub(super) fn build(app: &mut App) -> lumen::Result<()> {
+    let floor = app.add_mesh(plane(12.0, 8.0))?;
+    let stripe = app.add_mesh(cuboid(Vec3::new(0.25, 3.0, 0.05)))?;
+    let sphere = app.add_mesh(uv_sphere(MATERIALS_RADIUS, 48, 24))?;
+    let pane = app.add_mesh(cuboid(Vec3::new(0.7, 0.8, 0.02)))?;
+    let diameter = 2.0 * MATERIALS_RADIUS;
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(floor),
+        Material::new(Vec3::splat(0.5), 0.0, 0.8),
+        Transform::IDENTITY,
+    ));
+    // Alternating dark and light stripes along the back wall, 1.5 m behind the row.
+    for k in 0..24 {
+        let light = k % 2 == 0;
+        let colour = if light {
+            Vec3::new(0.85, 0.8, 0.7)
+        } else {
+            Vec3::new(0.05, 0.07, 0.12)
+        };
+        world.spawn((
+            Mesh3d(stripe),
+            Material::new(colour, 0.0, 0.7),
+            Transform::from_xyz(-2.875 + 0.25 * k as f32, 1.5, -1.5),
+        ));
+    }
+    let objects = [
+        Material::new(Vec3::splat(0.8), 0.0, 0.3),
+        glass(Vec3::ONE, f32::INFINITY, 0.0, diameter),
+        glass(Vec3::new(0.2, 0.8, 0.35), 0.6, 0.0, diameter),
+        glass(Vec3::ONE, f32::INFINITY, 0.35, diameter),
+    ];
+    for (x, material) in MATERIALS_X.iter().zip(objects) {
+        world.spawn((
+            Mesh3d(sphere),
+            material,
+            Transform::from_xyz(*x, MATERIALS_RADIUS + 0.01, 0.0),
+        ));
+    }
+    world.spawn((
+        Mesh3d(pane),
+        glass(Vec3::ONE, f32::INFINITY, 0.0, 0.0),
+        Transform::from_xyz(MATERIALS_X[4], 0.41, 0.0),
+    ));
+    let mut red = Material::new(Vec3::new(0.9, 0.1, 0.1), 0.0, 0.3);
+    red.base_color.w = 0.4;
+    red.blend = true;
+    world.spawn((
+        Mesh3d(pane),
+        red,
+        Transform::from_xyz(MATERIALS_X[5], 0.41, 0.0),
+    ));
+    world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 3_000.0,
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(1.0, 3.0, 2.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            projection: Projection {
+                fov_y_rad: 40f32.to_radians(),
+                near_m: 0.1,
+                far_m: 50.0,
+                ..Projection::default()
+            },
+            exposure: Exposure::Ev100(10.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(0.0, 0.9, 6.0).looking_at(Vec3::new(0.0, 0.6, -0.5), Vec3::Y),
+    ));
+    Ok(())
+}
