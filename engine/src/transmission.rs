@@ -50,7 +50,7 @@ pub fn refracted_direction(n: Vec3, v: Vec3, ior: f32) -> Vec3 {
 /// [`MIN_COS_REFRACTED`]. 0 for a thin-walled surface (thickness 0) or a negative or NaN
 /// thickness.
 pub fn refraction_path_m(n: Vec3, v: Vec3, ior: f32, thickness_m: f32) -> f32 {
-    if !(thickness_m > 0.0) {
+    if thickness_m.is_nan() || thickness_m <= 0.0 {
         return 0.0;
     }
     let cos_t = (-refracted_direction(n, v, ior).dot(n)).max(MIN_COS_REFRACTED);
@@ -68,7 +68,11 @@ pub fn volume_transmittance(
     attenuation_distance_m: f32,
     path_m: f32,
 ) -> Vec3 {
-    if !(path_m > 0.0) || !(attenuation_distance_m < INFINITE_DISTANCE_M) {
+    if path_m.is_nan()
+        || path_m <= 0.0
+        || attenuation_distance_m.is_nan()
+        || attenuation_distance_m >= INFINITE_DISTANCE_M
+    {
         return Vec3::ONE;
     }
     let s = (path_m.min(INFINITE_DISTANCE_M) / attenuation_distance_m.max(1e-6))

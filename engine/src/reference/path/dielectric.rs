@@ -69,7 +69,7 @@ pub fn sample(
     }
     let h = frame * crate::ibl::sample_ggx_vndf(local_v, alpha, rng.pair());
     let ior = crate::transmission::clamp_ior(transmission.ior);
-    let thin = !(transmission.thickness_m > 0.0);
+    let thin = transmission.thickness_m.is_nan() || transmission.thickness_m <= 0.0;
     let eta = if thin || entering { 1.0 / ior } else { ior };
     let cos_i = v.dot(h);
     let reflectance = fresnel_dielectric(cos_i, eta);

@@ -422,9 +422,7 @@ impl TraceScene {
     }
 
     /// Light from every punctual light and the environment reaching `p` and reflected
-    /// towards `v`. `arrival` is set when the path reached `p` by sampling the BSDF of a
-    /// surface before it: the light of connectable lights is then weighted against the
-    /// light connections from that surface ([`TraceScene::bounced_light`]).
+    /// towards `v`: [`TraceScene::direct_lights`] and [`TraceScene::direct_environment`].
     fn direct(
         &self,
         p: Vec3,
@@ -432,7 +430,23 @@ impl TraceScene {
         v: Vec3,
         bsdf: &Bsdf,
         arrival: Option<Arrival>,
-        environment: bool,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        self.direct_lights(p, offset, v, bsdf, arrival, rng)
+            + self.direct_environment(p, offset, v, bsdf, rng)
+    }
+
+    /// Light from every punctual light reaching `p` and reflected towards `v`. `arrival`
+    /// is set when the path reached `p` by sampling the BSDF of a surface before it: the
+    /// light of connectable lights is then weighted against the light connections from
+    /// that surface ([`TraceScene::bounced_light`]).
+    fn direct_lights(
+        &self,
+        p: Vec3,
+        offset: Vec3,
+        v: Vec3,
+        bsdf: &Bsdf,
+        arrival: Option<Arrival>,
         rng: &mut Rng,
     ) -> Vec3 {
         let count = if arrival.is_some() {
@@ -492,9 +506,20 @@ impl TraceScene {
             };
             sum += f * e * weight;
         }
-        if !environment {
-            return sum;
-        }
+        sum
+    }
+
+    /// The environment's light reaching `p` and reflected towards `v`, by one sample of
+    /// the environment weighted against sampling `bsdf` (power heuristic).
+    fn direct_environment(
+        &self,
+        p: Vec3,
+        offset: Vec3,
+        v: Vec3,
+        bsdf: &Bsdf,
+        rng: &mut Rng,
+    ) -> Vec3 {
+        let mut sum = Vec3::ZERO;
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
             if f != Vec3::ZERO && !self.occluded(p + offset, l, f32::MAX) {
@@ -729,7 +754,7 @@ impl TraceScene {
                     self.visibility,
                     self.energy_compensation.as_ref(),
                 );
-                radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, false, rng);
+                radiance += throughput * self.direct_lights(p, offset, v, &bsdf, arrival, rng);
                 let entering = self.geometric_normal(t).dot(v) > 0.0;
                 let alpha = material.roughness * material.roughness;
                 let Some(scattered) =
@@ -764,7 +789,7 @@ impl TraceScene {
                     self.visibility,
                     self.energy_compensation.as_ref(),
                 );
-                radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, true, rng);
+                radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, rng);
                 if bounce + 1 < max_bounces
                     && let Some(bounced) = self.bounced_light(p, offset, facing, v, &bsdf, rng)
                 {

@@ -148,7 +148,10 @@ impl FramePass for TransparentPass {
                 .features()
                 .contains(wgpu::Features::FLOAT32_BLENDABLE);
         let (runs, reason) = if count == 0 {
-            (false, "no blended or transmissive surface in view".to_string())
+            (
+                false,
+                "no blended or transmissive surface in view".to_string(),
+            )
         } else if lighting.is_none() {
             (false, "the lighting pass does not run".into())
         } else if gpu.device.limits().max_bind_groups <= MAPS_GROUP {
@@ -171,9 +174,7 @@ impl FramePass for TransparentPass {
                 true,
                 match mode {
                     Transparency::Sorted => {
-                        format!(
-                            "{blended} surface(s), back to front, premultiplied alpha"
-                        )
+                        format!("{blended} surface(s), back to front, premultiplied alpha")
                     }
                     Transparency::WeightedBlended => format!(
                         "{blended} surface(s), weighted blended OIT (any order, one resolve)"
@@ -353,18 +354,30 @@ impl TransparentPass {
     }
 }
 
-/// Compiles the pipelines this frame's blended batches need and rebuilds the view group
+/// What the transparent pass prepares from, besides its own resource.
+#[derive(SystemParam)]
+pub struct PrepareInputs<'w> {
+    frame: Res<'w, ExtractedFrame>,
+    buffers: Res<'w, SceneBuffers>,
+    targets: Res<'w, RenderTargets>,
+    source: Res<'w, TransmissionSourcePass>,
+}
+
+/// Compiles the pipelines this frame's blended and transmissive batches need and rebuilds the view group
 /// when the scene buffers were recreated.
 pub fn prepare_transparent(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
-    frame: Res<ExtractedFrame>,
-    buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
-    source: Res<TransmissionSourcePass>,
+    inputs: PrepareInputs,
     mut pass: ResMut<TransparentPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
+    let PrepareInputs {
+        frame,
+        buffers,
+        targets,
+        source,
+    } = inputs;
     let (Some(Some(variant)), Some(t)) = (
         plan.variant::<TransparentPass>().copied(),
         targets.current.as_ref(),
