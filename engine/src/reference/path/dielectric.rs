@@ -117,8 +117,9 @@ mod tests {
         // ((n − 1)/(n + 1))² at normal incidence, from either side.
         assert!((fresnel_dielectric(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
         assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
-        // Beyond the critical angle asin(1/1.5) = 41.8° inside glass: total.
-        assert_eq!(fresnel_dielectric(40f32.to_radians().cos(), 1.5), 1.0);
+        // Beyond the critical angle asin(1/1.5) = 41.8° inside glass: total; below it not.
+        assert_eq!(fresnel_dielectric(45f32.to_radians().cos(), 1.5), 1.0);
+        assert!(fresnel_dielectric(40f32.to_radians().cos(), 1.5) < 0.5);
         assert!(fresnel_dielectric(45f32.to_radians().cos(), 1.0 / 1.5) < 0.06);
         assert_eq!(fresnel_dielectric(0.0, 1.0 / 1.5), 1.0);
         assert_eq!(fresnel_dielectric(0.7, 1.0), 0.0);
@@ -133,21 +134,28 @@ mod tests {
         let t = 45f32.to_radians();
         let v = Vec3::new(t.sin(), 0.0, t.cos());
         let mut rng = Rng::new(7, 1, 2);
-        let (mut reflected, mut total) = (0, 0);
+        let (mut reflected, mut total, mut off) = (0, 0, 0);
         for _ in 0..20000 {
             let Some(s) = sample(&glass, Vec3::Z, v, 1e-4, Vec3::ONE, true, &mut rng) else {
                 continue;
             };
             total += 1;
-            if s.transmitted {
+            // GGX's long tail tilts a few microfacet normals of α = 10⁻⁴ by 10⁻³ rad or
+            // more (P(θ > x) ≈ α²/x²): count them instead of failing on them.
+            let error = if s.transmitted {
+                assert!(s.l.z < 0.0 && s.l.x < 0.0, "{}", s.l);
                 let sin_t = (s.l.x * s.l.x + s.l.y * s.l.y).sqrt();
-                assert!((t.sin() - 1.5 * sin_t).abs() < 1e-3, "Snell: {}", s.l);
-                assert!(s.l.z < 0.0 && s.l.x < 0.0);
+                (t.sin() - 1.5 * sin_t).abs()
             } else {
                 reflected += 1;
-                assert!((s.l - Vec3::new(-v.x, 0.0, v.z)).length() < 1e-3);
-            }
+                (s.l - Vec3::new(-v.x, 0.0, v.z)).length()
+            };
+            off += usize::from(error > 1e-3);
         }
+        assert!(
+            off * 100 < total,
+            "{off} of {total} off Snell's or the mirror direction"
+        );
         let f = reflected as f32 / total as f32;
         let expected = fresnel_dielectric(t.cos(), 1.0 / 1.5);
         assert!(total > 19000);
