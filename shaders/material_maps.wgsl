@@ -19,13 +19,14 @@ struct Maps {
     uv_sets: vec4<u32>,
     // x: emissive coordinate set; y: 1 when a normal map is bound.
     extra: vec4<u32>,
-    // x: normal scale; y: occlusion strength; z: alpha cutoff (< 0: opaque).
+    // x: normal scale; y: occlusion strength; z: alpha cutoff (< 0: opaque); w: 1 where
+    // blended (the transparent pass takes the base alpha as coverage).
     params: vec4<f32>,
     // Transmissive materials (transparent pass): x: transmission factor (0: none); y:
     // index of refraction; z: thickness (world m, 0: thin-walled); w: attenuation
     // distance (m, ∞: no absorption).
     transmission: vec4<f32>,
-    // rgb: the attenuation colour; w: 1 where blended (the base alpha is coverage).
+    // rgb: the attenuation colour; w: the dispersion (20 / Abbe number, 0: none).
     attenuation: vec4<f32>,
 }
 

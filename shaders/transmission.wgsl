@@ -52,6 +52,18 @@ fn volume_transmittance(attenuation_color: vec3<f32>, attenuation_distance_m: f3
     return exp2(log2(c) * s);
 }
 
+// The indices of refraction of red, green and blue light: `ior` ± (ior − 1)·0.025·
+// dispersion, dispersion = 20 / the Abbe number (KHR_materials_dispersion).
+fn dispersion_iors(ior: f32, dispersion: f32) -> vec3<f32> {
+    let n = clamp_ior(ior);
+    var d = 0.0;
+    if dispersion == dispersion {
+        d = clamp(dispersion, 0.0, 1e3);
+    }
+    let half = (n - 1.0) * 0.025 * d;
+    return vec3<f32>(clamp_ior(n - half), n, clamp_ior(n + half));
+}
+
 // The perceptual roughness that blurs the frame seen through a rough surface: its own
 // × clamp(2·ior − 2, 0, 1) (Khronos glTF sample renderer, applyIorToRoughness).
 fn transmission_roughness(perceptual_roughness: f32, ior: f32) -> f32 {

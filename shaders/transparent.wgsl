@@ -38,18 +38,32 @@ fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
 // and _volume; one interface, as the Khronos sample renderer).
 fn transmitted_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     let t = maps.transmission;
-    let path_m = refraction_path_m(p.n, p.v, t.y, t.z);
-    let exit = p.world + refracted_direction(p.n, p.v, t.y) * path_m;
-    let clip = view.clip_from_world * vec4<f32>(exit, 1.0);
-    let ndc = clip.xy / max(clip.w, 1e-6);
-    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
-    let lod = transmission_lod(surface.perceptual_roughness, t.y, f32(textureDimensions(opaque_frame).x));
-    let behind = textureSampleLevel(opaque_frame, opaque_sampler, uv, lod).rgb;
     let f0 = compute_f0(surface.base_color, 0.0, surface.specular_level);
     let fresnel = f_schlick(f0, max(dot(p.n, p.v), MIN_N_DOT_V));
     let weight = (1.0 - clamp(surface.metallic, 0.0, 1.0)) * t.x;
-    return weight * (vec3<f32>(1.0) - fresnel) * surface.base_color
-        * volume_transmittance(maps.attenuation.rgb, t.w, path_m) * behind;
+    // With dispersion (KHR_materials_dispersion), red, green and blue each refract by
+    // their own index and sample the frame where their own ray leaves.
+    var behind = seen_through(p, surface, t.y, t.z);
+    if maps.attenuation.w > 0.0 {
+        let iors = dispersion_iors(t.y, maps.attenuation.w);
+        behind = vec3<f32>(seen_through(p, surface, iors.x, t.z).r, behind.g,
+                           seen_through(p, surface, iors.z, t.z).b);
+    }
+    return weight * (vec3<f32>(1.0) - fresnel) * surface.base_color * behind;
+}
+
+// The opaque frame seen through a slab of index `ior` and thickness `thickness_m` (world
+// m) from `p`, where the refracted ray leaves it, at the mip of the roughness, × the
+// volume's transmittance over the path.
+fn seen_through(p: ShadingPoint, surface: Surface, ior: f32, thickness_m: f32) -> vec3<f32> {
+    let path_m = refraction_path_m(p.n, p.v, ior, thickness_m);
+    let exit = p.world + refracted_direction(p.n, p.v, ior) * path_m;
+    let clip = view.clip_from_world * vec4<f32>(exit, 1.0);
+    let ndc = clip.xy / max(clip.w, 1e-6);
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let lod = transmission_lod(surface.perceptual_roughness, ior, f32(textureDimensions(opaque_frame).x));
+    let behind = textureSampleLevel(opaque_frame, opaque_sampler, uv, lod).rgb;
+    return volume_transmittance(maps.attenuation.rgb, maps.transmission.w, path_m) * behind;
 }
 
 // A blended fragment's premultiplied colour and coverage, and its view depth (m).
@@ -84,7 +98,7 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     point.occlusion = mapped.occlusion;
     point.receives = select(0.0, 1.0, in.params.w > 0.5);
     // Coverage: the base alpha where blended, else whole.
-    var alpha = select(1.0, base.a, maps.attenuation.w > 0.5);
+    var alpha = select(1.0, base.a, maps.params.w > 0.5);
     var transmitted = vec3<f32>(0.0);
     if TRANSMISSION && maps.transmission.x > 0.0 {
         if masked_out(base.a) {

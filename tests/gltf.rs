@@ -232,7 +232,8 @@ fn transmission_and_volume_map_onto_the_material() {
                 "attenuationDistance": 2.0,
                 "attenuationColor": [0.5, 0.75, 1.0]
             },
-            "KHR_materials_ior": {"ior": 1.33}
+            "KHR_materials_ior": {"ior": 1.33},
+            "KHR_materials_dispersion": {"dispersion": 0.5}
         }
     });
     let path = write_quad(
@@ -242,6 +243,7 @@ fn transmission_and_volume_map_onto_the_material() {
             "KHR_materials_transmission",
             "KHR_materials_volume",
             "KHR_materials_ior",
+            "KHR_materials_dispersion",
         ],
     );
     let mut app = App::headless().expect("a GPU adapter");
@@ -254,6 +256,7 @@ fn transmission_and_volume_map_onto_the_material() {
     assert_eq!(t.thickness_m, 0.25);
     assert_eq!(t.attenuation_distance_m, 2.0);
     assert_eq!(t.attenuation_color, Vec3::new(0.5, 0.75, 1.0));
+    assert_eq!(t.dispersion, 0.5);
     // Without the volume extension: thin-walled, no absorption.
     let thin = json!({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}});
     let path = write_quad(dir.path(), thin, &["KHR_materials_transmission"]);

@@ -16,7 +16,7 @@ use lumen::scene::camera;
 use lumen::{color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 43;
+const OUTPUTS: usize = 44;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -306,6 +306,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         ),
         transmission::volume_transmittance(base, x * 3.0, k * 2.0)
             .extend(transmission::transmission_lod(r, 1.0 + x, 256.0)),
+        transmission::dispersion_iors(1.0 + x * 3.0, r * 30.0).extend(0.0),
     ]
 }
 
@@ -353,6 +354,7 @@ const NAMES: [&str; OUTPUTS] = [
     "oit_resolve",
     "refracted_direction | refraction_path_m",
     "volume_transmittance | transmission_lod",
+    "dispersion_iors",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

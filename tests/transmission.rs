@@ -63,6 +63,7 @@ fn glass(ior: f32, thickness_m: f32, attenuation: Vec3, distance_m: f32) -> Mate
             thickness_m,
             attenuation_color: attenuation,
             attenuation_distance_m: distance_m,
+            dispersion: 0.0,
         }),
         ..Material::new(Vec3::ONE, 0.0, 0.0)
     }
@@ -75,8 +76,12 @@ const FACING_CAMERA: Quat = Quat::from_xyzw(
     std::f32::consts::FRAC_1_SQRT_2,
 );
 
-/// A black wall at z = −1 with a vertical emissive stripe 0.1 m wide at x = 0, and a
-/// glass slab 1 × 1 m, `thickness` deep, turned 45° about y, at the origin.
+/// Where the stripe stands (x, m): the slab's front face spans about −0.21..0.49 m, and
+/// the stripe seen through it moves left by up to 0.17 m, staying inside the face.
+const STRIPE_X: f32 = 0.15;
+
+/// A black wall at z = −1 with a vertical emissive stripe 0.1 m wide at x = [`STRIPE_X`],
+/// and a glass slab 1 × 1 m, `thickness` deep, turned 45° about y, at the origin.
 fn stripe_scene(thickness: f32) -> App {
     let mut app = app();
     let wall = app
@@ -99,7 +104,7 @@ fn stripe_scene(thickness: f32) -> App {
     world.spawn((
         Mesh3d(stripe),
         emitter(Vec3::ONE),
-        Transform::from_xyz(0.0, 0.0, -0.99).with_rotation(FACING_CAMERA),
+        Transform::from_xyz(STRIPE_X, 0.0, -0.99).with_rotation(FACING_CAMERA),
     ));
     world.spawn((
         Mesh3d(slab),
@@ -180,7 +185,8 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     );
 
     let shift_m = snell_shift(thickness, 1.5);
-    let expected_px = image_x(&app, Vec3::new(-shift_m, 0.0, 0.0)) - image_x(&app, Vec3::ZERO);
+    let expected_px = image_x(&app, Vec3::new(STRIPE_X - shift_m, 0.0, 0.0))
+        - image_x(&app, Vec3::new(STRIPE_X, 0.0, 0.0));
     // Rows through the slab's middle and above it (it is 1 m tall, the view 2.5 m).
     let through = SIZE.1 / 2;
     let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
@@ -413,4 +419,72 @@ fn opaque_scenes_build_no_transmission_source() {
             .iter()
             .any(|(id, d)| *id == PassId::Transparent && !d.enabled)
     );
+}
+
+#[test]
+fn dispersion_shifts_red_and_blue_by_their_own_indices() {
+    // The 45° slab with dispersion 20 (Abbe number 1): red refracts by IOR 1.25, blue by
+    // 1.75 (lumen::transmission::dispersion_iors). Each channel's stripe moves by its own
+    // index's Snell offset, within a pixel, in both renderers; each is more than a pixel
+    // from the undispersed offset, so a renderer that ignored dispersion would fail.
+    let thickness = 0.4;
+    let mut app = stripe_scene(thickness);
+    {
+        let world = app.world_mut();
+        let mut materials = world.query::<&mut Material>();
+        for mut m in materials.iter_mut(world) {
+            if let Some(t) = m.transmission.as_mut() {
+                t.dispersion = 20.0;
+            }
+        }
+    }
+    app.render_headless(SIZE).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let iors = lumen::transmission::dispersion_iors(1.5, 20.0);
+    let scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    let options = ReferenceOptions {
+        size: SIZE,
+        samples_per_pixel: 48,
+        max_bounces: 6,
+        seed: 5,
+    };
+    let traced = render(&scene, &options, &|_| {}).image;
+    let through = SIZE.1 / 2;
+    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
+    let expected = |ior: f32| {
+        image_x(
+            &app,
+            Vec3::new(STRIPE_X - snell_shift(thickness, ior), 0.0, 0.0),
+        ) - image_x(&app, Vec3::new(STRIPE_X, 0.0, 0.0))
+    };
+    let (red_px, blue_px) = (expected(iors.x), expected(iors.z));
+    let green_px = expected(1.5);
+    assert!(
+        (green_px - red_px).abs() > 1.0 && (blue_px - green_px).abs() > 1.0,
+        "{red_px}, {green_px}, {blue_px}"
+    );
+    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
+        for (channel, want) in [(0usize, red_px), (2, blue_px)] {
+            let seen =
+                channel_centre(image, through, channel) - channel_centre(image, above, channel);
+            println!("{name}: channel {channel} shifts {seen:.2} px, Snell {want:.2} px");
+            assert!(
+                (seen - want).abs() < 1.0,
+                "{name}, channel {channel}: {seen} vs {want}"
+            );
+        }
+    }
+}
+
+/// The mean column of row `y` weighted by `channel` over its bright pixels.
+fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
+    let (mut sum, mut weight) = (0.0, 0.0);
+    for x in 0..image.width() {
+        let v = image.get_pixel(x, y).0[channel];
+        if v > 0.1 {
+            sum += (x as f32 + 0.5) * v;
+            weight += v;
+        }
+    }
+    sum / weight.max(1e-9)
 }

@@ -90,6 +90,23 @@ pub fn volume_transmittance(
     )
 }
 
+/// The indices of refraction of red, green and blue light in a material of index `ior`
+/// (the green one) and dispersion `dispersion` = 20 / V, V the Abbe number
+/// (`KHR_materials_dispersion`). V = (n_d − 1)/(n_F − n_C) puts the blue (F, 486 nm) and
+/// red (C, 656 nm) indices (n − 1)/V apart, so each lies half of that, (n − 1) · 0.025 ·
+/// dispersion, from the green one (as the Khronos sample renderer spreads them). A
+/// negative or NaN dispersion is none; each index stays in [`IOR_RANGE`].
+pub fn dispersion_iors(ior: f32, dispersion: f32) -> Vec3 {
+    let n = clamp_ior(ior);
+    let d = if dispersion.is_nan() {
+        0.0
+    } else {
+        dispersion.clamp(0.0, 1e3)
+    };
+    let half = (n - 1.0) * 0.025 * d;
+    Vec3::new(clamp_ior(n - half), n, clamp_ior(n + half))
+}
+
 /// The perceptual roughness with which the frame behind a rough transmissive surface is
 /// blurred: the surface's own, scaled by clamp(2·ior − 2, 0, 1), so that an IOR of 1
 /// (no refraction) blurs nothing and from 1.5 up the full roughness applies (the
@@ -156,6 +173,15 @@ mod tests {
     }
 
     #[test]
+    fn dispersion_spreads_by_the_abbe_number() {
+        // Crown glass: n_d 1.5168, V 64.17: n_F − n_C = 0.00805.
+        let iors = dispersion_iors(1.5168, 20.0 / 64.17);
+        assert!((iors.z - iors.x - 0.5168 / 64.17).abs() < 1e-6);
+        assert_eq!(iors.y, 1.5168);
+        assert_eq!(dispersion_iors(1.5, 0.0), Vec3::splat(1.5));
+    }
+
+    #[test]
     fn extremes_stay_finite() {
         let v = Vec3::new(0.6, 0.0, 0.8);
         for ior in [0.0, 1.0, 10.0, 1e9, f32::NAN, f32::INFINITY] {
@@ -181,6 +207,10 @@ mod tests {
             }
         }
         assert_eq!(transmission_roughness(0.8, 1.0), 0.0);
+        for d in [0.0, -1.0, f32::NAN, f32::INFINITY, 1e9] {
+            let iors = dispersion_iors(1.5, d);
+            assert!(iors.is_finite() && iors.min_element() >= 1.0 && iors.max_element() <= 10.0);
+        }
         assert!((transmission_roughness(0.8, 1.5) - 0.8).abs() < 1e-6);
     }
 }

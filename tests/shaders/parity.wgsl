@@ -27,7 +27,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 43u;
+const OUTPUTS: u32 = 44u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -134,6 +134,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                                  refraction_path_m(c.n.xyz, c.v.xyz, 1.0 + x * 3.0, r * 0.5));
     results[o + 42u] = vec4<f32>(volume_transmittance(c.base_metallic.rgb, x * 3.0, k * 2.0),
                                  transmission_lod(r, 1.0 + x, 256.0));
+    results[o + 43u] = vec4<f32>(dispersion_iors(1.0 + x * 3.0, r * 30.0), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

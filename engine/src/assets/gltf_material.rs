@@ -488,7 +488,8 @@ fn spec_gloss_textures(
     maps.metallic_roughness = add(store, mr, ColorSpace::Linear);
 }
 
-/// `KHR_materials_transmission` with `KHR_materials_volume` and `KHR_materials_ior`:
+/// `KHR_materials_transmission` with `KHR_materials_volume`, `KHR_materials_ior` and
+/// `KHR_materials_dispersion`:
 /// the factors (a transmission or thickness texture is not sampled: a warning says so,
 /// and the factor alone applies). No transmission extension, or a factor of 0: opaque.
 fn transmission(
@@ -522,6 +523,11 @@ fn transmission(
         attenuation_distance_m: volume
             .as_ref()
             .map_or(f32::INFINITY, |v| v.attenuation_distance()),
+        dispersion: m
+            .extension_value("KHR_materials_dispersion")
+            .and_then(|d| d.get("dispersion"))
+            .and_then(|d| d.as_f64())
+            .map_or(0.0, |d| d as f32),
     })
 }
 

@@ -359,6 +359,7 @@ fn world_transmission(t: &Transmission, world_from_local: &Mat4) -> Transmission
         } else {
             t.attenuation_distance_m.max(0.0)
         },
+        dispersion: finite_or(t.dispersion, 0.0).clamp(0.0, 1e3),
     }
 }
 

@@ -49,15 +49,14 @@ impl GpuMaps {
             finite(maps.normal_scale, 1.0),
             finite(maps.occlusion_strength, 1.0).clamp(0.0, 1.0),
             maps.alpha_cutoff.map_or(-1.0, |c| finite(c, 0.5)),
-            0.0,
+            if entry.blend { 1.0 } else { 0.0 },
         ];
         // Extraction has clamped the transmission; the attenuation distance stays ∞
         // where nothing is absorbed (`INFINITE_DISTANCE_M` in the shader).
         if let Some(t) = entry.transmission {
             out.transmission = [t.factor, t.ior, t.thickness_m, t.attenuation_distance_m];
-            out.attenuation = t.attenuation_color.extend(0.0).into();
+            out.attenuation = t.attenuation_color.extend(t.dispersion).into();
         }
-        out.attenuation[3] = if entry.blend { 1.0 } else { 0.0 };
         out
     }
 }

@@ -60,6 +60,9 @@ pub struct Transmission {
     /// The distance in metres at which light takes `attenuation_color`; `f32::INFINITY`:
     /// no absorption.
     pub attenuation_distance_m: f32,
+    /// Dispersion (`KHR_materials_dispersion`): 20 / the Abbe number, 0 for none. The
+    /// index of refraction then differs by colour ([`crate::transmission::dispersion_iors`]).
+    pub dispersion: f32,
 }
 
 impl Default for Transmission {
@@ -71,6 +74,7 @@ impl Default for Transmission {
             thickness_m: 0.0,
             attenuation_color: Vec3::ONE,
             attenuation_distance_m: f32::INFINITY,
+            dispersion: 0.0,
         }
     }
 }

@@ -29,6 +29,7 @@ fn glass(tint: Vec3, distance_m: f32, roughness: f32, thickness_m: f32) -> Mater
             thickness_m,
             attenuation_color: tint,
             attenuation_distance_m: distance_m,
+            dispersion: 0.0,
         }),
         ..Material::new(Vec3::ONE, 0.0, roughness)
     }

@@ -23,7 +23,9 @@
 //!   refracts ([`super::dielectric`]), absorbing by Beer–Lambert inside its volume; its
 //!   lights are sampled through its specular reflection lobe only, and everything it
 //!   refracts is found by following the ray (no light is connected through glass: shadow
-//!   rays stop at it, as the rasterizer's shadow maps do);
+//!   rays stop at it, as the rasterizer's shadow maps do). At the first dispersive
+//!   interface a path picks red, green or blue with probability 1/3 and carries that
+//!   channel alone, × 3, through that channel's index from then on;
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
 //!
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
@@ -731,6 +733,8 @@ impl TraceScene {
         // Density over the area of the current hit with which the previous surface's BSDF
         // sample reached it (None at the first hit).
         let mut arrival_pdf: Option<f32> = None;
+        // The colour channel a path follows once a dispersive interface has split it.
+        let mut channel: Option<usize> = None;
         for bounce in 0..max_bounces {
             let (distance, t, surface) = hit;
             let p = ray_origin + ray_dir * distance;
@@ -742,6 +746,21 @@ impl TraceScene {
             // Through the interface: its specular reflection of the lights, then the
             // sampled reflection or refraction, followed without light connections.
             if let Some(tr) = transmission {
+                let tr = if tr.dispersion > 0.0 {
+                    let c = match channel {
+                        Some(c) => c,
+                        None => {
+                            let c = ((rng.uniform() * 3.0) as usize).min(2);
+                            throughput *= Vec3::AXES[c] * 3.0;
+                            channel = Some(c);
+                            c
+                        }
+                    };
+                    let iors = crate::transmission::dispersion_iors(tr.ior, tr.dispersion);
+                    crate::scene::Transmission { ior: iors[c], ..tr }
+                } else {
+                    tr
+                };
                 let mirror = TraceMaterial {
                     base_color: Vec3::ZERO,
                     metallic: 0.0,
