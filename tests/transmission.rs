@@ -253,7 +253,7 @@ fn absorbing_slabs(thicknesses: [f32; 3], colour: Vec3, distance: f32) -> App {
 
 /// The mean rgb of the 11 × 11 pixels at the image of `p`.
 fn block(app: &App, image: &image::Rgba32FImage, p: Vec3) -> Vec3 {
-    let (x, y) = common::pixel_of(app, p, SIZE);
+    let (x, y) = common::pixel_of(app, p, image.dimensions());
     let mut sum = Vec3::ZERO;
     for dy in -5..=5i32 {
         for dx in -5..=5i32 {
@@ -487,4 +487,38 @@ fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
         }
     }
     sum / weight.max(1e-9)
+}
+
+#[test]
+fn the_materials_scene_draws_each_feature() {
+    // Five transmissive objects and one blended pane, all drawn by the transparent pass,
+    // finite; and the clear sphere is not the opaque one: light passes through it.
+    let mut app = common::app_with("materials");
+    common::indirect_off(&mut app);
+    let report = app.render_headless((256, 144)).expect("frame");
+    let transparent = report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == PassId::Transparent)
+        .map(|(_, d)| d.clone())
+        .expect("in the plan");
+    assert!(
+        transparent.enabled && transparent.reason.contains("1 blended and 5 transmissive"),
+        "{}",
+        transparent.reason
+    );
+    common::assert_finite(&app);
+    let image = app.read_hdr_image().expect("readback");
+    let x = lumen_game::scenes::materials::MATERIALS_X;
+    let r = lumen_game::scenes::materials::MATERIALS_RADIUS;
+    let centre = |k: usize| block(&app, &image, Vec3::new(x[k], r, 0.0));
+    let (opaque, clear, green) = (centre(0), centre(1), centre(2));
+    println!("opaque sphere {opaque}, clear {clear}, absorbing {green}");
+    assert!(
+        (opaque - clear).abs().max_element() > 0.05,
+        "{opaque} vs {clear}"
+    );
+    // The absorbing glass keeps green over red.
+    assert!(green.y > 2.0 * green.x, "{green}");
 }

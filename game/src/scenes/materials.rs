@@ -8,7 +8,9 @@
 //! 3. a green absorbing glass sphere (its attenuation colour over 0.6 m, Beer–Lambert);
 //! 4. a rough glass sphere (roughness 0.35): the stripes blurred;
 //! 5. a thin-walled glass pane (thickness 0): the stripes through it unbent;
-//! 6. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4).
+//! 6. a dispersive glass block turned 45° (`KHR_materials_dispersion` 5, Abbe number 4):
+//!    the stripes' edges split into colours;
+//! 7. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4).
 //!
 //! docs/src/materials.md describes each.
 
@@ -17,7 +19,7 @@ use lumen::prelude::*;
 use lumen::scene::Transmission;
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 6] = [-2.5, -1.5, -0.5, 0.5, 1.5, 2.5];
+pub const MATERIALS_X: [f32; 7] = [-2.7, -1.8, -0.9, 0.0, 0.9, 1.8, 2.7];
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.4;
 
@@ -40,6 +42,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     let stripe = app.add_mesh(cuboid(Vec3::new(0.25, 3.0, 0.05)))?;
     let sphere = app.add_mesh(uv_sphere(MATERIALS_RADIUS, 48, 24))?;
     let pane = app.add_mesh(cuboid(Vec3::new(0.7, 0.8, 0.02)))?;
+    let block = app.add_mesh(cuboid(Vec3::new(0.6, 0.8, 0.3)))?;
     let diameter = 2.0 * MATERIALS_RADIUS;
     let world = app.world_mut();
     world.spawn((
@@ -79,13 +82,23 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         glass(Vec3::ONE, f32::INFINITY, 0.0, 0.0),
         Transform::from_xyz(MATERIALS_X[4], 0.41, 0.0),
     ));
+    let mut dispersive = glass(Vec3::ONE, f32::INFINITY, 0.0, 0.3);
+    if let Some(t) = dispersive.transmission.as_mut() {
+        t.dispersion = 5.0;
+    }
+    world.spawn((
+        Mesh3d(block),
+        dispersive,
+        Transform::from_xyz(MATERIALS_X[5], 0.41, 0.0)
+            .with_rotation(Quat::from_rotation_y(std::f32::consts::FRAC_PI_4)),
+    ));
     let mut red = Material::new(Vec3::new(0.9, 0.1, 0.1), 0.0, 0.3);
     red.base_color.w = 0.4;
     red.blend = true;
     world.spawn((
         Mesh3d(pane),
         red,
-        Transform::from_xyz(MATERIALS_X[5], 0.41, 0.0),
+        Transform::from_xyz(MATERIALS_X[6], 0.41, 0.0),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((

@@ -67,7 +67,7 @@ pub const SCENES: &[SceneInfo] = &[
     },
     SceneInfo {
         name: "materials",
-        description: "one object per material feature: opaque, clear, absorbing and rough glass spheres, a thin glass pane and a blended pane before a striped wall",
+        description: "one object per material feature: opaque, clear, absorbing and rough glass spheres, a thin glass pane, a dispersive block and a blended pane before a striped wall",
         build: materials::build,
     },
     SceneInfo {
