@@ -409,6 +409,92 @@ fn centre(img: &image::Rgba32FImage) -> Vec3 {
 }
 
 #[test]
+fn webp_and_basisu_textures_load_or_fall_back() {
+    // The same 4 × 4 orange texel as PNG (core source), as WebP (EXT_texture_webp, no
+    // core source), and as a KTX2 image (KHR_texture_basisu) with and without a PNG
+    // fallback. WebP renders as the PNG does; KTX2 is not transcoded: the fallback is
+    // used with a warning, and without one the texture is the magenta checker.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let texel = [230u8, 120, 30, 255];
+    write_png(&dir.path().join("t.png"), 4, 4, &[texel; 16]);
+    let rgba = image::RgbaImage::from_pixel(4, 4, image::Rgba(texel));
+    let mut webp = Vec::new();
+    image::codecs::webp::WebPEncoder::new_lossless(&mut webp)
+        .encode(rgba.as_raw(), 4, 4, image::ExtendedColorType::Rgba8)
+        .expect("webp");
+    std::fs::write(dir.path().join("t.webp"), webp).expect("write webp");
+    std::fs::write(dir.path().join("t.ktx2"), b"\xabKTX 20\xbb\r\n\x1a\n").expect("write ktx2");
+    let material =
+        json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}});
+    let textures = |images: &[&str], texture: serde_json::Value| {
+        json!({
+            "images": images.iter().map(|f| json!({"uri": f})).collect::<Vec<_>>(),
+            "samplers": [{}],
+            "textures": [texture]
+        })
+    };
+    let load = |extra: serde_json::Value, extensions: &[&str]| {
+        let path = write_quad_with(
+            dir.path(),
+            material.clone(),
+            extensions,
+            extra,
+            [0.0, 0.0, 0.0, 1.0],
+        );
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &path).expect("loads");
+        app.render_headless(SIZE).expect("frame");
+        (
+            centre(&app.read_hdr_image().expect("readback")),
+            summary.warnings,
+        )
+    };
+    let (png, w) = load(
+        textures(&["t.png"], json!({"source": 0, "sampler": 0})),
+        &[],
+    );
+    assert!(w.is_empty(), "{w:?}");
+    let (webp, w) = load(
+        textures(
+            &["t.webp"],
+            json!({"sampler": 0, "extensions": {"EXT_texture_webp": {"source": 0}}}),
+        ),
+        &["EXT_texture_webp"],
+    );
+    assert!(w.is_empty(), "{w:?}");
+    assert!(relative_error(webp, png) < 1e-3, "webp {webp} vs png {png}");
+    let (fallback, w) = load(
+        textures(
+            &["t.ktx2", "t.png"],
+            json!({"source": 1, "sampler": 0, "extensions": {"KHR_texture_basisu": {"source": 0}}}),
+        ),
+        &["KHR_texture_basisu"],
+    );
+    assert!(
+        relative_error(fallback, png) < 1e-3,
+        "fallback {fallback} vs png {png}"
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("KHR_texture_basisu") && w.contains("fallback image 1")),
+        "{w:?}"
+    );
+    let (checker, w) = load(
+        textures(
+            &["t.ktx2"],
+            json!({"sampler": 0, "extensions": {"KHR_texture_basisu": {"source": 0}}}),
+        ),
+        &["KHR_texture_basisu"],
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("does not transcode") && w.contains("magenta")),
+        "{w:?}"
+    );
+    assert!(relative_error(checker, png) > 0.1, "{checker} vs {png}");
+}
+
+#[test]
 fn a_mid_grey_texel_reads_as_srgb_or_linear_by_slot() {
     let dir = tempfile::tempdir().expect("temp dir");
     write_png(

@@ -92,10 +92,12 @@ fn read_material_inputs(
     let (document, buffers) = open(path)?;
     let base = path.parent().unwrap_or(Path::new("."));
     let views: Vec<gltf::buffer::View> = document.views().collect();
+    let images: Vec<gltf::Image> = document.images().collect();
     let mut loader = TextureLoader {
         base,
         buffers: &buffers,
         views: &views,
+        images: &images,
         max_size: max_texture_size.max(1),
         cache: HashMap::new(),
         warnings: Vec::new(),
@@ -173,10 +175,12 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
         views: document.views().collect(),
     };
     let max_size = texture_budget(app);
+    let images: Vec<gltf::Image> = document.images().collect();
     let mut loader = TextureLoader {
         base,
         buffers: &buffers,
         views: &source.views,
+        images: &images,
         max_size,
         cache: HashMap::new(),
         warnings: Vec::new(),

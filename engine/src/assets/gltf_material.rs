@@ -2,8 +2,11 @@
 //!
 //! - Colour slots (base colour, emissive, spec/gloss diffuse and specular) are sRGB, data
 //!   slots (metallic-roughness, normal, occlusion) linear.
-//! - Images are decoded with `image` (PNG, JPEG) from a buffer view, a data URI or a file
-//!   next to the glTF. One that cannot be read becomes a magenta checker with a warning.
+//! - Images are decoded with `image` (PNG, JPEG, and WebP through `EXT_texture_webp`)
+//!   from a buffer view, a data URI or a file next to the glTF. One that cannot be read
+//!   becomes a magenta checker with a warning. A `KHR_texture_basisu` (KTX2) image is not
+//!   transcoded: the texture's PNG or JPEG fallback is used where it has one, with a
+//!   warning, and the magenta checker where it has none ([`texture_image`]).
 //! - A texture larger than the budget (the smaller of [`Quality::max_texture_size`] and
 //!   the device's limit) is downscaled with a warning.
 //! - `KHR_materials_pbrSpecularGlossiness` textures are converted texel by texel to a
@@ -25,6 +28,8 @@ pub(super) struct TextureLoader<'a> {
     pub base: &'a Path,
     pub buffers: &'a [gltf::buffer::Data],
     pub views: &'a [gltf::buffer::View<'a>],
+    /// The file's images, for sources that extensions name.
+    pub images: &'a [gltf::Image<'a>],
     pub max_size: u32,
     pub cache: HashMap<(usize, ColorSpace), TextureHandle>,
     pub warnings: Vec<String>,
@@ -34,7 +39,16 @@ impl TextureLoader<'_> {
     /// The decoded image of `texture` (RGBA8, within the budget), or the missing-texture
     /// checker with a warning.
     fn decode(&mut self, texture: &gltf::Texture, color_space: ColorSpace) -> TextureData {
-        let image = texture.source();
+        let image = match texture_image(texture, self.images, &mut self.warnings) {
+            Ok(image) => image,
+            Err(e) => {
+                self.warnings.push(format!(
+                    "texture {}: {e}; drawn as a magenta checker",
+                    texture.index()
+                ));
+                return TextureData::missing(color_space);
+            }
+        };
         let what = format!("image {}", image.index());
         let bytes: Result<Vec<u8>, String> = match image.source() {
             gltf::image::Source::View { view, .. } => self
@@ -70,7 +84,8 @@ impl TextureLoader<'_> {
         texture: &gltf::Texture,
         color_space: ColorSpace,
     ) -> Option<TextureHandle> {
-        let key = (texture.source().index(), color_space);
+        // Keyed by the texture: which of its images is read depends on its extensions.
+        let key = (texture.index(), color_space);
         if let Some(h) = self.cache.get(&key) {
             return Some(*h);
         }
@@ -486,6 +501,47 @@ fn spec_gloss_textures(
     };
     maps.base_color = add(store, base, ColorSpace::Srgb);
     maps.metallic_roughness = add(store, mr, ColorSpace::Linear);
+}
+
+/// The image a texture is read from: the `EXT_texture_webp` source where the texture
+/// has one (Lumen decodes WebP), else the core `source`. A texture whose only image is a
+/// `KHR_texture_basisu` (KTX2) one is an error (Lumen has no Basis Universal
+/// transcoder); one with a core fallback beside it uses the fallback, and a warning says
+/// so.
+fn texture_image<'a>(
+    texture: &gltf::Texture<'a>,
+    images: &[gltf::Image<'a>],
+    warnings: &mut Vec<String>,
+) -> Result<gltf::Image<'a>, String> {
+    let document_image = |name: &str| {
+        texture
+            .extension_value(name)
+            .and_then(|e| e.get("source"))
+            .and_then(|s| s.as_u64())
+    };
+    if let Some(index) = document_image("EXT_texture_webp") {
+        return usize::try_from(index)
+            .ok()
+            .and_then(|i| images.get(i))
+            .cloned()
+            .ok_or(format!("EXT_texture_webp source {index} does not exist"));
+    }
+    let basisu = document_image("KHR_texture_basisu");
+    match (texture.source(), basisu) {
+        (Some(fallback), Some(_)) => {
+            warnings.push(format!(
+                "texture {}: KHR_texture_basisu (KTX2) images are not transcoded; its fallback image {} is used",
+                texture.index(),
+                fallback.index()
+            ));
+            Ok(fallback)
+        }
+        (Some(image), None) => Ok(image),
+        (None, Some(_)) => Err(
+            "its only image is KHR_texture_basisu (KTX2), which Lumen does not transcode".into(),
+        ),
+        (None, None) => Err("it has no image".into()),
+    }
 }
 
 /// `KHR_materials_transmission` with `KHR_materials_volume`, `KHR_materials_ior` and

@@ -7,7 +7,7 @@
 //! ([`crate::transmission::volume_transmittance`]). A thin-walled surface (thickness 0)
 //! passes light through without bending it.
 
-use super::integrator::Rng;
+use super::rng::Rng;
 use crate::scene::Transmission;
 use glam::{Mat3, Vec3};
 

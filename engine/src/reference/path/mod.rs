@@ -15,6 +15,7 @@
 pub mod bvh;
 pub mod dielectric;
 pub mod integrator;
+pub mod rng;
 pub mod scene;
 pub mod textures;
 
@@ -22,7 +23,7 @@ use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
-pub use integrator::Rng;
+pub use rng::Rng;
 
 /// Names the path tracer's estimator in the file names of cached references
 /// (`lumen tradeoff`), so that a reference traced by an earlier estimator, with other
