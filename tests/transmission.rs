@@ -115,6 +115,27 @@ fn stripe_scene(thickness: f32) -> App {
     app
 }
 
+/// What the plan of `report` decided for `pass`.
+fn decision(report: &lumen::FrameReport, pass: PassId) -> lumen::render::graph::Decision {
+    report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == pass)
+        .map(|(_, d)| d.clone())
+        .expect("the pass is in the plan")
+}
+
+/// Path-tracing options: `size`, `spp` samples per pixel, `bounces`, `seed`.
+fn options(size: (u32, u32), spp: u32, bounces: u32, seed: u64) -> ReferenceOptions {
+    ReferenceOptions {
+        size,
+        samples_per_pixel: spp,
+        max_bounces: bounces,
+        seed,
+    }
+}
+
 /// The image x (pixels, fractional) of world point `p` in the last frame.
 fn image_x(app: &App, p: Vec3) -> f32 {
     let camera = app
@@ -171,13 +192,7 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     let mut app = stripe_scene(thickness);
     let report = app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
-    let source = report
-        .plan
-        .passes
-        .iter()
-        .find(|(id, _)| *id == PassId::TransmissionSource)
-        .map(|(_, d)| d.clone())
-        .expect("the transmission source is in the plan");
+    let source = decision(&report, PassId::TransmissionSource);
     assert!(
         source.enabled && source.reason.contains("1 transmissive"),
         "{}",
@@ -192,12 +207,7 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
     let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
     scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
-    let options = ReferenceOptions {
-        size: SIZE,
-        samples_per_pixel: 8,
-        max_bounces: 6,
-        seed: 3,
-    };
+    let options = options(SIZE, 8, 6, 3);
     let traced = render(&scene, &options, &|_| {}).image;
     for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
         let (seen, n_through) = stripe_centre(image, through);
@@ -278,12 +288,7 @@ fn absorption_follows_beer_lambert_through_known_thicknesses() {
     app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
     let scene = trace_scene(&mut app, SIZE).expect("trace scene");
-    let options = ReferenceOptions {
-        size: SIZE,
-        samples_per_pixel: 256,
-        max_bounces: 6,
-        seed: 11,
-    };
+    let options = options(SIZE, 256, 6, 11);
     let traced = render(&scene, &options, &|_| {}).image;
     let centres: Vec<Vec3> = (0..3)
         .map(|k| Vec3::new(-0.7 + 0.7 * k as f32, 0.0, 0.0))
@@ -373,12 +378,7 @@ fn extreme_transmissions_stay_finite() {
             "ior {ior}, thickness {thickness}, distance {distance}: {brightest}"
         );
         let scene = trace_scene(&mut app, (32, 32)).expect("trace scene");
-        let options = ReferenceOptions {
-            size: (32, 32),
-            samples_per_pixel: 2,
-            max_bounces: 8,
-            seed: 1,
-        };
+        let options = options((32, 32), 2, 8, 1);
         let result = render(&scene, &options, &|_| {});
         assert!(
             result
@@ -399,13 +399,7 @@ fn opaque_scenes_build_no_transmission_source() {
         m.transmission = None;
     }
     let report = app.render_headless((32, 32)).expect("frame");
-    let source = report
-        .plan
-        .passes
-        .iter()
-        .find(|(id, _)| *id == PassId::TransmissionSource)
-        .map(|(_, d)| d.clone())
-        .expect("in the plan");
+    let source = decision(&report, PassId::TransmissionSource);
     assert!(
         !source.enabled && source.reason.contains("no transmissive"),
         "{}",
@@ -442,12 +436,7 @@ fn dispersion_shifts_red_and_blue_by_their_own_indices() {
     let raster = app.read_hdr_image().expect("readback");
     let iors = lumen::transmission::dispersion_iors(1.5, 20.0);
     let scene = trace_scene(&mut app, SIZE).expect("trace scene");
-    let options = ReferenceOptions {
-        size: SIZE,
-        samples_per_pixel: 48,
-        max_bounces: 6,
-        seed: 5,
-    };
+    let options = options(SIZE, 48, 6, 5);
     let traced = render(&scene, &options, &|_| {}).image;
     let through = SIZE.1 / 2;
     let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
@@ -496,13 +485,7 @@ fn the_materials_scene_draws_each_feature() {
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");
-    let transparent = report
-        .plan
-        .passes
-        .iter()
-        .find(|(id, _)| *id == PassId::Transparent)
-        .map(|(_, d)| d.clone())
-        .expect("in the plan");
+    let transparent = decision(&report, PassId::Transparent);
     assert!(
         transparent.enabled && transparent.reason.contains("1 blended and 5 transmissive"),
         "{}",
