@@ -555,17 +555,7 @@ fn pane_scene(alpha: f32, shadows: bool) -> App {
 
 /// The mean rgb of the 5 × 5 pixels around world point `p`.
 fn block_mean(app: &App, img: &image::Rgba32FImage, p: Vec3) -> Vec3 {
-    let (x, y) = common::pixel_of(app, p, img.dimensions());
-    let mut sum = Vec3::ZERO;
-    for dy in -2..=2i32 {
-        for dx in -2..=2i32 {
-            let q = img
-                .get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32)
-                .0;
-            sum += Vec3::new(q[0], q[1], q[2]);
-        }
-    }
-    sum / 25.0
+    common::block_mean(app, img, p, 2)
 }
 
 #[test]

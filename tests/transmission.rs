@@ -138,14 +138,7 @@ fn options(size: (u32, u32), spp: u32, bounces: u32, seed: u64) -> ReferenceOpti
 
 /// The image x (pixels, fractional) of world point `p` in the last frame.
 fn image_x(app: &App, p: Vec3) -> f32 {
-    let camera = app
-        .world()
-        .resource::<lumen::render::extract::ExtractedFrame>()
-        .camera
-        .clone()
-        .expect("camera");
-    let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
-    (clip.x / clip.w * 0.5 + 0.5) * SIZE.0 as f32
+    common::image_point(app, p, SIZE).x
 }
 
 /// The luminance-weighted mean column of the bright pixels of row `y` (the stripe's
@@ -263,17 +256,7 @@ fn absorbing_slabs(thicknesses: [f32; 3], colour: Vec3, distance: f32) -> App {
 
 /// The mean rgb of the 11 × 11 pixels at the image of `p`.
 fn block(app: &App, image: &image::Rgba32FImage, p: Vec3) -> Vec3 {
-    let (x, y) = common::pixel_of(app, p, image.dimensions());
-    let mut sum = Vec3::ZERO;
-    for dy in -5..=5i32 {
-        for dx in -5..=5i32 {
-            let q = image
-                .get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32)
-                .0;
-            sum += Vec3::new(q[0], q[1], q[2]);
-        }
-    }
-    sum / 121.0
+    common::block_mean(app, image, p, 5)
 }
 
 #[test]

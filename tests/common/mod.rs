@@ -155,8 +155,9 @@ impl Drop for Xvfb {
     }
 }
 
-/// The pixel of a `size` frame where world point `p` appeared in the last frame.
-pub fn pixel_of(app: &App, p: glam::Vec3, size: (u32, u32)) -> (u32, u32) {
+/// Where world point `p` appeared in a `size` frame in the last frame, in pixels from
+/// the top-left corner (fractional).
+pub fn image_point(app: &App, p: glam::Vec3, size: (u32, u32)) -> glam::Vec2 {
     use glam::Vec4Swizzles;
     let camera = app
         .world()
@@ -166,10 +167,32 @@ pub fn pixel_of(app: &App, p: glam::Vec3, size: (u32, u32)) -> (u32, u32) {
         .expect("camera");
     let clip = camera.clip_from_view * camera.view_from_world * p.extend(1.0);
     let ndc = clip.xy() / clip.w;
-    (
-        ((ndc.x * 0.5 + 0.5) * size.0 as f32) as u32,
-        ((0.5 - ndc.y * 0.5) * size.1 as f32) as u32,
+    glam::Vec2::new(
+        (ndc.x * 0.5 + 0.5) * size.0 as f32,
+        (0.5 - ndc.y * 0.5) * size.1 as f32,
     )
+}
+
+/// The pixel of a `size` frame where world point `p` appeared in the last frame.
+pub fn pixel_of(app: &App, p: glam::Vec3, size: (u32, u32)) -> (u32, u32) {
+    let q = image_point(app, p, size);
+    (q.x as u32, q.y as u32)
+}
+
+/// The mean rgb of the (2·`half` + 1)² pixels of `img` around the image of world point
+/// `p` in the last frame.
+pub fn block_mean(app: &App, img: &image::Rgba32FImage, p: glam::Vec3, half: i32) -> glam::Vec3 {
+    let (x, y) = pixel_of(app, p, img.dimensions());
+    let mut sum = glam::Vec3::ZERO;
+    for dy in -half..=half {
+        for dx in -half..=half {
+            let q = img
+                .get_pixel((x as i32 + dx) as u32, (y as i32 + dy) as u32)
+                .0;
+            sum += glam::Vec3::new(q[0], q[1], q[2]);
+        }
+    }
+    sum / ((2 * half + 1) * (2 * half + 1)) as f32
 }
 
 /// Panics unless every channel of the last frame's HDR image is finite.

@@ -231,12 +231,6 @@ impl ExtractedFrame {
             .filter(|b| b.visible > 0 && b.transparent())
     }
 
-    /// Whether a transmissive batch is in view: the transparent pass then samples a copy
-    /// of the opaque frame.
-    pub fn transmissive_in_view(&self) -> bool {
-        self.transparent_batches().any(|b| b.transmissive)
-    }
-
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
     pub fn draws(&self) -> usize {
         self.drawn_batches().count()
@@ -553,15 +547,17 @@ pub fn extract_frame(
         let maps = maps
             .or((blend || transmissive).then_some(&neutral_maps))
             .map(|m| {
-                let entry = FrameMaps {
-                    maps: m.clone(),
-                    transmission,
-                    blend,
+                let same = |x: &FrameMaps| {
+                    x.maps == *m && x.transmission == transmission && x.blend == blend
                 };
-                let index = match frame.material_maps.iter().position(|x| *x == entry) {
+                let index = match frame.material_maps.iter().position(same) {
                     Some(i) => i,
                     None => {
-                        frame.material_maps.push(entry);
+                        frame.material_maps.push(FrameMaps {
+                            maps: m.clone(),
+                            transmission,
+                            blend,
+                        });
                         frame.material_maps.len() - 1
                     }
                 };

@@ -7,9 +7,10 @@
 //! ([`crate::transmission::volume_transmittance`]). A thin-walled surface (thickness 0)
 //! passes light through without bending it.
 
+use super::microfacet::{basis, g1_ggx};
 use super::rng::Rng;
 use crate::scene::Transmission;
-use glam::{Mat3, Vec3};
+use glam::Vec3;
 
 /// Fresnel reflectance of unpolarised light at a smooth interface, for the cosine
 /// `cos_i` of the incident angle and the ratio `eta` = n_incident / n_transmitted
@@ -26,14 +27,6 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> f32 {
     let rp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let f = 0.5 * (rs * rs + rp * rp);
     if f.is_nan() { 1.0 } else { f.clamp(0.0, 1.0) }
-}
-
-/// Smith's masking for GGX (the exact separable form) of a direction at cosine `n_dot_x`
-/// to the normal.
-fn g1_ggx(n_dot_x: f32, alpha: f32) -> f32 {
-    let c = n_dot_x.abs();
-    let a2 = alpha * alpha;
-    2.0 * c / (c + (a2 + (1.0 - a2) * c * c).sqrt())
 }
 
 /// A direction sampled from the interface at a hit, and its weight f·|cos|/pdf.
@@ -89,7 +82,7 @@ pub fn sample(
     if (transmitted && n_dot_l >= 0.0) || (!transmitted && n_dot_l <= 0.0) {
         return None;
     }
-    let g1 = g1_ggx(n_dot_l, alpha);
+    let g1 = g1_ggx(n_dot_l.abs(), alpha);
     let weight = if transmitted {
         base * g1
     } else {
@@ -100,12 +93,6 @@ pub fn sample(
         weight,
         transmitted,
     })
-}
-
-/// An orthonormal frame whose z axis is the unit `n`.
-fn basis(n: Vec3) -> Mat3 {
-    let (t, b) = n.any_orthonormal_pair();
-    Mat3::from_cols(t, b, n)
 }
 
 #[cfg(test)]

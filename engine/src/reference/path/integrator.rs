@@ -31,6 +31,7 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
+use super::microfacet::{basis, g1_ggx};
 use super::rng::Rng;
 use super::scene::{
     LightVisibility, SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene,
@@ -39,18 +40,6 @@ use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
 use crate::punctual::{distance_attenuation, spot_attenuation};
 use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
-
-/// An orthonormal basis with `n` as its third column (Duff et al. 2017).
-fn basis(n: Vec3) -> Mat3 {
-    let sign = 1f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    Mat3::from_cols(
-        Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        Vec3::new(b, sign + n.y * n.y * a, -n.y),
-        n,
-    )
-}
 
 /// Concentric map of the unit square onto the unit disk (Shirley & Chiu 1997).
 fn concentric_disk(xi: Vec2) -> Vec2 {
@@ -79,12 +68,6 @@ fn uniform_cone(axis: Vec3, cos_max: f32, xi: Vec2) -> Vec3 {
 /// 2π(1 − cos_max).
 fn cone_pdf(cos_max: f32) -> f32 {
     1.0 / (2.0 * PI * (1.0 - cos_max)).max(1e-12)
-}
-
-/// Smith's masking for GGX (the exact separable form).
-fn g1_ggx(n_dot_x: f32, alpha: f32) -> f32 {
-    let a2 = alpha * alpha;
-    2.0 * n_dot_x / (n_dot_x + (a2 + (1.0 - a2) * n_dot_x * n_dot_x).sqrt())
 }
 
 /// The BSDF at a hit, in a local frame around the shading normal.

@@ -15,6 +15,7 @@
 pub mod bvh;
 pub mod dielectric;
 pub mod integrator;
+pub mod microfacet;
 pub mod rng;
 pub mod scene;
 pub mod textures;
