@@ -9,7 +9,7 @@
 //!   `target/fuzz-crashes/`), an input that takes longer than [`HANG_SECONDS`] (the
 //!   watchdog saves it and aborts the process), or a peak resident memory over
 //!   [`MEMORY_LIMIT`].
-//! - **Duration**: `LUMEN_FUZZ_SECONDS` per loader (default 10 in the test suite). The long
+//! - **Duration**: `LUMEN_FUZZ_SECONDS` per loader (default 6 in the test suite). The long
 //!   run is `LUMEN_FUZZ_SECONDS=600 cargo test --release --test fuzz -- --nocapture`.
 //! - **Regressions**: every input that ever crashed a loader is kept in
 //!   `tests/data/fuzz/<loader>/` and replayed first, asserting an error and no panic.
@@ -33,12 +33,12 @@ fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// Seconds per loader: `LUMEN_FUZZ_SECONDS`, default 10 (CI runs the suite in under 30 minutes).
+/// Seconds per loader: `LUMEN_FUZZ_SECONDS`, default 6 (CI runs the suite in under 30 minutes).
 fn budget() -> Duration {
     let seconds = std::env::var("LUMEN_FUZZ_SECONDS")
         .ok()
         .and_then(|s| s.parse::<u64>().ok())
-        .unwrap_or(10);
+        .unwrap_or(6);
     Duration::from_secs(seconds)
 }
 

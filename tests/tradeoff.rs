@@ -9,8 +9,24 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
         .args([
-            "tradeoff", "spheres", "--size", "64x36", "--spp", "16", "--frames", "1", "--json",
-            "t.json", "--out", "t.md", "--plot", "t.png",
+            "tradeoff",
+            "spheres",
+            "--size",
+            "64x36",
+            "--spp",
+            "16",
+            "--frames",
+            "1",
+            "--json",
+            "t.json",
+            "--out",
+            "t.md",
+            "--plot",
+            "t.png",
+            // Every row's probe captures dominate its time: a 2×2×1 volume instead of the
+            // preset's 4×4×2 (the `--gi-density 8` row still sets its own).
+            "--gi-density",
+            "2",
         ])
         .current_dir(dir.path())
         .output()
@@ -90,6 +106,8 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
             "16",
             "--frames",
             "1",
+            "--gi-density",
+            "2",
             "--json",
             "d.json",
         ])

@@ -311,8 +311,7 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
     let meshes_store = world.resource::<crate::scene::Meshes>();
     for (mesh, global) in drawn.iter().filter_map(|e| query.get(world, *e).ok()) {
         if let Some(b) = meshes_store
-            .get(mesh.0)
-            .and_then(|m| m.bounds())
+            .bounds(mesh.0)
             .and_then(|b| b.transformed(&global.0))
         {
             summary.bounds = Some(summary.bounds.map_or(b, |a| a.union(&b)));

@@ -278,7 +278,7 @@ fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
 
 /// World-space bounding sphere of a mesh's box under `m`.
 fn bounding_sphere(meshes: &Meshes, mesh: MeshHandle, m: &Mat4) -> Option<(Vec3, f32)> {
-    let aabb = meshes.get(mesh)?.bounds()?;
+    let aabb = meshes.bounds(mesh)?;
     let center = m.transform_point3(aabb.center());
     let scale = m
         .x_axis

@@ -149,6 +149,9 @@ pub struct Mesh3d(pub MeshHandle);
 #[derive(Resource, Default, Debug)]
 pub struct Meshes {
     meshes: Vec<Arc<MeshData>>,
+    /// Each mesh's [`MeshData::bounds`], computed once when it is added: extraction asks
+    /// for them per instance and per view (a probe capture has six views per probe).
+    bounds: Vec<Option<Aabb>>,
 }
 
 impl Meshes {
@@ -157,8 +160,15 @@ impl Meshes {
     pub fn add(&mut self, mesh: MeshData) -> Result<MeshHandle, String> {
         mesh.validate()?;
         let index = u32::try_from(self.meshes.len()).map_err(|_| "too many meshes".to_string())?;
+        self.bounds.push(mesh.bounds());
         self.meshes.push(Arc::new(mesh));
         Ok(MeshHandle(index))
+    }
+
+    /// The bounding box of the mesh behind a handle (model space); `None` for an unknown
+    /// handle or an empty mesh.
+    pub fn bounds(&self, handle: MeshHandle) -> Option<Aabb> {
+        self.bounds.get(handle.0 as usize).copied().flatten()
     }
 
     /// The mesh behind a handle.
@@ -188,6 +198,6 @@ pub fn scene_bounds(world: &mut World) -> Option<Aabb> {
     let meshes = world.resource::<Meshes>();
     placed
         .iter()
-        .filter_map(|(mesh, m)| meshes.get(*mesh)?.bounds()?.transformed(m))
+        .filter_map(|(mesh, m)| meshes.bounds(*mesh)?.transformed(m))
         .reduce(|a, b| a.union(&b))
 }
