@@ -40,6 +40,19 @@ fn unpack_receives_shadows(a: f32) -> f32 {
     return select(0.0, 1.0, round(a * 255.0) >= 128.0);
 }
 
+// gbuffer2.a: the dielectric specular level (0..1), or UNLIT_SPECULAR_LEVEL for a
+// surface that shows its base colour unlit (KHR_materials_unlit). Any negative instance
+// level marks one (extraction clamps lit materials' levels to ≥ 0).
+const UNLIT_SPECULAR_LEVEL: f32 = -1.0;
+
+fn stored_specular_level(level: f32) -> f32 {
+    return select(clamp(level, 0.0, 1.0), UNLIT_SPECULAR_LEVEL, level < 0.0);
+}
+
+fn is_unlit(stored_level: f32) -> bool {
+    return stored_level < 0.0;
+}
+
 fn unpack_occlusion(a: f32) -> f32 {
     let v = round(a * 255.0);
     return (v - select(0.0, 128.0, v >= 128.0)) / 127.0;

@@ -3,7 +3,8 @@
 //   gbuffer0 Rgba8Unorm     : base colour (rgb, exact sRGB curve applied here), AO (7 bits)
 //                             and receives-shadows (top bit) in a
 //   gbuffer1 Rgba16Float    : octahedral normal (rg), perceptual roughness (b), metallic (a)
-//   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a)
+//   gbuffer2 Rgba16Float    : pre-exposed emissive (rgb), specular level (a; negative:
+//                             unlit, the lighting pass shows the base colour as it is)
 //   depth    Depth32Float   : reversed Z
 //   motion   Rg16Float      : screen motion (px) since the previous frame, without jitter
 //                             (the `*_motion` entry points, only while TAA runs)
@@ -46,7 +47,7 @@ fn plain_vertex(in: VertexInput, inst: InstanceInput) -> VertexOutput {
     out.base_color_ao = vec4<f32>(srgb_encode(base.r), srgb_encode(base.g), srgb_encode(base.b),
                                   pack_occlusion_receiver(inst.emissive_occlusion.w, inst.params.w));
     out.emissive_specular = vec4<f32>(min(inst.emissive_occlusion.rgb, vec3<f32>(F16_MAX)),
-                                      clamp(inst.params.z, 0.0, 1.0));
+                                      stored_specular_level(inst.params.z));
     out.roughness_metallic = vec2<f32>(clamp_perceptual_roughness(inst.params.y), clamp(inst.params.x, 0.0, 1.0));
     return out;
 }
@@ -129,7 +130,7 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     out.base_color_ao = vec4<f32>(srgb_encode(rgb.r), srgb_encode(rgb.g), srgb_encode(rgb.b),
                                   pack_occlusion_receiver(occlusion, in.params.w));
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, metallic);
-    out.emissive_specular = vec4<f32>(emissive, clamp(in.params.z, 0.0, 1.0));
+    out.emissive_specular = vec4<f32>(emissive, stored_specular_level(in.params.z));
     return out;
 }
 

@@ -38,6 +38,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 
     var surface: Surface;
     surface.base_color = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
+    // An unlit surface (KHR_materials_unlit) shows its base colour, pre-exposed as it is.
+    if is_unlit(g2.a) {
+        return vec4<f32>(surface.base_color, 1.0);
+    }
     surface.perceptual_roughness = g1.b;
     surface.metallic = g1.a;
     surface.specular_level = g2.a;

@@ -202,7 +202,7 @@ fn reflection_terms(pixel: vec2<i32>, lit: vec3<f32>) -> Terms {
     let g1 = textureLoad(gbuffer1, pixel, 0);
     let g2 = textureLoad(gbuffer2, pixel, 0);
     t.r = clamp_perceptual_roughness(g1.b);
-    if t.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) {
+    if t.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) || is_unlit(g2.a) {
         return t;
     }
     // Fades out over the last quarter below the cutoff.

@@ -14,6 +14,7 @@
 #import common
 #import brdf
 #import color
+#import encoding
 #import bindings
 #import mesh_vertex
 #import material_maps
@@ -107,7 +108,10 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
         diffuse_weight = 1.0 - maps.transmission.x;
         transmitted = transmitted_light(point, surface);
     }
-    let color = premultiplied(mapped.emissive + surface_light(point, surface) + transmitted, alpha);
+    // An unlit surface (KHR_materials_unlit) shows its base colour as it is, pre-exposed.
+    let lit = select(mapped.emissive + surface_light(point, surface) + transmitted, surface.base_color,
+                     is_unlit(in.params.z));
+    let color = premultiplied(lit, alpha);
     return BlendedFragment(color, dot(world - view.position_exposure.xyz, view.forward.xyz));
 }
 

@@ -271,6 +271,29 @@ fn transmission_and_volume_map_onto_the_material() {
 }
 
 #[test]
+fn khr_materials_unlit_maps_onto_the_material() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({
+        "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0]},
+        "extensions": {"KHR_materials_unlit": {}}
+    });
+    let path = write_quad(dir.path(), material, &["KHR_materials_unlit"]);
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert!(m[0].unlit);
+    assert_eq!(m[0].base_color, glam::Vec4::new(0.2, 0.4, 0.6, 1.0));
+    // Without the extension the material is lit.
+    let path = write_quad(dir.path(), json!({}), &[]);
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert!(!m[0].unlit);
+}
+
+#[test]
 fn generated_tangents_follow_the_texture_directions() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = write_quad(dir.path(), json!({}), &[]);

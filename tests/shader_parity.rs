@@ -167,7 +167,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
                 packed,
                 encoding::unpack_receives_shadows(stored),
                 encoding::unpack_occlusion(stored),
-                0.0,
+                encoding::stored_specular_level(x * 2.5 - 1.0),
             )
         },
         {
@@ -323,7 +323,7 @@ const NAMES: [&str; OUTPUTS] = [
     "tonemap_aces_fitted | srgb_decode",
     "tonemap_none | g_smith_schlick_ggx",
     "safe_normalize",
-    "pack_occlusion_receiver | unpack_receives_shadows | unpack_occlusion",
+    "pack_occlusion_receiver | unpack_receives_shadows | unpack_occlusion | stored_specular_level",
     "equirect_uv | rotate_y",
     "sh_irradiance | radical_inverse",
     "dfg_integrate | energy_compensation | specular_occlusion",

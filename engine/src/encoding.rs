@@ -51,6 +51,25 @@ pub fn pack_occlusion_receiver(occlusion: f32, receives_shadows: f32) -> f32 {
     ((ao * 127.0).round() + if receives_shadows > 0.5 { 128.0 } else { 0.0 }) / 255.0
 }
 
+/// The specular level an unlit surface (`KHR_materials_unlit`) stores in `gbuffer2.a`
+/// and carries in its instance's `params.z`: any negative level marks one.
+pub const UNLIT_SPECULAR_LEVEL: f32 = -1.0;
+
+/// The specular level stored in `gbuffer2.a`: `level` clamped to 0..1, or
+/// [`UNLIT_SPECULAR_LEVEL`] where it is negative (an unlit surface).
+pub fn stored_specular_level(level: f32) -> f32 {
+    if level < 0.0 {
+        UNLIT_SPECULAR_LEVEL
+    } else {
+        level.clamp(0.0, 1.0)
+    }
+}
+
+/// Whether a stored specular level marks an unlit surface.
+pub fn is_unlit(stored_level: f32) -> bool {
+    stored_level < 0.0
+}
+
 /// The flag of [`pack_occlusion_receiver`]: 1 or 0.
 pub fn unpack_receives_shadows(a: f32) -> f32 {
     if (a * 255.0).round() >= 128.0 {

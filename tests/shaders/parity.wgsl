@@ -72,7 +72,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 11u] = vec4<f32>(safe_normalize(c.v.xyz * x, vec3<f32>(0.0, 1.0, 0.0)), 0.0);
     let packed = pack_occlusion_receiver(x, c.base_metallic.w);
     let stored = round(packed * 255.0) / 255.0;
-    results[o + 12u] = vec4<f32>(packed, unpack_receives_shadows(stored), unpack_occlusion(stored), 0.0);
+    results[o + 12u] = vec4<f32>(packed, unpack_receives_shadows(stored), unpack_occlusion(stored),
+                                 stored_specular_level(x * 2.5 - 1.0));
     results[o + 13u] = vec4<f32>(equirect_uv(c.v.xyz), rotate_y(c.l.xyz, x * 6.0).xz);
     var sh: array<vec4<f32>, 9>;
     for (var k = 0u; k < 9u; k++) {

@@ -13,7 +13,8 @@
 //!   `KHR_materials_specular` give the dielectric F0; `KHR_materials_emissive_strength`
 //!   scales the emission. Alpha mode `MASK` keeps or drops a primitive by its constant
 //!   alpha; `BLEND` primitives are blended ([`crate::scene::Material::blend`]), unless
-//!   their alpha is a constant 1 (then opaque).
+//!   their alpha is a constant 1 (then opaque). `KHR_materials_unlit` materials show
+//!   their base colour unlit ([`crate::scene::Material::unlit`]).
 //!
 //! Textures (base colour, metallic-roughness, normal, occlusion, emissive) are decoded
 //! within the texture budget ([`gltf_material`]). Every file and URI is read through

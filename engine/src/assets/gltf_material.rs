@@ -408,6 +408,7 @@ pub(super) fn material(
         double_sided: m.double_sided(),
         blend,
         transmission: transmission(m, what, &mut loader.warnings),
+        unlit: m.unlit(),
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))

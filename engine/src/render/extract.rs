@@ -539,8 +539,10 @@ pub fn extract_frame(
         // transmissive material without maps gets the neutral ones (every slot white,
         // every factor as given).
         let blend = material.blend;
+        // An unlit surface transmits nothing: it shows its base colour.
         let transmission = material
             .transmission
+            .filter(|_| !material.unlit)
             .map(|t| world_transmission(&t, &m))
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
@@ -593,7 +595,11 @@ pub fn extract_frame(
                 params: [
                     finite_or(material.metallic, 0.0),
                     finite_or(material.perceptual_roughness, 1.0),
-                    finite_or(material.specular_level, 0.5),
+                    if material.unlit {
+                        crate::encoding::UNLIT_SPECULAR_LEVEL
+                    } else {
+                        finite_or(material.specular_level, 0.5).max(0.0)
+                    },
                     if not_receiver { 0.0 } else { 1.0 },
                 ],
             },

@@ -37,6 +37,13 @@ pub struct Material {
     /// `None`: opaque. Such surfaces are drawn by the transparent pass over a copy of the
     /// opaque frame, sampled along the refracted ray (docs/src/materials.md#transmission).
     pub transmission: Option<Transmission>,
+    /// Unlit (glTF's `KHR_materials_unlit`): the surface shows its base colour (× its
+    /// texel and vertex colour) as it is, untouched by lights, shadows, the environment
+    /// and the probes: its pre-exposed value is the base colour, so it looks the same at
+    /// every exposure (it emits base colour ÷ the exposure multiplier, in cd/m²). Its
+    /// emissive, metallic, roughness, specular level and transmission are ignored
+    /// (docs/src/materials.md#unlit).
+    pub unlit: bool,
 }
 
 /// The transmission and volume of a [`Material`] (glTF's `KHR_materials_transmission`,
@@ -91,6 +98,7 @@ impl Default for Material {
             double_sided: false,
             blend: false,
             transmission: None,
+            unlit: false,
         }
     }
 }
@@ -102,6 +110,15 @@ impl Material {
             base_color: base_color.extend(1.0),
             metallic,
             perceptual_roughness,
+            ..Material::default()
+        }
+    }
+
+    /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).
+    pub fn unlit(color: Vec3) -> Self {
+        Material {
+            base_color: color.extend(1.0),
+            unlit: true,
             ..Material::default()
         }
     }

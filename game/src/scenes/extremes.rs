@@ -39,6 +39,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             double_sided: true,
             blend: false,
             transmission: None,
+            unlit: false,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

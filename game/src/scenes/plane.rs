@@ -15,6 +15,7 @@ pub const PLANE_MATERIAL: Material = Material {
     double_sided: false,
     blend: false,
     transmission: None,
+    unlit: false,
 };
 
 /// Illuminance of the light in lux.

@@ -680,6 +680,11 @@ impl TraceScene {
         let mut channel: Option<usize> = None;
         for bounce in 0..max_bounces {
             let (distance, t, surface) = hit;
+            // An unlit surface's base colour (its emissive) was counted on arrival; it
+            // scatters nothing.
+            if surface.material.unlit {
+                break;
+            }
             let p = ray_origin + ray_dir * distance;
             let v = -ray_dir;
             let (facing, n) = self.facing_normals(t, surface.normal, v);
@@ -828,6 +833,7 @@ mod tests {
                 alpha: 1.0,
                 blend: false,
                 transmission: None,
+                unlit: false,
             };
             let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
             let steps = 600;

@@ -160,6 +160,10 @@ pub struct TraceMaterial {
     /// Transmission and volume, the thickness in world metres (the path tracer follows
     /// the geometry instead; a thickness of 0 marks a thin wall).
     pub transmission: Option<crate::scene::Transmission>,
+    /// Unlit ([`crate::scene::Material::unlit`]): the surface emits its base colour
+    /// (pre-exposed, in [`TraceMaterial::emissive`]) and scatters nothing; a path ends
+    /// there.
+    pub unlit: bool,
 }
 
 impl TraceMaterial {
@@ -559,7 +563,11 @@ impl TraceScene {
         let mr = maps.sample(1, uv0, uv1);
         material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
         material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
-        material.emissive *= maps.sample(4, uv0, uv1).truncate();
+        material.emissive = if material.unlit {
+            material.base_color
+        } else {
+            material.emissive * maps.sample(4, uv0, uv1).truncate()
+        };
         let mut n = normal;
         if maps.slots[2].is_some() {
             let tangent = c0.tangent * w + c1.tangent * u + c2.tangent * v;
