@@ -294,6 +294,48 @@ fn khr_materials_unlit_maps_onto_the_material() {
 }
 
 #[test]
+fn required_extensions_load_when_read_and_are_refused_by_name_otherwise() {
+    // KHR_materials_volume is read by Lumen, not by the gltf crate: a file that requires
+    // it loads. An extension nobody reads is refused, named.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({"extensions": {
+        "KHR_materials_transmission": {"transmissionFactor": 1.0},
+        "KHR_materials_volume": {"thicknessFactor": 0.5}
+    }});
+    let path = write_quad(
+        dir.path(),
+        material,
+        &["KHR_materials_transmission", "KHR_materials_volume"],
+    );
+    let require = |path: &Path, names: &[&str]| {
+        let mut doc: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(path).expect("read")).expect("json");
+        doc["extensionsRequired"] = json!(names);
+        let out = path.with_file_name("required.gltf");
+        std::fs::write(&out, serde_json::to_vec(&doc).expect("json")).expect("write");
+        out
+    };
+    let required = require(
+        &path,
+        &["KHR_materials_volume", "KHR_materials_transmission"],
+    );
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, &required).expect("a required extension Lumen reads loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert_eq!(m[0].transmission.map(|t| t.thickness_m), Some(0.5));
+    let unknown = require(&path, &["EXT_nobody_reads_this"]);
+    let mut app = App::headless().expect("a GPU adapter");
+    let err = load_gltf(&mut app, &unknown)
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        err.contains("requires the unsupported extension EXT_nobody_reads_this"),
+        "{err}"
+    );
+}
+
+#[test]
 fn generated_tangents_follow_the_texture_directions() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = write_quad(dir.path(), json!({}), &[]);

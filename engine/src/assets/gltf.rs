@@ -449,9 +449,18 @@ fn spawn_light(
     }
 }
 
-/// Parses a glTF or GLB file and validates it, allowing what Draco compression implies:
-/// the required extension itself, and accessors without a buffer view (their data is in
-/// the Draco stream).
+/// Extensions Lumen reads itself, beyond those the `gltf` crate knows
+/// (`gltf::json::extensions::ENABLED_EXTENSIONS`): a file may require them.
+const READ_HERE: &[&str] = &[
+    draco::EXTENSION,
+    "KHR_materials_volume",
+    "KHR_materials_specular",
+    "KHR_materials_dispersion",
+];
+
+/// Parses a glTF or GLB file and validates it. A required extension must be one the
+/// `gltf` crate or Lumen reads ([`READ_HERE`]); Draco compression also allows accessors
+/// without a buffer view (their data is in the Draco stream).
 fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
     use gltf::json::validation::{Error as Invalid, Validate};
     gltf_checks::check_index_ranges(bytes).map_err(|e| format!("invalid glTF: {e}"))?;
@@ -466,11 +475,12 @@ fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
     let mut errors = Vec::new();
     root.validate(root, gltf::json::Path::new, &mut |path, error| {
         let path = path().to_string();
-        let allowed = draco_required
-            && ((error == Invalid::Unsupported && path.starts_with("extensionsRequired"))
-                || (error == Invalid::Missing
-                    && path.starts_with("accessors[")
-                    && path.ends_with("].bufferView")));
+        // Required extensions are checked by name below.
+        let allowed = (error == Invalid::Unsupported && path.starts_with("extensionsRequired"))
+            || (draco_required
+                && error == Invalid::Missing
+                && path.starts_with("accessors[")
+                && path.ends_with("].bufferView"));
         if !allowed {
             errors.push(format!("{path}: {error}"));
         }
@@ -479,7 +489,7 @@ fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
         return Err(format!("invalid glTF: {}", errors.join("; ")));
     }
     for required in &root.extensions_required {
-        if required != draco::EXTENSION
+        if !READ_HERE.contains(&required.as_str())
             && !gltf::json::extensions::ENABLED_EXTENSIONS.contains(&required.as_str())
         {
             return Err(format!("requires the unsupported extension {required}"));
