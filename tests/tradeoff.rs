@@ -7,34 +7,9 @@ use std::process::Command;
 #[test]
 fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
-        .args([
-            "tradeoff",
-            "spheres",
-            "--size",
-            "64x36",
-            "--spp",
-            "16",
-            "--frames",
-            "1",
-            "--json",
-            "t.json",
-            "--out",
-            "t.md",
-            "--plot",
-            "t.png",
-            // Every row's probe captures dominate its time: a 2×2×1 volume instead of the
-            // preset's 4×4×2 (the `--gi-density 8` row still sets its own).
-            "--gi-density",
-            "2",
-        ])
-        .current_dir(dir.path())
-        .output()
-        .expect("lumen runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    tradeoff(
+        dir.path(),
+        &["--json", "t.json", "--out", "t.md", "--plot", "t.png"],
     );
     let doc: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("t.json")).expect("json"))
@@ -71,6 +46,41 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     assert_eq!((chart.width(), chart.height()), (1200, 600));
 }
 
+/// Runs `lumen tradeoff spheres` in `dir` at 64×36, 16 samples per pixel and one frame
+/// per row, with `extra`, and asserts it succeeds. Every row's probe captures dominate
+/// its time: the volume is 2×2×1 instead of the preset's 4×4×2 (the `--gi-density 8` row
+/// still sets its own).
+fn tradeoff(dir: &std::path::Path, extra: &[&str]) {
+    let mut args = vec![
+        "tradeoff",
+        "spheres",
+        "--size",
+        "64x36",
+        "--spp",
+        "16",
+        "--frames",
+        "1",
+        "--gi-density",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    lumen_tradeoff(dir, &args);
+}
+
+/// Runs `lumen` with `args` in `dir` and asserts it succeeds.
+fn lumen_tradeoff(dir: &std::path::Path, args: &[&str]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("lumen runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 #[test]
 fn the_pareto_front_keeps_only_undominated_rows() {
     let row = |ms: f64, flip: f64| Row {
@@ -95,30 +105,7 @@ fn the_pareto_front_keeps_only_undominated_rows() {
 #[test]
 fn the_decomposition_separates_shading_visibility_and_transport() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
-        .args([
-            "tradeoff",
-            "spheres",
-            "--decompose",
-            "--size",
-            "64x36",
-            "--spp",
-            "16",
-            "--frames",
-            "1",
-            "--gi-density",
-            "2",
-            "--json",
-            "d.json",
-        ])
-        .current_dir(dir.path())
-        .output()
-        .expect("lumen runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    tradeoff(dir.path(), &["--decompose", "--json", "d.json"]);
     let doc: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.path().join("d.json")).expect("json"))
             .expect("valid JSON");
@@ -194,16 +181,7 @@ fn references_of_one_scene_with_different_options_are_cached_apart() {
             "1",
         ];
         args.extend_from_slice(extra);
-        let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
-            .args(&args)
-            .current_dir(dir.path())
-            .output()
-            .expect("lumen runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        lumen_tradeoff(dir.path(), &args);
     }
     assert_eq!(cached(dir.path(), "-32x18-4spp-8b").len(), 2);
 }
