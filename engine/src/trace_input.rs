@@ -47,10 +47,6 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
         for inst in frame.instances.get(range).into_iter().flatten() {
             let [r, g, b, alpha] = inst.base_color;
             let [er, eg, eb, _] = inst.emissive_occlusion;
-            // An unlit surface emits its base colour, pre-exposed, as the lighting pass
-            // shows it.
-            let unlit = crate::encoding::is_unlit(inst.params[2]);
-            let base = Vec3::new(r, g, b);
             instances.push(TraceInstance {
                 mesh: batch.mesh,
                 world_from_local: Mat4::from_cols_array_2d(&inst.world_from_local),
@@ -60,15 +56,11 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                     Vec3::from_slice(&inst.normal_matrix[2][..3]),
                 ),
                 material: TraceMaterial {
-                    base_color: base,
+                    base_color: Vec3::new(r, g, b),
                     metallic: inst.params[0],
                     roughness: inst.params[1],
                     specular_level: inst.params[2],
-                    emissive: if unlit {
-                        base.clamp(Vec3::ZERO, Vec3::ONE)
-                    } else {
-                        Vec3::new(er, eg, eb)
-                    },
+                    emissive: Vec3::new(er, eg, eb),
                     maps: batch.maps,
                     alpha,
                     blend: batch.blend,
@@ -76,7 +68,7 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
                         .maps
                         .and_then(|m| frame.material_maps.get(m as usize))
                         .and_then(|entry| entry.transmission),
-                    unlit,
+                    unlit: crate::encoding::is_unlit(inst.params[2]),
                 },
             });
         }

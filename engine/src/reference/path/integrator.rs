@@ -672,7 +672,7 @@ impl TraceScene {
         let mut ray_origin = origin;
         let mut ray_dir = dir;
         let mut throughput = Vec3::ONE;
-        let mut radiance = hit.2.material.emissive;
+        let mut radiance = hit.2.material.emitted();
         // Density over the area of the current hit with which the previous surface's BSDF
         // sample reached it (None at the first hit).
         let mut arrival_pdf: Option<f32> = None;
@@ -680,8 +680,7 @@ impl TraceScene {
         let mut channel: Option<usize> = None;
         for bounce in 0..max_bounces {
             let (distance, t, surface) = hit;
-            // An unlit surface's base colour (its emissive) was counted on arrival; it
-            // scatters nothing.
+            // An unlit surface's colour was counted on arrival; it scatters nothing.
             if surface.material.unlit {
                 break;
             }
@@ -744,7 +743,7 @@ impl TraceScene {
                     }
                     Some(next) => {
                         throughput *= self.absorption(&next, ray_dir);
-                        radiance += throughput * next.2.material.emissive;
+                        radiance += throughput * next.2.material.emitted();
                         hit = next;
                     }
                 }
@@ -779,7 +778,7 @@ impl TraceScene {
                     }
                     Some(next) => {
                         throughput *= self.absorption(&next, l);
-                        radiance += throughput * next.2.material.emissive;
+                        radiance += throughput * next.2.material.emitted();
                         let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
                         arrival_pdf =
                             Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));

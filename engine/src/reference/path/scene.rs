@@ -161,12 +161,21 @@ pub struct TraceMaterial {
     /// the geometry instead; a thickness of 0 marks a thin wall).
     pub transmission: Option<crate::scene::Transmission>,
     /// Unlit ([`crate::scene::Material::unlit`]): the surface emits its base colour
-    /// (pre-exposed, in [`TraceMaterial::emissive`]) and scatters nothing; a path ends
-    /// there.
+    /// (pre-exposed, [`TraceMaterial::emitted`]) and scatters nothing; a path ends there.
     pub unlit: bool,
 }
 
 impl TraceMaterial {
+    /// The pre-exposed luminance the surface emits: its base colour if it is unlit (as
+    /// the lighting pass shows it), else its emissive.
+    pub fn emitted(&self) -> Vec3 {
+        if self.unlit {
+            self.base_color
+        } else {
+            self.emissive
+        }
+    }
+
     /// The factors clamped into the ranges the BRDF takes: base colour, metallic and
     /// specular level into 0..1, roughness by [`crate::brdf::clamp_perceptual_roughness`].
     pub fn clamped(self) -> TraceMaterial {
@@ -563,11 +572,7 @@ impl TraceScene {
         let mr = maps.sample(1, uv0, uv1);
         material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
         material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
-        material.emissive = if material.unlit {
-            material.base_color
-        } else {
-            material.emissive * maps.sample(4, uv0, uv1).truncate()
-        };
+        material.emissive *= maps.sample(4, uv0, uv1).truncate();
         let mut n = normal;
         if maps.slots[2].is_some() {
             let tangent = c0.tangent * w + c1.tangent * u + c2.tangent * v;
