@@ -52,6 +52,25 @@ fn image_examples_write_their_images() {
 }
 
 #[test]
+fn the_controls_example_reads_scripted_keys_and_moves_its_lamp_by_time() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let stdout = run("controls", dir.path());
+    // 30 updates of 1/60 s with the right arrow held, at 2 m/s: 1 m.
+    for line in [
+        "preset  low",
+        "view    albedo",
+        "lamp    x +1.00 m, z +1.50 m",
+    ] {
+        assert!(stdout.contains(line), "'{line}' in: {stdout}");
+    }
+    let lit = lit_pixels(&dir.path().join("out/examples/controls.png"));
+    assert!(
+        lit > 48 * 27 / 2,
+        "the albedo view lights most pixels: {lit}"
+    );
+}
+
+#[test]
 fn the_png_sequence_has_twelve_moving_frames() {
     let dir = tempfile::tempdir().expect("temp dir");
     run("png_sequence", dir.path());

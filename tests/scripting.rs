@@ -212,3 +212,101 @@ fn a_lost_device_is_an_error_and_a_new_gpu_renders_the_same_scene() {
     app.render_headless(SIZE).expect("frame on the new device");
     assert_eq!(app.read_display_image().expect("image"), before);
 }
+
+/// Moves every point light along +x at 1 m/s, by the frame's time step.
+fn slide_light(time: Res<Time>, mut lights: Query<&mut Transform, With<PointLight>>) {
+    for mut t in &mut lights {
+        t.translation.x += 1.0 * time.delta_secs();
+    }
+}
+
+#[test]
+fn a_light_moved_by_time_covers_the_same_distance_at_any_fixed_step() {
+    for (step, updates) in [(1.0f32 / 60.0, 120), (1.0 / 30.0, 60)] {
+        let mut app = App::new();
+        app.set_fixed_delta(Some(step));
+        let light = app
+            .world_mut()
+            .spawn((PointLight::default(), Transform::IDENTITY))
+            .id();
+        app.add_systems(slide_light);
+        for _ in 0..updates {
+            app.update();
+        }
+        let x = app
+            .world()
+            .get::<Transform>(light)
+            .expect("light")
+            .translation
+            .x;
+        let time = app.world().resource::<Time>();
+        assert!((x - 2.0).abs() < 1e-4, "step {step}: x = {x} m");
+        assert!((time.elapsed_secs() - 2.0).abs() < 1e-5, "step {step}");
+        assert_eq!(time.frame_count(), updates, "step {step}");
+    }
+}
+
+#[test]
+fn a_headless_app_steps_by_a_sixtieth_and_a_frame_rendered_after_an_update_takes_no_second_step() {
+    let mut app = lit_sphere();
+    app.update();
+    app.render_headless(SIZE).expect("frame");
+    let time = *app.world().resource::<Time>();
+    assert_eq!(time.frame_count(), 1, "update and render are one frame");
+    assert_eq!(time.delta_secs(), lumen::time::HEADLESS_DELTA_S);
+    app.render_headless(SIZE).expect("frame");
+    assert_eq!(
+        app.world().resource::<Time>().frame_count(),
+        2,
+        "a render alone steps"
+    );
+}
+
+/// Counts the updates that saw `Space` just pressed, and those that saw it held.
+#[derive(Resource, Default)]
+struct SpaceSeen {
+    just_pressed: u32,
+    held: u32,
+}
+
+fn watch_space(keys: Res<Keys>, mut seen: ResMut<SpaceSeen>) {
+    seen.just_pressed += u32::from(keys.just_pressed(KeyCode::Space));
+    seen.held += u32::from(keys.pressed(KeyCode::Space));
+}
+
+#[test]
+fn an_injected_key_press_is_just_pressed_for_exactly_one_update() {
+    let mut app = App::new();
+    app.world_mut().init_resource::<SpaceSeen>();
+    app.add_systems(watch_space);
+    app.update();
+    app.send_input(InputEvent::Key {
+        code: KeyCode::Space,
+        pressed: true,
+    });
+    for _ in 0..4 {
+        app.update();
+    }
+    let seen = app.world().resource::<SpaceSeen>();
+    assert_eq!((seen.just_pressed, seen.held), (1, 4));
+    app.send_input(InputEvent::Key {
+        code: KeyCode::Space,
+        pressed: false,
+    });
+    app.update();
+    assert!(app.world().resource::<Keys>().just_released(KeyCode::Space));
+    app.update();
+    let keys = app.world().resource::<Keys>();
+    assert!(!keys.pressed(KeyCode::Space) && !keys.just_released(KeyCode::Space));
+    assert_eq!(app.world().resource::<SpaceSeen>().held, 4);
+}
+
+#[test]
+fn a_headless_app_sent_nothing_sees_no_input() {
+    let mut app = App::new();
+    app.update();
+    let world = app.world();
+    assert_eq!(world.resource::<Keys>().get_pressed().count(), 0);
+    assert_eq!(world.resource::<MouseButtons>().get_pressed().count(), 0);
+    assert_eq!(*world.resource::<Mouse>(), Mouse::default());
+}

@@ -2,6 +2,7 @@
 //! renderer. The one type a script needs.
 
 use crate::error::{Error, Result};
+use crate::input::{self, InputEvent, Keys, Mouse, MouseButtons, PendingInput};
 use crate::quality::{MAX_ACCUMULATE, Quality};
 use crate::render::antialiasing::accumulate::SubFrame;
 use crate::render::antialiasing::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
@@ -20,13 +21,15 @@ use crate::render::targets::{RenderTargets, Target};
 use crate::render::timing::PassTiming;
 use crate::render::{self, ExtractSchedule, RenderSchedule};
 use crate::scene::{MeshData, MeshHandle, Meshes, propagate_transforms};
+use crate::time::{Clock, HEADLESS_DELTA_S, Time};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleLabel};
 use bevy_ecs::system::ScheduleSystem;
 use std::path::Path;
 use std::time::Instant;
 
-/// Your systems: animation, input, spawning. Runs at the start of [`App::update`].
+/// Your systems: animation, input, spawning. Runs in [`App::update`], after the
+/// [`Time`] and input resources are brought up to date.
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Update;
 
@@ -115,8 +118,11 @@ pub const HEADLESS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm
 pub struct App {
     world: World,
     offscreen: Option<Target>,
-    fixed_delta: Option<f32>,
-    last_frame: Option<Instant>,
+    /// Where the steps of [`Time`] come from.
+    clock: Clock,
+    /// [`App::update`] advanced [`Time`] since the last frame rendered: the frame uses
+    /// that step instead of taking one of its own.
+    ticked: bool,
     /// The shader sources before the last reload, until a frame renders with the new ones.
     shader_fallback: Option<ShaderOverrides>,
     /// The last frame size that passed [`check_size`]: a size is checked once, not every
@@ -145,6 +151,11 @@ impl App {
         world.init_resource::<Meshes>();
         world.init_resource::<crate::scene::Textures>();
         world.init_resource::<Quality>();
+        world.init_resource::<Time>();
+        world.init_resource::<Keys>();
+        world.init_resource::<MouseButtons>();
+        world.init_resource::<Mouse>();
+        world.init_resource::<PendingInput>();
         world.add_schedule(Schedule::new(Update));
         let mut post = Schedule::new(PostUpdate);
         post.add_systems(propagate_transforms);
@@ -152,8 +163,8 @@ impl App {
         App {
             world,
             offscreen: None,
-            fixed_delta: None,
-            last_frame: None,
+            clock: Clock::new(None),
+            ticked: false,
             shader_fallback: None,
             checked_size: None,
             progressive_probes: false,
@@ -167,9 +178,11 @@ impl App {
         App::headless_with(&GpuRequest::from_env()?)
     }
 
-    /// An empty scene with a headless GPU chosen by `request`.
+    /// An empty scene with a headless GPU chosen by `request`. Its [`Time`] advances by
+    /// a fixed [`HEADLESS_DELTA_S`] per frame (see [`App::set_fixed_delta`]).
     pub fn headless_with(request: &GpuRequest) -> Result<App> {
         let mut app = App::new();
+        app.set_fixed_delta(Some(HEADLESS_DELTA_S));
         app.attach_gpu(Gpu::new(request, None, None)?.0)?;
         Ok(app)
     }
@@ -259,10 +272,21 @@ impl App {
         self
     }
 
-    /// Makes every frame advance time by `delta_s` seconds (automatic exposure adapts by
-    /// it) instead of the real time between frames; `None` goes back to real time.
+    /// Makes every frame advance [`Time`] by `delta_s` seconds (your systems and
+    /// automatic exposure read it) instead of the real time between frames; `None` goes
+    /// back to real time. A headless app starts with [`HEADLESS_DELTA_S`], an app made
+    /// with [`App::new`] (the viewer's) with real time. A negative or non-finite step is
+    /// ignored (real time).
     pub fn set_fixed_delta(&mut self, delta_s: Option<f32>) {
-        self.fixed_delta = delta_s.filter(|d| d.is_finite() && *d >= 0.0);
+        self.clock.fixed_delta_s = delta_s.filter(|d| d.is_finite() && *d >= 0.0);
+    }
+
+    /// Queues an input event (a key, a mouse button, the cursor, the wheel) for the next
+    /// [`App::update`], which applies it to the [`Keys`], [`MouseButtons`] and
+    /// [`Mouse`] resources before your systems run. The viewer sends its window's events;
+    /// tests and scripts can send their own.
+    pub fn send_input(&mut self, event: InputEvent) {
+        self.world.resource_mut::<PendingInput>().0.push(event);
     }
 
     /// Spreads the irradiance volume's captures over frames, at most
@@ -286,9 +310,20 @@ impl App {
         self.pending_cut = true;
     }
 
-    /// Runs your [`Update`] systems once.
+    /// Starts a frame: advances [`Time`] by one step, applies the input sent since the
+    /// last update, and runs your [`Update`] systems. The next rendered frame uses the
+    /// same step (a frame rendered without an update takes a step of its own).
     pub fn update(&mut self) {
+        self.tick();
+        self.ticked = true;
+        input::apply_pending(&mut self.world);
         self.world.run_schedule(Update);
+    }
+
+    /// Advances [`Time`] by one step of the clock.
+    fn tick(&mut self) {
+        let delta = self.clock.tick();
+        self.world.resource_mut::<Time>().advance(delta);
     }
 
     /// Renders one frame into an offscreen image of `size` pixels, waiting for the GPU.
@@ -399,12 +434,10 @@ impl App {
         let mut stages = Vec::new();
         let mut stage = |name, t: Instant| stages.push((name, t.elapsed().as_secs_f64() * 1e3));
 
-        let delta = match (self.fixed_delta, self.last_frame) {
-            (Some(d), _) => d,
-            (None, Some(last)) => last.elapsed().as_secs_f32().clamp(0.0, 0.25),
-            (None, None) => 1.0 / 60.0,
-        };
-        self.last_frame = Some(start);
+        if !std::mem::take(&mut self.ticked) {
+            self.tick();
+        }
+        let delta = self.world.resource::<Time>().delta_secs();
         self.world.insert_resource(FrameDelta(delta));
 
         let t = Instant::now();

@@ -34,6 +34,7 @@ pub mod encoding;
 pub mod error;
 pub mod files;
 pub mod ibl;
+pub mod input;
 pub mod irradiance_volume;
 pub mod limits;
 pub mod punctual;
@@ -43,6 +44,7 @@ pub mod reflection_probe;
 pub mod render;
 pub mod scene;
 pub mod shadow_kernel;
+pub mod time;
 pub mod trace_input;
 pub mod transmission;
 pub mod transparency;
@@ -59,6 +61,7 @@ pub mod prelude {
     pub use crate::app::{App, FrameReport, Update};
     pub use crate::brdf::VisibilityModel;
     pub use crate::color::Tonemapper;
+    pub use crate::input::{InputEvent, KeyCode, Keys, Mouse, MouseButton, MouseButtons};
     pub use crate::quality::{Quality, ShadowFilter};
     pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
@@ -67,6 +70,7 @@ pub mod prelude {
         Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight,
         Projection, ReflectionProbe, ShadowSettings, SpotLight, Transform,
     };
+    pub use crate::time::Time;
     pub use bevy_ecs::hierarchy::ChildOf;
     pub use bevy_ecs::prelude::*;
     pub use glam::{Quat, Vec2, Vec3, Vec4};

@@ -14,10 +14,13 @@ struct Orbit {
     phase_rad: f32,
 }
 
-/// Turns every orbiting light by a tenth of a radian per frame.
-fn orbit(mut lights: Query<(&mut Orbit, &mut Transform)>) {
+/// How fast the lights circle (rad/s): one turn in about 1.05 s.
+const ORBIT_RAD_PER_S: f32 = 6.0;
+
+/// Turns every orbiting light by the time since the last frame.
+fn orbit(time: Res<Time>, mut lights: Query<(&mut Orbit, &mut Transform)>) {
     for (mut o, mut t) in &mut lights {
-        o.phase_rad += 0.1;
+        o.phase_rad += ORBIT_RAD_PER_S * time.delta_secs();
         t.translation = Vec3::new(
             o.radius_m * o.phase_rad.cos(),
             1.0,

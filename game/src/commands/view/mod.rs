@@ -25,7 +25,7 @@ mod window;
 
 pub use open::open_file;
 pub use screenshot::save_screenshot;
-pub use window::{WindowOptions, default_shader_dir, display_available, show};
+pub use window::{ScreenText, WindowOptions, default_shader_dir, display_available, show};
 pub(crate) use window::{WindowScene, run_window};
 
 use crate::cli::ViewArgs;
@@ -43,6 +43,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         frames: args.frames,
         screenshot: args.screenshot.clone(),
         lose_device_after: args.lose_device_after,
+        viewer_keys: true,
     };
     if let Some(dir) = &options.shader_dir
         && !dir.is_dir()

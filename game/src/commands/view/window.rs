@@ -14,6 +14,7 @@ use crate::measure::{FrameSample, WindowFrames};
 use crate::setup::build_scene;
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
+use lumen::input::InputEvent;
 use lumen::prelude::*;
 use lumen::render::device::Gpu;
 use lumen::wgpu;
@@ -26,6 +27,16 @@ use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
+
+/// Lines of text your systems want on screen (controls, a score, a state), drawn by
+/// the viewer in the window's top-right corner, over the frame, with or without the
+/// panel. Insert it as a resource and write its lines from a system; headless images do
+/// not show it.
+#[derive(Resource, Clone, Debug, Default, PartialEq, Eq)]
+pub struct ScreenText {
+    /// One entry per line, top to bottom.
+    pub lines: Vec<String>,
+}
 
 /// Whether a windowing system seems to be available.
 pub fn display_available() -> bool {
@@ -51,6 +62,11 @@ pub struct WindowOptions {
     pub screenshot: Option<PathBuf>,
     /// Test hook: destroy the GPU device after this many frames (the viewer recovers).
     pub lose_device_after: Option<u64>,
+    /// The viewer's own keys and mouse: the camera (drag, wheel, `W A S D Q E`, `Shift`,
+    /// `F`), `P`/`F12` screenshot, `R` reload and `Esc` close. Off, they are left to your
+    /// systems (which see every event either way, through [`lumen::input`]); `Tab`
+    /// still shows and hides the panel.
+    pub viewer_keys: bool,
 }
 
 impl Default for WindowOptions {
@@ -64,6 +80,7 @@ impl Default for WindowOptions {
             frames: None,
             screenshot: None,
             lose_device_after: None,
+            viewer_keys: true,
         }
     }
 }
@@ -130,6 +147,8 @@ pub(crate) enum WindowScene {
 struct Running {
     /// Test hook: destroy the device once this many frames were drawn.
     lose_device_after: Option<u64>,
+    /// [`WindowOptions::viewer_keys`].
+    viewer_keys: bool,
     window: Arc<Window>,
     display: winit::event_loop::OwnedDisplayHandle,
     /// `None` only while a lost device is being replaced.
@@ -270,6 +289,7 @@ impl Viewer {
         }
         Ok(Running {
             lose_device_after: self.options.lose_device_after,
+            viewer_keys: self.options.viewer_keys,
             window,
             display: event_loop.owned_display_handle(),
             surface: Some(surface),
@@ -335,7 +355,8 @@ fn redraw(r: &mut Running) -> Result<Option<(lumen::FrameReport, f64)>> {
             let (panel, app, controls, camera) =
                 (&mut r.panel, &mut r.app, &mut r.controls, r.camera);
             Some(gui.run(&r.window, |ui| {
-                panel.ui(ui, app, camera, controls, &mut actions)
+                panel.ui(ui, app, camera, controls, &mut actions);
+                screen_text_ui(ui, app);
             }))
         }
         None => None,
@@ -434,6 +455,71 @@ fn act(r: &mut Running, action: Action) {
     }
 }
 
+/// The app's view of a window event: key and button presses the panel took are not
+/// passed on (their releases are, so nothing stays held), nor is the wheel over it.
+fn input_event(event: &WindowEvent, used_by_panel: bool) -> Option<InputEvent> {
+    match event {
+        WindowEvent::KeyboardInput { event, .. } if !event.repeat => match event.physical_key {
+            PhysicalKey::Code(code) => {
+                let pressed = event.state == ElementState::Pressed;
+                (!pressed || !used_by_panel).then_some(InputEvent::Key { code, pressed })
+            }
+            PhysicalKey::Unidentified(_) => None,
+        },
+        WindowEvent::MouseInput { state, button, .. } => {
+            let pressed = *state == ElementState::Pressed;
+            (!pressed || !used_by_panel).then_some(InputEvent::MouseButton {
+                button: *button,
+                pressed,
+            })
+        }
+        WindowEvent::CursorMoved { position, .. } => Some(InputEvent::CursorMoved(Vec2::new(
+            position.x as f32,
+            position.y as f32,
+        ))),
+        WindowEvent::CursorLeft { .. } => Some(InputEvent::CursorLeft),
+        WindowEvent::MouseWheel { delta, .. } if !used_by_panel => {
+            Some(InputEvent::Wheel(match delta {
+                MouseScrollDelta::LineDelta(x, y) => Vec2::new(*x, *y),
+                MouseScrollDelta::PixelDelta(p) => Vec2::new(p.x as f32, p.y as f32) / 40.0,
+            }))
+        }
+        WindowEvent::Focused(false) => Some(InputEvent::FocusLost),
+        _ => None,
+    }
+}
+
+/// Whether the viewer itself would act on `event` (keys, mouse buttons, the cursor's
+/// drag, the wheel): [`WindowOptions::viewer_keys`] off leaves these to the app.
+fn viewer_input(event: &WindowEvent) -> bool {
+    matches!(
+        event,
+        WindowEvent::KeyboardInput { .. }
+            | WindowEvent::MouseInput { .. }
+            | WindowEvent::CursorMoved { .. }
+            | WindowEvent::MouseWheel { .. }
+    )
+}
+
+/// Draws the [`ScreenText`] your systems wrote in the window's top-right corner.
+fn screen_text_ui(ui: &mut egui::Ui, app: &App) {
+    let Some(text) = app.world().get_resource::<ScreenText>() else {
+        return;
+    };
+    if text.lines.is_empty() {
+        return;
+    }
+    egui::Area::new(egui::Id::unique("lumen screen text"))
+        .anchor(egui::Align2::RIGHT_TOP, egui::vec2(-8.0, 8.0))
+        .show(ui.ctx(), |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| {
+                for line in &text.lines {
+                    ui.monospace(line);
+                }
+            });
+        });
+}
+
 /// Keyboard input outside the panel. Returns true when the viewer should close.
 fn key(r: &mut Running, code: KeyCode, pressed: bool) -> bool {
     let k = &mut r.controls.keys;
@@ -487,6 +573,12 @@ impl ApplicationHandler for Viewer {
             Some(gui) if r.panel.visible => gui.on_event(&r.window, &event),
             _ => false,
         };
+        if let Some(input) = input_event(&event, used_by_panel) {
+            r.app.send_input(input);
+        }
+        if !r.viewer_keys && viewer_input(&event) {
+            return;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => {
