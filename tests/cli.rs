@@ -196,20 +196,19 @@ fn explain_prints_the_plan() {
 }
 
 #[test]
-fn main_job_headless_writes_out_spheres_png() {
+fn main_job_without_a_display_writes_out_showcase_png() {
+    // No subcommand and no display: the showcase, rendered headless at 1280×720 (what
+    // it shows is tested in tests/gltf.rs at a smaller size).
     let dir = tmp();
-    let out = lumen(&["--headless"], dir.path());
+    let out = lumen(&[], dir.path());
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(
-        stdout.contains("wrote out/spheres.png") && stdout.contains("frame "),
+        stdout.contains("wrote out/showcase.png") && stdout.contains("frame "),
         "{stdout}"
     );
-    let img = image::open(dir.path().join("out/spheres.png")).expect("out/spheres.png");
+    let img = image::open(dir.path().join("out/showcase.png")).expect("out/showcase.png");
     assert_eq!((img.width(), img.height()), (1280, 720));
-    // Without a display, no subcommand at all also renders headless.
-    let out = lumen(&[], dir.path());
-    assert!(out.status.success(), "{}", text(&out.stderr));
 }
 
 #[test]

@@ -7,11 +7,11 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "lumen", version, about, long_about = None)]
 pub struct Cli {
-    /// What to do; without one, render the `spheres` scene in a window when a display is
-    /// available, else to out/spheres.png.
+    /// What to do; without one, show the `showcase` scene in a window when a display is
+    /// available, else render it to out/showcase.png.
     #[command(subcommand)]
     pub command: Option<Command>,
-    /// Without a subcommand: render to out/spheres.png even when a display is available.
+    /// Without a subcommand: render to out/showcase.png even when a display is available.
     #[arg(long)]
     pub headless: bool,
 }

@@ -85,7 +85,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         None => {
             let scene = SceneArgs {
-                scene: Some("spheres".into()),
+                scene: Some("showcase".into()),
                 ..SceneArgs::default()
             };
             if !cli.headless && commands::view::display_available() {

@@ -15,6 +15,7 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         (Some(file), _) => {
             let options = lumen::assets::gltf::GltfOptions {
                 light_shadows: !args.no_gltf_light_shadows,
+                ..Default::default()
             };
             let summary = lumen::assets::gltf::load_gltf_with(app, file, &options)?;
             log::info!(

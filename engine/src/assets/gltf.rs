@@ -145,12 +145,17 @@ pub struct GltfOptions {
     /// inside a room must not light through its walls, and the path tracer, the judge,
     /// always has shadows.
     pub light_shadows: bool,
+    /// Whether a file without a camera gets one that frames it, and a file without
+    /// lights a default sun, sky and exposure. On by default; a script that places its
+    /// own camera and lights turns it off.
+    pub staging: bool,
 }
 
 impl Default for GltfOptions {
     fn default() -> Self {
         GltfOptions {
             light_shadows: true,
+            staging: true,
         }
     }
 }
@@ -318,7 +323,7 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
             summary.bounds = Some(summary.bounds.map_or(b, |a| a.union(&b)));
         }
     }
-    if !summary.has_camera {
+    if !summary.has_camera && options.staging {
         let (target, radius) = summary
             .bounds
             .map(|b| (b.center(), ((b.max - b.min).length() * 0.5).max(1e-3)))
@@ -338,7 +343,7 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
             Transform::from_translation(eye).looking_at(target, Vec3::Y),
         ));
     }
-    if summary.lights == 0 {
+    if summary.lights == 0 && options.staging {
         // Default lighting: a 10 000 lx sun from the upper right, a uniform sky of
         // DEFAULT_SKY_NITS, and every camera exposed for them.
         world.spawn((

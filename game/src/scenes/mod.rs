@@ -9,6 +9,7 @@ mod lights;
 pub mod materials;
 mod plane;
 mod shadows;
+pub mod showcase;
 pub mod spheres;
 
 use lumen::App;
@@ -25,6 +26,11 @@ pub struct SceneInfo {
 
 /// Every built-in scene.
 pub const SCENES: &[SceneInfo] = &[
+    SceneInfo {
+        name: "showcase",
+        description: "the main job: the FlightHelmet and a row of material spheres under the sky.exr HDRI, its sun a 100 000 lx shadow-casting light",
+        build: showcase::build,
+    },
     SceneInfo {
         name: "spheres",
         description: "7x7 spheres, metallic rising bottom to top, roughness left to right; 4 point lights, a sun (the peer benchmark's scene)",
