@@ -1218,3 +1218,279 @@ fn the_showcase_holds_the_helmet_centred_lit_and_well_exposed() {
     // Lit from the front: 0.17 here; the sun behind it (the image unturned) gave 0.10.
     assert!((0.13..0.8).contains(&lit), "helmet mean luma {lit}");
 }
+
+/// A node-only glTF: four nodes animated by one clip: node 0 translation LINEAR, node 1
+/// the same keys STEP, node 2 translation CUBICSPLINE, node 3 rotation LINEAR from the
+/// identity to a negated quaternion (the same rotation as +1 rad about Y, on the far
+/// hemisphere).
+fn write_animated(dir: &Path) -> PathBuf {
+    let floats: Vec<f32> = [
+        vec![0.0, 1.0, 3.0],
+        vec![0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0, 4.0, 0.0],
+        vec![0.0, 2.0],
+        // in-tangent, value, out-tangent per key (units per second).
+        vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+        vec![2.0, 0.0, 0.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        vec![0.0, 1.0],
+        {
+            let q = -Quat::from_rotation_y(1.0);
+            vec![0.0, 0.0, 0.0, 1.0, q.x, q.y, q.z, q.w]
+        },
+    ]
+    .concat();
+    let bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    std::fs::write(dir.join("animated.bin"), &bin).expect("bin");
+    // (offset in floats, count, type) of each accessor.
+    let parts = [
+        (0, 3, "SCALAR"),
+        (3, 3, "VEC3"),
+        (12, 2, "SCALAR"),
+        (14, 6, "VEC3"),
+        (32, 2, "SCALAR"),
+        (34, 2, "VEC4"),
+    ];
+    let width = |t: &str| match t {
+        "SCALAR" => 1,
+        "VEC3" => 3,
+        _ => 4,
+    };
+    let views: Vec<_> = parts
+        .iter()
+        .map(|(o, n, t)| json!({"buffer": 0, "byteOffset": o * 4, "byteLength": n * width(t) * 4}))
+        .collect();
+    let accessors: Vec<_> = parts
+        .iter()
+        .enumerate()
+        .map(|(i, (_, n, t))| {
+            let mut a = json!({"bufferView": i, "componentType": 5126, "count": n, "type": t});
+            if i == 0 || i == 2 || i == 4 {
+                a["min"] = json!([0.0]);
+                a["max"] = json!([if i == 0 {
+                    3.0
+                } else if i == 2 {
+                    2.0
+                } else {
+                    1.0
+                }]);
+            }
+            a
+        })
+        .collect();
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [{}, {}, {}, {}],
+        "animations": [{
+            "name": "move",
+            "samplers": [
+                {"input": 0, "output": 1, "interpolation": "LINEAR"},
+                {"input": 0, "output": 1, "interpolation": "STEP"},
+                {"input": 2, "output": 3, "interpolation": "CUBICSPLINE"},
+                {"input": 4, "output": 5, "interpolation": "LINEAR"}
+            ],
+            "channels": [
+                {"sampler": 0, "target": {"node": 0, "path": "translation"}},
+                {"sampler": 1, "target": {"node": 1, "path": "translation"}},
+                {"sampler": 2, "target": {"node": 2, "path": "translation"}},
+                {"sampler": 3, "target": {"node": 3, "path": "rotation"}}
+            ]
+        }],
+        "buffers": [{"byteLength": bin.len(), "uri": "animated.bin"}],
+        "bufferViews": views,
+        "accessors": accessors
+    });
+    let path = dir.join("animated.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).expect("json")).expect("gltf");
+    path
+}
+
+/// The four animated nodes' transforms after posing the clip at `t` seconds.
+fn posed(app: &mut App, t: f32) -> Vec<Transform> {
+    let world = app.world_mut();
+    let mut players = world.query::<&mut AnimationPlayer>();
+    let mut player = players.single_mut(world).expect("one player");
+    player.seek(t);
+    world.run_schedule(lumen::PostUpdate);
+    animated_nodes(world)
+}
+
+/// The transforms of the nodes the clip's channels drive, channel i's target first.
+fn animated_nodes(world: &mut World) -> Vec<Transform> {
+    let player = world
+        .query::<&AnimationPlayer>()
+        .single(world)
+        .expect("one player");
+    let targets: Vec<Entity> = player.clips()[0]
+        .channels
+        .iter()
+        .map(|c| c.target)
+        .collect();
+    targets
+        .iter()
+        .map(|e| *world.get::<Transform>(*e).expect("an animated node"))
+        .collect()
+}
+
+#[test]
+fn gltf_animation_samples_step_linear_and_cubic_spline_as_the_spec_says() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = App::new();
+    let summary = load_gltf(&mut app, &write_animated(dir.path())).expect("loads");
+    assert_eq!(summary.animations, vec![("move".to_string(), 3.0)]);
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+    // Keys at 0, 1 and 3 s: (0,0,0), (2,0,0), (2,4,0).
+    for (t, linear, step) in [
+        (0.0, Vec3::ZERO, Vec3::ZERO),
+        (0.25, Vec3::new(0.5, 0.0, 0.0), Vec3::ZERO),
+        (0.999, Vec3::new(1.998, 0.0, 0.0), Vec3::ZERO),
+        (1.0, Vec3::new(2.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0)),
+        (2.0, Vec3::new(2.0, 2.0, 0.0), Vec3::new(2.0, 0.0, 0.0)),
+        (2.5, Vec3::new(2.0, 3.0, 0.0), Vec3::new(2.0, 0.0, 0.0)),
+    ] {
+        let n = posed(&mut app, t);
+        assert!(
+            close(n[0].translation, linear),
+            "LINEAR at {t}: {}",
+            n[0].translation
+        );
+        assert!(
+            close(n[1].translation, step),
+            "STEP at {t}: {}",
+            n[1].translation
+        );
+    }
+    // CUBICSPLINE, keys 0 and 2 s (Δt = 2): v0 = 0, out-tangent b0 = (1,0,0); in-tangent
+    // a1 = (2,0,0), v1 = (4,0,0). At s = t/2 the Hermite form gives
+    // x = Δt(s³ − 2s² + s)·1 + (−2s³ + 3s²)·4 + Δt(s³ − s²)·2:
+    // s = 0.5: 0.25 + 2 − 0.5 = 1.75; s = 0.25: 0.28125 + 0.625 − 0.1875 = 0.71875.
+    for (t, x) in [(0.0, 0.0), (0.5, 0.71875), (1.0, 1.75), (2.0, 4.0)] {
+        let n = posed(&mut app, t);
+        assert!(
+            close(n[2].translation, Vec3::new(x, 0.0, 0.0)),
+            "CUBICSPLINE at {t}: {}",
+            n[2].translation
+        );
+    }
+    // Rotation: halfway between the identity and −(1 rad about Y) is 0.5 rad about Y (the
+    // short arc); the long arc would give π − 0.5 rad about −Y.
+    let n = posed(&mut app, 0.5);
+    let angle = n[3].rotation.angle_between(Quat::from_rotation_y(0.5));
+    assert!(
+        angle < 1e-4,
+        "rotation at 0.5 s is {angle} rad from 0.5 rad about Y"
+    );
+    let n = posed(&mut app, 0.75);
+    assert!(n[3].rotation.angle_between(Quat::from_rotation_y(0.75)) < 1e-4);
+}
+
+#[test]
+fn a_playing_clip_advances_with_time_and_pauses_and_loops() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut app = App::new();
+    app.set_fixed_delta(Some(0.25));
+    load_gltf(&mut app, &write_animated(dir.path())).expect("loads");
+    let mut xs = Vec::new();
+    for _ in 0..3 {
+        app.update();
+        app.world_mut().run_schedule(lumen::PostUpdate);
+        xs.push(animated_nodes(app.world_mut())[0].translation.x);
+    }
+    // A frame shows the clip's time, then time moves on by 0.25 s: 0, 0.25, 0.5 s.
+    assert_eq!(xs, vec![0.0, 0.5, 1.0]);
+    let world = app.world_mut();
+    let mut players = world.query::<&mut AnimationPlayer>();
+    let mut player = players.single_mut(world).expect("player");
+    assert_eq!(player.time_s(), 0.75);
+    player.pause();
+    player.seek(3.5);
+    assert_eq!(
+        player.time_s(),
+        0.5,
+        "looping wraps 3.5 s into the 3 s clip"
+    );
+    app.update();
+    app.world_mut().run_schedule(lumen::PostUpdate);
+    let world = app.world_mut();
+    let player = world
+        .query::<&AnimationPlayer>()
+        .single(world)
+        .expect("player");
+    assert_eq!(player.time_s(), 0.5, "paused");
+}
+
+#[test]
+fn the_fox_brings_its_three_clips_and_walk_moves_its_joints() {
+    // Fox.glb (CC BY 4.0, see assets/README.md): one skinned mesh, three clips.
+    let mut app = App::new();
+    let summary = load_gltf(&mut app, &asset("Fox.glb")).expect("the fox loads");
+    let names: Vec<&str> = summary.animations.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["Survey", "Walk", "Run"]);
+    assert!(
+        summary
+            .animations
+            .iter()
+            .all(|(_, d)| *d > 0.5 && d.is_finite())
+    );
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("skinning is not applied")),
+        "{:?}",
+        summary.warnings
+    );
+    let joints = |app: &mut App| -> Vec<Transform> {
+        let world = app.world_mut();
+        let mut q = world.query_filtered::<(Entity, &Transform), With<ChildOf>>();
+        let mut v: Vec<_> = q.iter(world).map(|(e, t)| (e, *t)).collect();
+        v.sort_by_key(|(e, _)| *e);
+        v.into_iter().map(|(_, t)| t).collect()
+    };
+    let rest = joints(&mut app);
+    let world = app.world_mut();
+    let mut players = world.query::<&mut AnimationPlayer>();
+    let mut player = players.single_mut(world).expect("player");
+    player.play_named("Walk").expect("Walk");
+    player.seek(0.5);
+    app.world_mut().run_schedule(lumen::PostUpdate);
+    let walked = joints(&mut app);
+    let moved = rest
+        .iter()
+        .zip(&walked)
+        .filter(|(a, b)| a.rotation.angle_between(b.rotation) > 0.01)
+        .count();
+    println!(
+        "Fox: {:?}; Walk at 0.5 s turns {moved} of {} nodes",
+        summary.animations,
+        rest.len()
+    );
+    assert!(moved >= 5, "{moved}");
+}
+
+#[test]
+fn the_time_option_poses_an_animated_file_and_holds_it() {
+    use clap::Parser;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = write_animated(dir.path());
+    let file = path.to_str().expect("utf-8 path");
+    let parse = |time: &str| {
+        lumen_game::cli::Cli::try_parse_from(["lumen", "render", file, "--time", time])
+    };
+    assert!(parse("-1").is_err() && parse("inf").is_err());
+    let Some(lumen_game::cli::Command::Render(args)) = parse("2").expect("parses").command else {
+        panic!("a render command");
+    };
+    let mut app = App::new();
+    lumen_game::setup::build_scene(&mut app, &args.scene).expect("the scene builds");
+    // Node 0 at 2 s: halfway from (2,0,0) to (2,4,0), held over frames.
+    for _ in 0..3 {
+        app.update();
+        app.world_mut().run_schedule(lumen::PostUpdate);
+        let node0 = animated_nodes(app.world_mut())[0].translation;
+        assert!(
+            (node0 - Vec3::new(2.0, 2.0, 0.0)).length() < 1e-5,
+            "{node0}"
+        );
+    }
+}

@@ -33,7 +33,8 @@ use std::time::Instant;
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Update;
 
-/// Engine bookkeeping after [`Update`]: transform propagation.
+/// Engine bookkeeping after [`Update`], once per rendered frame: animation players, then
+/// transform propagation.
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PostUpdate;
 
@@ -158,7 +159,7 @@ impl App {
         world.init_resource::<PendingInput>();
         world.add_schedule(Schedule::new(Update));
         let mut post = Schedule::new(PostUpdate);
-        post.add_systems(propagate_transforms);
+        post.add_systems((crate::scene::animation::animate, propagate_transforms).chain());
         world.add_schedule(post);
         App {
             world,

@@ -65,10 +65,11 @@ pub mod prelude {
     pub use crate::quality::{Quality, ShadowFilter};
     pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
-        Background, Camera, Cascades, DirectionalLight, Environment, EnvironmentSource,
-        EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor, LuminousIntensity,
-        Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster, NotShadowReceiver, PointLight,
-        Projection, ReflectionProbe, ShadowSettings, SpotLight, Transform,
+        AnimationPlayer, Background, Camera, Cascades, DirectionalLight, Environment,
+        EnvironmentSource, EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor,
+        LuminousIntensity, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster,
+        NotShadowReceiver, PointLight, Projection, ReflectionProbe, ShadowSettings, SpotLight,
+        Transform,
     };
     pub use crate::time::Time;
     pub use bevy_ecs::hierarchy::ChildOf;

@@ -168,6 +168,10 @@ pub struct SceneArgs {
     /// A glTF 2.0 file (.gltf or .glb), or the name of a built-in scene.
     #[arg(value_name = "FILE|SCENE")]
     pub file: Option<PathBuf>,
+    /// Pose an animated glTF file at this time of its first clip, in seconds (wrapped
+    /// into the clip), and hold it there; without it the clip plays from 0 s.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_non_negative)]
+    pub time: Option<f32>,
     /// Number of point lights of the `lights` scene (0..=65536, default 256).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=65536))]
     pub lights: Option<u32>,

@@ -38,6 +38,14 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         }
     }
     apply_environment(app, args)?;
+    if let Some(t) = args.time {
+        let world = app.world_mut();
+        let mut players = world.query::<&mut AnimationPlayer>();
+        for mut player in players.iter_mut(world) {
+            player.seek(t);
+            player.pause();
+        }
+    }
     if let Some(view) = args.debug_view {
         app.world_mut().insert_resource(view);
     }

@@ -61,6 +61,9 @@ pub struct GltfSummary {
     pub default_lighting: bool,
     /// Problems that did not stop the import.
     pub warnings: Vec<String>,
+    /// The animations imported (name, duration in s), in the file's order; an
+    /// [`crate::scene::AnimationPlayer`] on the file's root entity plays them.
+    pub animations: Vec<(String, f32)>,
 }
 
 /// Luminance of the uniform sky added to files without lights (cd/m²): with the default
@@ -244,6 +247,7 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
     let world = app.world_mut();
     let root = world.spawn(Transform::IDENTITY).id();
     let mut drawn = Vec::new();
+    let mut nodes = HashMap::new();
     let mut stack: Vec<(gltf::Node, Entity, usize)> = scene.nodes().map(|n| (n, root, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
@@ -266,7 +270,14 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
             scale: finite_vec(Vec3::from(s), Vec3::ONE),
         };
         let entity = world.spawn((transform, ChildOf(parent))).id();
+        nodes.insert(node.index(), entity);
         summary.nodes += 1;
+        if node.skin().is_some() && node.mesh().is_some() {
+            summary.warnings.push(format!(
+                "node {}: skinning is not applied yet: its mesh is drawn in its bind pose",
+                node.index()
+            ));
+        }
         if let Some(mesh) = node.mesh() {
             for (handle, mat, maps) in meshes.get(mesh.index()).into_iter().flatten() {
                 let mut e =
@@ -308,8 +319,20 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
         }
         stack.extend(node.children().map(|c| (c, entity, depth + 1)));
     }
+    let clips =
+        super::gltf_animation::read_animations(&document, &buffers, &nodes, &mut summary.warnings);
+    if !clips.is_empty() {
+        summary.animations = clips
+            .iter()
+            .map(|c| (c.name.clone(), c.duration_s))
+            .collect();
+        let clips = clips.into_iter().map(std::sync::Arc::new).collect();
+        world
+            .entity_mut(root)
+            .insert(crate::scene::AnimationPlayer::new(clips));
+    }
 
-    // Bounds of the file's geometry in world space, for framing.
+    // Bounds of the file's geometry (in the nodes' rest pose) in world space, for framing.
     let mut schedule = Schedule::default();
     schedule.add_systems(crate::scene::propagate_transforms);
     schedule.run(world);
@@ -511,7 +534,7 @@ struct Source<'a> {
 
 /// Checks that an accessor's elements lie inside its buffer view and buffer (the glTF
 /// reader would otherwise panic on a short buffer).
-fn check_accessor(
+pub(super) fn check_accessor(
     accessor: &gltf::Accessor,
     buffers: &[gltf::buffer::Data],
 ) -> std::result::Result<(), String> {

@@ -3,6 +3,7 @@
 
 pub mod draco;
 pub mod gltf;
+mod gltf_animation;
 mod gltf_buffers;
 mod gltf_checks;
 mod gltf_material;

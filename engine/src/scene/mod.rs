@@ -4,6 +4,7 @@
 //! renderer reads these components each frame (see [`crate::render::extract`]) and never
 //! keeps its own copy of the scene.
 
+pub mod animation;
 pub mod camera;
 pub mod environment;
 pub mod environment_sun;
@@ -15,6 +16,7 @@ pub mod shadow;
 pub mod texture;
 pub mod transform;
 
+pub use animation::{AnimationClip, AnimationPlayer};
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use environment_sun::{ImageSun, split_sun};

@@ -14,6 +14,7 @@
 //! the viewer makes a new device, surface and renderer and goes on with the same scene
 //! (if no device can be made, it ends with a message). Nothing panics.
 
+mod animation_panel;
 pub mod controls;
 pub mod gui;
 mod open;

@@ -1,6 +1,7 @@
 //! The viewer's panel (egui): frame time, per-pass timings, debug views, every quality
 //! knob and preset, the camera's exposure and depth of field, and the lights.
 
+use super::animation_panel::animation_ui;
 use super::controls::{CameraControls, CameraMode};
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
@@ -136,6 +137,17 @@ impl Panel {
                     egui::CollapsingHeader::new("Lights")
                         .default_open(false)
                         .show(ui, |ui| lights_ui(ui, app.world_mut()));
+                    let world = app.world_mut();
+                    if world
+                        .query::<&AnimationPlayer>()
+                        .iter(world)
+                        .next()
+                        .is_some()
+                    {
+                        egui::CollapsingHeader::new("Animation")
+                            .default_open(true)
+                            .show(ui, |ui| animation_ui(ui, world));
+                    }
                 });
             });
     }
