@@ -1219,7 +1219,7 @@ fn the_showcase_holds_the_helmet_centred_lit_and_well_exposed() {
     assert!((0.13..0.8).contains(&lit), "helmet mean luma {lit}");
 }
 
-/// A node-only glTF: four nodes animated by one clip: node 0 translation LINEAR, node 1
+/// A glTF of four nodes animated by one clip: node 0 (a 1 m quad) translation LINEAR, node 1
 /// the same keys STEP, node 2 translation CUBICSPLINE, node 3 rotation LINEAR from the
 /// identity to a negated quaternion (the same rotation as +1 rad about Y, on the far
 /// hemisphere).
@@ -1236,9 +1236,14 @@ fn write_animated(dir: &Path) -> PathBuf {
             let q = -Quat::from_rotation_y(1.0);
             vec![0.0, 0.0, 0.0, 1.0, q.x, q.y, q.z, q.w]
         },
+        // Node 0's mesh: a 1 m quad in the XY plane, facing +Z.
+        vec![
+            -0.5, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0, -0.5, 0.5, 0.0,
+        ],
     ]
     .concat();
-    let bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    let mut bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
     std::fs::write(dir.join("animated.bin"), &bin).expect("bin");
     // (offset in floats, count, type) of each accessor.
     let parts = [
@@ -1248,16 +1253,18 @@ fn write_animated(dir: &Path) -> PathBuf {
         (14, 6, "VEC3"),
         (32, 2, "SCALAR"),
         (34, 2, "VEC4"),
+        (42, 4, "VEC3"),
     ];
     let width = |t: &str| match t {
         "SCALAR" => 1,
         "VEC3" => 3,
         _ => 4,
     };
-    let views: Vec<_> = parts
+    let mut views: Vec<_> = parts
         .iter()
         .map(|(o, n, t)| json!({"buffer": 0, "byteOffset": o * 4, "byteLength": n * width(t) * 4}))
         .collect();
+    views.push(json!({"buffer": 0, "byteOffset": 54 * 4, "byteLength": 12}));
     let accessors: Vec<_> = parts
         .iter()
         .enumerate()
@@ -1273,14 +1280,20 @@ fn write_animated(dir: &Path) -> PathBuf {
                     1.0
                 }]);
             }
+            if i == 6 {
+                a["min"] = json!([-0.5, -0.5, 0.0]);
+                a["max"] = json!([0.5, 0.5, 0.0]);
+            }
             a
         })
+        .chain([json!({"bufferView": 7, "componentType": 5123, "count": 6, "type": "SCALAR"})])
         .collect();
     let doc = json!({
         "asset": {"version": "2.0"},
         "scene": 0,
         "scenes": [{"nodes": [0, 1, 2, 3]}],
-        "nodes": [{}, {}, {}, {}],
+        "nodes": [{"mesh": 0}, {}, {}, {}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 6}, "indices": 7}]}],
         "animations": [{
             "name": "move",
             "samplers": [
@@ -1493,4 +1506,53 @@ fn the_time_option_poses_an_animated_file_and_holds_it() {
             "{node0}"
         );
     }
+}
+
+#[test]
+fn a_sequence_holds_the_frames_of_single_renders_at_their_times() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = write_animated(dir.path());
+    let lumen = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .arg("render")
+            .arg(&file)
+            .args(["--size", "48x32"])
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("lumen runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    lumen(&[
+        "--frames",
+        "0..3",
+        "--fps",
+        "30",
+        "--out",
+        "seq/frame-####.png",
+    ]);
+    lumen(&["--time", "0.1", "--out", "at.png"]);
+    let read = |name: &str| {
+        image::open(dir.path().join(name))
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+            .to_rgba8()
+    };
+    let frames: Vec<_> = (0..4)
+        .map(|k| read(&format!("seq/frame-{k:04}.png")))
+        .collect();
+    assert!(
+        !dir.path().join("seq/frame-0004.png").exists(),
+        "four frames, no more"
+    );
+    // Frame 3 at 30 fps is 0.1 s: the same image as a render at --time 0.1.
+    assert!(
+        frames[3] == read("at.png"),
+        "frame 3 differs from --time 0.1"
+    );
+    // The quad moves 0.2 m in 0.1 s: the frames differ.
+    assert!(frames[0] != frames[3], "the sequence is animated");
 }

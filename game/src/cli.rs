@@ -436,6 +436,31 @@ pub struct RenderArgs {
     /// Print which passes and shader features run, and why, on stderr.
     #[arg(long)]
     pub explain: bool,
+    /// A sequence: frames A to B (both included), frame k posed at k / fps seconds, each
+    /// rendered on its own (as `--time k/fps` would) into `--out` with its `#`s replaced
+    /// by the zero-padded frame number (`--out seq/frame-####.png`).
+    #[arg(long, value_name = "A..B", value_parser = parse_frame_range, conflicts_with = "time")]
+    pub frames: Option<(u32, u32)>,
+    /// Frames per second of `--frames`.
+    #[arg(long, value_name = "F", default_value = "30", value_parser = parse_positive, requires = "frames")]
+    pub fps: f32,
+}
+
+/// Parses `A..B` (frame numbers, A ≤ B).
+pub fn parse_frame_range(s: &str) -> Result<(u32, u32), String> {
+    let (a, b) = s
+        .split_once("..")
+        .ok_or_else(|| format!("'{s}' is not a frame range A..B (e.g. 0..47)"))?;
+    let number = |x: &str| {
+        x.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{x}' in '{s}' is not a frame number"))
+    };
+    let (a, b) = (number(a)?, number(b)?);
+    if a > b {
+        return Err(format!("frame range {s} runs backwards"));
+    }
+    Ok((a, b))
 }
 
 /// Arguments of `lumen reference`.

@@ -100,6 +100,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 out: None,
                 json: false,
                 explain: false,
+                frames: None,
+                fps: 30.0,
             })
             .map(|_| ())
         }

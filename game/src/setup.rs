@@ -39,12 +39,7 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
     }
     apply_environment(app, args)?;
     if let Some(t) = args.time {
-        let world = app.world_mut();
-        let mut players = world.query::<&mut AnimationPlayer>();
-        for mut player in players.iter_mut(world) {
-            player.seek(t);
-            player.pause();
-        }
+        hold_animations(app, t);
     }
     if let Some(view) = args.debug_view {
         app.world_mut().insert_resource(view);
@@ -55,6 +50,16 @@ pub fn build_scene(app: &mut App, args: &SceneArgs) -> Result<()> {
         apply_camera(&mut camera, args);
     }
     Ok(())
+}
+
+/// Poses every animation player at `time_s` seconds of its clip and pauses it there.
+pub fn hold_animations(app: &mut App, time_s: f32) {
+    let world = app.world_mut();
+    let mut players = world.query::<&mut AnimationPlayer>();
+    for mut player in players.iter_mut(world) {
+        player.seek(time_s);
+        player.pause();
+    }
 }
 
 /// Applies `--quality` and the single-knob options.

@@ -1,16 +1,60 @@
 //! `lumen render`: one frame to a PNG or EXR file, with a timing report.
 
 use crate::cli::RenderArgs;
-use crate::setup::{build_scene, check_scene_args};
-use anyhow::{Context, Result};
+use crate::setup::{build_scene, check_scene_args, hold_animations};
+use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
 use lumen::prelude::Quality;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
-/// Renders, writes the image and prints the report. Returns the path written.
+/// Renders, writes the image (or, with `--frames`, each frame of the sequence) and prints
+/// the report. Returns the path written last.
 pub fn run(args: &RenderArgs) -> Result<PathBuf> {
+    let Some((first, last)) = args.frames else {
+        return render_frame(args);
+    };
+    let pattern = args
+        .out
+        .clone()
+        .filter(|p| p.to_string_lossy().contains('#'))
+        .ok_or_else(|| {
+            anyhow!(
+                "--frames needs --out with #s for the frame number, e.g. --out seq/frame-####.png"
+            )
+        })?;
+    check_scene_args(&args.scene)?;
+    let mut written = pattern.clone();
+    for k in first..=last {
+        let mut frame = args.clone();
+        frame.frames = None;
+        frame.scene.time = Some(k as f32 / args.fps);
+        frame.out = Some(frame_path(&pattern, k));
+        written = render_frame(&frame).with_context(|| format!("frame {k}"))?;
+    }
+    Ok(written)
+}
+
+/// `pattern` with its last run of `#`s replaced by `frame`, zero-padded to the run's
+/// length (`frame-####.png`, 7 → `frame-0007.png`; a longer number is written whole).
+pub fn frame_path(pattern: &Path, frame: u32) -> PathBuf {
+    let text = pattern.to_string_lossy();
+    let Some(end) = text.rfind('#') else {
+        return pattern.to_path_buf();
+    };
+    let start = text[..end].trim_end_matches('#').len();
+    let width = end + 1 - start;
+    PathBuf::from(format!(
+        "{}{frame:0width$}{}",
+        &text[..start],
+        &text[end + 1..]
+    ))
+}
+
+/// One frame: renders, writes the image and prints the report. An animated file is held
+/// at `--time`, or at 0 s.
+fn render_frame(args: &RenderArgs) -> Result<PathBuf> {
     check_scene_args(&args.scene)?;
     let out = args
         .out
@@ -21,6 +65,9 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
+    if args.scene.time.is_none() {
+        hold_animations(&mut app, 0.0);
+    }
     let pixels = u64::from(args.size.0) * u64::from(args.size.1);
     let stages = crate::progress::stages(
         pixels >= crate::progress::LONG_FRAME_PIXELS,
@@ -210,4 +257,27 @@ pub fn save_frame(app: &App, out: &Path, format: OutputFormat) -> Result<()> {
         OutputFormat::Exr => save_exr(out, &app.read_hdr_image()?),
     }
     .with_context(|| format!("writing {}", out.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_numbers_fill_the_last_run_of_hashes() {
+        let p = |s: &str, k| frame_path(Path::new(s), k).display().to_string();
+        assert_eq!(p("seq/frame-####.png", 7), "seq/frame-0007.png");
+        assert_eq!(p("a#/f-##.exr", 123), "a#/f-123.exr");
+        assert_eq!(p("#", 0), "0");
+    }
+
+    #[test]
+    fn frame_ranges_parse_and_bad_ones_say_why() {
+        use crate::cli::parse_frame_range;
+        assert_eq!(parse_frame_range("0..3"), Ok((0, 3)));
+        assert_eq!(parse_frame_range("5..5"), Ok((5, 5)));
+        assert!(parse_frame_range("3..0").unwrap_err().contains("backwards"));
+        assert!(parse_frame_range("0-3").unwrap_err().contains("A..B"));
+        assert!(parse_frame_range("a..3").unwrap_err().contains("'a'"));
+    }
 }
