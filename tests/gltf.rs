@@ -1513,19 +1513,14 @@ fn a_sequence_holds_the_frames_of_single_renders_at_their_times() {
     let dir = tempfile::tempdir().expect("temp dir");
     let file = write_animated(dir.path());
     let lumen = |args: &[&str]| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
-            .arg("render")
-            .arg(&file)
-            .args(["--size", "48x32"])
-            .args(args)
-            .current_dir(dir.path())
-            .output()
-            .expect("lumen runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let mut all = vec![
+            "render",
+            file.to_str().expect("utf-8 path"),
+            "--size",
+            "48x32",
+        ];
+        all.extend_from_slice(args);
+        common::run_lumen(dir.path(), &all);
     };
     lumen(&[
         "--frames",

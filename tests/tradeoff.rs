@@ -1,8 +1,9 @@
 //! `lumen tradeoff`: one row per preset and knob, each timed and compared with the
 //! reference; ultra is closer to the reference than low.
 
+mod common;
+
 use lumen_game::commands::tradeoff::{Row, pareto_front};
-use std::process::Command;
 
 #[test]
 fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
@@ -69,16 +70,7 @@ fn tradeoff(dir: &std::path::Path, extra: &[&str]) {
 
 /// Runs `lumen` with `args` in `dir` and asserts it succeeds.
 fn lumen_tradeoff(dir: &std::path::Path, args: &[&str]) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lumen"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("lumen runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::run_lumen(dir, args);
 }
 
 #[test]

@@ -72,6 +72,20 @@ pub fn quad_buffer(half: f32) -> Vec<u8> {
     bin
 }
 
+/// Runs `lumen` with `args` in `dir` and asserts it succeeds (stderr in the message).
+pub fn run_lumen<S: AsRef<std::ffi::OsStr>>(dir: &std::path::Path, args: &[S]) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("lumen runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// A failed `lumen` run: non-zero exit, one line on stderr naming `needle`, no panic.
 pub fn assert_clean_failure(out: &std::process::Output, needle: &str) {
     let err = String::from_utf8_lossy(&out.stderr);

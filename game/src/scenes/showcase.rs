@@ -48,26 +48,19 @@ pub fn asset(relative: &str) -> lumen::Result<PathBuf> {
         })
 }
 
-/// The spheres of the row, left to right (base colour, metallic, roughness), and
-/// whether the last is glass.
+/// The metal spheres on the left of the row: F0 (linear Rec. 709) and roughness. The F0
+/// of gold, copper and aluminium are those of Adobe's "Metal material references" for the
+/// Adobe Standard Material (Substance 3D documentation).
 const METALS: [(Vec3, f32); 3] = [
-    // Gold, copper and aluminium F0 (linear), after Hoffman's table in "Physics and Math
-    // of Shading" (SIGGRAPH 2015 course).
-    (Vec3::new(1.0, 0.766, 0.336), 0.2),
-    (Vec3::new(0.955, 0.638, 0.538), 0.4),
-    (Vec3::new(0.913, 0.922, 0.924), 0.65),
+    (Vec3::new(1.0, 0.7099, 0.3148), 0.2),
+    (Vec3::new(1.0, 0.6504, 0.5274), 0.4),
+    (Vec3::new(0.9157, 0.9226, 0.9236), 0.65),
 ];
 
+/// Clear thin-walled glass, IOR 1.5.
 fn glass() -> Material {
     Material {
-        transmission: Some(Transmission {
-            factor: 1.0,
-            ior: 1.5,
-            thickness_m: 0.0,
-            attenuation_color: Vec3::ONE,
-            attenuation_distance_m: f32::INFINITY,
-            dispersion: 0.0,
-        }),
+        transmission: Some(Transmission::default()),
         ..Material::new(Vec3::ONE, 0.0, 0.02)
     }
 }
