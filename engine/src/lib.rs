@@ -31,6 +31,7 @@ pub mod assets;
 pub mod brdf;
 pub mod color;
 pub mod encoding;
+pub mod environment_sun;
 pub mod error;
 pub mod files;
 pub mod ibl;

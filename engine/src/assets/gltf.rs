@@ -21,7 +21,7 @@
 //! [`files::read`] (regular files only, capped by kind); indices are checked before the
 //! `gltf` crate uses them ([`gltf_checks`]) and its panics become errors.
 
-use super::gltf_buffers::{load_buffers, view_bytes};
+use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
 use super::{draco, tangents};
@@ -530,48 +530,6 @@ fn parse(bytes: &[u8]) -> std::result::Result<gltf::Gltf, String> {
 struct Source<'a> {
     buffers: &'a [gltf::buffer::Data],
     views: Vec<gltf::buffer::View<'a>>,
-}
-
-/// Checks that an accessor's elements lie inside its buffer view and buffer (the glTF
-/// reader would otherwise panic on a short buffer).
-pub(super) fn check_accessor(
-    accessor: &gltf::Accessor,
-    buffers: &[gltf::buffer::Data],
-) -> std::result::Result<(), String> {
-    let name = format!("accessor {}", accessor.index());
-    if let Some(view) = accessor.view() {
-        let bytes = view_bytes(&view, buffers).ok_or(format!(
-            "{name}: buffer view {} lies outside its buffer",
-            view.index()
-        ))?;
-        let element = accessor.size();
-        let stride = view.stride().unwrap_or(element).max(element);
-        let needed = match accessor.count() {
-            0 => 0,
-            n => (n - 1)
-                .checked_mul(stride)
-                .and_then(|x| x.checked_add(element))
-                .and_then(|x| x.checked_add(accessor.offset()))
-                .ok_or(format!("{name}: size overflows"))?,
-        };
-        if needed > bytes.len() {
-            return Err(format!(
-                "{name} needs {needed} bytes but its buffer view holds {}",
-                bytes.len()
-            ));
-        }
-    }
-    if let Some(sparse) = accessor.sparse() {
-        for view in [sparse.indices().view(), sparse.values().view()] {
-            if view_bytes(&view, buffers).is_none() {
-                return Err(format!(
-                    "{name}: sparse buffer view {} lies outside its buffer",
-                    view.index()
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 fn read_primitive(

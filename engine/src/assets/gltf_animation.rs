@@ -4,7 +4,7 @@
 //! is left out with a warning; morph-target weight channels are left out with one
 //! warning per clip (Lumen draws no morph targets yet).
 
-use super::gltf::check_accessor;
+use super::gltf_buffers::check_accessor;
 use crate::scene::animation::{AnimationClip, Channel, Interpolation, Keyframes};
 use bevy_ecs::prelude::Entity;
 use glam::{Quat, Vec3};

@@ -7,7 +7,6 @@
 pub mod animation;
 pub mod camera;
 pub mod environment;
-pub mod environment_sun;
 pub mod light;
 pub mod material;
 pub mod mesh;
@@ -19,7 +18,6 @@ pub mod transform;
 pub use animation::{AnimationClip, AnimationPlayer};
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
-pub use environment_sun::{ImageSun, split_sun};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::{Material, Transmission};
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};

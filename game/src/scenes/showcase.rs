@@ -3,15 +3,16 @@
 //! roughnesses on the left; a glossy red plastic, a rough white one and clear glass on
 //! the right), under the `sky.exr` HDRI. The HDRI's sun is taken out of the image and
 //! becomes a shadow-casting directional light of 100 000 lx (see
-//! [`lumen::scene::environment_sun`]); the sky keeps its own light, and the camera is
+//! [`lumen::environment_sun`]); the sky keeps its own light, and the camera is
 //! exposed for a sunny day (EV100 15). The quality is whatever the command line says,
 //! `high` by default, with every feature it turns on.
 
 use lumen::assets::gltf::{GltfOptions, load_gltf_with};
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::color::luminance;
+use lumen::environment_sun::split_sun;
 use lumen::prelude::*;
-use lumen::scene::{Transmission, split_sun};
+use lumen::scene::Transmission;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
