@@ -302,7 +302,7 @@ fn an_injected_key_press_is_just_pressed_for_exactly_one_update() {
 }
 
 #[test]
-fn a_headless_app_sent_nothing_sees_no_input() {
+fn an_app_sent_nothing_sees_no_input() {
     let mut app = App::new();
     app.update();
     let world = app.world();

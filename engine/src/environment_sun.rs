@@ -103,9 +103,9 @@ pub fn split_sun(image: &EquirectImage) -> Option<(ImageSun, EquirectImage)> {
         .iter()
         .map(|t| luminance(Vec3::from_array(*t)))
         .collect();
-    let mut sorted = lum.clone();
-    sorted.sort_by(f32::total_cmp);
-    let median = sorted[sorted.len() / 2];
+    let mut scratch = lum.clone();
+    let middle = scratch.len() / 2;
+    let median = *scratch.select_nth_unstable_by(middle, f32::total_cmp).1;
     let (brightest, peak) = lum
         .iter()
         .copied()

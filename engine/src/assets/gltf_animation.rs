@@ -99,12 +99,8 @@ fn read_channel(
         }
         ReadOutputs::MorphTargetWeights(_) => return Err("morph target weights".into()),
     };
-    let (count, finite) = match &keyframes {
-        Keyframes::Translation(v) | Keyframes::Scale(v) => {
-            (v.len(), v.iter().all(|x| x.is_finite()))
-        }
-        Keyframes::Rotation(q) => (q.len(), q.iter().all(|x| x.is_finite())),
-    };
+    let count = keyframes.len();
+    let finite = (0..count).all(|i| keyframes.get(i).is_finite());
     let per_key = if interpolation == Interpolation::CubicSpline {
         3
     } else {

@@ -44,6 +44,29 @@ pub enum Keyframes {
     Scale(Vec<Vec3>),
 }
 
+impl Keyframes {
+    /// How many values are stored.
+    pub fn len(&self) -> usize {
+        match self {
+            Keyframes::Translation(v) | Keyframes::Scale(v) => v.len(),
+            Keyframes::Rotation(q) => q.len(),
+        }
+    }
+
+    /// Whether no value is stored.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Value `i` as four floats (xyz0 for vectors, xyzw for quaternions); `i` < `len()`.
+    pub(crate) fn get(&self, i: usize) -> Vec4 {
+        match self {
+            Keyframes::Translation(v) | Keyframes::Scale(v) => v[i].extend(0.0),
+            Keyframes::Rotation(q) => Vec4::from(q[i]),
+        }
+    }
+}
+
 /// One animated property of one entity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
@@ -221,19 +244,14 @@ fn interval(times: &[f32], t: f32) -> Option<(usize, f32)> {
 /// A channel's value at `t` seconds, as four floats (xyz for vectors, xyzw for
 /// quaternions), by the formulas of the module docs.
 pub fn sample(channel: &Channel, t: f32) -> Option<Vec4> {
-    let values: Vec<Vec4> = match &channel.keyframes {
-        Keyframes::Translation(v) | Keyframes::Scale(v) => {
-            v.iter().map(|x| x.extend(0.0)).collect()
-        }
-        Keyframes::Rotation(q) => q.iter().map(|q| Vec4::from(*q)).collect(),
-    };
+    let keys = &channel.keyframes;
     let cubic = channel.interpolation == Interpolation::CubicSpline;
     let per_key = if cubic { 3 } else { 1 };
     let times = &channel.times_s;
-    if times.is_empty() || values.len() < times.len() * per_key {
+    if times.is_empty() || keys.len() < times.len() * per_key {
         return None;
     }
-    let value = |k: usize| values[k * per_key + usize::from(cubic)];
+    let value = |k: usize| keys.get(k * per_key + usize::from(cubic));
     let is_rotation = matches!(channel.keyframes, Keyframes::Rotation(_));
     let Some((k, s)) = interval(times, t) else {
         let k = if t <= times[0] { 0 } else { times.len() - 1 };
@@ -249,8 +267,8 @@ pub fn sample(channel: &Channel, t: f32) -> Option<Vec4> {
         Interpolation::Linear => value(k).lerp(value(k + 1), s),
         Interpolation::CubicSpline => {
             let dt = times[k + 1] - times[k];
-            let out_tangent = values[k * 3 + 2];
-            let in_tangent = values[(k + 1) * 3];
+            let out_tangent = keys.get(k * 3 + 2);
+            let in_tangent = keys.get((k + 1) * 3);
             let (s2, s3) = (s * s, s * s * s);
             value(k) * (2.0 * s3 - 3.0 * s2 + 1.0)
                 + out_tangent * (dt * (s3 - 2.0 * s2 + s))

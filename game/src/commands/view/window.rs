@@ -29,9 +29,9 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 /// Lines of text your systems want on screen (controls, a score, a state), drawn by
-/// the viewer in the window's top-right corner, over the frame, with or without the
-/// panel. Insert it as a resource and write its lines from a system; headless images do
-/// not show it.
+/// the viewer in the window's top-right corner, over the frame, whether the panel is
+/// shown or hidden (`Tab`); not with [`WindowOptions::panel`] off (no egui at all), and
+/// not in headless images. Insert it as a resource and write its lines from a system.
 #[derive(Resource, Clone, Debug, Default, PartialEq, Eq)]
 pub struct ScreenText {
     /// One entry per line, top to bottom.
