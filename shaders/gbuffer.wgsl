@@ -149,6 +149,12 @@ struct MotionView {
 
 @group(2) @binding(0) var<uniform> motion: MotionView;
 @group(2) @binding(1) var<storage, read> previous_world: array<mat4x4<f32>>;
+// A deformed instance's vertices as the deformation pass left them in the previous frame
+// (the mesh's vertex layout, 18 floats each), read where motion_source.x is 1.
+@group(2) @binding(2) var<storage, read> previous_vertices: array<f32>;
+@group(2) @binding(3) var<uniform> motion_source: vec4<u32>;
+
+const VERTEX_FLOATS: u32 = 18u;
 
 // The clip positions (unjittered) of a vertex now and in the previous frame.
 struct MotionVarying {
@@ -156,10 +162,15 @@ struct MotionVarying {
     @location(11) before: vec4<f32>,
 }
 
-fn motion_varying(position: vec3<f32>, inst: InstanceInput, instance: u32) -> MotionVarying {
+fn motion_varying(position: vec3<f32>, inst: InstanceInput, instance: u32, vertex: u32) -> MotionVarying {
     let world = instance_world_from_local(inst) * vec4<f32>(position, 1.0);
+    var before = position;
+    if motion_source.x != 0u {
+        let o = vertex * VERTEX_FLOATS;
+        before = vec3<f32>(previous_vertices[o], previous_vertices[o + 1u], previous_vertices[o + 2u]);
+    }
     return MotionVarying(motion.clip_from_world * world,
-                         motion.previous_clip_from_world * (previous_world[instance] * vec4<f32>(position, 1.0)));
+                         motion.previous_clip_from_world * (previous_world[instance] * vec4<f32>(before, 1.0)));
 }
 
 // Screen motion (pixels, y down) between a point's clip positions before and now.
@@ -191,9 +202,10 @@ struct MotionVertexOutput {
 }
 
 @vertex
-fn vs_main_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32) -> MotionVertexOutput {
+fn vs_main_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32,
+                  @builtin(vertex_index) vertex: u32) -> MotionVertexOutput {
     let v = plain_vertex(in, inst);
-    let m = motion_varying(in.position, inst, instance);
+    let m = motion_varying(in.position, inst, instance, vertex);
     return MotionVertexOutput(v.clip, v.world_normal, v.base_color_ao, v.emissive_specular,
                               v.roughness_metallic, m.now, m.before);
 }
@@ -217,9 +229,10 @@ struct MotionTexturedOutput {
 }
 
 @vertex
-fn vs_textured_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32) -> MotionTexturedOutput {
+fn vs_textured_motion(in: VertexInput, inst: InstanceInput, @builtin(instance_index) instance: u32,
+                      @builtin(vertex_index) vertex: u32) -> MotionTexturedOutput {
     let v = textured_vertex(in, inst);
-    let m = motion_varying(in.position, inst, instance);
+    let m = motion_varying(in.position, inst, instance, vertex);
     return MotionTexturedOutput(v.clip, v.world_normal, v.world_tangent, v.uv0, v.uv1, v.base_color,
                                 v.emissive_occlusion, v.params, m.now, m.before);
 }

@@ -251,6 +251,23 @@ impl App {
             .map_err(|e| Error::Scene(format!("invalid mesh: {e}")))
     }
 
+    /// Adds a mesh that skinning or morph targets deform, with its per-vertex joints and
+    /// weights (both empty, or one set of four per vertex) and its morph targets; see
+    /// [`crate::scene::deform`]. Draw it with a [`crate::scene::SkinnedMesh`] and/or
+    /// [`crate::scene::MorphWeights`] beside the [`crate::scene::Mesh3d`].
+    pub fn add_deformable_mesh(
+        &mut self,
+        mesh: MeshData,
+        joints: Vec<[u32; 4]>,
+        weights: Vec<[f32; 4]>,
+        targets: Vec<crate::scene::MorphTarget>,
+    ) -> Result<MeshHandle> {
+        self.world
+            .resource_mut::<Meshes>()
+            .add_deformable(mesh, joints, weights, targets)
+            .map_err(|e| Error::Scene(format!("invalid deformable mesh: {e}")))
+    }
+
     /// Adds a texture to the [`crate::scene::Textures`] store.
     pub fn add_texture(
         &mut self,

@@ -68,9 +68,9 @@ pub mod prelude {
     pub use crate::scene::{
         AnimationPlayer, Background, Camera, Cascades, DirectionalLight, Environment,
         EnvironmentSource, EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor,
-        LuminousIntensity, Material, Mesh3d, MeshHandle, Meshes, NotShadowCaster,
-        NotShadowReceiver, PointLight, Projection, ReflectionProbe, ShadowSettings, SpotLight,
-        Transform,
+        LuminousIntensity, Material, Mesh3d, MeshHandle, Meshes, MorphTarget, MorphWeights,
+        NotShadowCaster, NotShadowReceiver, PointLight, Projection, ReflectionProbe,
+        ShadowSettings, SkinnedMesh, SpotLight, Transform,
     };
     pub use crate::time::Time;
     pub use bevy_ecs::hierarchy::ChildOf;

@@ -7,10 +7,14 @@ use crate::error::{Error, Result};
 use crate::reference::path::scene::TraceCamera;
 use crate::reference::path::{TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene};
 use crate::render::extract::ExtractedFrame;
+use crate::scene::{MeshData, MeshHandle};
 use glam::{Mat3, Mat4, Vec3};
 
 /// Builds the trace scene of `app`'s current World: one rasterized frame at `size` runs
 /// first, so that extraction (camera, exposure, instances, lights) is the rasterizer's.
+/// Skinned and morphed instances are traced in the frame's pose: their vertices deformed
+/// on the CPU ([`crate::scene::deform::Deformation::deformed_vertices`]) with the
+/// frame's joint matrices and weights.
 pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
     app.render_headless(size)?;
     let world = app.world_mut();
@@ -20,23 +24,64 @@ pub fn trace_scene(app: &mut App, size: (u32, u32)) -> Result<TraceScene> {
         .next()
         .cloned();
     let frame = world.resource::<ExtractedFrame>();
-    let meshes = world.resource::<crate::scene::Meshes>();
+    let mut meshes = world.resource::<crate::scene::Meshes>().clone();
     let textures = world.resource::<crate::scene::Textures>();
     let quality = world.resource::<crate::quality::Quality>();
-    let input = trace_input(frame)?;
+    let posed = posed_meshes(frame, &mut meshes);
+    let input = trace_input(frame, &posed)?;
     Ok(TraceScene::new(
         &input,
-        meshes,
+        &meshes,
         textures,
         environment.as_ref(),
         quality,
     ))
 }
 
+/// Adds to `meshes` each deformed instance of `frame` in its pose; returns their handles
+/// by deformed instance (`None` where the mesh or its deformation is missing).
+fn posed_meshes(
+    frame: &ExtractedFrame,
+    meshes: &mut crate::scene::Meshes,
+) -> Vec<Option<MeshHandle>> {
+    let deformed = &frame.deformed;
+    deformed
+        .instances
+        .iter()
+        .map(|d| {
+            let mesh = meshes.get(d.mesh)?.clone();
+            let deformation = meshes.deformation(d.mesh)?.clone();
+            let joints: Vec<Mat4> = deformed
+                .joint_matrices
+                .iter()
+                .skip(d.joint_offset as usize)
+                .take(d.joint_count as usize)
+                .map(Mat4::from_cols_array_2d)
+                .collect();
+            let weights: Vec<f32> = deformed
+                .morph_weights
+                .iter()
+                .skip(d.weight_offset as usize)
+                .take(d.weight_count as usize)
+                .copied()
+                .collect();
+            let vertices =
+                deformation.deformed_vertices(&mesh, d.skinned.then_some(&joints[..]), &weights);
+            meshes
+                .add(MeshData {
+                    vertices,
+                    indices: mesh.indices.clone(),
+                })
+                .ok()
+        })
+        .collect()
+}
+
 /// The path tracer's view of `frame`: its instances in draw order (batch by batch), its
 /// lights with the values the lighting pass reads (pre-exposed, as the same f32s), its
-/// camera, exposure and background. An error if the frame has no camera.
-pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
+/// camera, exposure and background. A deformed instance `d` draws `posed[d]` (its posed
+/// mesh) when there is one. An error if the frame has no camera.
+pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Result<TraceInput> {
     let camera = frame
         .camera
         .as_ref()
@@ -48,7 +93,10 @@ pub fn trace_input(frame: &ExtractedFrame) -> Result<TraceInput> {
             let [r, g, b, alpha] = inst.base_color;
             let [er, eg, eb, _] = inst.emissive_occlusion;
             instances.push(TraceInstance {
-                mesh: batch.mesh,
+                mesh: batch
+                    .deformed
+                    .and_then(|d| posed.get(d as usize).copied().flatten())
+                    .unwrap_or(batch.mesh),
                 world_from_local: Mat4::from_cols_array_2d(&inst.world_from_local),
                 normal_matrix: Mat3::from_cols(
                     Vec3::from_slice(&inst.normal_matrix[0][..3]),
@@ -151,7 +199,7 @@ mod tests {
     #[test]
     fn lights_and_instances_keep_the_extracted_values() {
         let mut frame = ExtractedFrame::default();
-        assert!(trace_input(&frame).is_err(), "no camera");
+        assert!(trace_input(&frame, &[]).is_err(), "no camera");
         let light = |position: [f32; 4], direction: [f32; 4], color: [f32; 4], spot| GpuLight {
             position,
             direction,
@@ -202,6 +250,7 @@ mod tests {
             double_sided: false,
             blend: false,
             transmissive: false,
+            deformed: None,
             first_instance: 1,
             count: 2,
             visible: 2,
@@ -222,7 +271,7 @@ mod tests {
             auto_exposure: None,
             notes: Vec::new(),
         });
-        let input = trace_input(&frame).expect("a camera");
+        let input = trace_input(&frame, &[]).expect("a camera");
         assert_eq!(
             input.lights,
             [
@@ -268,5 +317,10 @@ mod tests {
             Mat3::from_cols(Vec3::X, Vec3::Y, Vec3::NEG_Z)
         );
         assert_eq!(input.camera.lens, None);
+        // A deformed batch traces its posed mesh.
+        frame.batches[0].deformed = Some(1);
+        let posed = [None, Some(crate::scene::MeshHandle(9))];
+        let input = trace_input(&frame, &posed).expect("a camera");
+        assert_eq!(input.instances[1].mesh, crate::scene::MeshHandle(9));
     }
 }

@@ -24,7 +24,7 @@
 use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
-use super::{draco, tangents};
+use super::{draco, gltf_skin, tangents};
 use crate::app::App;
 use crate::error::{Error, Result};
 use crate::files;
@@ -194,11 +194,19 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
         cache: HashMap::new(),
         warnings: Vec::new(),
     };
-    // Meshes: one MeshData + Material (+ MaterialMaps) per triangle primitive.
-    type Drawn = (crate::scene::MeshHandle, Material, Option<MaterialMaps>);
+    // Meshes: one MeshData + Material (+ MaterialMaps) per triangle primitive, and
+    // whether it has joints; per mesh, its morph target count.
+    type Drawn = (
+        crate::scene::MeshHandle,
+        Material,
+        Option<MaterialMaps>,
+        bool,
+    );
     let mut meshes: Vec<Vec<Drawn>> = Vec::new();
+    let mut morph_targets: Vec<usize> = Vec::new();
     for mesh in document.meshes() {
         let mut prims = Vec::new();
+        let mut mesh_targets: Option<usize> = None;
         for (p, primitive) in mesh.primitives().enumerate() {
             let what = format!("mesh {} primitive {p}", mesh.index());
             if primitive.mode() != gltf::mesh::Mode::Triangles {
@@ -230,12 +238,39 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
             }
             summary.triangles += data.triangle_count();
             summary.primitives += 1;
-            let handle = app
-                .add_mesh(data)
-                .map_err(|e| bad(path, format!("{what}: {e}")))?;
-            prims.push((handle, material, maps));
+            let deformation = if primitive.extension_value(draco::EXTENSION).is_some() {
+                let deformed = primitive.morph_targets().next().is_some()
+                    || primitive.get(&gltf::Semantic::Joints(0)).is_some();
+                if deformed {
+                    summary.warnings.push(format!(
+                        "{what}: joints and morph targets are not decoded from Draco streams"
+                    ));
+                }
+                None
+            } else {
+                gltf_skin::read_deformation(&primitive, &buffers, &mut summary.warnings, &what)
+                    .map_err(|e| bad(path, format!("{what}: {e}")))?
+            };
+            let skinned = deformation.as_ref().is_some_and(|d| !d.joints.is_empty());
+            let handle = match deformation {
+                Some(d) => {
+                    let targets = d.targets.len();
+                    let count = mesh_targets.get_or_insert(targets);
+                    if *count != targets {
+                        return Err(bad(
+                            path,
+                            format!("{what}: {targets} morph targets where the mesh's other primitives have {count}"),
+                        ));
+                    }
+                    app.add_deformable_mesh(data, d.joints, d.weights, d.targets)
+                }
+                None => app.add_mesh(data),
+            }
+            .map_err(|e| bad(path, format!("{what}: {e}")))?;
+            prims.push((handle, material, maps, skinned));
         }
         meshes.push(prims);
+        morph_targets.push(mesh_targets.unwrap_or(0));
     }
     summary.textures = loader.cache.len();
     summary.warnings.append(&mut loader.warnings);
@@ -247,6 +282,7 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
     let world = app.world_mut();
     let root = world.spawn(Transform::IDENTITY).id();
     let mut drawn = Vec::new();
+    let mut skinned_primitives: Vec<(Entity, gltf::Skin)> = Vec::new();
     let mut nodes = HashMap::new();
     let mut stack: Vec<(gltf::Node, Entity, usize)> = scene.nodes().map(|n| (n, root, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
@@ -272,20 +308,34 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
         let entity = world.spawn((transform, ChildOf(parent))).id();
         nodes.insert(node.index(), entity);
         summary.nodes += 1;
-        if node.skin().is_some() && node.mesh().is_some() {
-            summary.warnings.push(format!(
-                "node {}: skinning is not applied yet: its mesh is drawn in its bind pose",
-                node.index()
-            ));
-        }
         if let Some(mesh) = node.mesh() {
-            for (handle, mat, maps) in meshes.get(mesh.index()).into_iter().flatten() {
+            for (handle, mat, maps, skinned) in meshes.get(mesh.index()).into_iter().flatten() {
                 let mut e =
                     world.spawn((Mesh3d(*handle), *mat, Transform::IDENTITY, ChildOf(entity)));
                 if let Some(maps) = maps {
                     e.insert(maps.clone());
                 }
+                match (node.skin(), skinned) {
+                    (Some(skin), true) => skinned_primitives.push((e.id(), skin)),
+                    (None, true) => summary.warnings.push(format!(
+                        "node {}: its mesh has joints but the node no skin: drawn unskinned",
+                        node.index()
+                    )),
+                    _ => {}
+                }
                 drawn.push(e.id());
+            }
+            let targets = morph_targets.get(mesh.index()).copied().unwrap_or(0);
+            if targets > 0 {
+                let mut weights: Vec<f32> = node
+                    .weights()
+                    .or(mesh.weights())
+                    .map(<[f32]>::to_vec)
+                    .unwrap_or_default();
+                weights.resize(targets, 0.0);
+                world
+                    .entity_mut(entity)
+                    .insert(crate::scene::MorphWeights(weights));
             }
         }
         if let (Some(camera), false) = (node.camera(), summary.has_camera) {
@@ -319,8 +369,44 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
         }
         stack.extend(node.children().map(|c| (c, entity, depth + 1)));
     }
-    let clips =
-        super::gltf_animation::read_animations(&document, &buffers, &nodes, &mut summary.warnings);
+    for (entity, skin) in skinned_primitives {
+        let what = format!("skin {}", skin.index());
+        let checked = gltf_skin::read_skin(&skin, &buffers, &nodes).and_then(|s| {
+            let mesh = world.get::<Mesh3d>(entity).map(|m| m.0);
+            let needed = mesh
+                .and_then(|m| world.resource::<crate::scene::Meshes>().deformation(m))
+                .map_or(0, |d| d.joint_count());
+            if needed > s.joints.len() {
+                Err(format!(
+                    "the mesh refers to joint {} but the skin has {}",
+                    needed - 1,
+                    s.joints.len()
+                ))
+            } else {
+                Ok(s)
+            }
+        });
+        match checked {
+            Ok(s) => {
+                world.entity_mut(entity).insert(s);
+            }
+            Err(e) => summary
+                .warnings
+                .push(format!("{what}: {e}; its mesh is drawn unskinned")),
+        }
+    }
+    let morph_targets = |e: Entity| {
+        world
+            .get::<crate::scene::MorphWeights>(e)
+            .map_or(0, |w| w.0.len())
+    };
+    let clips = super::gltf_animation::read_animations(
+        &document,
+        &buffers,
+        &nodes,
+        &morph_targets,
+        &mut summary.warnings,
+    );
     if !clips.is_empty() {
         summary.animations = clips
             .iter()
@@ -336,13 +422,23 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
     let mut schedule = Schedule::default();
     schedule.add_systems(crate::scene::propagate_transforms);
     schedule.run(world);
-    let mut query = world.query::<(&Mesh3d, &GlobalTransform)>();
+    let mut query = world.query::<(
+        &Mesh3d,
+        &GlobalTransform,
+        Option<&crate::scene::SkinnedMesh>,
+    )>();
     let meshes_store = world.resource::<crate::scene::Meshes>();
-    for (mesh, global) in drawn.iter().filter_map(|e| query.get(world, *e).ok()) {
-        if let Some(b) = meshes_store
-            .bounds(mesh.0)
-            .and_then(|b| b.transformed(&global.0))
-        {
+    for (mesh, global, skin) in drawn.iter().filter_map(|e| query.get(world, *e).ok()) {
+        let rest = meshes_store.bounds(mesh.0);
+        let b = match (skin, meshes_store.deformation(mesh.0)) {
+            (Some(skin), Some(d)) => {
+                let matrices =
+                    skin.joint_matrices(|j| world.get::<GlobalTransform>(j).map(|g| g.0));
+                d.bounds(rest, Some(&matrices), &[])
+            }
+            _ => rest.and_then(|b| b.transformed(&global.0)),
+        };
+        if let Some(b) = b {
             summary.bounds = Some(summary.bounds.map_or(b, |a| a.union(&b)));
         }
     }

@@ -1,23 +1,24 @@
-//! glTF animations into [`AnimationClip`]s: node translation, rotation and scale
-//! channels with `STEP`, `LINEAR` and `CUBICSPLINE` samplers. A channel that cannot be
-//! used (bad times, too few values, non-finite values, a node outside the loaded scene)
-//! is left out with a warning; morph-target weight channels are left out with one
-//! warning per clip (Lumen draws no morph targets yet).
+//! glTF animations into [`AnimationClip`]s: node translation, rotation, scale and morph
+//! target weight channels with `STEP`, `LINEAR` and `CUBICSPLINE` samplers. A channel
+//! that cannot be used (bad times, too few values, non-finite values, a node outside the
+//! loaded scene, weights for a node whose mesh has no morph targets) is left out with a
+//! warning.
 
 use super::gltf_buffers::check_accessor;
 use crate::scene::animation::{AnimationClip, Channel, Interpolation, Keyframes};
 use bevy_ecs::prelude::Entity;
 use glam::{Quat, Vec3};
-use gltf::animation::Property;
 use gltf::animation::util::ReadOutputs;
 use std::collections::HashMap;
 
 /// Every animation of `document` whose channels target nodes in `nodes` (glTF node index
-/// → the entity spawned for it). Clips without a usable channel are left out.
+/// → the entity spawned for it); `morph_targets` tells how many morph targets a node
+/// entity's weights drive (0: none). Clips without a usable channel are left out.
 pub(super) fn read_animations(
     document: &gltf::Document,
     buffers: &[gltf::buffer::Data],
     nodes: &HashMap<usize, Entity>,
+    morph_targets: &dyn Fn(Entity) -> usize,
     warnings: &mut Vec<String>,
 ) -> Vec<AnimationClip> {
     let mut clips = Vec::new();
@@ -27,22 +28,12 @@ pub(super) fn read_animations(
             str::to_string,
         );
         let mut channels = Vec::new();
-        let mut morph = false;
         for channel in animation.channels() {
             let what = format!("animation '{name}' channel {}", channel.index());
-            if channel.target().property() == Property::MorphTargetWeights {
-                morph = true;
-                continue;
-            }
-            match read_channel(&channel, buffers, nodes) {
+            match read_channel(&channel, buffers, nodes, morph_targets) {
                 Ok(c) => channels.push(c),
                 Err(e) => warnings.push(format!("{what}: {e}; left out")),
             }
-        }
-        if morph {
-            warnings.push(format!(
-                "animation '{name}': morph target weights are not animated (Lumen draws no morph targets)"
-            ));
         }
         if channels.is_empty() {
             continue;
@@ -64,6 +55,7 @@ fn read_channel(
     channel: &gltf::animation::Channel,
     buffers: &[gltf::buffer::Data],
     nodes: &HashMap<usize, Entity>,
+    morph_targets: &dyn Fn(Entity) -> usize,
 ) -> Result<Channel, String> {
     let node = channel.target().node().index();
     let target = *nodes
@@ -97,10 +89,25 @@ fn read_channel(
         ReadOutputs::Rotations(r) => {
             Keyframes::Rotation(r.into_f32().map(Quat::from_array).collect())
         }
-        ReadOutputs::MorphTargetWeights(_) => return Err("morph target weights".into()),
+        ReadOutputs::MorphTargetWeights(w) => {
+            let targets = morph_targets(target);
+            if targets == 0 {
+                return Err(format!(
+                    "morph weights for node {node}, whose mesh has no morph targets"
+                ));
+            }
+            let values: Vec<f32> = w.into_f32().collect();
+            if !values.len().is_multiple_of(targets) {
+                return Err(format!(
+                    "{} weights is not a whole number of values for {targets} morph targets",
+                    values.len()
+                ));
+            }
+            Keyframes::Weights { targets, values }
+        }
     };
     let count = keyframes.len();
-    let finite = (0..count).all(|i| keyframes.get(i).is_finite());
+    let finite = keyframes.is_finite();
     let per_key = if interpolation == Interpolation::CubicSpline {
         3
     } else {

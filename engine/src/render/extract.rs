@@ -8,6 +8,7 @@ use crate::color::Tonemapper;
 use crate::error::Error;
 use crate::punctual::spot_scale_offset;
 use crate::quality::Quality;
+use crate::render::extract_deform::{DeformSources, DeformedFrame};
 use crate::render::frame::{CaptureView, FrameErrors, FrameOutput};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
 use crate::render::jitter::Jitter;
@@ -76,6 +77,9 @@ pub struct Batch {
     /// the transparent pass over a copy of the opaque frame; its maps entry holds the
     /// transmission.
     pub transmissive: bool,
+    /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
+    /// deformation pass's vertices (`None`: the mesh's own).
+    pub deformed: Option<u32>,
     /// Index of the first instance in [`ExtractedFrame::instances`].
     pub first_instance: u32,
     /// Number of instances.
@@ -115,6 +119,8 @@ pub struct Caster {
     pub center: Vec3,
     /// Bounding sphere radius (m).
     pub radius: f32,
+    /// Index into [`DeformedFrame::instances`] when it is deformed.
+    pub deformed: Option<u32>,
     /// Index into [`ExtractedFrame::material_maps`] of its maps where they mask by alpha
     /// (glTF `alphaMode: MASK`, the shadow pass drops the texels the G-buffer drops) or
     /// where it is blended. `None`: an opaque caster.
@@ -208,6 +214,8 @@ pub struct ExtractedFrame {
     pub environment: Option<ExtractedEnvironment>,
     /// What motion vectors and temporal anti-aliasing need of the previous frame.
     pub temporal: TemporalFrame,
+    /// The skinned and morphed instances, with their joint matrices and weights.
+    pub deformed: DeformedFrame,
 }
 
 impl ExtractedFrame {
@@ -276,9 +284,8 @@ fn normal_matrix(m: &Mat4) -> Option<[[f32; 4]; 3]> {
     ])
 }
 
-/// World-space bounding sphere of a mesh's box under `m`.
-fn bounding_sphere(meshes: &Meshes, mesh: MeshHandle, m: &Mat4) -> Option<(Vec3, f32)> {
-    let aabb = meshes.bounds(mesh)?;
+/// The bounding sphere (centre and radius, m) of a box under `m`.
+fn sphere_around(aabb: &crate::scene::Aabb, m: &Mat4) -> (Vec3, f32) {
     let center = m.transform_point3(aabb.center());
     let scale = m
         .x_axis
@@ -286,7 +293,7 @@ fn bounding_sphere(meshes: &Meshes, mesh: MeshHandle, m: &Mat4) -> Option<(Vec3,
         .length()
         .max(m.y_axis.truncate().length())
         .max(m.z_axis.truncate().length());
-    Some((center, (aabb.max - aabb.min).length() * 0.5 * scale))
+    (center, (aabb.max - aabb.min).length() * 0.5 * scale)
 }
 
 /// Shadow settings with out-of-range values clamped (resolution × `scale` into 64..=8192,
@@ -413,6 +420,7 @@ pub fn extract_frame(
     mut memory: ResMut<TemporalMemory>,
     mut frame: ResMut<ExtractedFrame>,
     mut errors: ResMut<FrameErrors>,
+    mut deform: DeformSources,
 ) {
     let frame = &mut *frame;
     let (width, height) = output.size;
@@ -517,10 +525,12 @@ pub fn extract_frame(
         sphere: Option<(Vec3, f32)>,
         instance: GpuInstance,
         entity: Entity,
+        deformed: Option<u32>,
     }
     let mut items: Vec<Item> = Vec::new();
     let neutral_maps = crate::scene::MaterialMaps::default();
     frame.material_maps.clear();
+    frame.deformed.clear();
     for (entity, mesh, material, transform, not_caster, not_receiver, maps) in &drawables {
         if meshes.get(mesh.0).is_none() {
             log::warn!(
@@ -529,7 +539,12 @@ pub fn extract_frame(
             );
             continue;
         }
-        let m = transform.0;
+        // A skinned mesh's vertices come out of the deformation pass in world space.
+        let deformed = deform.extract(entity, mesh.0, &meshes, &mut frame.deformed);
+        let m = match &deformed {
+            Some(d) if d.skinned => Mat4::IDENTITY,
+            _ => transform.0,
+        };
         // A degenerate (zero-scale) or non-finite transform draws nothing.
         let (Some(normal), true) = (normal_matrix(&m), m.is_finite()) else {
             continue;
@@ -565,9 +580,13 @@ pub fn extract_frame(
                 };
                 index as u32
             });
-        let sphere = bounding_sphere(&meshes, mesh.0, &m);
+        let sphere = match &deformed {
+            Some(d) => d.bounds.map(|b| sphere_around(&b, &m)),
+            None => meshes.bounds(mesh.0).map(|b| sphere_around(&b, &m)),
+        };
         items.push(Item {
             entity,
+            deformed: deformed.map(|d| d.index),
             mesh: mesh.0,
             maps,
             double_sided: material.double_sided,
@@ -611,6 +630,7 @@ pub fn extract_frame(
         let key = |item: &Item| {
             (
                 item.mesh,
+                item.deformed,
                 item.maps,
                 item.double_sided,
                 !item.in_view,
@@ -657,6 +677,8 @@ pub fn extract_frame(
                 if !item.blend
                     && !item.transmissive
                     && !b.transparent()
+                    && item.deformed.is_none()
+                    && b.deformed.is_none()
                     && b.mesh == item.mesh
                     && b.maps == item.maps
                     && b.double_sided == item.double_sided =>
@@ -670,6 +692,7 @@ pub fn extract_frame(
                 double_sided: item.double_sided,
                 blend: item.blend,
                 transmissive: item.transmissive,
+                deformed: item.deformed,
                 first_instance: index,
                 count: 1,
                 visible: u32::from(item.in_view),
@@ -688,6 +711,7 @@ pub fn extract_frame(
                 frame.casters.push(Caster {
                     instance: index,
                     mesh: item.mesh,
+                    deformed: item.deformed,
                     center,
                     radius,
                     mask,

@@ -6,6 +6,7 @@
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -31,13 +32,17 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 };
 
 /// The motion variants' group 2: the unjittered matrices of this frame and the previous
-/// one, and each instance's previous world-from-local transform.
+/// one, each instance's previous world-from-local transform, and, for a deformed
+/// instance, its previous frame's deformed vertices (`motion_source.x` = 1; a placeholder
+/// and 0 for the others).
 pub const MOTION_BINDINGS: BindGroupSpec = BindGroupSpec {
     label: "gbuffer motion",
     visibility: wgpu::ShaderStages::VERTEX,
     bindings: &[
         ("motion", Binding::Uniform),
         ("previous_world", Binding::Storage),
+        ("previous_vertices", Binding::Storage),
+        ("motion_source", Binding::Uniform),
     ],
 };
 
@@ -61,7 +66,7 @@ pub struct GBufferVariants {
 impl FramePass for GBufferPass {
     const ID: PassId = PassId::GBuffer;
     const CAPTURE: bool = true;
-    const READS: &'static [Slot] = &[];
+    const READS: &'static [Slot] = &[DEFORMED_VERTICES];
     const WRITES: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH];
     const OPTIONAL_WRITES: &'static [Slot] = &[MOTION];
     type Variant = GBufferVariants;
@@ -186,12 +191,19 @@ pub struct GBufferVariant {
     pub motion: bool,
 }
 
-/// What the motion variants bind: the matrices, the previous transforms and their group.
+/// What the motion variants bind: the matrices, the previous transforms and their group,
+/// and one group per deformed instance of the frame (its previous deformed vertices).
 struct MotionBindings {
     layout: wgpu::BindGroupLayout,
     matrices: wgpu::Buffer,
     previous_world: GrowableBuffer,
+    /// `motion_source` of rigid draws (0) and deformed ones (1).
+    sources: [wgpu::Buffer; 2],
+    /// Bound as the previous vertices of rigid draws, which do not read them.
+    placeholder: wgpu::Buffer,
     group: Option<wgpu::BindGroup>,
+    /// By deformed instance index (`None` where its vertices do not exist).
+    deformed_groups: Vec<Option<wgpu::BindGroup>>,
 }
 
 /// The G-buffer pass's pipelines (the plain one compiled up front, the others when a
@@ -250,7 +262,23 @@ impl GBufferPass {
                     mapped_at_creation: false,
                 }),
                 previous_world: GrowableBuffer::new(gpu, "previous transforms", 256),
+                sources: [0u32, 1].map(|source| {
+                    use wgpu::util::DeviceExt;
+                    gpu.device
+                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("gbuffer motion source"),
+                            contents: bytemuck::cast_slice(&[source, 0, 0, 0]),
+                            usage: wgpu::BufferUsages::UNIFORM,
+                        })
+                }),
+                placeholder: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("no previous vertices"),
+                    size: 64,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                }),
                 group: None,
+                deformed_groups: Vec::new(),
             },
         };
         pass.ensure(
@@ -369,6 +397,7 @@ pub fn prepare_gbuffer(
     buffers: Res<SceneBuffers>,
     frame: Res<ExtractedFrame>,
     plan: Res<FramePlan>,
+    deform: Res<DeformPass>,
     mut pass: ResMut<GBufferPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -380,7 +409,7 @@ pub fn prepare_gbuffer(
         }
     }
     if decided.is_some_and(|v| v.motion)
-        && let Err(e) = pass.motion.prepare(&gpu, &frame.temporal)
+        && let Err(e) = pass.motion.prepare(&gpu, &frame, &deform)
     {
         errors.0.push(e);
         return;
@@ -403,13 +432,11 @@ pub fn prepare_gbuffer(
 }
 
 impl MotionBindings {
-    /// Writes this frame's matrices and previous transforms, and rebuilds the group when
-    /// the transforms' buffer grew.
-    fn prepare(
-        &mut self,
-        gpu: &Gpu,
-        temporal: &crate::render::extract::TemporalFrame,
-    ) -> Result<()> {
+    /// Writes this frame's matrices and previous transforms, rebuilds the group when the
+    /// transforms' buffer grew, and builds each deformed instance's group (its previous
+    /// vertices alternate between two buffers, so these are rebuilt every frame).
+    fn prepare(&mut self, gpu: &Gpu, frame: &ExtractedFrame, deform: &DeformPass) -> Result<()> {
+        let temporal = &frame.temporal;
         let matrices = [
             temporal.clip_from_world.to_cols_array(),
             temporal.previous_clip_from_world.to_cols_array(),
@@ -426,14 +453,34 @@ impl MotionBindings {
                 vec![
                     self.matrices.as_entire_binding(),
                     self.previous_world.buffer.as_entire_binding(),
+                    self.placeholder.as_entire_binding(),
+                    self.sources[0].as_entire_binding(),
                 ],
             )?);
+        }
+        self.deformed_groups.clear();
+        for d in &frame.deformed.instances {
+            let group = match deform.previous_vertices(d.entity) {
+                Some(previous) => Some(MOTION_BINDINGS.group(
+                    gpu,
+                    &self.layout,
+                    vec![
+                        self.matrices.as_entire_binding(),
+                        self.previous_world.buffer.as_entire_binding(),
+                        previous.as_entire_binding(),
+                        self.sources[1].as_entire_binding(),
+                    ],
+                )?),
+                None => None,
+            };
+            self.deformed_groups.push(group);
         }
         Ok(())
     }
 }
 
 /// Records the G-buffer pass.
+#[allow(clippy::too_many_arguments)]
 pub fn gbuffer_pass(
     pass: Res<GBufferPass>,
     maps: Res<GpuMaterialMaps>,
@@ -441,6 +488,7 @@ pub fn gbuffer_pass(
     targets: Res<RenderTargets>,
     frame: Res<ExtractedFrame>,
     plan: Res<FramePlan>,
+    deform: Res<DeformPass>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let Some(&GBufferVariants {
@@ -487,15 +535,34 @@ pub fn gbuffer_pass(
             multiview_mask: None,
         });
         rp.set_bind_group(0, bind_group, &[]);
-        if let Some((_, group)) = motion {
-            rp.set_bind_group(2, group, &[]);
-        }
+        // Group 2 of the motion variants: the shared one, or a deformed instance's.
+        let mut motion_group: Option<Option<u32>> = None;
         rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
         let mut current = None;
         for batch in frame.drawn_batches() {
             let Some(mesh) = buffers.meshes.get(&batch.mesh) else {
                 continue;
             };
+            let Some(vertices) = deform.draw_vertices(&frame, mesh, batch.deformed) else {
+                continue;
+            };
+            if let Some((_, shared)) = motion
+                && motion_group != Some(batch.deformed)
+            {
+                let group = match batch.deformed {
+                    None => Some(shared),
+                    Some(d) => pass
+                        .motion
+                        .deformed_groups
+                        .get(d as usize)
+                        .and_then(Option::as_ref),
+                };
+                let Some(group) = group else {
+                    continue;
+                };
+                rp.set_bind_group(2, group, &[]);
+                motion_group = Some(batch.deformed);
+            }
             let v = variant(batch, specular_aa, motion.is_some());
             let Some(pipeline) = pass.pipelines.get(&v) else {
                 continue;
@@ -510,7 +577,7 @@ pub fn gbuffer_pass(
                 rp.set_pipeline(pipeline);
                 current = Some(v);
             }
-            rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+            rp.set_vertex_buffer(0, vertices.slice(..));
             rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             rp.draw_indexed(
                 0..mesh.index_count,

@@ -8,6 +8,7 @@ use crate::render::antialiasing::fxaa::FxaaPass;
 use crate::render::antialiasing::smaa::SmaaPass;
 use crate::render::antialiasing::taa::TaaPass;
 use crate::render::debug_view::DebugViewPass;
+use crate::render::deform::DeformPass;
 use crate::render::dof::DofPass;
 use crate::render::exposure::ExposurePass;
 use crate::render::gbuffer::GBufferPass;
@@ -27,6 +28,7 @@ use crate::render::transparent::transmission_source::TransmissionSourcePass;
 /// slot see it).
 pub fn builtin() -> Result<Registry> {
     Registry::new()
+        .with::<DeformPass>()
         .with::<ShadowPass>()
         .with::<GBufferPass>()
         .with::<AoPass>()

@@ -24,21 +24,38 @@ pub struct GrowableBuffer {
     /// The buffer.
     pub buffer: wgpu::Buffer,
     label: &'static str,
+    usage: wgpu::BufferUsages,
 }
 
 impl GrowableBuffer {
     /// An empty buffer of at least `size` bytes (and at least 256).
     pub fn new(gpu: &Gpu, label: &'static str, size: u64) -> Self {
+        Self::with_usage(
+            gpu,
+            label,
+            size,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX,
+        )
+    }
+
+    /// An empty buffer of at least `size` bytes (and at least 256) for `usage` (and
+    /// copies into it).
+    pub fn with_usage(
+        gpu: &Gpu,
+        label: &'static str,
+        size: u64,
+        usage: wgpu::BufferUsages,
+    ) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
         GrowableBuffer {
             buffer: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: size.max(256),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::VERTEX
-                    | wgpu::BufferUsages::COPY_DST,
+                usage,
                 mapped_at_creation: false,
             }),
             label,
+            usage,
         }
     }
 
@@ -46,7 +63,12 @@ impl GrowableBuffer {
     pub fn write(&mut self, gpu: &Gpu, data: &[u8]) -> bool {
         let mut recreated = false;
         if data.len() as u64 > self.buffer.size() {
-            *self = GrowableBuffer::new(gpu, self.label, (data.len() as u64).next_power_of_two());
+            *self = GrowableBuffer::with_usage(
+                gpu,
+                self.label,
+                (data.len() as u64).next_power_of_two(),
+                self.usage,
+            );
             recreated = true;
         }
         if !data.is_empty() {
@@ -180,7 +202,12 @@ fn upload_mesh(gpu: &Gpu, meshes: &Meshes, handle: MeshHandle) -> Option<GpuMesh
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("mesh vertices"),
                 contents: bytemuck::cast_slice(&mesh.vertices),
-                usage: wgpu::BufferUsages::VERTEX,
+                // A deformable mesh's vertices are also the deformation pass's input.
+                usage: if meshes.deformation(handle).is_some() {
+                    wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE
+                } else {
+                    wgpu::BufferUsages::VERTEX
+                },
             }),
         indices: gpu
             .device

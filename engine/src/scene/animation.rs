@@ -1,5 +1,5 @@
-//! Keyframe animation of node transforms: [`AnimationClip`]s (glTF's animations) played
-//! by an [`AnimationPlayer`] component.
+//! Keyframe animation of node transforms and morph target weights: [`AnimationClip`]s
+//! (glTF's animations) played by an [`AnimationPlayer`] component.
 //!
 //! Sampling follows the glTF 2.0 specification, Appendix C ("Animation Sampler
 //! Interpolation Modes"). Between keyframes k and k+1 at times `t_k < t_{k+1}`, with
@@ -13,12 +13,15 @@
 //!   second); a rotation is normalised after.
 //!
 //! Before the first key a channel holds the first value, after the last the last.
-//! Translations are in metres, rotations unit quaternions, scales factors, times seconds.
+//! Translations are in metres, rotations unit quaternions, scales factors, morph weights
+//! unitless (each weight interpolated like a scalar), times seconds.
 
+use crate::scene::deform::MorphWeights;
 use crate::scene::transform::Transform;
 use crate::time::Time;
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3, Vec4};
+use std::ops::{Add, Mul};
 use std::sync::Arc;
 
 /// How a channel's values are interpolated between keys.
@@ -33,7 +36,8 @@ pub enum Interpolation {
 }
 
 /// The values of a channel: one per key, or, for [`Interpolation::CubicSpline`], three
-/// per key (in-tangent, value, out-tangent).
+/// per key (in-tangent, value, out-tangent). A morph weight "value" is one weight per
+/// target.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Keyframes {
     /// Node translations (m).
@@ -42,6 +46,13 @@ pub enum Keyframes {
     Rotation(Vec<Quat>),
     /// Node scales.
     Scale(Vec<Vec3>),
+    /// Morph target weights: `targets` consecutive weights per value.
+    Weights {
+        /// Weights per value (the mesh's morph target count, at least 1).
+        targets: usize,
+        /// Every value's weights, one after the other.
+        values: Vec<f32>,
+    },
 }
 
 impl Keyframes {
@@ -50,6 +61,16 @@ impl Keyframes {
         match self {
             Keyframes::Translation(v) | Keyframes::Scale(v) => v.len(),
             Keyframes::Rotation(q) => q.len(),
+            Keyframes::Weights { targets, values } => values.len() / (*targets).max(1),
+        }
+    }
+
+    /// Whether every stored number is finite.
+    pub fn is_finite(&self) -> bool {
+        match self {
+            Keyframes::Translation(v) | Keyframes::Scale(v) => v.iter().all(|v| v.is_finite()),
+            Keyframes::Rotation(q) => q.iter().all(|q| q.is_finite()),
+            Keyframes::Weights { values, .. } => values.iter().all(|w| w.is_finite()),
         }
     }
 
@@ -58,11 +79,13 @@ impl Keyframes {
         self.len() == 0
     }
 
-    /// Value `i` as four floats (xyz0 for vectors, xyzw for quaternions); `i` < `len()`.
-    pub(crate) fn get(&self, i: usize) -> Vec4 {
+    /// Value `i` of a transform channel as four floats (xyz0 for vectors, xyzw for
+    /// quaternions); `i` < `len()`. Weights have no such form: `None`.
+    fn get(&self, i: usize) -> Option<Vec4> {
         match self {
-            Keyframes::Translation(v) | Keyframes::Scale(v) => v[i].extend(0.0),
-            Keyframes::Rotation(q) => Vec4::from(q[i]),
+            Keyframes::Translation(v) | Keyframes::Scale(v) => Some(v[i].extend(0.0)),
+            Keyframes::Rotation(q) => Some(Vec4::from(q[i])),
+            Keyframes::Weights { .. } => None,
         }
     }
 }
@@ -70,7 +93,7 @@ impl Keyframes {
 /// One animated property of one entity.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
-    /// The entity whose [`Transform`] the channel drives.
+    /// The entity whose [`Transform`] (or [`MorphWeights`]) the channel drives.
     pub target: Entity,
     /// Key times (s), strictly increasing.
     pub times_s: Vec<f32>,
@@ -241,8 +264,27 @@ fn interval(times: &[f32], t: f32) -> Option<(usize, f32)> {
     Some((k, if dt > 0.0 { (t - times[k]) / dt } else { 0.0 }))
 }
 
-/// A channel's value at `t` seconds, as four floats (xyz for vectors, xyzw for
-/// quaternions), by the formulas of the module docs.
+/// The cubic Hermite spline of the module docs between values `v0` and `v1` with
+/// out-tangent `b0` and in-tangent `a1` (per second), at `s` ∈ [0, 1] of an interval of
+/// `dt` seconds.
+fn hermite<T: Copy + Mul<f32, Output = T> + Add<Output = T>>(
+    v0: T,
+    b0: T,
+    v1: T,
+    a1: T,
+    s: f32,
+    dt: f32,
+) -> T {
+    let (s2, s3) = (s * s, s * s * s);
+    v0 * (2.0 * s3 - 3.0 * s2 + 1.0)
+        + b0 * (dt * (s3 - 2.0 * s2 + s))
+        + v1 * (-2.0 * s3 + 3.0 * s2)
+        + a1 * (dt * (s3 - s2))
+}
+
+/// A transform channel's value at `t` seconds, as four floats (xyz for vectors, xyzw for
+/// quaternions), by the formulas of the module docs; `None` for a weights channel (see
+/// [`sample_weights`]).
 pub fn sample(channel: &Channel, t: f32) -> Option<Vec4> {
     let keys = &channel.keyframes;
     let cubic = channel.interpolation == Interpolation::CubicSpline;
@@ -251,7 +293,11 @@ pub fn sample(channel: &Channel, t: f32) -> Option<Vec4> {
     if times.is_empty() || keys.len() < times.len() * per_key {
         return None;
     }
-    let value = |k: usize| keys.get(k * per_key + usize::from(cubic));
+    keys.get(0)?;
+    let value = |k: usize| {
+        keys.get(k * per_key + usize::from(cubic))
+            .unwrap_or(Vec4::ZERO)
+    };
     let is_rotation = matches!(channel.keyframes, Keyframes::Rotation(_));
     let Some((k, s)) = interval(times, t) else {
         let k = if t <= times[0] { 0 } else { times.len() - 1 };
@@ -265,22 +311,58 @@ pub fn sample(channel: &Channel, t: f32) -> Option<Vec4> {
             s,
         )),
         Interpolation::Linear => value(k).lerp(value(k + 1), s),
-        Interpolation::CubicSpline => {
-            let dt = times[k + 1] - times[k];
-            let out_tangent = keys.get(k * 3 + 2);
-            let in_tangent = keys.get((k + 1) * 3);
-            let (s2, s3) = (s * s, s * s * s);
-            value(k) * (2.0 * s3 - 3.0 * s2 + 1.0)
-                + out_tangent * (dt * (s3 - 2.0 * s2 + s))
-                + value(k + 1) * (-2.0 * s3 + 3.0 * s2)
-                + in_tangent * (dt * (s3 - s2))
-        }
+        Interpolation::CubicSpline => hermite(
+            value(k),
+            keys.get(k * 3 + 2).unwrap_or(Vec4::ZERO),
+            value(k + 1),
+            keys.get((k + 1) * 3).unwrap_or(Vec4::ZERO),
+            s,
+            times[k + 1] - times[k],
+        ),
     };
     Some(if is_rotation {
         v.normalize_or(Vec4::W)
     } else {
         v
     })
+}
+
+/// A morph weights channel's weights at `t` seconds (one per target), each interpolated
+/// as a scalar by the formulas of the module docs; `None` for a transform channel.
+pub fn sample_weights(channel: &Channel, t: f32) -> Option<Vec<f32>> {
+    let Keyframes::Weights { targets, values } = &channel.keyframes else {
+        return None;
+    };
+    let n = *targets;
+    let cubic = channel.interpolation == Interpolation::CubicSpline;
+    let per_key = if cubic { 3 } else { 1 };
+    let times = &channel.times_s;
+    if n == 0 || times.is_empty() || values.len() < times.len() * per_key * n {
+        return None;
+    }
+    // Entry `e` (in keys × per_key) of target `j`.
+    let at = |e: usize, j: usize| values[e * n + j];
+    let value = |k: usize, j: usize| at(k * per_key + usize::from(cubic), j);
+    let Some((k, s)) = interval(times, t) else {
+        let k = if t <= times[0] { 0 } else { times.len() - 1 };
+        return Some((0..n).map(|j| value(k, j)).collect());
+    };
+    Some(
+        (0..n)
+            .map(|j| match channel.interpolation {
+                Interpolation::Step => value(k, j),
+                Interpolation::Linear => value(k, j) * (1.0 - s) + value(k + 1, j) * s,
+                Interpolation::CubicSpline => hermite(
+                    value(k, j),
+                    at(k * 3 + 2, j),
+                    value(k + 1, j),
+                    at((k + 1) * 3, j),
+                    s,
+                    times[k + 1] - times[k],
+                ),
+            })
+            .collect(),
+    )
 }
 
 /// Spherical linear interpolation from `a` to `b` along the shorter arc (`b` is negated
@@ -310,6 +392,7 @@ fn apply(channel: &Channel, t: f32, transform: &mut Transform) {
         Keyframes::Translation(_) => transform.translation = v.truncate(),
         Keyframes::Rotation(_) => transform.rotation = Quat::from_vec4(v),
         Keyframes::Scale(_) => transform.scale = v.truncate(),
+        Keyframes::Weights { .. } => {}
     }
 }
 
@@ -320,6 +403,7 @@ pub fn animate(
     time: Res<Time>,
     mut players: Query<&mut AnimationPlayer>,
     mut transforms: Query<&mut Transform>,
+    mut morph_weights: Query<&mut MorphWeights>,
 ) {
     for mut player in &mut players {
         let Some(clip) = player.current.and_then(|i| player.clips.get(i)).cloned() else {
@@ -327,7 +411,14 @@ pub fn animate(
         };
         let t = player.time_s;
         for channel in &clip.channels {
-            if let Ok(mut transform) = transforms.get_mut(channel.target) {
+            if let Some(weights) = sample_weights(channel, t) {
+                if let Ok(mut morph) = morph_weights.get_mut(channel.target)
+                    && weights.iter().all(|w| w.is_finite())
+                {
+                    let n = weights.len().min(morph.0.len());
+                    morph.0[..n].copy_from_slice(&weights[..n]);
+                }
+            } else if let Ok(mut transform) = transforms.get_mut(channel.target) {
                 apply(channel, t, &mut transform);
             }
         }
@@ -380,6 +471,35 @@ mod tests {
                 .unwrap_err()
                 .contains("the file has: c")
         );
+    }
+
+    #[test]
+    fn weights_interpolate_per_target() {
+        let weights = |values: Vec<f32>| Keyframes::Weights { targets: 2, values };
+        let linear = channel(
+            weights(vec![0.0, 1.0, 1.0, 0.0]),
+            &[0.0, 2.0],
+            Interpolation::Linear,
+        );
+        assert_eq!(sample_weights(&linear, 0.5), Some(vec![0.25, 0.75]));
+        assert_eq!(sample_weights(&linear, 3.0), Some(vec![1.0, 0.0]));
+        assert_eq!(sample(&linear, 0.5), None);
+        let step = channel(
+            weights(vec![0.0, 1.0, 1.0, 0.0]),
+            &[0.0, 2.0],
+            Interpolation::Step,
+        );
+        assert_eq!(sample_weights(&step, 1.9), Some(vec![0.0, 1.0]));
+        // Cubic with zero tangents: the smoothstep 3s² − 2s³, 0.5 at the middle.
+        let cubic = channel(
+            weights(vec![
+                0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
+            ]),
+            &[0.0, 1.0],
+            Interpolation::CubicSpline,
+        );
+        assert_eq!(sample_weights(&cubic, 0.5), Some(vec![0.5, 0.5]));
+        assert_eq!(sample_weights(&cubic, 0.25), Some(vec![0.156_25, 0.843_75]));
     }
 
     #[test]

@@ -1,139 +1,8 @@
 //! Triangle meshes: CPU data shared between entities through a handle.
 
+pub use crate::scene::mesh_data::{Aabb, MeshData, Vertex};
 use bevy_ecs::prelude::*;
-use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
 use std::sync::Arc;
-
-/// One vertex as the G-buffer pass reads it (72 bytes, interleaved).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct Vertex {
-    /// Object-space position in metres.
-    pub position: [f32; 3],
-    /// Object-space unit normal.
-    pub normal: [f32; 3],
-    /// Texture coordinate (set 0).
-    pub uv: [f32; 2],
-    /// Object-space unit tangent (xyz) and bitangent sign (w = ±1), as in glTF.
-    pub tangent: [f32; 4],
-    /// Texture coordinate set 1.
-    pub uv1: [f32; 2],
-    /// Linear RGBA vertex colour, multiplying the base colour (white when the mesh has
-    /// none). Used only by entities with [`crate::scene::MaterialMaps`].
-    pub color: [f32; 4],
-}
-
-impl Vertex {
-    /// A vertex with no second texture coordinate set and a white colour.
-    pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2], tangent: [f32; 4]) -> Self {
-        Vertex {
-            position,
-            normal,
-            uv,
-            tangent,
-            uv1: [0.0; 2],
-            color: [1.0; 4],
-        }
-    }
-}
-
-/// Axis-aligned bounding box in metres.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    /// Smallest corner.
-    pub min: Vec3,
-    /// Largest corner.
-    pub max: Vec3,
-}
-
-impl Aabb {
-    /// The box around a set of points; `None` when there is no finite point.
-    pub fn from_points(points: impl IntoIterator<Item = Vec3>) -> Option<Aabb> {
-        let mut min = Vec3::splat(f32::INFINITY);
-        let mut max = Vec3::splat(f32::NEG_INFINITY);
-        for p in points.into_iter().filter(|p| p.is_finite()) {
-            min = min.min(p);
-            max = max.max(p);
-        }
-        (min.x <= max.x).then_some(Aabb { min, max })
-    }
-
-    /// The box around this box transformed by `m`.
-    pub fn transformed(&self, m: &Mat4) -> Option<Aabb> {
-        let (a, b) = (self.min, self.max);
-        Aabb::from_points((0..8).map(|i| {
-            m.transform_point3(Vec3::new(
-                if i & 1 == 0 { a.x } else { b.x },
-                if i & 2 == 0 { a.y } else { b.y },
-                if i & 4 == 0 { a.z } else { b.z },
-            ))
-        }))
-    }
-
-    /// The smallest box holding both.
-    pub fn union(&self, other: &Aabb) -> Aabb {
-        Aabb {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
-    }
-
-    /// Centre point.
-    pub fn center(&self) -> Vec3 {
-        (self.min + self.max) * 0.5
-    }
-}
-
-/// An indexed triangle list.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MeshData {
-    /// Vertices.
-    pub vertices: Vec<Vertex>,
-    /// Three indices per triangle, each `< vertices.len()`.
-    pub indices: Vec<u32>,
-}
-
-impl MeshData {
-    /// Number of triangles.
-    pub fn triangle_count(&self) -> usize {
-        self.indices.len() / 3
-    }
-
-    /// Bounding box of the vertices; `None` for an empty mesh.
-    pub fn bounds(&self) -> Option<Aabb> {
-        Aabb::from_points(self.vertices.iter().map(|v| Vec3::from(v.position)))
-    }
-
-    /// Checks the invariants the renderer relies on: whole triangles, indices in range,
-    /// finite positions. Returns a description of the first problem.
-    pub fn validate(&self) -> Result<(), String> {
-        if !self.indices.len().is_multiple_of(3) {
-            return Err(format!(
-                "{} indices is not a whole number of triangles",
-                self.indices.len()
-            ));
-        }
-        if let Some(i) = self
-            .indices
-            .iter()
-            .find(|&&i| i as usize >= self.vertices.len())
-        {
-            return Err(format!(
-                "index {i} points past the {} vertices",
-                self.vertices.len()
-            ));
-        }
-        if let Some(n) = self
-            .vertices
-            .iter()
-            .position(|v| !Vec3::from(v.position).is_finite())
-        {
-            return Err(format!("vertex {n} has a non-finite position"));
-        }
-        Ok(())
-    }
-}
 
 /// Identifies a mesh in [`Meshes`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -146,12 +15,14 @@ pub struct MeshHandle(pub u32);
 pub struct Mesh3d(pub MeshHandle);
 
 /// The mesh store: every mesh is added once and shared by any number of entities.
-#[derive(Resource, Default, Debug)]
+#[derive(Resource, Clone, Default, Debug)]
 pub struct Meshes {
     meshes: Vec<Arc<MeshData>>,
     /// Each mesh's [`MeshData::bounds`], computed once when it is added: extraction asks
     /// for them per instance and per view (a probe capture has six views per probe).
     bounds: Vec<Option<Aabb>>,
+    /// Each mesh's skin weights and morph targets, if it has any.
+    deformations: Vec<Option<Arc<crate::scene::deform::Deformation>>>,
 }
 
 impl Meshes {
@@ -162,7 +33,34 @@ impl Meshes {
         let index = u32::try_from(self.meshes.len()).map_err(|_| "too many meshes".to_string())?;
         self.bounds.push(mesh.bounds());
         self.meshes.push(Arc::new(mesh));
+        self.deformations.push(None);
         Ok(MeshHandle(index))
+    }
+
+    /// Adds a mesh that a [`crate::scene::SkinnedMesh`] or [`crate::scene::MorphWeights`]
+    /// deforms, with its joints, weights and morph targets (see
+    /// [`crate::scene::deform::Deformation::new`]). Fails with the reason on an invalid
+    /// mesh or deformation.
+    pub fn add_deformable(
+        &mut self,
+        mesh: MeshData,
+        joints: Vec<[u32; 4]>,
+        weights: Vec<[f32; 4]>,
+        targets: Vec<crate::scene::MorphTarget>,
+    ) -> Result<MeshHandle, String> {
+        mesh.validate()?;
+        let deformation = crate::scene::deform::Deformation::new(&mesh, joints, weights, targets)?;
+        let handle = self.add(mesh)?;
+        self.deformations[handle.0 as usize] = Some(Arc::new(deformation));
+        Ok(handle)
+    }
+
+    /// The joints, weights and morph targets of the mesh behind a handle, if it has any.
+    pub fn deformation(
+        &self,
+        handle: MeshHandle,
+    ) -> Option<&Arc<crate::scene::deform::Deformation>> {
+        self.deformations.get(handle.0 as usize)?.as_ref()
     }
 
     /// The bounding box of the mesh behind a handle (model space); `None` for an unknown

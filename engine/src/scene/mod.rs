@@ -6,10 +6,12 @@
 
 pub mod animation;
 pub mod camera;
+pub mod deform;
 pub mod environment;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod mesh_data;
 pub mod probes;
 pub mod shadow;
 pub mod texture;
@@ -17,6 +19,7 @@ pub mod transform;
 
 pub use animation::{AnimationClip, AnimationPlayer};
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
+pub use deform::{MorphTarget, MorphWeights, SkinnedMesh};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::{Material, Transmission};

@@ -9,6 +9,7 @@
 use super::atlas::{AtlasLayout, AtlasRect, pack};
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -33,6 +34,8 @@ pub const MAX_ATLAS_SIDE: u32 = 8192;
 /// One draw of a view: consecutive visible casters of one mesh and one mask.
 struct CasterDraw {
     mesh: MeshHandle,
+    /// The deformed instance it draws (index into the frame's deformed instances).
+    deformed: Option<u32>,
     /// Index into [`ExtractedFrame::material_maps`] of the casters' alpha mask.
     mask: Option<u32>,
     /// First index into the visible list.
@@ -60,8 +63,9 @@ struct CasterInstance {
 /// base colour texture, the cutoff's bits and the coverage's bits (factor alpha, blend).
 type MaskKey = (Option<TextureSlot>, u32, [u32; 2]);
 
-/// A caster as the atlas cache compares it.
-type CasterKey = (MeshHandle, [[f32; 4]; 4], Option<MaskKey>);
+/// A caster as the atlas cache compares it: its mesh, transform, mask and, when it is
+/// deformed, its pose's hash.
+type CasterKey = (MeshHandle, [[f32; 4]; 4], Option<MaskKey>, Option<u64>);
 
 /// The shadow pass's pipelines, atlas and buffers.
 #[derive(Resource)]
@@ -137,7 +141,11 @@ impl AtlasContents {
                 ],
             )
         });
-        (c.mesh, instance.world_from_local, mask)
+        let pose = c
+            .deformed
+            .and_then(|d| frame.deformed.instances.get(d as usize))
+            .map(|d| d.pose);
+        (c.mesh, instance.world_from_local, mask, pose)
     }
 
     /// `frame`'s casters in a canonical order (by mesh, then by the transform's bits).
@@ -150,7 +158,8 @@ impl AtlasContents {
             .iter()
             .map(|c| Self::caster(frame, c))
             .collect();
-        casters.sort_by_key(|(mesh, m, _)| (*mesh, m.map(|row| row.map(f32::to_bits))));
+        casters
+            .sort_by_key(|(mesh, m, _, pose)| (*mesh, m.map(|row| row.map(f32::to_bits)), *pose));
         casters
     }
 
@@ -204,7 +213,7 @@ pub struct ShadowVariant;
 impl FramePass for ShadowPass {
     const ID: PassId = PassId::Shadow;
     const CAPTURE: bool = true;
-    const READS: &'static [Slot] = &[];
+    const READS: &'static [Slot] = &[DEFORMED_VERTICES];
     const WRITES: &'static [Slot] = &[SHADOW_ATLAS];
     type Variant = ShadowVariant;
 
@@ -512,9 +521,17 @@ pub fn prepare_shadows(
             }
             let index = visible.len() as u32;
             match draws.last_mut() {
-                Some(d) if d.mesh == caster.mesh && d.mask == caster.mask => d.count += 1,
+                Some(d)
+                    if d.mesh == caster.mesh
+                        && d.mask == caster.mask
+                        && d.deformed.is_none()
+                        && caster.deformed.is_none() =>
+                {
+                    d.count += 1
+                }
                 _ => draws.push(CasterDraw {
                     mesh: caster.mesh,
+                    deformed: caster.deformed,
                     mask: caster.mask,
                     first: index,
                     count: 1,
@@ -576,6 +593,7 @@ pub fn shadow_pass(
     buffers: Res<SceneBuffers>,
     maps: Res<GpuMaterialMaps>,
     frame: Res<ExtractedFrame>,
+    deform: Res<DeformPass>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let pass = &mut *pass;
@@ -623,6 +641,9 @@ pub fn shadow_pass(
                 let Some(gpu_mesh) = buffers.meshes.get(&draw.mesh) else {
                     continue;
                 };
+                let Some(vertices) = deform.draw_vertices(&frame, gpu_mesh, draw.deformed) else {
+                    continue;
+                };
                 // A mask whose maps have no bind group (not uploaded) casts its whole
                 // outline, as an opaque caster.
                 let group = draw.mask.and_then(|m| maps.group(m));
@@ -633,7 +654,7 @@ pub fn shadow_pass(
                 if let Some(group) = group {
                     rp.set_bind_group(1, group, &[]);
                 }
-                rp.set_vertex_buffer(0, gpu_mesh.vertices.slice(..));
+                rp.set_vertex_buffer(0, vertices.slice(..));
                 rp.set_index_buffer(gpu_mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 rp.draw_indexed(
                     0..gpu_mesh.index_count,

@@ -23,6 +23,7 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
+use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -106,6 +107,7 @@ impl TransparentVariant {
 impl FramePass for TransparentPass {
     const ID: PassId = PassId::Transparent;
     const READS: &'static [Slot] = &[
+        DEFORMED_VERTICES,
         HDR,
         DEPTH,
         SHADOW_ATLAS,
@@ -434,6 +436,7 @@ pub struct TransparentInputs<'w> {
     buffers: Res<'w, SceneBuffers>,
     frame: Res<'w, ExtractedFrame>,
     targets: Res<'w, RenderTargets>,
+    deform: Res<'w, DeformPass>,
 }
 
 /// Records the blended batches, farthest first, over the HDR target.
@@ -449,6 +452,7 @@ pub fn transparent_pass(
         buffers,
         frame,
         targets,
+        deform,
     } = inputs;
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
@@ -526,9 +530,12 @@ pub fn transparent_pass(
             ) else {
                 continue;
             };
+            let Some(vertices) = deform.draw_vertices(&frame, mesh, batch.deformed) else {
+                continue;
+            };
             rp.set_pipeline(pipeline);
             rp.set_bind_group(MAPS_GROUP, group, &[]);
-            rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+            rp.set_vertex_buffer(0, vertices.slice(..));
             rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
             rp.draw_indexed(
                 0..mesh.index_count,
