@@ -1,10 +1,11 @@
 //! Every shared shader function (shaders/brdf.wgsl, punctual.wgsl, color.wgsl,
-//! encoding.wgsl, ibl.wgsl, camera.wgsl, common.wgsl) against its Rust twin (lumen::brdf,
-//! punctual, color, encoding, ibl, scene::camera) on the same inputs, on the GPU.
+//! encoding.wgsl, ibl.wgsl, camera.wgsl, common.wgsl, skinning.wgsl, …) against its Rust
+//! twin (lumen::brdf, punctual, color, encoding, ibl, scene::camera, scene::deform, …) on
+//! the same inputs, on the GPU.
 
 mod common;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;
 use lumen::antialiasing as aa;
 use lumen::brdf::{self, Surface, VisibilityModel};
@@ -12,11 +13,11 @@ use lumen::irradiance_volume as gi;
 use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
-use lumen::scene::camera;
+use lumen::scene::{camera, deform};
 use lumen::{color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 44;
+const OUTPUTS: usize = 46;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -121,6 +122,23 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
     let l = Vec3::from_slice(&c.l[..3]);
     let e = encoding::oct_encode(n);
     let (sc, off) = (alpha * 10.0, -k);
+    let ja = Mat4::from_cols(
+        n.extend(0.0),
+        v.extend(0.0),
+        l.extend(0.0),
+        base.extend(1.0),
+    );
+    let jb = Mat4::from_cols(
+        v.extend(0.0),
+        l.extend(0.0),
+        n.extend(0.0),
+        Vec4::new(0.5, -1.0, 2.0, 1.0),
+    );
+    let skin = deform::skin_matrix(
+        &[ja, jb, ja * 0.5, jb * -0.25],
+        [0, 1, 2, 3],
+        [x, n_dot_h, k, r],
+    );
     [
         Vec4::new(
             brdf::d_ggx(alpha, n_dot_h, nxh2),
@@ -307,6 +325,8 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         transmission::volume_transmittance(base, x * 3.0, k * 2.0)
             .extend(transmission::transmission_lod(r, 1.0 + x, 256.0)),
         transmission::dispersion_iors(1.0 + x * 3.0, r * 30.0).extend(0.0),
+        skin * v.extend(1.0),
+        (deform::skin_normal_matrix(glam::Mat3::from_mat4(skin)) * n).extend(0.0),
     ]
 }
 
@@ -355,6 +375,8 @@ const NAMES: [&str; OUTPUTS] = [
     "refracted_direction | refraction_path_m",
     "volume_transmittance | transmission_lod",
     "dispersion_iors",
+    "skin_matrix",
+    "skin_normal_matrix",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -14,6 +14,7 @@
 #import shadow_kernel
 #import transparency
 #import transmission
+#import skinning
 
 struct Case {
     n: vec4<f32>,
@@ -27,7 +28,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 44u;
+const OUTPUTS: u32 = 46u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -136,6 +137,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 42u] = vec4<f32>(volume_transmittance(c.base_metallic.rgb, x * 3.0, k * 2.0),
                                  transmission_lod(r, 1.0 + x, 256.0));
     results[o + 43u] = vec4<f32>(dispersion_iors(1.0 + x * 3.0, r * 30.0), 0.0);
+    let ja = mat4x4<f32>(vec4<f32>(c.n.xyz, 0.0), vec4<f32>(c.v.xyz, 0.0), vec4<f32>(c.l.xyz, 0.0),
+                         vec4<f32>(c.base_metallic.xyz, 1.0));
+    let jb = mat4x4<f32>(vec4<f32>(c.v.xyz, 0.0), vec4<f32>(c.l.xyz, 0.0), vec4<f32>(c.n.xyz, 0.0),
+                         vec4<f32>(0.5, -1.0, 2.0, 1.0));
+    let skin = skin_matrix(ja, jb, ja * 0.5, jb * -0.25, vec4<f32>(x, n_dot_h, k, r));
+    results[o + 44u] = skin * vec4<f32>(c.v.xyz, 1.0);
+    let skin3 = mat3x3<f32>(skin[0].xyz, skin[1].xyz, skin[2].xyz);
+    results[o + 45u] = vec4<f32>(skin_normal_matrix(skin3) * c.n.xyz, 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 
