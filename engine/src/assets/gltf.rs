@@ -5,7 +5,9 @@
 //! shadows unless [`GltfOptions::light_shadows`] is off.
 //!
 //! - Primitives: u8/u16/u32 or no indices; `KHR_draco_mesh_compression` (decoded with
-//!   `draco-core`). Every accessor's byte range is checked against its buffer before it
+//!   `draco-core`). Joints, weights and morph targets make a deformable mesh, and a node
+//!   with a skin gets a [`crate::scene::SkinnedMesh`], a mesh with morph targets
+//!   [`crate::scene::MorphWeights`] on its node ([`gltf_skin`]). Every accessor's byte range is checked against its buffer before it
 //!   is read. Missing normals are computed (area-weighted); missing tangents are
 //!   generated with MikkTSpace from texture coordinate set 0.
 //! - Materials: the metal/roughness factors; `KHR_materials_pbrSpecularGlossiness`
