@@ -291,7 +291,6 @@ fn mesh_inputs(gpu: &Gpu, meshes: &Meshes, mesh: MeshHandle) -> Option<MeshInput
 /// Uploads the frame's parameters, joint matrices and weights; creates the inputs of
 /// meshes and the outputs of instances met for the first time; turns each instance's
 /// outputs (not in a probe capture); forgets instances that left the scene.
-#[allow(clippy::too_many_arguments)]
 pub fn prepare_deform(
     gpu: Res<Gpu>,
     frame: Res<ExtractedFrame>,
