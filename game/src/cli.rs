@@ -32,6 +32,9 @@ pub enum Command {
     /// Time every preset and every quality knob, and measure each image's error against
     /// the path-traced reference.
     Tradeoff(TradeoffArgs),
+    /// Merge the parts of a sharded reference (`lumen reference --shard I/N`) into one
+    /// image, after checking that they are every shard of one render.
+    Merge(MergeArgs),
     /// Check PBR textures against the measured ranges (seed 001's rules): a glTF file's
     /// materials or texture files by role. Exit status 3 when any texel fails.
     Validate(ValidateArgs),
@@ -444,6 +447,15 @@ pub struct RenderArgs {
     /// Frames per second of `--frames`.
     #[arg(long, value_name = "F", default_value = "30", value_parser = parse_positive, requires = "frames")]
     pub fps: f32,
+    /// Render only shard I of N (from 0) of the `--frames` sequence: a contiguous share of
+    /// its frames; frames already written are skipped. Without it, an array job's index is
+    /// read from SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, AWS_BATCH_JOB_ARRAY_INDEX or
+    /// HQ_TASK_ID.
+    #[arg(long, value_name = "I/N", value_parser = crate::shard::parse_shard, requires = "frames")]
+    pub shard: Option<(u32, u32)>,
+    /// The number of shards where the environment gives only the index.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1_000_000), requires = "frames")]
+    pub shards: Option<u32>,
 }
 
 /// Parses `A..B` (frame numbers, A ≤ B).
@@ -496,9 +508,30 @@ pub struct ReferenceArgs {
     #[arg(long)]
     pub occlusion: bool,
     /// Output file: .exr (linear exposed radiance) or .png (tone mapped with the camera's
-    /// tone mapper). Default: `out/<scene>-reference.exr`.
+    /// tone mapper). Default: `out/<scene>-reference.exr`. A shard writes its part beside
+    /// it instead: `<stem>.shard-I-of-N.exr` and its `.json` sidecar.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Trace only shard I of N (from 0) of the samples, into a part that `lumen merge`
+    /// combines with the others. Without it, an array job's index is read from
+    /// SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, AWS_BATCH_JOB_ARRAY_INDEX or HQ_TASK_ID.
+    #[arg(long, value_name = "I/N", value_parser = crate::shard::parse_shard)]
+    pub shard: Option<(u32, u32)>,
+    /// The number of shards where the environment gives only the index
+    /// (JOB_COMPLETION_INDEX, HQ_TASK_ID).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub shards: Option<u32>,
+}
+
+/// Arguments of `lumen merge`.
+#[derive(Args, Debug, Clone)]
+pub struct MergeArgs {
+    /// The parts (`*.shard-I-of-N.exr`, each with its `.json` sidecar beside it).
+    #[arg(value_name = "PART", required = true)]
+    pub parts: Vec<PathBuf>,
+    /// The merged image (.exr).
+    #[arg(long, value_name = "FILE.exr")]
+    pub out: PathBuf,
 }
 
 /// Arguments of `lumen tradeoff`.

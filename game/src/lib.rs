@@ -10,6 +10,7 @@ pub mod output;
 pub mod progress;
 pub mod scenes;
 pub mod setup;
+pub mod shard;
 
 /// The viewer's window, for scripts ([`view::show`]).
 pub use commands::view;

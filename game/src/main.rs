@@ -71,6 +71,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Some(Command::Convert(args)) => commands::convert::run(&args),
         Some(Command::Validate(args)) => commands::validate::run(&args),
+        Some(Command::Merge(args)) => commands::merge::run(&args),
         Some(Command::Tradeoff(mut args)) => {
             args.scene.resolve_builtin();
             commands::tradeoff::run(&args)
@@ -102,6 +103,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 explain: false,
                 frames: None,
                 fps: 30.0,
+                shard: None,
+                shards: None,
             })
             .map(|_| ())
         }

@@ -69,6 +69,12 @@ pub fn save_exr(path: &Path, image: &image::Rgba32FImage) -> Result<()> {
     save(path, &rgb, image::ImageFormat::OpenExr)
 }
 
+/// Writes a linear 32-bit float RGBA OpenEXR file, alpha included (a reference shard's
+/// part keeps its path counts there).
+pub fn save_exr_rgba(path: &Path, image: &image::Rgba32FImage) -> Result<()> {
+    save(path, image, image::ImageFormat::OpenExr)
+}
+
 /// Reads an OpenEXR (or any float-capable) image as 32-bit float RGBA.
 pub fn load_rgba32f(path: &Path) -> Result<image::Rgba32FImage> {
     let bytes = files::read(path, FileKind::Environment)?;

@@ -4,6 +4,7 @@
 
 pub mod bench;
 pub mod convert;
+pub mod merge;
 pub mod reference;
 pub mod render;
 pub mod tradeoff;

@@ -4,8 +4,10 @@ use crate::cli::ReferenceArgs;
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::Result;
 use lumen::App;
-use lumen::assets::image_io::{OutputFormat, save_exr, save_png};
-use lumen::reference::path::{ReferenceOptions, render, render_ambient_occlusion};
+use lumen::assets::image_io::{OutputFormat, save_exr, save_exr_rgba, save_png};
+use lumen::reference::path::{
+    Estimate, ReferenceOptions, Shard, render, render_ambient_occlusion, render_part,
+};
 use lumen::trace_input::trace_scene;
 use std::path::PathBuf;
 
@@ -30,7 +32,26 @@ pub fn warn_dropped(dropped: u64, options: &ReferenceOptions) {
     }
 }
 
-/// Builds the scene, path-traces it and writes the image. Returns the path written.
+/// What the image depends on besides the scene's file, as words: the sidecar's
+/// `settings`, which parts must share to merge.
+fn settings(args: &ReferenceArgs) -> String {
+    format!(
+        "{:?}; {}x{}; {} spp; {} bounce(s); seed {}; {:?} light visibility; light connections {}; occlusion {}; estimator {}",
+        args.scene,
+        args.size.0,
+        args.size.1,
+        args.spp,
+        args.max_bounces,
+        args.seed,
+        args.light_visibility,
+        !args.no_light_connections,
+        args.occlusion,
+        lumen::reference::path::ESTIMATOR
+    )
+}
+
+/// Builds the scene, path-traces it and writes the image (or, sharded, this shard's part
+/// and its sidecar). Returns the path written.
 pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     check_scene_args(&args.scene)?;
     let out = args
@@ -38,6 +59,51 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/{}-reference.exr", args.scene.label())));
     let format = OutputFormat::from_path(&out)?;
+    let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
+    let settings = settings(args);
+    let scene_hash = {
+        let file = args
+            .scene
+            .file
+            .as_ref()
+            .filter(|f| f.is_file())
+            .map(|f| std::fs::read(f).map_err(|e| anyhow::anyhow!("{}: {e}", f.display())))
+            .transpose()?
+            .unwrap_or_default();
+        let mut bytes = settings.clone().into_bytes();
+        bytes.extend(crate::shard::fnv1a64(&file).to_le_bytes());
+        format!("{:016x}", crate::shard::fnv1a64(&bytes))
+    };
+    if let Some(spec) = shard {
+        if format != OutputFormat::Exr {
+            anyhow::bail!(
+                "a shard writes a linear EXR part: give --out with .exr (not {})",
+                out.display()
+            );
+        }
+        let part = crate::shard::part_path(&out, spec.index, spec.count);
+        match crate::shard::check_part(&part) {
+            Ok(s)
+                if s.settings == settings
+                    && s.scene_hash == scene_hash
+                    && s.count == spec.count =>
+            {
+                crate::output::print(&format!(
+                    "shard {}/{} ({}): {} is already done ({} samples per pixel, {:.1} s): skipped\n",
+                    spec.index,
+                    spec.count,
+                    spec.source,
+                    part.display(),
+                    s.samples[1] - s.samples[0],
+                    s.seconds
+                ));
+                return Ok(part);
+            }
+            Ok(_) => log::warn!("{}: made with other settings: traced again", part.display()),
+            Err(e) if part.exists() => log::warn!("{e:#}: traced again"),
+            Err(_) => {}
+        }
+    }
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
@@ -58,6 +124,61 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(u64::from(rows));
+    if let Some(spec) = shard {
+        let estimate = if args.occlusion {
+            Estimate::Occlusion(radius_m)
+        } else {
+            Estimate::Radiance
+        };
+        let s = Shard {
+            index: spec.index,
+            count: spec.count,
+        };
+        let traced = render_part(&scene, &options, s, estimate, &progress);
+        bar.finish_and_clear();
+        warn_dropped(traced.dropped_samples, &options);
+        let part = crate::shard::part_path(&out, spec.index, spec.count);
+        save_exr_rgba(&part, &traced.image)?;
+        let samples = s.range(args.spp);
+        let sidecar = crate::shard::Sidecar {
+            schema: crate::shard::SIDECAR_SCHEMA.into(),
+            lumen_version: env!("CARGO_PKG_VERSION").into(),
+            scene: args.scene.label(),
+            settings,
+            scene_hash,
+            index: spec.index,
+            count: spec.count,
+            index_source: spec.source.into(),
+            samples: [samples.start, samples.end],
+            seed: args.seed,
+            seconds: start.elapsed().as_secs_f64(),
+            part: part
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            part_hash: format!("{:016x}", crate::shard::fnv1a64(&std::fs::read(&part)?)),
+        };
+        lumen::files::write_atomic(
+            &crate::shard::sidecar_path(&part),
+            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+        )?;
+        crate::output::print(&format!(
+            "path-traced shard {}/{} (index from {}) of {} at {}x{}: samples {}..{} of {}, seed {}: {:.1} s\nwrote {} and its sidecar\n",
+            spec.index,
+            spec.count,
+            spec.source,
+            args.scene.label(),
+            args.size.0,
+            args.size.1,
+            samples.start,
+            samples.end,
+            args.spp,
+            args.seed,
+            sidecar.seconds,
+            part.display()
+        ));
+        return Ok(part);
+    }
     let traced = if args.occlusion {
         render_ambient_occlusion(&scene, &options, radius_m, &progress)
     } else {

@@ -26,11 +26,38 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
         })?;
     check_scene_args(&args.scene)?;
     let mut written = pattern.clone();
-    for k in first..=last {
+    let mut frames = first..last + 1;
+    let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
+    if let Some(spec) = shard {
+        let share = lumen::reference::path::Shard {
+            index: spec.index,
+            count: spec.count,
+        }
+        .range(last - first + 1);
+        frames = first + share.start..first + share.end;
+        crate::output::print(&format!(
+            "shard {}/{} (index from {}): frames {}\n",
+            spec.index,
+            spec.count,
+            spec.source,
+            if frames.is_empty() {
+                "none".to_string()
+            } else {
+                format!("{}..{}", frames.start, frames.end - 1)
+            }
+        ));
+    }
+    for k in frames {
+        let path = frame_path(&pattern, k);
+        // A shard re-run after a failure redoes only the frames that are not whole.
+        if shard.is_some() && image::open(&path).is_ok() {
+            crate::output::print(&format!("frame {k}: {} exists: skipped\n", path.display()));
+            continue;
+        }
         let mut frame = args.clone();
         frame.frames = None;
         frame.scene.time = Some(k as f32 / args.fps);
-        frame.out = Some(frame_path(&pattern, k));
+        frame.out = Some(path);
         written = render_frame(&frame).with_context(|| format!("frame {k}"))?;
     }
     Ok(written)

@@ -1,0 +1,400 @@
+//! Splitting work across processes and machines: which shard this process is (`--shard
+//! I/N`, or the array index a batch engine puts in the environment), and the sidecar a
+//! shard writes beside its part so that `lumen merge` can check that parts belong
+//! together and are whole.
+
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The sidecar's schema name.
+pub const SIDECAR_SCHEMA: &str = "lumen-shard/1";
+
+/// This process's shard, and where its index came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShardSpec {
+    /// 0-based shard index.
+    pub index: u32,
+    /// Number of shards.
+    pub count: u32,
+    /// `--shard`, or the environment variable the index was read from.
+    pub source: &'static str,
+}
+
+/// Parses `I/N` (0 ≤ I < N ≤ 1 000 000).
+pub fn parse_shard(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or(format!("'{s}' is not I/N (e.g. 0/4)"))?;
+    let number = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{t}' in '{s}' is not a whole number"))
+    };
+    let (i, n) = (number(i)?, number(n)?);
+    if n == 0 || n > 1_000_000 {
+        return Err(format!("{n} shards: the count must be 1..=1000000"));
+    }
+    if i >= n {
+        return Err(format!(
+            "shard {i} of {n}: the index counts from 0 to {}",
+            n - 1
+        ));
+    }
+    Ok((i, n))
+}
+
+/// The environment variables that batch engines set for an array job's task, in the order
+/// they are tried: (index variable, count variable or `None` when the count comes from
+/// `--shards`, the variable of the first index when it may not be 0).
+const ENGINES: [(&str, Option<&str>, Option<&str>); 4] = [
+    (
+        "SLURM_ARRAY_TASK_ID",
+        Some("SLURM_ARRAY_TASK_COUNT"),
+        Some("SLURM_ARRAY_TASK_MIN"),
+    ),
+    ("JOB_COMPLETION_INDEX", None, None),
+    (
+        "AWS_BATCH_JOB_ARRAY_INDEX",
+        Some("AWS_BATCH_JOB_ARRAY_SIZE"),
+        None,
+    ),
+    ("HQ_TASK_ID", None, None),
+];
+
+/// This process's shard: `--shard` (`flag`) wins; otherwise the first batch engine's
+/// index found through `env` (Slurm's task ID less its minimum, with its task count;
+/// Kubernetes' `JOB_COMPLETION_INDEX` and HyperQueue's `HQ_TASK_ID` with `--shards`
+/// for the count; AWS Batch's array index and size). `None`: not sharded. An index that
+/// is not a number, no count, or an index past the count is an error naming the variable.
+pub fn resolve(
+    flag: Option<(u32, u32)>,
+    shards: Option<u32>,
+    env: &dyn Fn(&str) -> Option<String>,
+) -> Result<Option<ShardSpec>> {
+    if let Some((index, count)) = flag {
+        return Ok(Some(ShardSpec {
+            index,
+            count,
+            source: "--shard",
+        }));
+    }
+    for (variable, count_variable, min_variable) in ENGINES {
+        let Some(raw) = env(variable) else {
+            continue;
+        };
+        let number = |name: &str, v: &str| -> Result<u32> {
+            v.trim()
+                .parse::<u32>()
+                .with_context(|| format!("{name}={v:?} is not a whole number"))
+        };
+        let mut index = number(variable, &raw)?;
+        if let Some(min) = min_variable.and_then(|m| env(m).map(|v| (m, v))) {
+            let min = number(min.0, &min.1)?;
+            index = index
+                .checked_sub(min)
+                .with_context(|| format!("{variable}={raw} is below SLURM_ARRAY_TASK_MIN={min}"))?;
+        }
+        let count = match (count_variable.and_then(env), shards) {
+            (_, Some(n)) => n,
+            (Some(c), None) => number(count_variable.unwrap_or(variable), &c)?,
+            (None, None) => bail!(
+                "{variable}={raw} names this task, but not how many there are: give --shards N"
+            ),
+        };
+        if count == 0 || index >= count {
+            bail!("{variable}={raw} is shard {index}, but there are {count} shards");
+        }
+        return Ok(Some(ShardSpec {
+            index,
+            count,
+            source: variable,
+        }));
+    }
+    Ok(None)
+}
+
+/// The process environment, as [`resolve`] reads it.
+pub fn process_env(name: &str) -> Option<String> {
+    std::env::var(name).ok().filter(|v| !v.is_empty())
+}
+
+/// The 64-bit FNV-1a hash of `bytes` (Fowler, Noll, Vo): stable across machines and
+/// builds, so parts hashed on different nodes compare. A checksum against truncation and
+/// corruption, not a cryptographic hash.
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// What a shard writes beside its part (`<part>.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sidecar {
+    /// [`SIDECAR_SCHEMA`].
+    pub schema: String,
+    /// The `lumen` version that wrote it.
+    pub lumen_version: String,
+    /// The scene's name (a built-in scene, or the file's stem).
+    pub scene: String,
+    /// What was rendered and how (scene options, size, samples, seed, …), as words.
+    pub settings: String,
+    /// FNV-1a of `settings` and the scene file's bytes, in hex: parts merge only with
+    /// the same hash.
+    pub scene_hash: String,
+    /// The shard index (from 0).
+    pub index: u32,
+    /// The number of shards.
+    pub count: u32,
+    /// Where the index came from (`--shard` or an environment variable).
+    pub index_source: String,
+    /// The sample indices traced, `[first, end)`.
+    pub samples: [u32; 2],
+    /// The random seed.
+    pub seed: u64,
+    /// Wall time the shard took (s).
+    pub seconds: f64,
+    /// The part's file name (beside the sidecar).
+    pub part: String,
+    /// FNV-1a of the part's bytes, in hex.
+    pub part_hash: String,
+}
+
+/// Where shard `index` of `count` writes its part for the output `out`:
+/// `<stem>.shard-<index>-of-<count>.<ext>` beside it.
+pub fn part_path(out: &Path, index: u32, count: u32) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map_or_else(|| "part".into(), |s| s.to_string_lossy().into_owned());
+    let ext = out
+        .extension()
+        .map_or_else(|| "exr".into(), |e| e.to_string_lossy().into_owned());
+    out.with_file_name(format!("{stem}.shard-{index}-of-{count}.{ext}"))
+}
+
+/// The sidecar path of a part.
+pub fn sidecar_path(part: &Path) -> PathBuf {
+    let mut name = part.as_os_str().to_owned();
+    name.push(".json");
+    PathBuf::from(name)
+}
+
+/// Reads the sidecar of `part` and checks the part against it: an error naming the part
+/// when the sidecar is missing or unreadable, or when the part's bytes are not the ones
+/// the sidecar hashed (truncated or corrupt).
+pub fn check_part(part: &Path) -> Result<Sidecar> {
+    let side = sidecar_path(part);
+    let text = std::fs::read_to_string(&side)
+        .with_context(|| format!("{}: no readable sidecar {}", part.display(), side.display()))?;
+    let sidecar: Sidecar = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{}: its sidecar {} is not valid",
+            part.display(),
+            side.display()
+        )
+    })?;
+    if sidecar.schema != SIDECAR_SCHEMA {
+        bail!(
+            "{}: sidecar schema '{}', this lumen reads '{SIDECAR_SCHEMA}'",
+            part.display(),
+            sidecar.schema
+        );
+    }
+    let bytes =
+        std::fs::read(part).with_context(|| format!("{}: cannot be read", part.display()))?;
+    let hash = format!("{:016x}", fnv1a64(&bytes));
+    if hash != sidecar.part_hash {
+        bail!(
+            "{}: truncated or corrupt ({} bytes, checksum {hash}; its sidecar says {})",
+            part.display(),
+            bytes.len(),
+            sidecar.part_hash
+        );
+    }
+    Ok(sidecar)
+}
+
+/// The first item (between `, ` and `; `) where two settings strings differ.
+fn first_difference<'a>(a: &'a str, b: &'a str) -> (&'a str, &'a str) {
+    let items = |s: &'a str| s.split([';', ',']).map(str::trim);
+    items(a)
+        .zip(items(b))
+        .find(|(x, y)| x != y)
+        .unwrap_or((a, b))
+}
+
+/// Checks that `parts` (with their sidecars) are every shard of one render: the same
+/// version, scene hash and settings, one count, no index twice and none missing. Errors
+/// name the part (or the missing indices).
+pub fn check_together(parts: &[(PathBuf, Sidecar)]) -> Result<()> {
+    let Some((first_path, first)) = parts.first() else {
+        bail!("no parts to merge");
+    };
+    let mut seen: Vec<Option<&Path>> = vec![None; first.count as usize];
+    for (path, s) in parts {
+        let differs = if s.lumen_version != first.lumen_version {
+            Some(format!(
+                "written by lumen {} but {} by {}",
+                s.lumen_version,
+                first_path.display(),
+                first.lumen_version
+            ))
+        } else if s.scene != first.scene {
+            Some(format!(
+                "a part of scene '{}', {} of '{}'",
+                s.scene,
+                first_path.display(),
+                first.scene
+            ))
+        } else if s.scene_hash != first.scene_hash && s.settings == first.settings {
+            Some(format!(
+                "scene '{}' from another file than {} (hash {} against {})",
+                s.scene,
+                first_path.display(),
+                s.scene_hash,
+                first.scene_hash
+            ))
+        } else if s.settings != first.settings {
+            let (mine, theirs) = first_difference(&s.settings, &first.settings);
+            Some(format!(
+                "other settings than {} ({mine} against {theirs})",
+                first_path.display(),
+            ))
+        } else if s.count != first.count {
+            Some(format!(
+                "one of {} shards, {} one of {}",
+                s.count,
+                first_path.display(),
+                first.count
+            ))
+        } else {
+            None
+        };
+        if let Some(why) = differs {
+            bail!("{}: {why}", path.display());
+        }
+        match seen.get_mut(s.index as usize) {
+            Some(Some(other)) => bail!(
+                "{}: shard {}/{} twice (also {})",
+                path.display(),
+                s.index,
+                s.count,
+                other.display()
+            ),
+            Some(slot) => *slot = Some(path),
+            None => bail!("{}: shard {} of {}", path.display(), s.index, s.count),
+        }
+    }
+    let missing: Vec<String> = seen
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.is_none())
+        .map(|(i, _)| i.to_string())
+        .collect();
+    if !missing.is_empty() {
+        bail!(
+            "missing shard(s) {} of {} (have {})",
+            missing.join(", "),
+            first.count,
+            parts.len()
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_parse_and_refuse_bad_forms() {
+        assert_eq!(parse_shard("0/4"), Ok((0, 4)));
+        assert_eq!(parse_shard("3/4"), Ok((3, 4)));
+        assert!(parse_shard("4/4").unwrap_err().contains("from 0 to 3"));
+        assert!(parse_shard("1/0").unwrap_err().contains("1..=1000000"));
+        assert!(parse_shard("1-4").unwrap_err().contains("I/N"));
+        assert!(parse_shard("a/4").unwrap_err().contains("'a'"));
+    }
+
+    #[test]
+    fn the_index_comes_from_each_engine() {
+        let env = |pairs: &'static [(&'static str, &'static str)]| {
+            move |name: &str| {
+                pairs
+                    .iter()
+                    .find(|(k, _)| *k == name)
+                    .map(|(_, v)| v.to_string())
+            }
+        };
+        let slurm = env(&[
+            ("SLURM_ARRAY_TASK_ID", "6"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "4"),
+        ]);
+        let got = resolve(None, None, &slurm).unwrap().unwrap();
+        assert_eq!(
+            (got.index, got.count, got.source),
+            (2, 4, "SLURM_ARRAY_TASK_ID")
+        );
+        let k8s = env(&[("JOB_COMPLETION_INDEX", "3")]);
+        let got = resolve(None, Some(5), &k8s).unwrap().unwrap();
+        assert_eq!(
+            (got.index, got.count, got.source),
+            (3, 5, "JOB_COMPLETION_INDEX")
+        );
+        assert!(
+            resolve(None, None, &k8s)
+                .unwrap_err()
+                .to_string()
+                .contains("--shards N")
+        );
+        let aws = env(&[
+            ("AWS_BATCH_JOB_ARRAY_INDEX", "1"),
+            ("AWS_BATCH_JOB_ARRAY_SIZE", "2"),
+        ]);
+        let got = resolve(None, None, &aws).unwrap().unwrap();
+        assert_eq!((got.index, got.count), (1, 2));
+        let hq = env(&[("HQ_TASK_ID", "7")]);
+        let got = resolve(None, Some(8), &hq).unwrap().unwrap();
+        assert_eq!((got.index, got.source), (7, "HQ_TASK_ID"));
+        assert!(
+            resolve(None, Some(4), &hq)
+                .unwrap_err()
+                .to_string()
+                .contains("there are 4")
+        );
+        // The flag wins over the environment; nothing set is no shard.
+        let got = resolve(Some((0, 2)), None, &slurm).unwrap().unwrap();
+        assert_eq!(got.source, "--shard");
+        assert_eq!(resolve(None, None, &env(&[])).unwrap(), None);
+        let bad = env(&[("HQ_TASK_ID", "x")]);
+        assert!(
+            resolve(None, Some(2), &bad)
+                .unwrap_err()
+                .to_string()
+                .contains("HQ_TASK_ID")
+        );
+    }
+
+    #[test]
+    fn fnv_matches_its_published_vectors() {
+        assert_eq!(fnv1a64(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a64(b"a"), 0xaf63_dc4c_8601_ec8c);
+        assert_eq!(fnv1a64(b"foobar"), 0x8594_4171_f739_67e8);
+    }
+
+    #[test]
+    fn the_first_differing_setting_is_named() {
+        assert_eq!(
+            first_difference("a 1; 8 spp; seed 4", "a 1; 8 spp; seed 3"),
+            ("seed 4", "seed 3")
+        );
+    }
+
+    #[test]
+    fn part_names_carry_the_shard() {
+        let p = part_path(Path::new("out/ref.exr"), 2, 4);
+        assert_eq!(p, Path::new("out/ref.shard-2-of-4.exr"));
+        assert_eq!(sidecar_path(&p), Path::new("out/ref.shard-2-of-4.exr.json"));
+    }
+}

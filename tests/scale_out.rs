@@ -1,0 +1,260 @@
+//! Scale-out: a reference split into shards and merged equals the single-process render;
+//! parts that do not belong together are refused by name; a shard whose part exists is
+//! skipped and a truncated part is found; the shard index comes from a batch engine's
+//! environment; a sequence split three ways holds the frames of the whole one.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A small, quick reference: 48×32, 8 paths per pixel, 2 bounces.
+const REFERENCE: [&str; 9] = [
+    "reference",
+    "spheres",
+    "--size",
+    "48x32",
+    "--spp",
+    "8",
+    "--max-bounces",
+    "2",
+    "--seed=3",
+];
+
+fn lumen(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_lumen"));
+    command.args(args).current_dir(dir);
+    for var in [
+        "SLURM_ARRAY_TASK_ID",
+        "SLURM_ARRAY_TASK_COUNT",
+        "SLURM_ARRAY_TASK_MIN",
+        "JOB_COMPLETION_INDEX",
+        "AWS_BATCH_JOB_ARRAY_INDEX",
+        "AWS_BATCH_JOB_ARRAY_SIZE",
+        "HQ_TASK_ID",
+    ] {
+        command.env_remove(var);
+    }
+    command.envs(env.iter().copied());
+    command.output().expect("lumen runs")
+}
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn reference(dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> Output {
+    let args: Vec<&str> = REFERENCE
+        .iter()
+        .copied()
+        .chain(extra.iter().copied())
+        .collect();
+    lumen(dir, &args, env)
+}
+
+fn part(dir: &Path, i: u32) -> PathBuf {
+    dir.join(format!("ref.shard-{i}-of-4.exr"))
+}
+
+fn merge(dir: &Path, parts: &[PathBuf]) -> Output {
+    let mut args: Vec<String> = vec!["merge".into()];
+    args.extend(parts.iter().map(|p| p.to_string_lossy().into_owned()));
+    args.extend(["--out".into(), "merged.exr".into()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    lumen(dir, &args, &[])
+}
+
+fn load(path: &Path) -> image::Rgba32FImage {
+    lumen::assets::image_io::load_rgba32f(path).expect("an EXR")
+}
+
+#[test]
+fn four_shards_merge_into_the_single_render_and_bad_parts_are_named() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    ok(&reference(d, &["--out", "full.exr"], &[]));
+    for i in 0..4 {
+        let shard = format!("{i}/4");
+        let text = ok(&reference(d, &["--shard", &shard, "--out", "ref.exr"], &[]));
+        assert!(
+            text.contains(&format!("samples {}..{}", i * 2, i * 2 + 2)),
+            "{text}"
+        );
+    }
+    let parts: Vec<PathBuf> = (0..4).map(|i| part(d, i)).collect();
+    let text = ok(&merge(d, &parts));
+    println!("{text}");
+    assert!(text.contains("8.0 effective samples per pixel"), "{text}");
+    let (full, merged) = (load(&d.join("full.exr")), load(&d.join("merged.exr")));
+    assert_eq!(full.dimensions(), merged.dimensions());
+    // Each part stores its mean as f32: the merge differs from the single render by that
+    // rounding at most (a few units in the last place).
+    let (mut worst, mut identical) = (0.0f32, 0usize);
+    for (a, b) in full.pixels().zip(merged.pixels()) {
+        for c in 0..3 {
+            let e = (a.0[c] - b.0[c]).abs() / a.0[c].abs().max(1e-6);
+            worst = worst.max(e);
+        }
+        identical += usize::from(a == b);
+    }
+    println!(
+        "merge against the single render: worst relative difference {worst:.2e}, {identical} of {} pixels bit-identical",
+        full.pixels().len()
+    );
+    assert!(worst <= 1e-6, "{worst}");
+
+    // Parts that do not belong together: each a one-line error naming the part.
+    let refuse = |out: Output, needle: &str| common::assert_clean_failure(&out, needle);
+    refuse(merge(d, &parts[..3]), "missing shard(s) 3 of 4");
+    refuse(
+        merge(
+            d,
+            &[
+                parts[0].clone(),
+                parts[1].clone(),
+                parts[1].clone(),
+                parts[3].clone(),
+            ],
+        ),
+        "twice",
+    );
+    let other = d.join("other");
+    std::fs::create_dir_all(&other).expect("dir");
+    let mut seeded: Vec<&str> = REFERENCE[..8].to_vec();
+    seeded.extend(["--seed=4", "--shard", "2/4", "--out", "other/ref.exr"]);
+    ok(&lumen(d, &seeded, &[]));
+    let mut mixed = parts.clone();
+    mixed[2] = other.join("ref.shard-2-of-4.exr");
+    refuse(merge(d, &mixed), "other settings");
+    let args = [
+        "reference",
+        "furnace",
+        "--size",
+        "48x32",
+        "--spp",
+        "8",
+        "--max-bounces",
+        "2",
+        "--seed=3",
+        "--shard",
+        "2/4",
+        "--out",
+        "other/ref.exr",
+    ];
+    ok(&lumen(d, &args, &[]));
+    refuse(merge(d, &mixed), "a part of scene 'furnace'");
+
+    // Resuming: a part that exists is skipped; a truncated one is found, then redone.
+    let again = ok(&reference(d, &["--shard", "1/4", "--out", "ref.exr"], &[]));
+    assert!(again.contains("skipped"), "{again}");
+    let bytes = std::fs::read(&parts[1]).expect("part");
+    std::fs::write(&parts[1], &bytes[..bytes.len() / 2]).expect("truncate");
+    refuse(merge(d, &parts), "truncated or corrupt");
+    let redone = ok(&reference(d, &["--shard", "1/4", "--out", "ref.exr"], &[]));
+    assert!(!redone.contains("skipped"), "{redone}");
+    ok(&merge(d, &parts));
+}
+
+#[test]
+fn the_shard_index_comes_from_the_batch_engine() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    /// The environment, the extra arguments, and the variable the index must come from.
+    type Case<'a> = (&'a [(&'a str, &'a str)], &'a [&'a str], &'a str);
+    let cases: [Case; 4] = [
+        (
+            &[
+                ("SLURM_ARRAY_TASK_ID", "5"),
+                ("SLURM_ARRAY_TASK_COUNT", "4"),
+                ("SLURM_ARRAY_TASK_MIN", "3"),
+            ],
+            &[],
+            "SLURM_ARRAY_TASK_ID",
+        ),
+        (
+            &[("JOB_COMPLETION_INDEX", "2")],
+            &["--shards", "4"],
+            "JOB_COMPLETION_INDEX",
+        ),
+        (
+            &[
+                ("AWS_BATCH_JOB_ARRAY_INDEX", "2"),
+                ("AWS_BATCH_JOB_ARRAY_SIZE", "4"),
+            ],
+            &[],
+            "AWS_BATCH_JOB_ARRAY_INDEX",
+        ),
+        (&[("HQ_TASK_ID", "2")], &["--shards", "4"], "HQ_TASK_ID"),
+    ];
+    for (env, extra, source) in cases {
+        let _ = std::fs::remove_file(part(d, 2));
+        let args: Vec<&str> = ["--out", "ref.exr"].iter().chain(extra).copied().collect();
+        let text = ok(&reference(d, &args, env));
+        assert!(
+            text.contains(&format!("shard 2/4 (index from {source})")),
+            "{text}"
+        );
+        let sidecar: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(d.join("ref.shard-2-of-4.exr.json")).expect("sidecar"),
+        )
+        .expect("json");
+        assert_eq!(sidecar["index_source"], source);
+        assert_eq!(sidecar["index"], 2);
+        assert_eq!(sidecar["samples"], serde_json::json!([4, 6]));
+    }
+    // An index without a count is refused, naming the variable.
+    let out = reference(d, &["--out", "ref.exr"], &[("HQ_TASK_ID", "1")]);
+    common::assert_clean_failure(&out, "HQ_TASK_ID");
+}
+
+#[test]
+fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    // Fox.glb (CC BY 4.0, see assets/README.md), posed at k / 10 s of its first clip.
+    let fox = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models/Fox.glb");
+    let file = fox.to_str().expect("utf-8");
+    let render = |out: &str, shard: Option<&str>| {
+        let mut args = vec![
+            "render", file, "--size", "32x24", "--frames", "0..4", "--fps", "10", "--out", out,
+        ];
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        ok(&lumen(d, &args, &[]))
+    };
+    render("whole/f-##.png", None);
+    for s in ["0/3", "1/3", "2/3"] {
+        render("split/f-##.png", Some(s));
+    }
+    let names = |sub: &str| {
+        let mut v: Vec<String> = std::fs::read_dir(d.join(sub))
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(
+        names("whole"),
+        ["f-00.png", "f-01.png", "f-02.png", "f-03.png", "f-04.png"]
+    );
+    assert_eq!(names("split"), names("whole"));
+    for n in names("whole") {
+        let a = image::open(d.join("whole").join(&n))
+            .expect("png")
+            .to_rgba8();
+        let b = image::open(d.join("split").join(&n))
+            .expect("png")
+            .to_rgba8();
+        assert!(
+            a == b,
+            "{n} differs between the whole and the split sequence"
+        );
+    }
+}
