@@ -205,7 +205,7 @@ fn the_shard_index_comes_from_the_batch_engine() {
         .expect("json");
         assert_eq!(sidecar["index_source"], source);
         assert_eq!(sidecar["index"], 2);
-        assert_eq!(sidecar["samples"], serde_json::json!([4, 6]));
+        assert_eq!(sidecar["share"], serde_json::json!([4, 6]));
     }
     // An index without a count is refused, naming the variable.
     let out = reference(d, &["--out", "ref.exr"], &[("HQ_TASK_ID", "1")]);
@@ -257,4 +257,53 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
             "{n} differs between the whole and the split sequence"
         );
     }
+}
+
+#[test]
+fn tradeoff_shards_join_into_the_rows_of_the_whole() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    let args = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = vec![
+            "tradeoff", "spheres", "--size", "32x18", "--spp", "4", "--frames", "1", "--only",
+            "preset",
+        ];
+        v.extend(extra);
+        v
+    };
+    ok(&lumen(d, &args(&["--json", "whole.json"]), &[]));
+    for s in ["0/2", "1/2"] {
+        let text = ok(&lumen(d, &args(&["--shard", s, "--json", "t.json"]), &[]));
+        assert!(text.contains("tradeoff shard"), "{text}");
+    }
+    let parts = [d.join("t.shard-0-of-2.json"), d.join("t.shard-1-of-2.json")];
+    let mut merge_args: Vec<String> = vec!["merge".into()];
+    merge_args.extend(parts.iter().rev().map(|p| p.display().to_string()));
+    merge_args.extend(["--out".into(), "joined.json".into()]);
+    let merge_args: Vec<&str> = merge_args.iter().map(String::as_str).collect();
+    ok(&lumen(d, &merge_args, &[]));
+    let read = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join(name)).expect("json")).expect("json")
+    };
+    let (whole, joined) = (read("whole.json"), read("joined.json"));
+    let key = |doc: &serde_json::Value| -> Vec<(String, String, f64)> {
+        doc["rows"]
+            .as_array()
+            .expect("rows")
+            .iter()
+            .map(|r| {
+                (
+                    r["kind"].as_str().unwrap_or_default().to_string(),
+                    r["setting"].as_str().unwrap_or_default().to_string(),
+                    r["flip_mean"].as_f64().unwrap_or(f64::NAN),
+                )
+            })
+            .collect()
+    };
+    println!("rows: {:?}", key(&joined));
+    assert!(key(&whole).len() >= 3);
+    // The same rows in the same order, with the same errors (the times are measured anew).
+    assert_eq!(key(&joined), key(&whole));
+    assert_eq!(joined["schema"], "lumen-tradeoff/1");
+    assert!(joined.get("shard").is_none());
 }

@@ -526,11 +526,13 @@ pub struct ReferenceArgs {
 /// Arguments of `lumen merge`.
 #[derive(Args, Debug, Clone)]
 pub struct MergeArgs {
-    /// The parts (`*.shard-I-of-N.exr`, each with its `.json` sidecar beside it).
+    /// The parts: a reference's `*.shard-I-of-N.exr` or a tradeoff's
+    /// `*.shard-I-of-N.json`, each with its `.json` sidecar beside it.
     #[arg(value_name = "PART", required = true)]
     pub parts: Vec<PathBuf>,
-    /// The merged image (.exr).
-    #[arg(long, value_name = "FILE.exr")]
+    /// The merged image (.exr) or, for tradeoff parts, the merged rows (.json, schema
+    /// lumen-tradeoff/1; the Markdown table is printed).
+    #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
 }
 
@@ -573,6 +575,15 @@ pub struct TradeoffArgs {
     /// table's first column names, `preset` for the presets).
     #[arg(long, value_name = "KNOB", allow_hyphen_values = true)]
     pub only: Vec<String>,
+    /// Measure only shard I of N (from 0) of the rows, into a part beside `--json F`
+    /// (`<stem>.shard-I-of-N.json` and its sidecar) that `lumen merge` joins with the
+    /// others. Without it, an array job's index is read from the environment (as for
+    /// `reference`).
+    #[arg(long, value_name = "I/N", value_parser = crate::shard::parse_shard, conflicts_with = "decompose")]
+    pub shard: Option<(u32, u32)>,
+    /// The number of shards where the environment gives only the index.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=1_000_000), conflicts_with = "decompose")]
+    pub shards: Option<u32>,
 }
 
 /// Arguments of `lumen view`.

@@ -133,6 +133,8 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 pub struct Sidecar {
     /// [`SIDECAR_SCHEMA`].
     pub schema: String,
+    /// What the part holds: `reference` (an EXR) or `tradeoff` (JSON rows).
+    pub kind: String,
     /// The `lumen` version that wrote it.
     pub lumen_version: String,
     /// The scene's name (a built-in scene, or the file's stem).
@@ -148,8 +150,9 @@ pub struct Sidecar {
     pub count: u32,
     /// Where the index came from (`--shard` or an environment variable).
     pub index_source: String,
-    /// The sample indices traced, `[first, end)`.
-    pub samples: [u32; 2],
+    /// The share of the work the shard did, `[first, end)`: sample indices per pixel (a
+    /// reference) or rows (a tradeoff).
+    pub share: [u32; 2],
     /// The random seed.
     pub seed: u64,
     /// Wall time the shard took (s).
@@ -232,7 +235,14 @@ pub fn check_together(parts: &[(PathBuf, Sidecar)]) -> Result<()> {
     };
     let mut seen: Vec<Option<&Path>> = vec![None; first.count as usize];
     for (path, s) in parts {
-        let differs = if s.lumen_version != first.lumen_version {
+        let differs = if s.kind != first.kind {
+            Some(format!(
+                "a {} part, {} a {} part",
+                s.kind,
+                first_path.display(),
+                first.kind
+            ))
+        } else if s.lumen_version != first.lumen_version {
             Some(format!(
                 "written by lumen {} but {} by {}",
                 s.lumen_version,

@@ -1,7 +1,8 @@
-//! `lumen merge`: the parts of a sharded reference, checked and combined into one image.
+//! `lumen merge`: the parts of a sharded reference (combined into one image) or of a
+//! sharded tradeoff (its rows joined in order), checked first.
 
 use crate::cli::MergeArgs;
-use crate::shard::{check_part, check_together};
+use crate::shard::{Sidecar, check_part, check_together};
 use anyhow::{Context, Result, bail};
 use lumen::assets::image_io::{OutputFormat, load_rgba32f, save_exr};
 use lumen::reference::path::merge_parts;
@@ -10,14 +11,17 @@ use lumen::reference::path::merge_parts;
 /// render, merges them weighted by their path counts, writes the image and reports the
 /// effective samples per pixel and the noise estimated from the spread between parts.
 pub fn run(args: &MergeArgs) -> Result<()> {
-    if OutputFormat::from_path(&args.out)? != OutputFormat::Exr {
-        bail!("the merged image is a linear EXR: give --out with .exr");
-    }
     let mut checked = Vec::with_capacity(args.parts.len());
     for part in &args.parts {
         checked.push((part.clone(), check_part(part)?));
     }
     check_together(&checked)?;
+    if checked[0].1.kind == "tradeoff" {
+        return merge_tradeoff(args, &mut checked);
+    }
+    if OutputFormat::from_path(&args.out)? != OutputFormat::Exr {
+        bail!("the merged image is a linear EXR: give --out with .exr");
+    }
     let images = checked
         .iter()
         .map(|(path, _)| load_rgba32f(path).with_context(|| format!("{}", path.display())))
@@ -59,5 +63,69 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         args.out.display()
     ));
     log::info!("merged parts of: {}", first.settings);
+    Ok(())
+}
+
+/// Joins the rows of tradeoff parts in shard order into one document (schema
+/// lumen-tradeoff/1) at `--out`, and prints its table. Parts measured on different
+/// adapters are joined with a warning: their times do not compare.
+fn merge_tradeoff(args: &MergeArgs, checked: &mut [(std::path::PathBuf, Sidecar)]) -> Result<()> {
+    if !args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        bail!("merged tradeoff rows are JSON: give --out with .json");
+    }
+    checked.sort_by_key(|(_, s)| s.index);
+    let mut merged: Option<serde_json::Value> = None;
+    let mut rows = Vec::new();
+    for (path, _) in checked.iter() {
+        let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+        let doc: serde_json::Value =
+            serde_json::from_str(&text).with_context(|| format!("{}: not JSON", path.display()))?;
+        rows.extend(
+            doc["rows"]
+                .as_array()
+                .with_context(|| format!("{}: no rows", path.display()))?
+                .iter()
+                .cloned(),
+        );
+        if let Some(first) = &merged
+            && first["adapter"] != doc["adapter"]
+        {
+            log::warn!(
+                "{}: measured on {} but the first part on {}: their times do not compare",
+                path.display(),
+                doc["adapter"],
+                first["adapter"]
+            );
+        }
+        merged.get_or_insert(doc);
+    }
+    let mut doc = merged.context("no parts to merge")?;
+    let expected = doc["rows_of"].as_u64().unwrap_or(rows.len() as u64);
+    if rows.len() as u64 != expected {
+        bail!(
+            "the parts hold {} rows, the tradeoff has {expected}",
+            rows.len()
+        );
+    }
+    let title = doc["title"].as_str().unwrap_or_default().to_string();
+    if let Some(map) = doc.as_object_mut() {
+        for key in ["shard", "rows_of", "title"] {
+            map.remove(key);
+        }
+    }
+    doc["rows"] = serde_json::Value::Array(rows);
+    let table =
+        crate::commands::tradeoff::markdown(&title, &crate::commands::tradeoff::rows_of(&doc)?);
+    crate::output::print(&table);
+    lumen::files::write_atomic(&args.out, serde_json::to_string_pretty(&doc)?.as_bytes())?;
+    crate::output::print(&format!(
+        "merged {} tradeoff shards, {expected} rows\nwrote {}\n",
+        checked.len(),
+        args.out.display()
+    ));
     Ok(())
 }

@@ -94,7 +94,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
                     spec.count,
                     spec.source,
                     part.display(),
-                    s.samples[1] - s.samples[0],
+                    s.share[1] - s.share[0],
                     s.seconds
                 ));
                 return Ok(part);
@@ -142,6 +142,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         let samples = s.range(args.spp);
         let sidecar = crate::shard::Sidecar {
             schema: crate::shard::SIDECAR_SCHEMA.into(),
+            kind: "reference".into(),
             lumen_version: env!("CARGO_PKG_VERSION").into(),
             scene: args.scene.label(),
             settings,
@@ -149,7 +150,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
             index: spec.index,
             count: spec.count,
             index_source: spec.source.into(),
-            samples: [samples.start, samples.end],
+            share: [samples.start, samples.end],
             seed: args.seed,
             seconds: start.elapsed().as_secs_f64(),
             part: part

@@ -355,6 +355,55 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
             ));
         }
     }
+    let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
+    let total_rows = configs.len() as u32;
+    let settings = format!(
+        "{:?}; {}x{}; {} spp; {} frames; judge {:?}; only {:?}",
+        args.scene,
+        args.size.0,
+        args.size.1,
+        args.spp,
+        args.frames,
+        args.against_accumulated,
+        args.only
+    );
+    let part =
+        match shard {
+            Some(spec) => {
+                let json = args.json.as_ref().filter(|p| p.as_os_str() != "-").with_context(|| {
+                "a tradeoff shard writes its rows as a part beside --json FILE: give --json"
+            })?;
+                let part = crate::shard::part_path(json, spec.index, spec.count);
+                if let Ok(s) = crate::shard::check_part(&part)
+                    && s.settings == settings
+                    && s.count == spec.count
+                {
+                    crate::output::print(&format!(
+                        "shard {}/{} ({}): {} is already done (rows {}..{}): skipped\n",
+                        spec.index,
+                        spec.count,
+                        spec.source,
+                        part.display(),
+                        s.share[0],
+                        s.share[1]
+                    ));
+                    return Ok(());
+                }
+                let share = lumen::reference::path::Shard {
+                    index: spec.index,
+                    count: spec.count,
+                }
+                .range(total_rows);
+                configs = configs
+                    .into_iter()
+                    .skip(share.start as usize)
+                    .take(share.len())
+                    .collect();
+                Some((spec, part, share))
+            }
+            None => None,
+        };
+    let start = std::time::Instant::now();
     let progress = crate::progress::bar(configs.len() as u64, "tradeoff", "configurations");
     let mut rows = Vec::new();
     let mut adapter = None;
@@ -393,7 +442,15 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         progress.inc(1);
     }
     progress.finish_and_clear();
-    let adapter = adapter.context("no adapter")?;
+    let adapter = match (adapter, &part) {
+        (Some(a), _) => a,
+        // A shard with no row still names its adapter.
+        (None, Some(_)) => {
+            let app = App::headless()?;
+            app.adapter().cloned().context("no adapter")?
+        }
+        (None, None) => anyhow::bail!("no adapter"),
+    };
     let title = match args.against_accumulated {
         Some(n) => format!(
             "{} {}x{}, judged against {n} jittered renders of high (--aa none --accumulate {n}), on {} ({})",
@@ -416,32 +473,109 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     };
     let table = markdown(&title, &rows);
     crate::output::print(&table);
+    if let Some((spec, path, share)) = &part {
+        let mut doc = rows_document(args, &adapter, cached, &rows);
+        doc["title"] = json!(title);
+        doc["shard"] = json!({"index": spec.index, "count": spec.count, "source": spec.source});
+        doc["rows_of"] = json!(total_rows);
+        write_json(path, &doc)?;
+        let sidecar = crate::shard::Sidecar {
+            schema: crate::shard::SIDECAR_SCHEMA.into(),
+            kind: "tradeoff".into(),
+            lumen_version: env!("CARGO_PKG_VERSION").into(),
+            scene: args.scene.label(),
+            scene_hash: format!("{:016x}", crate::shard::fnv1a64(settings.as_bytes())),
+            settings,
+            index: spec.index,
+            count: spec.count,
+            index_source: spec.source.into(),
+            share: [share.start, share.end],
+            seed: 0,
+            seconds: start.elapsed().as_secs_f64(),
+            part: path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            part_hash: format!("{:016x}", crate::shard::fnv1a64(&std::fs::read(path)?)),
+        };
+        lumen::files::write_atomic(
+            &crate::shard::sidecar_path(path),
+            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+        )?;
+        crate::output::print(&format!(
+            "tradeoff shard {}/{} (index from {}): rows {}..{} of {total_rows}\nwrote {} and its sidecar\n",
+            spec.index,
+            spec.count,
+            spec.source,
+            share.start,
+            share.end,
+            path.display()
+        ));
+        return Ok(());
+    }
     if let Some(path) = &args.out {
         crate::output::write_text(path, &table)?;
     }
     if let Some(path) = &args.json {
-        let doc = json!({
-            "schema": "lumen-tradeoff/1",
-            "scene": args.scene.label(),
-            "size": format!("{}x{}", args.size.0, args.size.1),
-            "adapter": {"name": adapter.name, "backend": adapter.backend, "driver": adapter.driver},
-            "frames": args.frames,
-            "reference": match args.against_accumulated {
-                Some(n) => json!({"accumulated_renders": n, "quality": "high", "aa": "none"}),
-                None => json!({"spp": args.spp, "max_bounces": REFERENCE_BOUNCES, "cached": cached,
-                               "visibility": "smith-correlated", "energy_compensation": true}),
-            },
-            "rows": rows.iter().map(|r| json!({
-                "kind": r.kind, "setting": r.setting, "frame_ms": r.frame_ms, "gpu_ms": r.gpu_ms,
-                "flip_mean": r.flip_mean, "psnr_db": r.psnr_db, "relative_mse": r.relative_mse,
-            })).collect::<Vec<_>>(),
-        });
-        write_json(path, &doc)?;
+        write_json(path, &rows_document(args, &adapter, cached, &rows))?;
     }
     if let Some(path) = &args.plot {
         plot(path, &title, &rows)?;
     }
     Ok(())
+}
+
+/// The rows as JSON (schema lumen-tradeoff/1), with the scene, size, adapter and judge.
+fn rows_document(
+    args: &TradeoffArgs,
+    adapter: &lumen::render::device::AdapterSummary,
+    cached: bool,
+    rows: &[Row],
+) -> serde_json::Value {
+    json!({
+        "schema": "lumen-tradeoff/1",
+        "scene": args.scene.label(),
+        "size": format!("{}x{}", args.size.0, args.size.1),
+        "adapter": {"name": adapter.name, "backend": adapter.backend, "driver": adapter.driver},
+        "frames": args.frames,
+        "reference": match args.against_accumulated {
+            Some(n) => json!({"accumulated_renders": n, "quality": "high", "aa": "none"}),
+            None => json!({"spp": args.spp, "max_bounces": REFERENCE_BOUNCES, "cached": cached,
+                           "visibility": "smith-correlated", "energy_compensation": true}),
+        },
+        "rows": rows.iter().map(|r| json!({
+            "kind": r.kind, "setting": r.setting, "frame_ms": r.frame_ms, "gpu_ms": r.gpu_ms,
+            "flip_mean": r.flip_mean, "psnr_db": r.psnr_db, "relative_mse": r.relative_mse,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// The rows of a tradeoff document (schema lumen-tradeoff/1), as [`markdown`] takes
+/// them; an error naming what is missing.
+pub fn rows_of(doc: &serde_json::Value) -> Result<Vec<Row>> {
+    let rows = doc["rows"].as_array().context("no \"rows\" array")?;
+    rows.iter()
+        .map(|r| {
+            let text = |k: &str| {
+                r[k].as_str()
+                    .map(str::to_string)
+                    .with_context(|| format!("a row without \"{k}\""))
+            };
+            let number = |k: &str| {
+                r[k].as_f64()
+                    .with_context(|| format!("a row without \"{k}\""))
+            };
+            Ok(Row {
+                kind: text("kind")?,
+                setting: text("setting")?,
+                frame_ms: number("frame_ms")?,
+                gpu_ms: r["gpu_ms"].as_f64(),
+                flip_mean: number("flip_mean")?,
+                psnr_db: number("psnr_db")?,
+                relative_mse: number("relative_mse")?,
+            })
+        })
+        .collect()
 }
 
 /// One part of the decomposed error: what was compared with what, and the errors.
