@@ -56,6 +56,8 @@ const OTHER_TOOLS: &[&str] = &[
     "xvfb-run",
     "valgrind",
     "git ",
+    "#SBATCH",
+    "parallel -S",
 ];
 
 /// Fenced blocks in these languages are shell commands.
