@@ -356,6 +356,7 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
     };
     // The built-in frame with the poison between the sky and TAA.
     let registry = Registry::new()
+        .with::<lumen::render::deform::DeformPass>()
         .with::<ShadowPass>()
         .with::<GBufferPass>()
         .with::<AoPass>()

@@ -254,6 +254,11 @@ impl FramePlan {
         self.passes.iter().any(|(p, d)| *p == pass && d.enabled)
     }
 
+    /// `pass`'s decision this frame (whether it runs, and why), if it is registered.
+    pub fn decision(&self, pass: PassId) -> Option<&Decision> {
+        self.passes.iter().find(|(p, _)| *p == pass).map(|(_, d)| d)
+    }
+
     /// The variant pass `P` decided on this frame.
     pub fn variant<P: FramePass>(&self) -> Option<&P::Variant> {
         self.variants
