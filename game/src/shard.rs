@@ -163,6 +163,82 @@ pub struct Sidecar {
     pub part_hash: String,
 }
 
+/// The hash parts must share to merge: FNV-1a of `settings` and of the bytes of the
+/// scene's file (none for a built-in scene), in hex. An unreadable file is an error
+/// naming it.
+pub fn scene_hash(settings: &str, scene: &crate::cli::SceneArgs) -> Result<String> {
+    let file = match scene.file.as_ref().filter(|f| f.is_file()) {
+        Some(f) => std::fs::read(f).with_context(|| format!("{}", f.display()))?,
+        None => Vec::new(),
+    };
+    let mut bytes = settings.as_bytes().to_vec();
+    bytes.extend(fnv1a64(&file).to_le_bytes());
+    Ok(format!("{:016x}", fnv1a64(&bytes)))
+}
+
+/// The sidecar of `part` when the part is whole and was made with `settings`,
+/// `scene_hash` and `count` shards: the shard is done and is skipped. A part that exists
+/// but is broken or other is logged, to be made again.
+pub fn done_part(part: &Path, settings: &str, scene_hash: &str, count: u32) -> Option<Sidecar> {
+    match check_part(part) {
+        Ok(s) if s.settings == settings && s.scene_hash == scene_hash && s.count == count => {
+            Some(s)
+        }
+        Ok(_) => {
+            log::warn!("{}: made with other settings: made again", part.display());
+            None
+        }
+        Err(e) => {
+            if part.exists() {
+                log::warn!("{e:#}: made again");
+            }
+            None
+        }
+    }
+}
+
+/// Writes the sidecar of `part` (just written) beside it, with the part's checksum.
+#[allow(clippy::too_many_arguments)]
+pub fn write_sidecar(
+    part: &Path,
+    kind: &str,
+    scene: String,
+    settings: String,
+    scene_hash: String,
+    spec: ShardSpec,
+    share: std::ops::Range<u32>,
+    seed: u64,
+    seconds: f64,
+) -> Result<Sidecar> {
+    let sidecar = Sidecar {
+        schema: SIDECAR_SCHEMA.into(),
+        kind: kind.into(),
+        lumen_version: env!("CARGO_PKG_VERSION").into(),
+        scene,
+        settings,
+        scene_hash,
+        index: spec.index,
+        count: spec.count,
+        index_source: spec.source.into(),
+        share: [share.start, share.end],
+        seed,
+        seconds,
+        part: part
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        part_hash: format!(
+            "{:016x}",
+            fnv1a64(&std::fs::read(part).with_context(|| format!("{}", part.display()))?)
+        ),
+    };
+    lumen::files::write_atomic(
+        &sidecar_path(part),
+        serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+    )?;
+    Ok(sidecar)
+}
+
 /// Where shard `index` of `count` writes its part for the output `out`:
 /// `<stem>.shard-<index>-of-<count>.<ext>` beside it.
 pub fn part_path(out: &Path, index: u32, count: u32) -> PathBuf {

@@ -48,8 +48,8 @@ impl Meshes {
         weights: Vec<[f32; 4]>,
         targets: Vec<crate::scene::MorphTarget>,
     ) -> Result<MeshHandle, String> {
-        mesh.validate()?;
         let deformation = crate::scene::deform::Deformation::new(&mesh, joints, weights, targets)?;
+        // `add` validates the mesh.
         let handle = self.add(mesh)?;
         self.deformations[handle.0 as usize] = Some(Arc::new(deformation));
         Ok(handle)

@@ -46,7 +46,6 @@ pub fn run(args: &MergeArgs) -> Result<()> {
     };
     let mean_luminance = merged.image.pixels().map(lum).sum::<f64>() / pixels;
     let mean_error = merged.standard_error.iter().sum::<f64>() / pixels;
-    let first = &checked[0].1;
     crate::output::print(&format!(
         "merged {} shards ({} samples per pixel each on average, {:.1} s in all): {:.1} effective samples per pixel\nnoise from the spread between parts: mean standard error {:.3e} of a mean luminance {:.3e} ({:.2} %)\nwrote {}\n",
         checked.len(),
@@ -62,7 +61,6 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         },
         args.out.display()
     ));
-    log::info!("merged parts of: {}", first.settings);
     Ok(())
 }
 

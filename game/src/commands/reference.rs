@@ -60,34 +60,20 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         .unwrap_or_else(|| PathBuf::from(format!("out/{}-reference.exr", args.scene.label())));
     let format = OutputFormat::from_path(&out)?;
     let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
-    let settings = settings(args);
-    let scene_hash = {
-        let file = args
-            .scene
-            .file
-            .as_ref()
-            .filter(|f| f.is_file())
-            .map(|f| std::fs::read(f).map_err(|e| anyhow::anyhow!("{}: {e}", f.display())))
-            .transpose()?
-            .unwrap_or_default();
-        let mut bytes = settings.clone().into_bytes();
-        bytes.extend(crate::shard::fnv1a64(&file).to_le_bytes());
-        format!("{:016x}", crate::shard::fnv1a64(&bytes))
-    };
-    if let Some(spec) = shard {
-        if format != OutputFormat::Exr {
-            anyhow::bail!(
-                "a shard writes a linear EXR part: give --out with .exr (not {})",
-                out.display()
-            );
-        }
-        let part = crate::shard::part_path(&out, spec.index, spec.count);
-        match crate::shard::check_part(&part) {
-            Ok(s)
-                if s.settings == settings
-                    && s.scene_hash == scene_hash
-                    && s.count == spec.count =>
-            {
+    // A shard: its part, and what its sidecar records (the scene file is read and
+    // hashed only here).
+    let shard = match shard {
+        Some(spec) => {
+            if format != OutputFormat::Exr {
+                anyhow::bail!(
+                    "a shard writes a linear EXR part: give --out with .exr (not {})",
+                    out.display()
+                );
+            }
+            let settings = settings(args);
+            let scene_hash = crate::shard::scene_hash(&settings, &args.scene)?;
+            let part = crate::shard::part_path(&out, spec.index, spec.count);
+            if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
                 crate::output::print(&format!(
                     "shard {}/{} ({}): {} is already done ({} samples per pixel, {:.1} s): skipped\n",
                     spec.index,
@@ -99,11 +85,10 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
                 ));
                 return Ok(part);
             }
-            Ok(_) => log::warn!("{}: made with other settings: traced again", part.display()),
-            Err(e) if part.exists() => log::warn!("{e:#}: traced again"),
-            Err(_) => {}
+            Some((spec, part, settings, scene_hash))
         }
-    }
+        None => None,
+    };
     let mut app = App::headless()?;
     crate::progress::show_ibl_progress(&mut app);
     build_scene(&mut app, &args.scene)?;
@@ -124,7 +109,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(u64::from(rows));
-    if let Some(spec) = shard {
+    if let Some((spec, part, settings, scene_hash)) = shard {
         let estimate = if args.occlusion {
             Estimate::Occlusion(radius_m)
         } else {
@@ -137,31 +122,18 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         let traced = render_part(&scene, &options, s, estimate, &progress);
         bar.finish_and_clear();
         warn_dropped(traced.dropped_samples, &options);
-        let part = crate::shard::part_path(&out, spec.index, spec.count);
         save_exr_rgba(&part, &traced.image)?;
         let samples = s.range(args.spp);
-        let sidecar = crate::shard::Sidecar {
-            schema: crate::shard::SIDECAR_SCHEMA.into(),
-            kind: "reference".into(),
-            lumen_version: env!("CARGO_PKG_VERSION").into(),
-            scene: args.scene.label(),
+        let sidecar = crate::shard::write_sidecar(
+            &part,
+            "reference",
+            args.scene.label(),
             settings,
             scene_hash,
-            index: spec.index,
-            count: spec.count,
-            index_source: spec.source.into(),
-            share: [samples.start, samples.end],
-            seed: args.seed,
-            seconds: start.elapsed().as_secs_f64(),
-            part: part
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            part_hash: format!("{:016x}", crate::shard::fnv1a64(&std::fs::read(&part)?)),
-        };
-        lumen::files::write_atomic(
-            &crate::shard::sidecar_path(&part),
-            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+            spec,
+            samples.clone(),
+            args.seed,
+            start.elapsed().as_secs_f64(),
         )?;
         crate::output::print(&format!(
             "path-traced shard {}/{} (index from {}) of {} at {}x{}: samples {}..{} of {}, seed {}: {:.1} s\nwrote {} and its sidecar\n",

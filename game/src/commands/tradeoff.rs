@@ -357,52 +357,53 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     }
     let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
     let total_rows = configs.len() as u32;
-    let settings = format!(
-        "{:?}; {}x{}; {} spp; {} frames; judge {:?}; only {:?}",
-        args.scene,
-        args.size.0,
-        args.size.1,
-        args.spp,
-        args.frames,
-        args.against_accumulated,
-        args.only
-    );
-    let part =
-        match shard {
-            Some(spec) => {
-                let json = args.json.as_ref().filter(|p| p.as_os_str() != "-").with_context(|| {
-                "a tradeoff shard writes its rows as a part beside --json FILE: give --json"
-            })?;
-                let part = crate::shard::part_path(json, spec.index, spec.count);
-                if let Ok(s) = crate::shard::check_part(&part)
-                    && s.settings == settings
-                    && s.count == spec.count
-                {
-                    crate::output::print(&format!(
-                        "shard {}/{} ({}): {} is already done (rows {}..{}): skipped\n",
-                        spec.index,
-                        spec.count,
-                        spec.source,
-                        part.display(),
-                        s.share[0],
-                        s.share[1]
-                    ));
-                    return Ok(());
-                }
-                let share = lumen::reference::path::Shard {
-                    index: spec.index,
-                    count: spec.count,
-                }
-                .range(total_rows);
-                configs = configs
-                    .into_iter()
-                    .skip(share.start as usize)
-                    .take(share.len())
-                    .collect();
-                Some((spec, part, share))
+    let part = match shard {
+        Some(spec) => {
+            let json = args
+                .json
+                .as_ref()
+                .filter(|p| p.as_os_str() != "-")
+                .context(
+                    "a tradeoff shard writes its rows as a part beside --json FILE: give --json",
+                )?;
+            let settings = format!(
+                "{:?}; {}x{}; {} spp; {} frames; judge {:?}; only {:?}",
+                args.scene,
+                args.size.0,
+                args.size.1,
+                args.spp,
+                args.frames,
+                args.against_accumulated,
+                args.only
+            );
+            let scene_hash = crate::shard::scene_hash(&settings, &args.scene)?;
+            let part = crate::shard::part_path(json, spec.index, spec.count);
+            if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
+                crate::output::print(&format!(
+                    "shard {}/{} ({}): {} is already done (rows {}..{}): skipped\n",
+                    spec.index,
+                    spec.count,
+                    spec.source,
+                    part.display(),
+                    s.share[0],
+                    s.share[1]
+                ));
+                return Ok(());
             }
-            None => None,
-        };
+            let share = lumen::reference::path::Shard {
+                index: spec.index,
+                count: spec.count,
+            }
+            .range(total_rows);
+            configs = configs
+                .into_iter()
+                .skip(share.start as usize)
+                .take(share.len())
+                .collect();
+            Some((spec, part, share, settings, scene_hash))
+        }
+        None => None,
+    };
     let start = std::time::Instant::now();
     let progress = crate::progress::bar(configs.len() as u64, "tradeoff", "configurations");
     let mut rows = Vec::new();
@@ -473,34 +474,22 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
     };
     let table = markdown(&title, &rows);
     crate::output::print(&table);
-    if let Some((spec, path, share)) = &part {
+    if let Some((spec, path, share, settings, scene_hash)) = &part {
         let mut doc = rows_document(args, &adapter, cached, &rows);
         doc["title"] = json!(title);
         doc["shard"] = json!({"index": spec.index, "count": spec.count, "source": spec.source});
         doc["rows_of"] = json!(total_rows);
         write_json(path, &doc)?;
-        let sidecar = crate::shard::Sidecar {
-            schema: crate::shard::SIDECAR_SCHEMA.into(),
-            kind: "tradeoff".into(),
-            lumen_version: env!("CARGO_PKG_VERSION").into(),
-            scene: args.scene.label(),
-            scene_hash: format!("{:016x}", crate::shard::fnv1a64(settings.as_bytes())),
-            settings,
-            index: spec.index,
-            count: spec.count,
-            index_source: spec.source.into(),
-            share: [share.start, share.end],
-            seed: 0,
-            seconds: start.elapsed().as_secs_f64(),
-            part: path
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            part_hash: format!("{:016x}", crate::shard::fnv1a64(&std::fs::read(path)?)),
-        };
-        lumen::files::write_atomic(
-            &crate::shard::sidecar_path(path),
-            serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+        crate::shard::write_sidecar(
+            path,
+            "tradeoff",
+            args.scene.label(),
+            settings.clone(),
+            scene_hash.clone(),
+            *spec,
+            share.clone(),
+            0,
+            start.elapsed().as_secs_f64(),
         )?;
         crate::output::print(&format!(
             "tradeoff shard {}/{} (index from {}): rows {}..{} of {total_rows}\nwrote {} and its sidecar\n",
