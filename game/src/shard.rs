@@ -164,10 +164,10 @@ pub struct Sidecar {
 }
 
 /// The hash parts must share to merge: FNV-1a of `settings` and of the bytes of the
-/// scene's file (none for a built-in scene), in hex. An unreadable file is an error
-/// naming it.
-pub fn scene_hash(settings: &str, scene: &crate::cli::SceneArgs) -> Result<String> {
-    let file = match scene.file.as_ref().filter(|f| f.is_file()) {
+/// scene's file (`None` or a folder for a built-in scene), in hex. An unreadable file is
+/// an error naming it.
+pub fn scene_hash(settings: &str, scene_file: Option<&Path>) -> Result<String> {
+    let file = match scene_file.filter(|f| f.is_file()) {
         Some(f) => std::fs::read(f).with_context(|| format!("{}", f.display()))?,
         None => Vec::new(),
     };

@@ -71,7 +71,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
                 );
             }
             let settings = settings(args);
-            let scene_hash = crate::shard::scene_hash(&settings, &args.scene)?;
+            let scene_hash = crate::shard::scene_hash(&settings, args.scene.file.as_deref())?;
             let part = crate::shard::part_path(&out, spec.index, spec.count);
             if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
                 crate::output::print(&format!(

@@ -376,7 +376,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
                 args.against_accumulated,
                 args.only
             );
-            let scene_hash = crate::shard::scene_hash(&settings, &args.scene)?;
+            let scene_hash = crate::shard::scene_hash(&settings, args.scene.file.as_deref())?;
             let part = crate::shard::part_path(json, spec.index, spec.count);
             if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
                 crate::output::print(&format!(
