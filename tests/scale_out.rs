@@ -244,7 +244,14 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
         names("whole"),
         ["f-00.png", "f-01.png", "f-02.png", "f-03.png", "f-04.png"]
     );
-    assert_eq!(names("split"), names("whole"));
+    // Beside its frames, each shard writes the manifest of them, and its sidecar.
+    let mut expected = names("whole");
+    for i in 0..3 {
+        expected.push(format!("f.shard-{i}-of-3.json"));
+        expected.push(format!("f.shard-{i}-of-3.json.json"));
+    }
+    expected.sort();
+    assert_eq!(names("split"), expected);
     for n in names("whole") {
         let a = image::open(d.join("whole").join(&n))
             .expect("png")
@@ -257,6 +264,44 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
             "{n} differs between the whole and the split sequence"
         );
     }
+    // The merge checks every frame of every shard and lists the whole sequence.
+    let manifests: Vec<String> = (0..3)
+        .map(|i| format!("split/f.shard-{i}-of-3.json"))
+        .collect();
+    let merge = |manifests: &[String]| {
+        let mut args = vec!["merge"];
+        args.extend(manifests.iter().map(String::as_str));
+        args.extend(["--out", "split/all.json"]);
+        lumen(d, &args, &[])
+    };
+    let text = ok(&merge(&manifests));
+    assert!(text.contains("frames 0..4, 5 frames, each whole"), "{text}");
+    let all: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("split/all.json")).expect("json"))
+            .expect("json");
+    let listed: Vec<u64> = all["frames"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .map(|f| f["frame"].as_u64().expect("frame"))
+        .collect();
+    assert_eq!(listed, [0, 1, 2, 3, 4]);
+    // A shard whose frames are all whole does nothing when run again.
+    let text = render("split/f-##.png", Some("1/3"));
+    assert!(text.contains("already done"), "{text}");
+    // A missing shard and a damaged frame are each named.
+    common::assert_clean_failure(&merge(&manifests[..2]), "missing shard(s) 2 of 3");
+    let frame = d.join("split/f-02.png");
+    let bytes = std::fs::read(&frame).expect("png");
+    std::fs::write(&frame, &bytes[..bytes.len() / 2]).expect("truncate");
+    common::assert_clean_failure(&merge(&manifests), "frame 2 (");
+    // Run again, the shard that holds it renders that frame again, and only that one.
+    let text = render("split/f-##.png", Some("1/3"));
+    assert!(
+        text.contains("frame 1:") && !text.contains("frame 2:") && text.contains("f-02.png"),
+        "{text}"
+    );
+    ok(&merge(&manifests));
 }
 
 #[test]

@@ -32,8 +32,9 @@ pub enum Command {
     /// Time every preset and every quality knob, and measure each image's error against
     /// the path-traced reference.
     Tradeoff(TradeoffArgs),
-    /// Merge the parts of a sharded reference (`lumen reference --shard I/N`) into one
-    /// image, after checking that they are every shard of one render.
+    /// Merge the parts of a sharded reference, tradeoff or sequence (`--shard I/N`) into
+    /// one image, table or frame manifest, after checking that they are every shard of one
+    /// render.
     Merge(MergeArgs),
     /// Check PBR textures against the measured ranges (seed 001's rules): a glTF file's
     /// materials or texture files by role. Exit status 3 when any texel fails.
@@ -448,7 +449,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "F", default_value = "30", value_parser = parse_positive, requires = "frames")]
     pub fps: f32,
     /// Render only shard I of N (from 0) of the `--frames` sequence: a contiguous share of
-    /// its frames; frames already written are skipped. Without it, an array job's index is
+    /// its frames, listed with their checksums in `<name>.shard-I-of-N.json` beside them
+    /// (for `lumen merge`); frames already written are skipped. Without it, an array job's index is
     /// read from SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, AWS_BATCH_JOB_ARRAY_INDEX or
     /// HQ_TASK_ID.
     #[arg(long, value_name = "I/N", value_parser = crate::shard::parse_shard, requires = "frames")]
@@ -526,12 +528,14 @@ pub struct ReferenceArgs {
 /// Arguments of `lumen merge`.
 #[derive(Args, Debug, Clone)]
 pub struct MergeArgs {
-    /// The parts: a reference's `*.shard-I-of-N.exr` or a tradeoff's
-    /// `*.shard-I-of-N.json`, each with its `.json` sidecar beside it.
+    /// The parts: a reference's `*.shard-I-of-N.exr`, a tradeoff's `*.shard-I-of-N.json`
+    /// or a sequence's frame manifests `*.shard-I-of-N.json`, each with its `.json`
+    /// sidecar beside it.
     #[arg(value_name = "PART", required = true)]
     pub parts: Vec<PathBuf>,
-    /// The merged image (.exr) or, for tradeoff parts, the merged rows (.json, schema
-    /// lumen-tradeoff/1; the Markdown table is printed).
+    /// The merged image (.exr); for tradeoff parts, the merged rows (.json, schema
+    /// lumen-tradeoff/1; the Markdown table is printed); for sequence parts, the manifest
+    /// of every frame (.json, schema lumen-sequence/1), once each frame is checked whole.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
 }

@@ -9,6 +9,7 @@ pub mod measure;
 pub mod output;
 pub mod progress;
 pub mod scenes;
+pub mod sequence;
 pub mod setup;
 pub mod shard;
 

@@ -133,7 +133,8 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 pub struct Sidecar {
     /// [`SIDECAR_SCHEMA`].
     pub schema: String,
-    /// What the part holds: `reference` (an EXR) or `tradeoff` (JSON rows).
+    /// What the part holds: `reference` (an EXR), `tradeoff` (JSON rows) or `sequence`
+    /// (a manifest of frames).
     pub kind: String,
     /// The `lumen` version that wrote it.
     pub lumen_version: String,

@@ -1,7 +1,9 @@
-//! `lumen merge`: the parts of a sharded reference (combined into one image) or of a
-//! sharded tradeoff (its rows joined in order), checked first.
+//! `lumen merge`: the parts of a sharded reference (combined into one image), of a
+//! sharded tradeoff (its rows joined in order) or of a sharded sequence (its frames
+//! checked and listed in one manifest), checked first.
 
 use crate::cli::MergeArgs;
+use crate::sequence;
 use crate::shard::{Sidecar, check_part, check_together};
 use anyhow::{Context, Result, bail};
 use lumen::assets::image_io::{OutputFormat, load_rgba32f, save_exr};
@@ -16,8 +18,10 @@ pub fn run(args: &MergeArgs) -> Result<()> {
         checked.push((part.clone(), check_part(part)?));
     }
     check_together(&checked)?;
-    if checked[0].1.kind == "tradeoff" {
-        return merge_tradeoff(args, &mut checked);
+    match checked[0].1.kind.as_str() {
+        "tradeoff" => return merge_tradeoff(args, &mut checked),
+        "sequence" => return merge_sequence(args, &checked),
+        _ => {}
     }
     if OutputFormat::from_path(&args.out)? != OutputFormat::Exr {
         bail!("the merged image is a linear EXR: give --out with .exr");
@@ -123,6 +127,36 @@ fn merge_tradeoff(args: &MergeArgs, checked: &mut [(std::path::PathBuf, Sidecar)
     crate::output::print(&format!(
         "merged {} tradeoff shards, {expected} rows\nwrote {}\n",
         checked.len(),
+        args.out.display()
+    ));
+    Ok(())
+}
+
+/// Checks every frame each sequence manifest lists (present, with its checksum), joins
+/// the manifests into the whole sequence's (every frame once, in order) at `--out`, and
+/// prints what it holds.
+fn merge_sequence(args: &MergeArgs, checked: &[(std::path::PathBuf, Sidecar)]) -> Result<()> {
+    if !args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        bail!("a merged sequence is the manifest of its frames: give --out with .json");
+    }
+    let mut manifests = Vec::with_capacity(checked.len());
+    for (path, _) in checked {
+        let manifest = sequence::read(path)?;
+        sequence::check_frames(path, &manifest)?;
+        manifests.push((path.clone(), manifest));
+    }
+    let whole = sequence::join(&manifests)?;
+    lumen::files::write_atomic(&args.out, serde_json::to_string_pretty(&whole)?.as_bytes())?;
+    let [a, b] = whole.frames_of;
+    crate::output::print(&format!(
+        "merged {} sequence shards ({:.1} s in all): frames {a}..{b}, {} frames, each whole\nwrote {}\n",
+        checked.len(),
+        checked.iter().map(|(_, s)| s.seconds).sum::<f64>(),
+        whole.frames.len(),
         args.out.display()
     ));
     Ok(())

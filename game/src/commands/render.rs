@@ -1,6 +1,7 @@
 //! `lumen render`: one frame to a PNG or EXR file, with a timing report.
 
 use crate::cli::RenderArgs;
+use crate::sequence;
 use crate::setup::{build_scene, check_scene_args, hold_animations};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
@@ -18,49 +19,121 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     let pattern = args
         .out
         .clone()
-        .filter(|p| p.to_string_lossy().contains('#'))
+        .filter(|p| p.file_name().is_some_and(|n| n.to_string_lossy().contains('#')))
         .ok_or_else(|| {
             anyhow!(
-                "--frames needs --out with #s for the frame number, e.g. --out seq/frame-####.png"
+                "--frames needs --out with #s in the file name for the frame number, e.g. --out seq/frame-####.png"
             )
         })?;
     check_scene_args(&args.scene)?;
-    let mut written = pattern.clone();
-    let mut frames = first..last + 1;
     let shard = crate::shard::resolve(args.shard, args.shards, &crate::shard::process_env)?;
-    if let Some(spec) = shard {
-        let share = lumen::reference::path::Shard {
-            index: spec.index,
-            count: spec.count,
+    let Some(spec) = shard else {
+        let mut written = pattern.clone();
+        for k in first..=last {
+            written = render_sequence_frame(args, &pattern, k)?;
         }
-        .range(last - first + 1);
-        frames = first + share.start..first + share.end;
-        crate::output::print(&format!(
-            "shard {}/{} (index from {}): frames {}\n",
-            spec.index,
-            spec.count,
-            spec.source,
-            if frames.is_empty() {
-                "none".to_string()
-            } else {
-                format!("{}..{}", frames.start, frames.end - 1)
-            }
-        ));
+        return Ok(written);
+    };
+    let start = std::time::Instant::now();
+    let share = lumen::reference::path::Shard {
+        index: spec.index,
+        count: spec.count,
     }
-    for k in frames {
+    .range(last - first + 1);
+    let frames = first + share.start..first + share.end;
+    let settings = format!(
+        "{:?}; {}x{}; frames {first}..{last} at {} fps; {}",
+        args.scene,
+        args.size.0,
+        args.size.1,
+        args.fps,
+        pattern.file_name().unwrap_or_default().to_string_lossy()
+    );
+    let scene_hash = crate::shard::scene_hash(&settings, args.scene.file.as_deref())?;
+    let manifest_path = sequence::manifest_path(&pattern, spec.index, spec.count);
+    let label = |frames: &std::ops::Range<u32>| {
+        if frames.is_empty() {
+            "no frames".to_string()
+        } else {
+            format!("frames {}..{}", frames.start, frames.end - 1)
+        }
+    };
+    if crate::shard::done_part(&manifest_path, &settings, &scene_hash, spec.count).is_some() {
+        let whole =
+            sequence::read(&manifest_path).and_then(|m| sequence::check_frames(&manifest_path, &m));
+        match whole {
+            Ok(()) => {
+                crate::output::print(&format!(
+                    "shard {}/{} ({}): {} are already done ({}): skipped\n",
+                    spec.index,
+                    spec.count,
+                    spec.source,
+                    label(&frames),
+                    manifest_path.display()
+                ));
+                return Ok(manifest_path);
+            }
+            Err(e) => log::warn!("{e:#}"),
+        }
+    }
+    crate::output::print(&format!(
+        "shard {}/{} (index from {}): {}\n",
+        spec.index,
+        spec.count,
+        spec.source,
+        label(&frames)
+    ));
+    let mut entries = Vec::new();
+    for k in frames.clone() {
         let path = frame_path(&pattern, k);
         // A shard re-run after a failure redoes only the frames that are not whole.
-        if shard.is_some() && image::open(&path).is_ok() {
+        if image::open(&path).is_ok() {
             crate::output::print(&format!("frame {k}: {} exists: skipped\n", path.display()));
-            continue;
+        } else {
+            render_sequence_frame(args, &pattern, k)?;
         }
-        let mut frame = args.clone();
-        frame.frames = None;
-        frame.scene.time = Some(k as f32 / args.fps);
-        frame.out = Some(path);
-        written = render_frame(&frame).with_context(|| format!("frame {k}"))?;
+        entries.push(sequence::FrameEntry::of(&path, k)?);
     }
-    Ok(written)
+    let manifest = sequence::Manifest {
+        schema: sequence::MANIFEST_SCHEMA.into(),
+        pattern: pattern
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned(),
+        frames_of: [first, last],
+        fps: args.fps,
+        frames: entries,
+    };
+    lumen::files::write_atomic(
+        &manifest_path,
+        serde_json::to_string_pretty(&manifest)?.as_bytes(),
+    )?;
+    crate::shard::write_sidecar(
+        &manifest_path,
+        "sequence",
+        args.scene.label(),
+        settings,
+        scene_hash,
+        spec,
+        frames,
+        0,
+        start.elapsed().as_secs_f64(),
+    )?;
+    crate::output::print(&format!(
+        "wrote {} (this shard's frames) and its sidecar\n",
+        manifest_path.display()
+    ));
+    Ok(manifest_path)
+}
+
+/// Frame `k` of the sequence `pattern`, posed at k / fps seconds.
+fn render_sequence_frame(args: &RenderArgs, pattern: &Path, k: u32) -> Result<PathBuf> {
+    let mut frame = args.clone();
+    frame.frames = None;
+    frame.scene.time = Some(k as f32 / args.fps);
+    frame.out = Some(frame_path(pattern, k));
+    render_frame(&frame).with_context(|| format!("frame {k}"))
 }
 
 /// `pattern` with its last run of `#`s replaced by `frame`, zero-padded to the run's
