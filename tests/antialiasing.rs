@@ -3,7 +3,7 @@
 //! accumulation reduce the error on the silhouettes of `aliasing`, and the plan runs no AA
 //! pass when none is asked for.
 
-mod common;
+use crate::common;
 
 use lumen::FrameTarget;
 use lumen::assets::procedural::{plane, uv_sphere};

@@ -2,7 +2,7 @@
 //! chart, `--compare`, bad input, and every quality preset rendering finite images.
 //! No timing thresholds: only the structure and the arithmetic of the timings.
 
-mod common;
+use crate::common;
 
 use lumen::quality::QualityPreset;
 use std::path::Path;

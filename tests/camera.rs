@@ -2,7 +2,7 @@
 //! extremes, automatic exposure converging on a dark and a bright scene, and pre-exposure
 //! keeping a 1e9 cd/m² sky and a starlit night inside the 16-bit HDR target.
 
-mod common;
+use crate::common;
 
 use common::{app_with, lum};
 use lumen::App;

@@ -1,6 +1,6 @@
 //! The `lumen` command end to end: every command on a tiny size, and bad input.
 
-mod common;
+use crate::common;
 
 use common::{Xvfb, assert_clean_failure};
 use std::path::Path;

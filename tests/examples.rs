@@ -1,7 +1,7 @@
 //! The examples in `game/examples/` (built by `cargo test`) run at a tiny size and
 //! produce the images they claim.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

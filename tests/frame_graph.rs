@@ -3,7 +3,7 @@
 //! the order, its run condition, its timer label, its `--explain` line and the lifetime of
 //! what it touches. Declarations the graph cannot order are refused.
 
-mod common;
+use crate::common;
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;

@@ -14,7 +14,7 @@
 //! - **Regressions**: every input that ever crashed a loader is kept in
 //!   `tests/data/fuzz/<loader>/` and replayed first, asserting an error and no panic.
 
-mod common;
+use crate::common;
 
 use lumen::App;
 use lumen::scene::{ColorSpace, EquirectImage};

@@ -4,7 +4,7 @@
 //! reasons, and robustness at the extremes (no mesh, a probe inside a mesh, a box of zero
 //! size, one probe, bounds that are not finite).
 
-mod common;
+use crate::common;
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;

@@ -2,7 +2,7 @@
 //! workflows render alike, the real assets load and frame, and every broken file in
 //! `tests/data/gltf/` is a one-line error naming the file (or its documented fallback).
 
-mod common;
+use crate::common;
 
 use lumen::assets::gltf::{GltfSummary, load_gltf};
 use lumen::brdf::{Surface, VisibilityModel, surface_brdf_lobes};

@@ -13,7 +13,7 @@
 //!   on lavapipe and overwrites its golden. Do it only when a change of the picture is
 //!   intended (a new feature, a fixed bug, a changed default) and say so in the commit.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

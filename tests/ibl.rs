@@ -1,7 +1,7 @@
 //! Image-based lighting: the white furnace, the BRDF table against a CPU integration, the
 //! prefiltered maps of a constant environment, every shipped HDRI, and bad files.
 
-mod common;
+use crate::common;
 
 use glam::{Vec2, Vec3};
 use lumen::App;

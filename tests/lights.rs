@@ -1,7 +1,7 @@
 //! Tiled light culling: exact (the image with culling equals the image without, also when
 //! a tile overflows its list), planned only where it pays, and finite everywhere.
 
-mod common;
+use crate::common;
 
 use lumen::App;
 use lumen::prelude::*;

@@ -2,7 +2,7 @@
 //! the rasterizer where both compute the same thing (direct light on a sphere), and
 //! conserving energy in the white furnace where the BRDF does.
 
-mod common;
+use crate::common;
 
 use lumen::App;
 use lumen::prelude::*;

@@ -3,7 +3,7 @@
 //! scene is unchanged), the plan's reasons, and robustness (a probe inside a mesh, a box of
 //! zero size).
 
-mod common;
+use crate::common;
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;

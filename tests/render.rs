@@ -1,7 +1,7 @@
 //! Rendering tests: headless frames read back and checked against analytic expectations
 //! and the CPU BRDF. All at 256×256 or less.
 
-mod common;
+use crate::common;
 
 use common::{app_with, lum};
 use glam::{Quat, Vec3};

@@ -3,7 +3,7 @@
 //! one-line error or a warning, a non-zero exit where something failed, no panic, nothing
 //! lost, and finite output.
 
-mod common;
+use crate::common;
 
 use common::assert_clean_failure;
 use std::path::{Path, PathBuf};

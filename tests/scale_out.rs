@@ -3,7 +3,7 @@
 //! skipped and a truncated part is found; the shard index comes from a batch engine's
 //! environment; a sequence split three ways holds the frames of the whole one.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

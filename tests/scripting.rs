@@ -2,7 +2,7 @@
 //! from disk takes effect, while a broken shader is an error and never fatal; a lost
 //! device is an error, and a new one renders the same scene.
 
-mod common;
+use crate::common;
 
 use lumen::prelude::*;
 use std::path::Path;

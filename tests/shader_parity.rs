@@ -3,7 +3,7 @@
 //! twin (lumen::brdf, punctual, color, encoding, ibl, scene::camera, scene::deform, …) on
 //! the same inputs, on the GPU.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;

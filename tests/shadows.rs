@@ -1,7 +1,7 @@
 //! Shadow tests on the `shadows` scene and small purpose-built scenes. Every expected
 //! shadow position is predicted geometrically from the scene's constants.
 
-mod common;
+use crate::common;
 
 use common::lum;
 use glam::Vec3;

@@ -2,7 +2,7 @@
 //! joint matrices say (in the G-buffer and in the sun's shadow), a morph weight of 0.5
 //! moves a glTF quad halfway, and the Fox in its Walk pose stays inside its bounds.
 
-mod common;
+use crate::common;
 
 use glam::Mat4;
 use lumen::app::FrameTarget;

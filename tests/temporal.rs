@@ -2,7 +2,7 @@
 //! history hygiene (a camera cut and a resize reset it, a NaN never enters it) and
 //! ghosting behind a moving sphere.
 
-mod common;
+use crate::common;
 
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleConfigs};
 use bevy_ecs::system::ScheduleSystem;

@@ -1,7 +1,7 @@
 //! `lumen tradeoff`: one row per preset and knob, each timed and compared with the
 //! reference; ultra is closer to the reference than low.
 
-mod common;
+use crate::common;
 
 use lumen_game::commands::tradeoff::{Row, pareto_front};
 

@@ -3,7 +3,7 @@
 //! same light through real interfaces, and both are held against closed-form optics
 //! (Snell's law, Beer–Lambert) and against each other.
 
-mod common;
+use crate::common;
 
 use glam::{Quat, Vec3};
 use lumen::App;

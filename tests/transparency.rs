@@ -3,7 +3,7 @@
 //! Expectations come from the same scene rendered with the panes opaque or absent,
 //! composited on the CPU with `lumen::color::over`.
 
-mod common;
+use crate::common;
 
 use glam::{Quat, Vec3, Vec4};
 use lumen::App;

@@ -3,7 +3,7 @@
 //! exposure; the path tracer agrees; a blended unlit pane covers what is behind it by its
 //! alpha.
 
-mod common;
+use crate::common;
 
 use glam::{Quat, Vec3};
 use lumen::App;
