@@ -181,36 +181,90 @@ fn a_bent_two_bone_bar_puts_its_tip_where_the_joint_matrices_say() {
     assert!(unbent > 0.9 * open, "{unbent} unbent, {open} in the open");
 }
 
-/// A glTF with one 1 m quad facing +z whose single morph target moves every vertex
-/// +1 m along x, a LINEAR weights animation from 0 (at 0 s) to 1 (at 2 s), and a camera
-/// 4 m in front of it.
-fn write_morphing_quad(dir: &Path) -> PathBuf {
+/// A glTF with one 1 m quad facing +z (normals +z) whose single morph target moves every
+/// vertex +1 m along x, a LINEAR weights animation from 0 (at 0 s) to 1 (at 2 s), and a
+/// camera 4 m in front of it. `quantized`: the positions, normals and offsets are
+/// normalized 16- and 8-bit integers (KHR_mesh_quantization, required), each element
+/// padded to 4 bytes; the positions ±0.5 m are then ±16384 / 32767.
+fn write_morphing_quad(dir: &Path, quantized: bool) -> PathBuf {
     let quad = [
-        -0.5f32, -0.5, 0.0, 0.5, -0.5, 0.0, 0.5, 0.5, 0.0, -0.5, 0.5, 0.0,
+        [-0.5f32, -0.5, 0.0],
+        [0.5, -0.5, 0.0],
+        [0.5, 0.5, 0.0],
+        [-0.5, 0.5, 0.0],
     ];
-    let offsets = [
-        1.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0,
-    ];
-    let floats: Vec<f32> = [&quad[..], &offsets, &[0.0, 2.0], &[0.0, 1.0]].concat();
-    let mut bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
-    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut view = |bin: &mut Vec<u8>, bytes: Vec<u8>, stride: Option<usize>| {
+        let mut v = json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": bytes.len()});
+        if let Some(stride) = stride {
+            v["byteStride"] = json!(stride);
+        }
+        bin.extend(bytes);
+        views.push(v);
+        views.len() - 1
+    };
+    let floats =
+        |values: &[f32]| -> Vec<u8> { values.iter().flat_map(|f| f.to_le_bytes()).collect() };
+    let (positions, normals, offsets, types) = if quantized {
+        let i16n = |v: f32| ((v * 32767.0).round() as i16).to_le_bytes();
+        let padded = |p: [f32; 3]| [i16n(p[0]), i16n(p[1]), i16n(p[2]), [0, 0]].concat();
+        (
+            view(
+                &mut bin,
+                quad.iter().flat_map(|p| padded(*p)).collect(),
+                Some(8),
+            ),
+            view(&mut bin, [0u8, 0, 127, 0].repeat(4), Some(4)),
+            view(
+                &mut bin,
+                (0..4).flat_map(|_| padded([1.0, 0.0, 0.0])).collect(),
+                Some(8),
+            ),
+            (5122, 5120),
+        )
+    } else {
+        (
+            view(&mut bin, floats(quad.as_flattened()), None),
+            view(&mut bin, floats(&[0.0, 0.0, 1.0].repeat(4)), None),
+            view(&mut bin, floats(&[1.0, 0.0, 0.0].repeat(4)), None),
+            (5126, 5126),
+        )
+    };
+    let times = view(&mut bin, floats(&[0.0, 2.0]), None);
+    let weights = view(&mut bin, floats(&[0.0, 1.0]), None);
+    let indices = view(
+        &mut bin,
+        [0u16, 1, 2, 0, 2, 3]
+            .iter()
+            .flat_map(|i| i.to_le_bytes())
+            .collect(),
+        None,
+    );
     std::fs::write(dir.join("morph.bin"), &bin).expect("bin");
-    let view = |offset: usize, length: usize| json!({"buffer": 0, "byteOffset": offset, "byteLength": length});
-    let gltf = json!({
+    let (size, half) = if quantized {
+        (types.0, 16384.0)
+    } else {
+        (5126, 0.5)
+    };
+    let normalized = quantized;
+    let mut gltf = json!({
         "asset": {"version": "2.0"},
         "buffers": [{"uri": "morph.bin", "byteLength": bin.len()}],
-        "bufferViews": [view(0, 48), view(48, 48), view(96, 8), view(104, 8), view(112, 12)],
+        "bufferViews": views,
         "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-             "min": [-0.5, -0.5, 0.0], "max": [0.5, 0.5, 0.0]},
-            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3",
-             "min": [1.0, 0.0, 0.0], "max": [1.0, 0.0, 0.0]},
-            {"bufferView": 2, "componentType": 5126, "count": 2, "type": "SCALAR",
+            {"bufferView": positions, "componentType": size, "normalized": normalized,
+             "count": 4, "type": "VEC3", "min": [-half, -half, 0.0], "max": [half, half, 0.0]},
+            {"bufferView": offsets, "componentType": size, "normalized": normalized,
+             "count": 4, "type": "VEC3"},
+            {"bufferView": times, "componentType": 5126, "count": 2, "type": "SCALAR",
              "min": [0.0], "max": [2.0]},
-            {"bufferView": 3, "componentType": 5126, "count": 2, "type": "SCALAR"},
-            {"bufferView": 4, "componentType": 5123, "count": 6, "type": "SCALAR"}
+            {"bufferView": weights, "componentType": 5126, "count": 2, "type": "SCALAR"},
+            {"bufferView": indices, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": normals, "componentType": types.1, "normalized": normalized,
+             "count": 4, "type": "VEC3"}
         ],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 4,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 5}, "indices": 4,
                                     "targets": [{"POSITION": 1}]}],
                     "weights": [0.0]}],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
@@ -219,6 +273,10 @@ fn write_morphing_quad(dir: &Path) -> PathBuf {
         "animations": [{"channels": [{"sampler": 0, "target": {"node": 0, "path": "weights"}}],
                         "samplers": [{"input": 2, "output": 3, "interpolation": "LINEAR"}]}]
     });
+    if quantized {
+        gltf["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+        gltf["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    }
     let path = dir.join("morph.gltf");
     std::fs::write(&path, serde_json::to_string(&gltf).expect("json")).expect("gltf");
     path
@@ -226,11 +284,41 @@ fn write_morphing_quad(dir: &Path) -> PathBuf {
 
 #[test]
 fn a_morph_weight_of_one_half_moves_a_gltf_quad_halfway() {
+    for quantized in [false, true] {
+        morph_quad_moves_halfway(quantized);
+    }
+}
+
+/// The quad of [`write_morphing_quad`], its vertices as read, and its columns at weights
+/// 0 and 0.5.
+fn morph_quad_moves_halfway(quantized: bool) {
     let dir = tempfile::tempdir().expect("temp dir");
-    let path = write_morphing_quad(dir.path());
+    let path = write_morphing_quad(dir.path(), quantized);
     let mut app = App::headless().expect("a GPU adapter");
     let summary = load_gltf(&mut app, &path).expect("loads");
     assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
+    // Quantized, the vertices read back within the quantization step (1 / 32767 m) and
+    // the normals exactly +z.
+    let world = app.world_mut();
+    let handle = world.query::<&Mesh3d>().single(world).expect("one mesh").0;
+    let meshes = world.resource::<Meshes>();
+    let mesh = meshes.get(handle).expect("mesh");
+    for (v, corner) in
+        mesh.vertices
+            .iter()
+            .zip([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
+    {
+        assert!(
+            (v.position[0] - corner[0]).abs() < 1.0 / 32767.0
+                && (v.position[1] - corner[1]).abs() < 1.0 / 32767.0
+                && v.position[2] == 0.0,
+            "quantized {quantized}: {:?}",
+            v.position
+        );
+        assert_eq!(v.normal, [0.0, 0.0, 1.0], "quantized {quantized}");
+    }
+    let offsets = &meshes.deformation(handle).expect("morph targets").targets()[0].positions;
+    assert_eq!(offsets, &vec![[1.0, 0.0, 0.0]; 4], "quantized {quantized}");
     let size = (128, 96);
     let columns = |app: &mut App, t: f32| {
         let world = app.world_mut();
@@ -265,7 +353,7 @@ fn a_morph_weight_of_one_half_moves_a_gltf_quad_halfway() {
     // Halfway: the quad's left edge at x = 0 m, its right edge at x = 1 m.
     let at = |x: f32| common::image_point(&app, Vec3::new(x, 0.0, 0.0), size).x;
     println!(
-        "morphed quad: columns {l0}..={r0} at weight 0, {l1}..={r1} at 0.5 (x = 0 m at {:.1} px, 1 m at {:.1} px)",
+        "morphed quad (quantized {quantized}): columns {l0}..={r0} at weight 0, {l1}..={r1} at 0.5 (x = 0 m at {:.1} px, 1 m at {:.1} px)",
         at(0.0),
         at(1.0)
     );

@@ -26,6 +26,7 @@
 use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
+use super::gltf_quantized::{self, read_attribute, unit3};
 use super::{draco, gltf_skin, tangents};
 use crate::app::App;
 use crate::error::{Error, Result};
@@ -39,6 +40,7 @@ use crate::scene::{MaterialMaps, Textures};
 use bevy_ecs::hierarchy::ChildOf;
 use bevy_ecs::prelude::*;
 use glam::{Quat, Vec3};
+use gltf::accessor::DataType;
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -579,6 +581,7 @@ fn spawn_light(
 /// (`gltf::json::extensions::ENABLED_EXTENSIONS`): a file may require them.
 const READ_HERE: &[&str] = &[
     draco::EXTENSION,
+    gltf_quantized::EXTENSION,
     "KHR_materials_volume",
     "KHR_materials_specular",
     "KHR_materials_dispersion",
@@ -683,16 +686,59 @@ fn read_primitive(
                     check_accessor(&accessor, buffers)?;
                 }
                 let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+                // Each attribute through the glTF reader when it is f32, dequantized
+                // (KHR_mesh_quantization) otherwise.
+                let attribute = |semantic: gltf::Semantic| primitive.get(&semantic);
+                let positions = match attribute(gltf::Semantic::Positions) {
+                    Some(a) => read_attribute(&a, buffers, || {
+                        reader.read_positions().map(Iterator::collect)
+                    })?,
+                    None => None,
+                };
+                let quantized = |a: &gltf::Accessor| a.data_type() != DataType::F32;
+                let normals = match attribute(gltf::Semantic::Normals) {
+                    Some(a) => read_attribute(&a, buffers, || {
+                        reader.read_normals().map(Iterator::collect)
+                    })?
+                    .map(|n: Vec<[f32; 3]>| {
+                        if quantized(&a) {
+                            n.into_iter().map(unit3).collect()
+                        } else {
+                            n
+                        }
+                    }),
+                    None => None,
+                };
+                let tex_coords = |set: u32| match attribute(gltf::Semantic::TexCoords(set)) {
+                    Some(a) => read_attribute(&a, buffers, || {
+                        reader.read_tex_coords(set).map(|t| t.into_f32().collect())
+                    }),
+                    None => Ok(None),
+                };
+                let tangents = match attribute(gltf::Semantic::Tangents) {
+                    Some(a) => read_attribute(&a, buffers, || {
+                        reader.read_tangents().map(Iterator::collect)
+                    })?
+                    .map(|t: Vec<[f32; 4]>| {
+                        if !quantized(&a) {
+                            return t;
+                        }
+                        t.into_iter()
+                            .map(|[x, y, z, w]| {
+                                let [x, y, z] = unit3([x, y, z]);
+                                [x, y, z, if w < 0.0 { -1.0 } else { 1.0 }]
+                            })
+                            .collect()
+                    }),
+                    None => None,
+                };
                 (
-                    reader
-                        .read_positions()
-                        .ok_or("has no POSITION attribute")?
-                        .collect(),
-                    reader.read_normals().map(|n| n.collect()),
-                    reader.read_tex_coords(0).map(|t| t.into_f32().collect()),
-                    reader.read_tex_coords(1).map(|t| t.into_f32().collect()),
+                    positions.ok_or("has no POSITION attribute")?,
+                    normals,
+                    tex_coords(0)?,
+                    tex_coords(1)?,
                     reader.read_colors(0).map(|c| c.into_rgba_f32().collect()),
-                    reader.read_tangents().map(|t| t.collect()),
+                    tangents,
                     reader.read_indices().map(|i| i.into_u32().collect()),
                 )
             }

@@ -4,6 +4,7 @@
 //! its buffer before it is read.
 
 use super::gltf_buffers::check_accessor;
+use super::gltf_quantized::read_attribute;
 use crate::scene::{MorphTarget, SkinnedMesh};
 use bevy_ecs::prelude::Entity;
 use glam::Mat4;
@@ -64,14 +65,20 @@ pub(super) fn read_deformation(
     } else {
         (joints, weights)
     };
-    let targets: Vec<MorphTarget> = reader
-        .read_morph_targets()
-        .map(|(p, n, t)| MorphTarget {
-            positions: p.map(Iterator::collect).unwrap_or_default(),
-            normals: n.map(Iterator::collect).unwrap_or_default(),
-            tangents: t.map(Iterator::collect).unwrap_or_default(),
-        })
-        .collect();
+    // Each target's offsets through the glTF reader when they are f32, dequantized
+    // (KHR_mesh_quantization) otherwise.
+    let mut targets = Vec::new();
+    for (target, (p, n, t)) in primitive.morph_targets().zip(reader.read_morph_targets()) {
+        let read = |a: Option<gltf::Accessor>, floats: Option<Vec<[f32; 3]>>| match a {
+            Some(a) => read_attribute(&a, buffers, || floats).map(Option::unwrap_or_default),
+            None => Ok(Vec::new()),
+        };
+        targets.push(MorphTarget {
+            positions: read(target.positions(), p.map(Iterator::collect))?,
+            normals: read(target.normals(), n.map(Iterator::collect))?,
+            tangents: read(target.tangents(), t.map(Iterator::collect))?,
+        });
+    }
     if joints.is_empty() && targets.is_empty() {
         return Ok(None);
     }

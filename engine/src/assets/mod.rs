@@ -7,6 +7,7 @@ mod gltf_animation;
 mod gltf_buffers;
 mod gltf_checks;
 mod gltf_material;
+mod gltf_quantized;
 mod gltf_skin;
 pub mod image_io;
 pub mod procedural;
