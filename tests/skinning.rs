@@ -183,8 +183,8 @@ fn a_bent_two_bone_bar_puts_its_tip_where_the_joint_matrices_say() {
 
 /// A glTF with one 1 m quad facing +z (normals +z) whose single morph target moves every
 /// vertex +1 m along x, a LINEAR weights animation from 0 (at 0 s) to 1 (at 2 s), and a
-/// camera 4 m in front of it. `quantized`: the positions, normals and offsets are
-/// normalized 16- and 8-bit integers (KHR_mesh_quantization, required), each element
+/// camera 4 m in front of it. `quantized`: the positions, normals, texture coordinates,
+/// tangents and offsets are normalized 16- and 8-bit integers (KHR_mesh_quantization, required), each element
 /// padded to 4 bytes; the positions ±0.5 m are then ±16384 / 32767.
 fn write_morphing_quad(dir: &Path, quantized: bool) -> PathBuf {
     let quad = [
@@ -231,6 +231,21 @@ fn write_morphing_quad(dir: &Path, quantized: bool) -> PathBuf {
             (5126, 5126),
         )
     };
+    // Texture coordinates (u16 normalized when quantized) and tangents +x (i8 normalized).
+    let uvs = [[0.0f32, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]];
+    let (uv_view, tangent_view) = if quantized {
+        let u16n = |v: f32| ((v * 65535.0).round() as u16).to_le_bytes();
+        let uv_bytes = uvs.iter().flat_map(|t| [u16n(t[0]), u16n(t[1])].concat());
+        (
+            view(&mut bin, uv_bytes.collect(), None),
+            view(&mut bin, [127u8, 0, 0, 127].repeat(4), None),
+        )
+    } else {
+        (
+            view(&mut bin, floats(uvs.as_flattened()), None),
+            view(&mut bin, floats(&[1.0, 0.0, 0.0, 1.0].repeat(4)), None),
+        )
+    };
     let times = view(&mut bin, floats(&[0.0, 2.0]), None);
     let weights = view(&mut bin, floats(&[0.0, 1.0]), None);
     let indices = view(
@@ -262,9 +277,14 @@ fn write_morphing_quad(dir: &Path, quantized: bool) -> PathBuf {
             {"bufferView": weights, "componentType": 5126, "count": 2, "type": "SCALAR"},
             {"bufferView": indices, "componentType": 5123, "count": 6, "type": "SCALAR"},
             {"bufferView": normals, "componentType": types.1, "normalized": normalized,
-             "count": 4, "type": "VEC3"}
+             "count": 4, "type": "VEC3"},
+            {"bufferView": uv_view, "componentType": if quantized { 5123 } else { 5126 },
+             "normalized": normalized, "count": 4, "type": "VEC2"},
+            {"bufferView": tangent_view, "componentType": types.1, "normalized": normalized,
+             "count": 4, "type": "VEC4"}
         ],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 5}, "indices": 4,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 5,
+                                                   "TEXCOORD_0": 6, "TANGENT": 7}, "indices": 4,
                                     "targets": [{"POSITION": 1}]}],
                     "weights": [0.0]}],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}],
@@ -316,7 +336,10 @@ fn morph_quad_moves_halfway(quantized: bool) {
             v.position
         );
         assert_eq!(v.normal, [0.0, 0.0, 1.0], "quantized {quantized}");
+        assert_eq!(v.tangent, [1.0, 0.0, 0.0, 1.0], "quantized {quantized}");
     }
+    let read_uvs: Vec<[f32; 2]> = mesh.vertices.iter().map(|v| v.uv).collect();
+    assert_eq!(read_uvs, [[0.0, 1.0], [1.0, 1.0], [1.0, 0.0], [0.0, 0.0]]);
     let offsets = &meshes.deformation(handle).expect("morph targets").targets()[0].positions;
     assert_eq!(offsets, &vec![[1.0, 0.0, 0.0]; 4], "quantized {quantized}");
     let size = (128, 96);
