@@ -302,6 +302,31 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
         "{text}"
     );
     ok(&merge(&manifests));
+    // Run again with other settings, the shard renders all its frames again instead of
+    // keeping those of the old ones.
+    let text = ok(&lumen(
+        d,
+        &[
+            "render",
+            file,
+            "--size",
+            "24x16",
+            "--frames",
+            "0..4",
+            "--fps",
+            "10",
+            "--out",
+            "split/f-##.png",
+            "--shard",
+            "1/3",
+        ],
+        &[],
+    ));
+    assert!(!text.contains("skipped"), "{text}");
+    for n in ["f-01.png", "f-02.png"] {
+        let size = image::image_dimensions(d.join("split").join(n)).expect("png");
+        assert_eq!(size, (24, 16), "{n}");
+    }
 }
 
 #[test]

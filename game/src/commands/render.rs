@@ -58,22 +58,39 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
             format!("frames {}..{}", frames.start, frames.end - 1)
         }
     };
-    if crate::shard::done_part(&manifest_path, &settings, &scene_hash, spec.count).is_some() {
-        let whole =
-            sequence::read(&manifest_path).and_then(|m| sequence::check_frames(&manifest_path, &m));
-        match whole {
-            Ok(()) => {
-                crate::output::print(&format!(
-                    "shard {}/{} ({}): {} are already done ({}): skipped\n",
-                    spec.index,
-                    spec.count,
-                    spec.source,
-                    label(&frames),
-                    manifest_path.display()
-                ));
-                return Ok(manifest_path);
+    // Frames on disk are kept only when they can be from these settings: the manifest is
+    // this render's, or there is none yet (a shard stopped before writing it).
+    let mut keep_frames = true;
+    match crate::shard::check_part(&manifest_path) {
+        Ok(s) if s.settings == settings && s.scene_hash == scene_hash && s.count == spec.count => {
+            let whole = sequence::read(&manifest_path)
+                .and_then(|m| sequence::check_frames(&manifest_path, &m));
+            match whole {
+                Ok(()) => {
+                    crate::output::print(&format!(
+                        "shard {}/{} ({}): {} are already done ({}): skipped\n",
+                        spec.index,
+                        spec.count,
+                        spec.source,
+                        label(&frames),
+                        manifest_path.display()
+                    ));
+                    return Ok(manifest_path);
+                }
+                Err(e) => log::warn!("{e:#}"),
             }
-            Err(e) => log::warn!("{e:#}"),
+        }
+        Ok(_) => {
+            log::warn!(
+                "{}: made with other settings: every frame of this shard is rendered again",
+                manifest_path.display()
+            );
+            keep_frames = false;
+        }
+        Err(e) => {
+            if manifest_path.exists() {
+                log::warn!("{e:#}: made again");
+            }
         }
     }
     crate::output::print(&format!(
@@ -87,7 +104,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     for k in frames.clone() {
         let path = frame_path(&pattern, k);
         // A shard re-run after a failure redoes only the frames that are not whole.
-        if image::open(&path).is_ok() {
+        if keep_frames && image::open(&path).is_ok() {
             crate::output::print(&format!("frame {k}: {} exists: skipped\n", path.display()));
         } else {
             render_sequence_frame(args, &pattern, k)?;
