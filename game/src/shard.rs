@@ -177,23 +177,34 @@ pub fn scene_hash(settings: &str, scene_file: Option<&Path>) -> Result<String> {
     Ok(format!("{:016x}", fnv1a64(&bytes)))
 }
 
-/// The sidecar of `part` when the part is whole and was made with `settings`,
-/// `scene_hash` and `count` shards: the shard is done and is skipped. A part that exists
-/// but is broken or other is logged, to be made again.
-pub fn done_part(part: &Path, settings: &str, scene_hash: &str, count: u32) -> Option<Sidecar> {
+/// What a shard finds of its part before it starts.
+#[derive(Debug)]
+pub enum PartState {
+    /// Whole and made with the same settings, scene and shard count: the shard is done.
+    Done(Box<Sidecar>),
+    /// Whole but made with other settings: made again.
+    OtherSettings,
+    /// Missing, or broken (logged): made again.
+    Absent,
+}
+
+/// What is left of `part` from an earlier run, checked against `settings`, `scene_hash`
+/// and `count` shards. A part that exists but is broken or other is logged, to be made
+/// again.
+pub fn part_state(part: &Path, settings: &str, scene_hash: &str, count: u32) -> PartState {
     match check_part(part) {
         Ok(s) if s.settings == settings && s.scene_hash == scene_hash && s.count == count => {
-            Some(s)
+            PartState::Done(Box::new(s))
         }
         Ok(_) => {
             log::warn!("{}: made with other settings: made again", part.display());
-            None
+            PartState::OtherSettings
         }
         Err(e) => {
             if part.exists() {
                 log::warn!("{e:#}: made again");
             }
-            None
+            PartState::Absent
         }
     }
 }

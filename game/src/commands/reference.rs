@@ -73,7 +73,9 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
             let settings = settings(args);
             let scene_hash = crate::shard::scene_hash(&settings, args.scene.file.as_deref())?;
             let part = crate::shard::part_path(&out, spec.index, spec.count);
-            if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
+            if let crate::shard::PartState::Done(s) =
+                crate::shard::part_state(&part, &settings, &scene_hash, spec.count)
+            {
                 crate::output::print(&format!(
                     "shard {}/{} ({}): {} is already done ({} samples per pixel, {:.1} s): skipped\n",
                     spec.index,

@@ -60,39 +60,26 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     };
     // Frames on disk are kept only when they can be from these settings: the manifest is
     // this render's, or there is none yet (a shard stopped before writing it).
-    let mut keep_frames = true;
-    match crate::shard::check_part(&manifest_path) {
-        Ok(s) if s.settings == settings && s.scene_hash == scene_hash && s.count == spec.count => {
-            let whole = sequence::read(&manifest_path)
-                .and_then(|m| sequence::check_frames(&manifest_path, &m));
-            match whole {
-                Ok(()) => {
-                    crate::output::print(&format!(
-                        "shard {}/{} ({}): {} are already done ({}): skipped\n",
-                        spec.index,
-                        spec.count,
-                        spec.source,
-                        label(&frames),
-                        manifest_path.display()
-                    ));
-                    return Ok(manifest_path);
-                }
-                Err(e) => log::warn!("{e:#}"),
+    let state = crate::shard::part_state(&manifest_path, &settings, &scene_hash, spec.count);
+    if let crate::shard::PartState::Done(_) = state {
+        let whole =
+            sequence::read(&manifest_path).and_then(|m| sequence::check_frames(&manifest_path, &m));
+        match whole {
+            Ok(()) => {
+                crate::output::print(&format!(
+                    "shard {}/{} ({}): {} are already done ({}): skipped\n",
+                    spec.index,
+                    spec.count,
+                    spec.source,
+                    label(&frames),
+                    manifest_path.display()
+                ));
+                return Ok(manifest_path);
             }
-        }
-        Ok(_) => {
-            log::warn!(
-                "{}: made with other settings: every frame of this shard is rendered again",
-                manifest_path.display()
-            );
-            keep_frames = false;
-        }
-        Err(e) => {
-            if manifest_path.exists() {
-                log::warn!("{e:#}: made again");
-            }
+            Err(e) => log::warn!("{e:#}"),
         }
     }
+    let keep_frames = !matches!(state, crate::shard::PartState::OtherSettings);
     crate::output::print(&format!(
         "shard {}/{} (index from {}): {}\n",
         spec.index,

@@ -378,7 +378,9 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
             );
             let scene_hash = crate::shard::scene_hash(&settings, args.scene.file.as_deref())?;
             let part = crate::shard::part_path(json, spec.index, spec.count);
-            if let Some(s) = crate::shard::done_part(&part, &settings, &scene_hash, spec.count) {
+            if let crate::shard::PartState::Done(s) =
+                crate::shard::part_state(&part, &settings, &scene_hash, spec.count)
+            {
                 crate::output::print(&format!(
                     "shard {}/{} ({}): {} is already done (rows {}..{}): skipped\n",
                     spec.index,
