@@ -161,6 +161,14 @@ struct ShadingPoint {
     receives: f32,
 }
 
+// The world position (m) of a forward pass's fragment at `clip` (its @builtin(position):
+// pixel centre and depth), as the deferred pass finds it from the depth buffer.
+fn fragment_world(clip: vec4<f32>) -> vec3<f32> {
+    let ndc = vec2<f32>(clip.x * view.viewport.z * 2.0 - 1.0, 1.0 - clip.y * view.viewport.w * 2.0);
+    let world_h = view.world_from_clip * vec4<f32>(ndc, clip.z, 1.0);
+    return world_h.xyz / world_h.w;
+}
+
 // Pre-exposed radiance (cd/m² × exposure) leaving `p` towards the viewer, emission
 // excluded: every light's direct term and the indirect terms.
 fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {

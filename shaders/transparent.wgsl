@@ -86,10 +86,7 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     surface.metallic = mapped.metallic;
     surface.specular_level = clamp(in.params.z, 0.0, 1.0);
 
-    // World position from the fragment's depth, as the deferred pass finds it.
-    let ndc = vec2<f32>(in.clip.x * view.viewport.z * 2.0 - 1.0, 1.0 - in.clip.y * view.viewport.w * 2.0);
-    let world_h = view.world_from_clip * vec4<f32>(ndc, in.clip.z, 1.0);
-    let world = world_h.xyz / world_h.w;
+    let world = fragment_world(in.clip);
 
     var point: ShadingPoint;
     point.world = world;

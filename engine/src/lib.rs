@@ -29,6 +29,7 @@ pub mod antialiasing;
 pub mod app;
 pub mod assets;
 pub mod brdf;
+pub mod clearcoat;
 pub mod color;
 pub mod encoding;
 pub mod environment_sun;

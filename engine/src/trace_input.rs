@@ -117,6 +117,10 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                         .and_then(|m| frame.material_maps.get(m as usize))
                         .and_then(|entry| entry.transmission),
                     unlit: crate::encoding::is_unlit(inst.params[2]),
+                    clearcoat: batch
+                        .maps
+                        .and_then(|m| frame.material_maps.get(m as usize))
+                        .and_then(|entry| entry.clearcoat),
                 },
             });
         }
@@ -250,6 +254,7 @@ mod tests {
             double_sided: false,
             blend: false,
             transmissive: false,
+            coated: false,
             deformed: None,
             first_instance: 1,
             count: 2,

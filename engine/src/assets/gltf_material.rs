@@ -15,8 +15,8 @@
 use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
-    ColorSpace, Filter, Material, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot,
-    Textures, Transmission, UvTransform, Wrap,
+    Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, TextureData, TextureHandle,
+    TextureSlot, Textures, Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -409,6 +409,7 @@ pub(super) fn material(
         blend,
         transmission: transmission(m, what, &mut loader.warnings),
         unlit: m.unlit(),
+        clearcoat: clearcoat(m, what, &mut loader.warnings),
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))
@@ -586,6 +587,53 @@ fn transmission(
             .and_then(|d| d.as_f64())
             .map_or(0.0, |d| d as f32),
     })
+}
+
+/// `KHR_materials_clearcoat`'s factors: `clearcoatFactor` (default 0: no coat) and
+/// `clearcoatRoughnessFactor` (default 0). Its textures (`clearcoatTexture`,
+/// `clearcoatRoughnessTexture`, `clearcoatNormalTexture`) are not sampled: a warning
+/// names them and the factors alone apply, on the mesh's own normal. A factor that is not
+/// a number is refused with a warning (no coat).
+fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Clearcoat> {
+    let ext = m.extension_value("KHR_materials_clearcoat")?;
+    let number = |key: &str| -> Result<f32, String> {
+        match ext.get(key) {
+            None => Ok(0.0),
+            Some(v) => v.as_f64().map(|x| x as f32).ok_or_else(|| {
+                format!("{what}: KHR_materials_clearcoat's {key} is not a number ({v}); no coat")
+            }),
+        }
+    };
+    let textures: Vec<&str> = [
+        "clearcoatTexture",
+        "clearcoatRoughnessTexture",
+        "clearcoatNormalTexture",
+    ]
+    .into_iter()
+    .filter(|k| ext.get(*k).is_some())
+    .collect();
+    if !textures.is_empty() {
+        warnings.push(format!(
+            "{what}: KHR_materials_clearcoat's {} not sampled; its factors apply",
+            match textures.as_slice() {
+                [one] => format!("{one} is"),
+                many => format!("{} are", many.join(", ")),
+            }
+        ));
+    }
+    match (
+        number("clearcoatFactor"),
+        number("clearcoatRoughnessFactor"),
+    ) {
+        (Ok(factor), Ok(perceptual_roughness)) => (factor > 0.0).then_some(Clearcoat {
+            factor,
+            perceptual_roughness,
+        }),
+        (Err(e), _) | (_, Err(e)) => {
+            warnings.push(e);
+            None
+        }
+    }
 }
 
 /// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):

@@ -77,6 +77,9 @@ pub struct Batch {
     /// the transparent pass over a copy of the opaque frame; its maps entry holds the
     /// transmission.
     pub transmissive: bool,
+    /// Clearcoated ([`crate::scene::Material::coat`]): opaque, drawn by the G-buffer and
+    /// then again by the clearcoat pass; its maps entry holds the coat.
+    pub coated: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
     pub deformed: Option<u32>,
@@ -106,6 +109,8 @@ pub struct FrameMaps {
     /// Alpha-blended: the transparent pass composites with the base alpha as coverage
     /// (a transmissive surface that is not blended covers what is behind it).
     pub blend: bool,
+    /// The clearcoat the clearcoat pass draws over the opaque surface (clamped).
+    pub clearcoat: Option<crate::scene::Clearcoat>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -237,6 +242,11 @@ impl ExtractedFrame {
         self.batches
             .iter()
             .filter(|b| b.visible > 0 && b.transparent())
+    }
+
+    /// The clearcoated batches in view: what the clearcoat pass draws over the lit frame.
+    pub fn coated_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.drawn_batches().filter(|b| b.coated)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -518,6 +528,7 @@ pub fn extract_frame(
         double_sided: bool,
         blend: bool,
         transmissive: bool,
+        coated: bool,
         // Squared distance (m²) from the camera to the bounding sphere's centre.
         distance2: f32,
         casts: bool,
@@ -561,11 +572,17 @@ pub fn extract_frame(
             .map(|t| world_transmission(&t, &m))
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
+        // The clearcoat pass, too, draws through the maps' bind group, which holds the coat.
+        let clearcoat = material.coat().filter(|_| !transmissive);
+        let coated = clearcoat.is_some();
         let maps = maps
-            .or((blend || transmissive).then_some(&neutral_maps))
+            .or((blend || transmissive || coated).then_some(&neutral_maps))
             .map(|m| {
                 let same = |x: &FrameMaps| {
-                    x.maps == *m && x.transmission == transmission && x.blend == blend
+                    x.maps == *m
+                        && x.transmission == transmission
+                        && x.blend == blend
+                        && x.clearcoat == clearcoat
                 };
                 let index = match frame.material_maps.iter().position(same) {
                     Some(i) => i,
@@ -574,6 +591,7 @@ pub fn extract_frame(
                             maps: m.clone(),
                             transmission,
                             blend,
+                            clearcoat,
                         });
                         frame.material_maps.len() - 1
                     }
@@ -592,6 +610,7 @@ pub fn extract_frame(
             double_sided: material.double_sided,
             blend,
             transmissive,
+            coated,
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
@@ -692,6 +711,7 @@ pub fn extract_frame(
                 double_sided: item.double_sided,
                 blend: item.blend,
                 transmissive: item.transmissive,
+                coated: item.coated,
                 deformed: item.deformed,
                 first_instance: index,
                 count: 1,

@@ -693,6 +693,7 @@ pub fn prepare_ibl(
         || quality.energy_compensation
         || quality.gi.enabled
         || quality.reflection_probes.enabled
+        || frame.coated_batches().next().is_some()
     {
         match ibl.ensure_lut(&gpu, quality.brdf_lut_size, quality.brdf_lut_samples) {
             Ok(Some(ms)) => ibl.last_steps.push(("brdf lut".into(), ms)),

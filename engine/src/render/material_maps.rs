@@ -24,6 +24,7 @@ struct GpuMaps {
     params: [f32; 4],
     transmission: [f32; 4],
     attenuation: [f32; 4],
+    clearcoat: [f32; 4],
 }
 
 impl GpuMaps {
@@ -56,6 +57,9 @@ impl GpuMaps {
         if let Some(t) = entry.transmission {
             out.transmission = [t.factor, t.ior, t.thickness_m, t.attenuation_distance_m];
             out.attenuation = t.attenuation_color.extend(t.dispersion).into();
+        }
+        if let Some(c) = entry.clearcoat {
+            out.clearcoat = [c.factor, c.perceptual_roughness, 0.0, 0.0];
         }
         out
     }

@@ -12,6 +12,7 @@
 pub mod antialiasing;
 pub mod bindings;
 pub mod capture;
+pub mod coat;
 pub mod debug_view;
 pub mod deform;
 pub mod device;
@@ -19,6 +20,7 @@ pub mod dof;
 pub mod exposure;
 pub mod extract;
 pub mod extract_deform;
+pub mod forward;
 pub mod frame;
 pub mod gbuffer;
 pub mod gpu_types;

@@ -7,6 +7,7 @@ use crate::render::antialiasing::accumulate::AccumulatePass;
 use crate::render::antialiasing::fxaa::FxaaPass;
 use crate::render::antialiasing::smaa::SmaaPass;
 use crate::render::antialiasing::taa::TaaPass;
+use crate::render::coat::CoatPass;
 use crate::render::debug_view::DebugViewPass;
 use crate::render::deform::DeformPass;
 use crate::render::dof::DofPass;
@@ -36,6 +37,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<LightCullingPass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
+        .with::<CoatPass>()
         .with::<SkyPass>()
         .with::<TransmissionSourcePass>()
         .with::<TransparentPass>()

@@ -44,6 +44,50 @@ pub struct Material {
     /// emissive, metallic, roughness, specular level and transmission are ignored
     /// (docs/src/materials.md#unlit).
     pub unlit: bool,
+    /// A clear dielectric coat over the surface (glTF's `KHR_materials_clearcoat`): car
+    /// paint, varnish, lacquer. `None`: no coat. It is drawn over opaque surfaces only; a
+    /// blended, transmissive or unlit surface ignores it ([`Material::coat`]). The coat
+    /// is a second specular lobe of F0 0.04 on the mesh's own normal (not the base's
+    /// normal map), and the base's light is dimmed by what it reflects
+    /// (docs/src/materials.md#clearcoat).
+    pub clearcoat: Option<Clearcoat>,
+}
+
+/// The clearcoat of a [`Material`] (glTF's `KHR_materials_clearcoat`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clearcoat {
+    /// Strength of the coat, 0 (none) .. 1 (whole); clamped.
+    pub factor: f32,
+    /// The coat's perceptual roughness (0 = mirror .. 1), its GGX width α = r²; clamped
+    /// like the base's.
+    pub perceptual_roughness: f32,
+}
+
+impl Default for Clearcoat {
+    /// A whole, mirror-smooth coat (glTF's default roughness 0).
+    fn default() -> Self {
+        Clearcoat {
+            factor: 1.0,
+            perceptual_roughness: 0.0,
+        }
+    }
+}
+
+impl Clearcoat {
+    /// The coat with its factors made safe: the factor in 0..1 (NaN: 0), the roughness
+    /// clamped by [`crate::brdf::clamp_perceptual_roughness`].
+    pub fn clamped(self) -> Clearcoat {
+        Clearcoat {
+            factor: if self.factor.is_nan() {
+                0.0
+            } else {
+                self.factor.clamp(0.0, 1.0)
+            },
+            perceptual_roughness: crate::brdf::clamp_perceptual_roughness(
+                self.perceptual_roughness,
+            ),
+        }
+    }
 }
 
 /// The transmission and volume of a [`Material`] (glTF's `KHR_materials_transmission`,
@@ -99,6 +143,7 @@ impl Default for Material {
             blend: false,
             transmission: None,
             unlit: false,
+            clearcoat: None,
         }
     }
 }
@@ -112,6 +157,16 @@ impl Material {
             perceptual_roughness,
             ..Material::default()
         }
+    }
+
+    /// The coat that is drawn (clamped): [`Material::clearcoat`] where its factor is above
+    /// 0 and the surface is opaque and lit (not blended, transmissive or unlit).
+    pub fn coat(&self) -> Option<Clearcoat> {
+        self.clearcoat
+            .map(Clearcoat::clamped)
+            .filter(|c| c.factor > 0.0)
+            .filter(|_| !self.blend && !self.unlit)
+            .filter(|_| self.transmission.is_none_or(|t| !(t.factor > 0.0)))
     }
 
     /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).

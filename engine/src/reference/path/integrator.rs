@@ -31,28 +31,23 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
-use super::microfacet::{basis, g1_ggx};
+use super::bsdf::Bsdf;
+use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
 use super::scene::{
     LightVisibility, SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene,
 };
-use crate::brdf::{Surface, d_ggx, surface_brdf_lobes};
 use crate::punctual::{distance_attenuation, spot_attenuation};
-use glam::{Mat3, Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
-/// Concentric map of the unit square onto the unit disk (Shirley & Chiu 1997).
-fn concentric_disk(xi: Vec2) -> Vec2 {
-    let p = xi * 2.0 - Vec2::ONE;
-    if p == Vec2::ZERO {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if p.x.abs() > p.y.abs() {
-        (p.x, PI / 4.0 * (p.y / p.x))
+/// `normal`, or its opposite where it points away from `facing`.
+fn turned(normal: Vec3, facing: Vec3) -> Vec3 {
+    if normal.dot(facing) < 0.0 {
+        -normal
     } else {
-        (p.y, PI / 2.0 - PI / 4.0 * (p.x / p.y))
-    };
-    Vec2::new(r * theta.cos(), r * theta.sin())
+        normal
+    }
 }
 
 /// A direction drawn uniformly from the cone of directions within `cos_max` of the unit
@@ -68,110 +63,6 @@ fn uniform_cone(axis: Vec3, cos_max: f32, xi: Vec2) -> Vec3 {
 /// 2π(1 − cos_max).
 fn cone_pdf(cos_max: f32) -> f32 {
     1.0 / (2.0 * PI * (1.0 - cos_max)).max(1e-12)
-}
-
-/// The BSDF at a hit, in a local frame around the shading normal.
-struct Bsdf {
-    frame: Mat3,
-    surface: Surface,
-    /// Multiplies the specular lobe (energy compensation; 1 when off).
-    specular_scale: Vec3,
-    alpha: f32,
-    /// Probability of sampling the specular lobe.
-    p_specular: f32,
-    model: crate::brdf::VisibilityModel,
-}
-
-impl Bsdf {
-    fn new(
-        n: Vec3,
-        v: Vec3,
-        m: &TraceMaterial,
-        model: crate::brdf::VisibilityModel,
-        compensation: Option<&super::scene::AlbedoTable>,
-    ) -> Bsdf {
-        let surface = Surface {
-            base_color: m.base_color,
-            metallic: m.metallic,
-            perceptual_roughness: m.roughness,
-            specular_level: m.specular_level,
-        };
-        let f0 = crate::brdf::compute_f0(m.base_color, m.metallic, m.specular_level);
-        let f = crate::brdf::f_schlick(f0, n.dot(v).clamp(0.0, 1.0));
-        let lum = |c: Vec3| c.dot(Vec3::new(0.2126, 0.7152, 0.0722));
-        let spec = lum(f);
-        let diff = lum(m.base_color) * (1.0 - m.metallic);
-        let p_specular = if spec + diff > 0.0 {
-            (spec / (spec + diff)).clamp(0.1, 0.9)
-        } else {
-            0.5
-        };
-        let specular_scale = compensation.map_or(Vec3::ONE, |table| {
-            table.compensation(f0, n.dot(v), m.roughness)
-        });
-        Bsdf {
-            frame: basis(n),
-            surface,
-            specular_scale,
-            alpha: m.roughness * m.roughness,
-            p_specular,
-            model,
-        }
-    }
-
-    fn n(&self) -> Vec3 {
-        self.frame.z_axis
-    }
-
-    /// f_r(v, l) · (n·l).
-    fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
-        let n = self.n();
-        let lobes = surface_brdf_lobes(n, v, l, &self.surface, self.model);
-        (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0)
-    }
-
-    /// Solid-angle density of [`Bsdf::sample`] choosing `l`.
-    fn pdf(&self, v: Vec3, l: Vec3) -> f32 {
-        let n = self.n();
-        let n_dot_l = n.dot(l);
-        let n_dot_v = n.dot(v);
-        if n_dot_l <= 0.0 || n_dot_v <= 0.0 {
-            return 0.0;
-        }
-        let diffuse = n_dot_l / PI;
-        let h = (v + l).normalize_or(n);
-        let n_dot_h = n.dot(h).clamp(0.0, 1.0);
-        let d = d_ggx(self.alpha, n_dot_h, n.cross(h).length_squared());
-        let specular = g1_ggx(n_dot_v, self.alpha) * d / (4.0 * n_dot_v);
-        self.p_specular * specular + (1.0 - self.p_specular) * diffuse
-    }
-
-    /// A direction drawn from the mixture, with f·cos/pdf and the pdf.
-    fn sample(&self, v: Vec3, rng: &mut Rng) -> Option<(Vec3, Vec3, f32)> {
-        let local_v = self.frame.transpose() * v;
-        if local_v.z <= 0.0 {
-            return None;
-        }
-        let choose = rng.uniform();
-        let xi = rng.pair();
-        let local_l = if choose < self.p_specular {
-            let h = crate::ibl::sample_ggx_vndf(local_v, self.alpha, xi);
-            2.0 * local_v.dot(h) * h - local_v
-        } else {
-            let d = concentric_disk(xi);
-            Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt())
-        };
-        if local_l.z <= 0.0 {
-            return None;
-        }
-        let l = (self.frame * local_l).normalize();
-        let pdf = self.pdf(v, l);
-        if pdf.is_nan() || pdf <= 0.0 {
-            return None;
-        }
-        let weight = self.eval(v, l) / pdf;
-        weight.is_finite().then_some((l, weight, pdf))
-    }
 }
 
 /// How a path reached a surface by sampling the BSDF of the surface before it.
@@ -521,13 +412,7 @@ impl TraceScene {
         if f_p == Vec3::ZERO {
             return None;
         }
-        let bsdf_y = Bsdf::new(
-            n_y,
-            -l,
-            &surface.material,
-            self.visibility,
-            self.energy_compensation.as_ref(),
-        );
+        let bsdf_y = self.bsdf(n_y, facing_y, &surface, &surface.material, -l);
         let f_y = bsdf_y.eval(-l, -dir);
         if f_y == Vec3::ZERO || self.occluded(origin, l, d * (1.0 - 1e-4)) {
             return None;
@@ -620,6 +505,36 @@ impl TraceScene {
         }
     }
 
+    /// The BSDF of `material` (the hit's, or its opaque choice) at `surface`, seen from
+    /// `v`: the base about the shading normal `n`, and a clearcoat about the mesh's own
+    /// normal turned to the same side as the geometric normal `facing`.
+    fn bsdf(
+        &self,
+        n: Vec3,
+        facing: Vec3,
+        surface: &SurfacePoint,
+        material: &TraceMaterial,
+        v: Vec3,
+    ) -> Bsdf {
+        let base = Bsdf::new(
+            n,
+            v,
+            material,
+            self.visibility,
+            self.energy_compensation.as_ref(),
+        );
+        match (material.clearcoat, self.coat_albedo.as_ref()) {
+            (Some(coat), Some(table)) => base.with_coat(
+                turned(surface.coat_normal, facing),
+                v,
+                (coat.factor, coat.perceptual_roughness),
+                table,
+                self.energy_compensation.as_ref(),
+            ),
+            _ => base,
+        }
+    }
+
     /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned
     /// to the side `v` comes from: (geometric, shading).
     fn facing_normals(&self, t: usize, normal: Vec3, v: Vec3) -> (Vec3, Vec3) {
@@ -628,12 +543,7 @@ impl TraceScene {
             .cross(tri.p[2] - tri.p[0])
             .normalize_or(Vec3::Z);
         let facing = if ng.dot(v) < 0.0 { -ng } else { ng };
-        let n = if normal.dot(facing) < 0.0 {
-            -normal
-        } else {
-            normal
-        };
-        (facing, n)
+        (facing, turned(normal, facing))
     }
 
     /// One sample of the ambient occlusion at the first surface along a camera ray: a
@@ -748,13 +658,7 @@ impl TraceScene {
                     }
                 }
             } else {
-                let bsdf = Bsdf::new(
-                    n,
-                    v,
-                    &material,
-                    self.visibility,
-                    self.energy_compensation.as_ref(),
-                );
+                let bsdf = self.bsdf(n, facing, &surface, &material, v);
                 radiance += throughput * self.direct(p, offset, v, &bsdf, arrival, rng);
                 if bounce + 1 < max_bounces
                     && let Some(bounced) = self.bounced_light(p, offset, facing, v, &bsdf, rng)
@@ -812,52 +716,6 @@ mod tests {
                 assert!(h.is_normalized() && h.z >= 0.0, "{h}");
                 assert!(v.dot(h) >= -1e-5, "visible normals face v");
             }
-        }
-    }
-
-    #[test]
-    fn sampled_albedo_matches_quadrature() {
-        // ∫ f cos dω two ways: the mean of the sampler's weights f·cos/pdf, and stratified
-        // quadrature. They agree only if the pdf is the density the sampler draws from.
-        let n = Vec3::Z;
-        let v = Vec3::new(0.5, 0.0, 0.866).normalize();
-        for (metallic, roughness) in [(0.0, 0.5), (1.0, 0.3), (0.5, 0.9), (1.0, 0.2)] {
-            let m = TraceMaterial {
-                base_color: Vec3::splat(0.7),
-                metallic,
-                roughness,
-                specular_level: 0.5,
-                emissive: Vec3::ZERO,
-                maps: None,
-                alpha: 1.0,
-                blend: false,
-                transmission: None,
-                unlit: false,
-            };
-            let bsdf = Bsdf::new(n, v, &m, crate::brdf::VisibilityModel::default(), None);
-            let steps = 600;
-            let mut quadrature = 0.0;
-            for i in 0..steps {
-                for j in 0..steps {
-                    let cos_t = (i as f32 + 0.5) / steps as f32;
-                    let phi = (j as f32 + 0.5) / steps as f32 * 2.0 * PI;
-                    let s = (1.0 - cos_t * cos_t).sqrt();
-                    let l = Vec3::new(s * phi.cos(), s * phi.sin(), cos_t);
-                    quadrature += bsdf.eval(v, l).x * (2.0 * PI / (steps * steps) as f32);
-                }
-            }
-            let mut rng = Rng::new(3, 5, 7);
-            let count = 200_000;
-            let sampled: f32 = (0..count)
-                .filter_map(|_| bsdf.sample(v, &mut rng))
-                .map(|(_, w, _)| w.x)
-                .sum::<f32>()
-                / count as f32;
-            let err = (sampled - quadrature).abs() / quadrature;
-            assert!(
-                err < 0.02,
-                "metallic {metallic} roughness {roughness}: {sampled} vs {quadrature}"
-            );
         }
     }
 

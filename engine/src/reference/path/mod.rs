@@ -12,6 +12,7 @@
 //! microfacet model. Material maps (textures, vertex colours, normal maps, alpha masks)
 //! are sampled as the G-buffer's textured variant samples them.
 
+pub mod bsdf;
 pub mod bvh;
 pub mod dielectric;
 pub mod integrator;

@@ -163,6 +163,9 @@ pub struct TraceMaterial {
     /// Unlit ([`crate::scene::Material::unlit`]): the surface emits its base colour
     /// (pre-exposed, [`TraceMaterial::emitted`]) and scatters nothing; a path ends there.
     pub unlit: bool,
+    /// The clearcoat over an opaque surface ([`crate::scene::Material::coat`]), on the
+    /// mesh's own normal ([`SurfacePoint::coat_normal`]).
+    pub clearcoat: Option<crate::scene::Clearcoat>,
 }
 
 impl TraceMaterial {
@@ -189,6 +192,10 @@ impl TraceMaterial {
             } else {
                 self.alpha.clamp(0.0, 1.0)
             },
+            clearcoat: self
+                .clearcoat
+                .map(crate::scene::Clearcoat::clamped)
+                .filter(|c| c.factor > 0.0),
             ..self
         }
     }
@@ -346,8 +353,15 @@ pub struct AlbedoTable {
 }
 
 impl AlbedoTable {
-    /// A `size` × `size` table, `samples` GGX importance samples per entry.
+    /// A `size` × `size` table, `samples` GGX importance samples per entry, without
+    /// Fresnel (F = 1): E₁, what the energy compensation divides by.
     pub fn new(size: usize, samples: u32, model: VisibilityModel) -> Self {
+        AlbedoTable::with_f0(size, samples, model, 1.0)
+    }
+
+    /// The same for a lobe with Schlick's Fresnel of reflectance `f0` at normal incidence:
+    /// the directional albedo E(n·v, r) of a dielectric specular lobe.
+    pub fn with_f0(size: usize, samples: u32, model: VisibilityModel, f0: f32) -> Self {
         use crate::ibl::{hammersley, importance_sample_ggx};
         let size = size.max(2);
         let mut values = Vec::with_capacity(size * size);
@@ -365,7 +379,8 @@ impl AlbedoTable {
                     if l.z > 0.0 && v_dot_h > 0.0 {
                         // D·V·(n·l) / (D (n·h) / (4 v·h)).
                         let vis = crate::brdf::visibility(model, n_dot_v, l.z, r);
-                        sum += vis * l.z * 4.0 * v_dot_h / h.z.max(1e-6);
+                        let fresnel = crate::brdf::f_schlick(Vec3::splat(f0), v_dot_h).x;
+                        sum += fresnel * vis * l.z * 4.0 * v_dot_h / h.z.max(1e-6);
                     }
                 }
                 values.push((sum / samples as f32).clamp(1e-3, 1.0));
@@ -438,6 +453,9 @@ pub struct TraceScene {
     pub visibility: VisibilityModel,
     /// Energy compensation of the specular lobe, as the rasterizer's `Quality` sets it.
     pub energy_compensation: Option<AlbedoTable>,
+    /// The albedo of a GGX lobe of F0 0.04 (a clearcoat's), built only when a material
+    /// has a clearcoat.
+    pub coat_albedo: Option<AlbedoTable>,
     /// Which lights shadow rays test ([`LightVisibility::Physical`] unless set).
     pub light_visibility: LightVisibility,
     /// Whether paths also reach point and spot lights through a surface lit from the light
@@ -512,6 +530,7 @@ impl TraceScene {
         };
         let show_env = environment
             .is_some_and(|e| matches!(e.background, crate::scene::Background::Environment { .. }));
+        let coated = materials.iter().any(|m| m.clearcoat.is_some());
         TraceScene {
             bvh: Bvh::build(triangles),
             corners,
@@ -528,6 +547,14 @@ impl TraceScene {
             energy_compensation: quality
                 .energy_compensation
                 .then(|| AlbedoTable::new(32, 1024, quality.visibility)),
+            coat_albedo: coated.then(|| {
+                AlbedoTable::with_f0(
+                    32,
+                    1024,
+                    quality.visibility,
+                    crate::brdf::dielectric_f0(crate::clearcoat::CLEARCOAT_SPECULAR_LEVEL),
+                )
+            }),
             light_visibility: LightVisibility::Physical,
             light_connections: true,
         }
@@ -542,6 +569,9 @@ pub struct SurfacePoint {
     pub material: TraceMaterial,
     /// Shading normal (unit, not yet turned towards the viewer).
     pub normal: Vec3,
+    /// The interpolated normal without the normal map (unit, not yet turned): a
+    /// clearcoat's normal.
+    pub coat_normal: Vec3,
     /// Coverage: the base colour factor's alpha × the texel's × the vertex colour's.
     pub alpha: f32,
     /// The material's alpha cutoff, if it is masked.
@@ -560,6 +590,7 @@ impl TraceScene {
             return SurfacePoint {
                 material,
                 normal,
+                coat_normal: normal,
                 alpha: material.alpha,
                 alpha_cutoff: None,
             };
@@ -585,6 +616,7 @@ impl TraceScene {
         SurfacePoint {
             material,
             normal: n,
+            coat_normal: normal,
             alpha: material.alpha * base.w,
             alpha_cutoff: maps.alpha_cutoff,
         }

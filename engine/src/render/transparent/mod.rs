@@ -23,9 +23,10 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
-use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
+use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
+use crate::render::forward::{ForwardInputs, draw_batches, mesh_pipeline};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
@@ -33,8 +34,7 @@ use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
 use crate::render::material_maps::{GpuMaterialMaps, group_def};
-use crate::render::pipelines::create_module;
-use crate::render::pipelines::draw_fullscreen_with;
+use crate::render::pipelines::{create_module, draw_fullscreen_with};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
@@ -316,41 +316,23 @@ impl TransparentPass {
         } else {
             "fs_main"
         };
-        let pipeline = gpu.checked("transparent pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("transparent"),
-                layout: Some(&self.pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some("vs_main"),
-                    compilation_options: Default::default(),
-                    buffers: &crate::render::mesh_vertex::buffers(),
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: (!double_sided).then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: targets::DEPTH_FORMAT,
-                    depth_write_enabled: Some(false),
-                    // Reversed Z: in front of the opaque surface.
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        })?;
+        let pipeline = mesh_pipeline(
+            gpu,
+            "transparent",
+            &self.pipeline_layout,
+            module,
+            entry,
+            double_sided,
+            &targets,
+            wgpu::DepthStencilState {
+                format: targets::DEPTH_FORMAT,
+                depth_write_enabled: Some(false),
+                // Reversed Z: in front of the opaque surface.
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            },
+        )?;
         self.pipelines.insert(key, pipeline);
         Ok(())
     }
@@ -428,39 +410,21 @@ pub fn prepare_transparent(
     }
 }
 
-/// What the transparent pass draws with, besides its own resource.
-#[derive(SystemParam)]
-pub struct TransparentInputs<'w> {
-    lighting: Res<'w, LightingPass>,
-    maps: Res<'w, GpuMaterialMaps>,
-    buffers: Res<'w, SceneBuffers>,
-    frame: Res<'w, ExtractedFrame>,
-    targets: Res<'w, RenderTargets>,
-    deform: Res<'w, DeformPass>,
-}
-
 /// Records the blended batches, farthest first, over the HDR target.
 pub fn transparent_pass(
     plan: Res<FramePlan>,
     pass: Res<TransparentPass>,
-    inputs: TransparentInputs,
+    inputs: ForwardInputs,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let TransparentInputs {
-        lighting,
-        maps,
-        buffers,
-        frame,
-        targets,
-        deform,
-    } = inputs;
+    let targets = &inputs.targets;
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         plan.variant::<TransparentPass>().copied(),
         pass.view_group.as_ref(),
-        lighting.shared_groups(),
+        inputs.lighting.shared_groups(),
     ) else {
         return;
     };
@@ -516,33 +480,17 @@ pub fn transparent_pass(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_bind_group(0, view_group, &[]);
-        for (i, group) in shared.into_iter().enumerate() {
-            rp.set_bind_group(i as u32 + 1, group, &[]);
-        }
-        rp.set_vertex_buffer(1, buffers.instances.buffer.slice(..));
-        for batch in frame.transparent_batches() {
-            let (Some(mesh), Some(group), Some(pipeline)) = (
-                buffers.meshes.get(&batch.mesh),
-                batch.maps.and_then(|m| maps.group(m)),
+        draw_batches(
+            &mut rp,
+            &inputs,
+            (view_group, shared),
+            MAPS_GROUP,
+            inputs.frame.transparent_batches(),
+            |batch| {
                 pass.pipelines
-                    .get(&(variant, batch.double_sided, t.hdr_format)),
-            ) else {
-                continue;
-            };
-            let Some(vertices) = deform.draw_vertices(&frame, mesh, batch.deformed) else {
-                continue;
-            };
-            rp.set_pipeline(pipeline);
-            rp.set_bind_group(MAPS_GROUP, group, &[]);
-            rp.set_vertex_buffer(0, vertices.slice(..));
-            rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-            rp.draw_indexed(
-                0..mesh.index_count,
-                0,
-                batch.first_instance..batch.first_instance + batch.visible,
-            );
-        }
+                    .get(&(variant, batch.double_sided, t.hdr_format))
+            },
+        );
     }
     timer.end_pass(scope);
     if let Some((_, group, pipeline)) = oit {
