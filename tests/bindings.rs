@@ -7,6 +7,7 @@ use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
 use lumen::render::antialiasing::{accumulate, copy, fxaa, prepare, resolve, smaa};
 use lumen::render::bindings::{BindGroupSpec, Binding};
+use lumen::render::coat::{self, CoatPass};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
 use lumen::render::indirect::irradiance_volume;
@@ -102,6 +103,17 @@ fn every_bind_group_list_matches_its_shader() {
         ),
         &[
             (0, transparent::VIEW),
+            (1, lighting::LIGHTS_AND_SHADOWS),
+            (2, lighting::ENVIRONMENT),
+            (3, lighting::PROBES),
+            (4, material_maps::BINDINGS),
+        ],
+    );
+    check(
+        "coat.wgsl",
+        &CoatPass::defs(everything, 8),
+        &[
+            (0, coat::VIEW),
             (1, lighting::LIGHTS_AND_SHADOWS),
             (2, lighting::ENVIRONMENT),
             (3, lighting::PROBES),

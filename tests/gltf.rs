@@ -271,6 +271,60 @@ fn transmission_and_volume_map_onto_the_material() {
 }
 
 #[test]
+fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({"extensions": {"KHR_materials_clearcoat": {
+        "clearcoatFactor": 0.8,
+        "clearcoatRoughnessFactor": 0.3,
+        "clearcoatNormalTexture": {"index": 0}
+    }}});
+    let path = write_quad(dir.path(), material, &["KHR_materials_clearcoat"]);
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert_eq!(
+        m[0].clearcoat,
+        Some(lumen::scene::Clearcoat {
+            factor: 0.8,
+            perceptual_roughness: 0.3
+        })
+    );
+    assert!(
+        summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("KHR_materials_clearcoat's clearcoatNormalTexture is not sampled")),
+        "{:?}",
+        summary.warnings
+    );
+    // A factor of 0 (the default) is no coat; a factor that is not a number is refused
+    // with a warning, and the material still loads.
+    for (coat, warning) in [
+        (json!({"clearcoatRoughnessFactor": 0.5}), None),
+        (
+            json!({"clearcoatFactor": "shiny"}),
+            Some("clearcoatFactor is not a number"),
+        ),
+    ] {
+        let material = json!({"extensions": {"KHR_materials_clearcoat": coat}});
+        let path = write_quad(dir.path(), material, &["KHR_materials_clearcoat"]);
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &path).expect("loads");
+        let world = app.world_mut();
+        let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+        assert_eq!(m[0].clearcoat, None);
+        if let Some(w) = warning {
+            assert!(
+                summary.warnings.iter().any(|x| x.contains(w)),
+                "{:?}",
+                summary.warnings
+            );
+        }
+    }
+}
+
+#[test]
 fn khr_materials_unlit_maps_onto_the_material() {
     let dir = tempfile::tempdir().expect("temp dir");
     let material = json!({

@@ -10,6 +10,7 @@ mod antialiasing;
 mod bench;
 mod bindings;
 mod camera;
+mod clearcoat;
 mod cli;
 mod docs;
 mod examples;

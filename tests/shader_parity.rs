@@ -14,10 +14,10 @@ use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::{camera, deform};
-use lumen::{color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
+use lumen::{clearcoat, color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 46;
+const OUTPUTS: usize = 47;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -327,6 +327,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         transmission::dispersion_iors(1.0 + x * 3.0, r * 30.0).extend(0.0),
         skin * v.extend(1.0),
         (deform::skin_normal_matrix(glam::Mat3::from_mat4(skin)) * n).extend(0.0),
+        Vec4::new(
+            clearcoat::clearcoat_albedo(Vec2::new(x, n_dot_h * 0.3), 1.0 + k),
+            clearcoat::clearcoat_base_weight(x * 1.5 - 0.25, n_dot_h),
+            clearcoat::clearcoat_base_weight(f32::NAN, n_dot_h),
+            0.0,
+        ),
     ]
 }
 
@@ -377,6 +383,7 @@ const NAMES: [&str; OUTPUTS] = [
     "dispersion_iors",
     "skin_matrix",
     "skin_normal_matrix",
+    "clearcoat_albedo | clearcoat_base_weight",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -464,7 +464,8 @@ fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
 #[test]
 fn the_materials_scene_draws_each_feature() {
     // Five transmissive objects and one blended pane, all drawn by the transparent pass,
-    // finite; and the clear sphere is not the opaque one: light passes through it.
+    // and a clearcoated sphere; finite; and the clear sphere is not the opaque one: light
+    // passes through it.
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");
@@ -473,6 +474,13 @@ fn the_materials_scene_draws_each_feature() {
         transparent.enabled && transparent.reason.contains("1 blended and 5 transmissive"),
         "{}",
         transparent.reason
+    );
+    // The car-paint sphere's coat.
+    let coat = decision(&report, PassId::Clearcoat);
+    assert!(
+        coat.enabled && coat.reason.contains("1 clearcoated"),
+        "{}",
+        coat.reason
     );
     common::assert_finite(&app);
     let image = app.read_hdr_image().expect("readback");

@@ -15,6 +15,7 @@
 #import transparency
 #import transmission
 #import skinning
+#import clearcoat
 
 struct Case {
     n: vec4<f32>,
@@ -28,7 +29,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 46u;
+const OUTPUTS: u32 = 47u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -145,6 +146,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 44u] = skin * vec4<f32>(c.v.xyz, 1.0);
     let skin3 = mat3x3<f32>(skin[0].xyz, skin[1].xyz, skin[2].xyz);
     results[o + 45u] = vec4<f32>(skin_normal_matrix(skin3) * c.n.xyz, 0.0);
+    let nan = bitcast<f32>(0x7fc00000u);
+    results[o + 46u] = vec4<f32>(clearcoat_albedo(vec2<f32>(x, n_dot_h * 0.3), 1.0 + k),
+                                 clearcoat_base_weight(x * 1.5 - 0.25, n_dot_h),
+                                 clearcoat_base_weight(nan, n_dot_h), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

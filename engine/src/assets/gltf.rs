@@ -585,6 +585,7 @@ const READ_HERE: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_specular",
     "KHR_materials_dispersion",
+    "KHR_materials_clearcoat",
 ];
 
 /// Parses a glTF or GLB file and validates it. A required extension must be one the

@@ -40,6 +40,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             blend: false,
             transmission: None,
             unlit: false,
+            clearcoat: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

@@ -10,18 +10,21 @@
 //! 5. a thin-walled glass pane (thickness 0): the stripes through it unbent;
 //! 6. a dispersive glass block turned 45° (`KHR_materials_dispersion` 5, Abbe number 4):
 //!    the stripes' edges split into colours;
-//! 7. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4).
+//! 7. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4);
+//! 8. a car-paint sphere: a red base, half metal, roughness 0.5, under a whole,
+//!    nearly smooth clearcoat (`KHR_materials_clearcoat`, coat roughness 0.05): a sharp
+//!    reflection over a soft highlight.
 //!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::scene::Transmission;
+use lumen::scene::{Clearcoat, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 7] = [-2.7, -1.8, -0.9, 0.0, 0.9, 1.8, 2.7];
+pub const MATERIALS_X: [f32; 8] = [-2.975, -2.125, -1.275, -0.425, 0.425, 1.275, 2.125, 2.975];
 /// Radius of the spheres (m).
-pub const MATERIALS_RADIUS: f32 = 0.4;
+pub const MATERIALS_RADIUS: f32 = 0.37;
 
 fn glass(tint: Vec3, distance_m: f32, roughness: f32, thickness_m: f32) -> Material {
     Material {
@@ -41,8 +44,8 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     let floor = app.add_mesh(plane(12.0, 8.0))?;
     let stripe = app.add_mesh(cuboid(Vec3::new(0.25, 3.0, 0.05)))?;
     let sphere = app.add_mesh(uv_sphere(MATERIALS_RADIUS, 48, 24))?;
-    let pane = app.add_mesh(cuboid(Vec3::new(0.7, 0.8, 0.02)))?;
-    let block = app.add_mesh(cuboid(Vec3::new(0.6, 0.8, 0.3)))?;
+    let pane = app.add_mesh(cuboid(Vec3::new(0.65, 0.8, 0.02)))?;
+    let block = app.add_mesh(cuboid(Vec3::new(0.5, 0.8, 0.3)))?;
     let diameter = 2.0 * MATERIALS_RADIUS;
     let world = app.world_mut();
     world.spawn((
@@ -99,6 +102,17 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         Mesh3d(pane),
         red,
         Transform::from_xyz(MATERIALS_X[6], 0.41, 0.0),
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            clearcoat: Some(Clearcoat {
+                factor: 1.0,
+                perceptual_roughness: 0.05,
+            }),
+            ..Material::new(Vec3::new(0.6, 0.02, 0.03), 0.5, 0.5)
+        },
+        Transform::from_xyz(MATERIALS_X[7], MATERIALS_RADIUS + 0.01, 0.0),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((

@@ -16,6 +16,7 @@ pub const PLANE_MATERIAL: Material = Material {
     blend: false,
     transmission: None,
     unlit: false,
+    clearcoat: None,
 };
 
 /// Illuminance of the light in lux.
