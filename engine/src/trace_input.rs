@@ -251,6 +251,7 @@ mod tests {
         frame.batches = vec![Batch {
             mesh: crate::scene::MeshHandle(7),
             maps: Some(1),
+            textured: true,
             double_sided: false,
             blend: false,
             transmissive: false,

@@ -66,8 +66,12 @@ pub struct Batch {
     /// The mesh.
     pub mesh: MeshHandle,
     /// Index into [`ExtractedFrame::material_maps`] of the batch's textures (`None`:
-    /// factors only).
+    /// factors only). A blended, transmissive or clearcoated material without textures
+    /// gets neutral maps here, which the forward passes bind.
     pub maps: Option<u32>,
+    /// The entities have `MaterialMaps` of their own: the G-buffer draws them with its
+    /// textured variant (else with the plain one, whatever `maps` holds).
+    pub textured: bool,
     /// Back faces drawn too.
     pub double_sided: bool,
     /// Alpha-blended ([`crate::scene::Material::blend`]): one instance, drawn by the
@@ -525,6 +529,7 @@ pub fn extract_frame(
     struct Item {
         mesh: MeshHandle,
         maps: Option<u32>,
+        textured: bool,
         double_sided: bool,
         blend: bool,
         transmissive: bool,
@@ -575,6 +580,7 @@ pub fn extract_frame(
         // The clearcoat pass, too, draws through the maps' bind group, which holds the coat.
         let clearcoat = material.coat().filter(|_| !transmissive);
         let coated = clearcoat.is_some();
+        let textured = maps.is_some();
         let maps = maps
             .or((blend || transmissive || coated).then_some(&neutral_maps))
             .map(|m| {
@@ -607,6 +613,7 @@ pub fn extract_frame(
             deformed: deformed.map(|d| d.index),
             mesh: mesh.0,
             maps,
+            textured,
             double_sided: material.double_sided,
             blend,
             transmissive,
@@ -700,6 +707,7 @@ pub fn extract_frame(
                     && b.deformed.is_none()
                     && b.mesh == item.mesh
                     && b.maps == item.maps
+                    && b.textured == item.textured
                     && b.double_sided == item.double_sided =>
             {
                 b.count += 1;
@@ -708,6 +716,7 @@ pub fn extract_frame(
             _ => frame.batches.push(Batch {
                 mesh: item.mesh,
                 maps: item.maps,
+                textured: item.textured,
                 double_sided: item.double_sided,
                 blend: item.blend,
                 transmissive: item.transmissive,

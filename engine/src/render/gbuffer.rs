@@ -383,7 +383,7 @@ impl GBufferPass {
 /// The variant that draws `batch`.
 fn variant(batch: &Batch, specular_aa: bool, motion: bool) -> GBufferVariant {
     GBufferVariant {
-        textured: batch.maps.is_some(),
+        textured: batch.textured,
         double_sided: batch.double_sided,
         specular_aa,
         motion,
@@ -567,7 +567,7 @@ pub fn gbuffer_pass(
             let Some(pipeline) = pass.pipelines.get(&v) else {
                 continue;
             };
-            if let Some(m) = batch.maps {
+            if let Some(m) = batch.maps.filter(|_| batch.textured) {
                 let Some(group) = maps.group(m) else {
                     continue;
                 };

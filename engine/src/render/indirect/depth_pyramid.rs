@@ -221,13 +221,18 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
     if frame.instances.is_empty() {
         return Some("nothing is drawn".into());
     }
-    // A roughness map can only lower a material's roughness factor.
+    // A roughness map can only lower a material's roughness factor; maps without one
+    // (the neutral maps of forward-drawn materials) leave it as it is.
     let smoothest = frame
         .instances
         .iter()
         .map(|i| i.params[1])
         .fold(f32::INFINITY, f32::min);
-    if frame.material_maps.is_empty() && smoothest > ssr.max_roughness {
+    let factors_only = frame
+        .material_maps
+        .iter()
+        .all(|m| m.maps.metallic_roughness.is_none());
+    if factors_only && smoothest > ssr.max_roughness {
         return Some(format!(
             "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
             ssr.max_roughness
