@@ -224,8 +224,7 @@ impl CoatPass {
             gpu,
             "clearcoat",
             &self.pipeline_layout,
-            module,
-            "fs_main",
+            (module, "fs_main"),
             double_sided,
             &[Some(wgpu::ColorTargetState {
                 format,

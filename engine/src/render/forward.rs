@@ -15,14 +15,13 @@ use bevy_ecs::system::SystemParam;
 
 /// A pipeline drawing meshes (the vertex and instance buffers of
 /// [`crate::render::mesh_vertex::buffers`], triangle lists, counter-clockwise fronts) with
-/// `vs_main` and `fragment_entry` of `module`, back faces culled unless `double_sided`,
+/// `vs_main` and the fragment entry of `module`, back faces culled unless `double_sided`,
 /// into `targets`, with the depth test `depth_stencil`: the forward passes' pipelines.
 pub fn mesh_pipeline(
     gpu: &Gpu,
     label: &str,
     layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment_entry: &str,
+    (module, fragment_entry): (&wgpu::ShaderModule, &str),
     double_sided: bool,
     targets: &[Option<wgpu::ColorTargetState>],
     depth_stencil: wgpu::DepthStencilState,

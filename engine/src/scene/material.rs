@@ -166,7 +166,7 @@ impl Material {
             .map(Clearcoat::clamped)
             .filter(|c| c.factor > 0.0)
             .filter(|_| !self.blend && !self.unlit)
-            .filter(|_| self.transmission.is_none_or(|t| !(t.factor > 0.0)))
+            .filter(|_| !self.transmission.is_some_and(|t| t.factor > 0.0))
     }
 
     /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).

@@ -320,8 +320,7 @@ impl TransparentPass {
             gpu,
             "transparent",
             &self.pipeline_layout,
-            module,
-            entry,
+            (module, entry),
             double_sided,
             &targets,
             wgpu::DepthStencilState {
