@@ -26,7 +26,9 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::forward::{ForwardInputs, draw_batches, mesh_pipeline};
+use crate::render::forward::{
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
+};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
@@ -34,7 +36,6 @@ use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
 use crate::render::material_maps::{GpuMaterialMaps, group_def};
-use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::SHADOW_ATLAS;
@@ -42,16 +43,12 @@ use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
     /// The clearcoat of coated surfaces over the lit frame.
     pub const Clearcoat: PassId = PassId::new("clearcoat");
 }
-
-/// The bind group index of the material maps in this pass.
-const MAPS_GROUP: u32 = 4;
 
 /// Group 0: the view.
 pub const VIEW: BindGroupSpec = BindGroupSpec {
@@ -153,11 +150,7 @@ impl FramePass for CoatPass {
 /// The clearcoat pass's pipelines and its view group.
 #[derive(Resource)]
 pub struct CoatPass {
-    view_layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    /// The shader of each lighting variant: double- and single-sided pipelines share it.
-    modules: HashMap<LightingVariant, wgpu::ShaderModule>,
-    pipelines: HashMap<(LightingVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    pipelines: ForwardPipelines<LightingVariant>,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
 }
@@ -170,25 +163,8 @@ impl CoatPass {
         lighting: &[wgpu::BindGroupLayout; 4],
         maps: &wgpu::BindGroupLayout,
     ) -> CoatPass {
-        let view_layout = VIEW.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("clearcoat"),
-                bind_group_layouts: &[
-                    Some(&view_layout),
-                    Some(&lighting[1]),
-                    Some(&lighting[2]),
-                    Some(&lighting[3]),
-                    Some(maps),
-                ],
-                immediate_size: 0,
-            });
         CoatPass {
-            view_layout,
-            pipeline_layout,
-            modules: HashMap::new(),
-            pipelines: HashMap::new(),
+            pipelines: ForwardPipelines::new(gpu, "clearcoat", &VIEW, lighting, maps),
             view_group: None,
         }
     }
@@ -200,52 +176,30 @@ impl CoatPass {
         defs.push(group_def(MAPS_GROUP));
         defs
     }
+}
 
-    fn ensure(
-        &mut self,
-        gpu: &Gpu,
-        key: (LightingVariant, bool, wgpu::TextureFormat),
-        uniform_capacity: u32,
-    ) -> Result<()> {
-        if self.pipelines.contains_key(&key) {
-            return Ok(());
-        }
-        let (variant, double_sided, format) = key;
-        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry(variant) {
-            let source = gpu
-                .shaders
-                .compose("coat.wgsl", &Self::defs(variant, uniform_capacity))?;
-            slot.insert(create_module(gpu, "clearcoat", &source)?);
-        }
-        let Some(module) = self.modules.get(&variant) else {
-            return Ok(());
-        };
-        let pipeline = mesh_pipeline(
-            gpu,
-            "clearcoat",
-            &self.pipeline_layout,
-            (module, "fs_main"),
-            double_sided,
-            &[Some(wgpu::ColorTargetState {
-                format,
-                blend: Some(COAT_BLEND),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
-            wgpu::DepthStencilState {
-                format: targets::DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                // Reversed Z: on the opaque surface or in front of it.
-                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-                stencil: Default::default(),
-                bias: wgpu::DepthBiasState {
-                    constant: COAT_DEPTH_BIAS,
-                    slope_scale: 0.0,
-                    clamp: 0.0,
-                },
+/// The coat's pipeline into `format`: "over" with the coat's weight as alpha, on the
+/// opaque depth.
+fn coat_shape(format: wgpu::TextureFormat) -> ForwardShape {
+    ForwardShape {
+        entry: "fs_main",
+        targets: vec![Some(wgpu::ColorTargetState {
+            format,
+            blend: Some(COAT_BLEND),
+            write_mask: wgpu::ColorWrites::ALL,
+        })],
+        depth: wgpu::DepthStencilState {
+            format: targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            // Reversed Z: on the opaque surface or in front of it.
+            depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState {
+                constant: COAT_DEPTH_BIAS,
+                slope_scale: 0.0,
+                clamp: 0.0,
             },
-        )?;
-        self.pipelines.insert(key, pipeline);
-        Ok(())
+        },
     }
 }
 
@@ -277,12 +231,16 @@ pub fn prepare_coat(
     ) else {
         return;
     };
-    for batch in frame.coated_batches() {
-        let key = (variant, batch.double_sided, t.hdr_format);
-        if let Err(e) = pass.ensure(&gpu, key, buffers.uniform_light_capacity) {
-            errors.0.push(e);
-            return;
-        }
+    let capacity = buffers.uniform_light_capacity;
+    if let Err(e) = pass.pipelines.ensure(
+        &gpu,
+        (variant, t.hdr_format),
+        frame.coated_batches(),
+        ("coat.wgsl", &|| CoatPass::defs(variant, capacity)),
+        &coat_shape,
+    ) {
+        errors.0.push(e);
+        return;
     }
     if pass
         .view_group
@@ -293,7 +251,7 @@ pub fn prepare_coat(
     }
     match VIEW.group(
         &gpu,
-        &pass.view_layout,
+        &pass.pipelines.view_layout,
         vec![buffers.view.as_entire_binding()],
     ) {
         Ok(group) => pass.view_group = Some((buffers.generation, group)),
@@ -354,7 +312,7 @@ pub fn coat_pass(
             inputs.frame.coated_batches(),
             |batch| {
                 pass.pipelines
-                    .get(&(variant, batch.double_sided, t.hdr_format))
+                    .get(variant, batch.double_sided, t.hdr_format)
             },
         );
     }

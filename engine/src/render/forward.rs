@@ -1,23 +1,141 @@
 //! What the forward passes share: the transparent pass and the clearcoat pass draw meshes
 //! through the material maps' bind group, lit by the deferred pass's code, with the same
-//! pipelines shape and the same draw loop.
+//! bind group layout (their view group, the lighting pass's groups 1 to 3, the maps as
+//! group 4), the same kind of pipelines ([`ForwardPipelines`]) and the same draw loop
+//! ([`draw_batches`]).
 
 use crate::error::Result;
+use crate::render::bindings::BindGroupSpec;
 use crate::render::deform::DeformPass;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::lighting::LightingPass;
 use crate::render::material_maps::GpuMaterialMaps;
+use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
+use std::collections::HashMap;
+use std::hash::Hash;
+
+/// The bind group index of the material maps in a forward pass.
+pub const MAPS_GROUP: u32 = 4;
+
+/// How a forward pass draws into a target of some format: its fragment entry point, its
+/// colour targets and its depth test.
+pub struct ForwardShape {
+    /// The fragment entry point.
+    pub entry: &'static str,
+    /// The colour targets, with their blend states.
+    pub targets: Vec<Option<wgpu::ColorTargetState>>,
+    /// The depth test against the opaque depth.
+    pub depth: wgpu::DepthStencilState,
+}
+
+/// A forward pass's layouts and pipelines: one shader module per variant `V`, compiled on
+/// first use, and one pipeline per (variant, double-sided, HDR format).
+pub struct ForwardPipelines<V> {
+    label: &'static str,
+    /// Group 0's layout: the pass's own view group.
+    pub view_layout: wgpu::BindGroupLayout,
+    layout: wgpu::PipelineLayout,
+    modules: HashMap<V, wgpu::ShaderModule>,
+    pipelines: HashMap<(V, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+}
+
+impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
+    /// The layouts: `view` as group 0, the lighting pass's groups 1 to 3 (`lighting`) and
+    /// the material maps' (`maps`) as group [`MAPS_GROUP`].
+    pub fn new(
+        gpu: &Gpu,
+        label: &'static str,
+        view: &BindGroupSpec,
+        lighting: &[wgpu::BindGroupLayout; 4],
+        maps: &wgpu::BindGroupLayout,
+    ) -> ForwardPipelines<V> {
+        let view_layout = view.layout(gpu);
+        let layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[
+                    Some(&view_layout),
+                    Some(&lighting[1]),
+                    Some(&lighting[2]),
+                    Some(&lighting[3]),
+                    Some(maps),
+                ],
+                immediate_size: 0,
+            });
+        ForwardPipelines {
+            label,
+            view_layout,
+            layout,
+            modules: HashMap::new(),
+            pipelines: HashMap::new(),
+        }
+    }
+
+    /// The pipeline of `variant` for a batch that is `double_sided`, into `format`.
+    pub fn get(
+        &self,
+        variant: V,
+        double_sided: bool,
+        format: wgpu::TextureFormat,
+    ) -> Option<&wgpu::RenderPipeline> {
+        self.pipelines.get(&(variant, double_sided, format))
+    }
+
+    /// Compiles what `batches` need for `variant` into `format`: the module from the WGSL
+    /// file `file` with the header `defs()` (once per variant), and a pipeline of
+    /// `shape(format)` for each sidedness.
+    pub fn ensure<'b>(
+        &mut self,
+        gpu: &Gpu,
+        (variant, format): (V, wgpu::TextureFormat),
+        batches: impl Iterator<Item = &'b Batch>,
+        (file, defs): (&str, &dyn Fn() -> Vec<ShaderDef>),
+        shape: &dyn Fn(wgpu::TextureFormat) -> ForwardShape,
+    ) -> Result<()> {
+        for batch in batches {
+            let key = (variant, batch.double_sided, format);
+            if self.pipelines.contains_key(&key) {
+                continue;
+            }
+            if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry(variant) {
+                let source = gpu.shaders.compose(file, &defs())?;
+                slot.insert(create_module(gpu, self.label, &source)?);
+            }
+            let Some(module) = self.modules.get(&variant) else {
+                continue;
+            };
+            let ForwardShape {
+                entry,
+                targets,
+                depth,
+            } = shape(format);
+            let pipeline = mesh_pipeline(
+                gpu,
+                self.label,
+                &self.layout,
+                (module, entry),
+                batch.double_sided,
+                &targets,
+                depth,
+            )?;
+            self.pipelines.insert(key, pipeline);
+        }
+        Ok(())
+    }
+}
 
 /// A pipeline drawing meshes (the vertex and instance buffers of
 /// [`crate::render::mesh_vertex::buffers`], triangle lists, counter-clockwise fronts) with
 /// `vs_main` and the fragment entry of `module`, back faces culled unless `double_sided`,
-/// into `targets`, with the depth test `depth_stencil`: the forward passes' pipelines.
-pub fn mesh_pipeline(
+/// into `targets`, with the depth test `depth_stencil`.
+fn mesh_pipeline(
     gpu: &Gpu,
     label: &str,
     layout: &wgpu::PipelineLayout,

@@ -26,7 +26,9 @@ use crate::quality::Transparency;
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::forward::{ForwardInputs, draw_batches, mesh_pipeline};
+use crate::render::forward::{
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
+};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
@@ -34,14 +36,13 @@ use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
 use crate::render::material_maps::{GpuMaterialMaps, group_def};
-use crate::render::pipelines::{create_module, draw_fullscreen_with};
+use crate::render::pipelines::draw_fullscreen_with;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
-use std::collections::HashMap;
 use transmission_source::{TRANSMISSION_SOURCE, TransmissionSourcePass};
 use weighted::{OIT_ACCUM, OIT_REVEAL, OVER, WeightedResolve};
 
@@ -53,9 +54,6 @@ impl PassId {
     /// Alpha-blended surfaces over the lit frame.
     pub const Transparent: PassId = PassId::new("transparent");
 }
-
-/// The bind group index of the material maps in this pass.
-const MAPS_GROUP: u32 = 4;
 
 /// Group 0: the view, and the opaque frame's mip chain with its sampler.
 pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings::BindGroupSpec {
@@ -205,11 +203,7 @@ impl FramePass for TransparentPass {
 /// The transparent pass's pipelines and its view group.
 #[derive(Resource)]
 pub struct TransparentPass {
-    view_layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    /// The shader of each variant: double- and single-sided pipelines share it.
-    modules: HashMap<TransparentVariant, wgpu::ShaderModule>,
-    pipelines: HashMap<(TransparentVariant, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    pipelines: ForwardPipelines<TransparentVariant>,
     /// The view group and what it was built from: the scene buffers' generation and the
     /// chain's (`None`: the black stand-in).
     view_group: Option<((u64, Option<u64>), wgpu::BindGroup)>,
@@ -226,20 +220,6 @@ impl TransparentPass {
         lighting: &[wgpu::BindGroupLayout; 4],
         maps: &wgpu::BindGroupLayout,
     ) -> TransparentPass {
-        let view_layout = VIEW.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("transparent"),
-                bind_group_layouts: &[
-                    Some(&view_layout),
-                    Some(&lighting[1]),
-                    Some(&lighting[2]),
-                    Some(&lighting[3]),
-                    Some(maps),
-                ],
-                immediate_size: 0,
-            });
         let no_frame = gpu
             .device
             .create_texture(&wgpu::TextureDescriptor {
@@ -258,10 +238,7 @@ impl TransparentPass {
             })
             .create_view(&wgpu::TextureViewDescriptor::default());
         TransparentPass {
-            view_layout,
-            pipeline_layout,
-            modules: HashMap::new(),
-            pipelines: HashMap::new(),
+            pipelines: ForwardPipelines::new(gpu, "transparent", &VIEW, lighting, maps),
             view_group: None,
             no_frame,
             resolve: WeightedResolve::new(gpu),
@@ -281,28 +258,18 @@ impl TransparentPass {
         ));
         defs
     }
+}
 
-    fn ensure(
-        &mut self,
-        gpu: &Gpu,
-        key: (TransparentVariant, bool, wgpu::TextureFormat),
-        uniform_capacity: u32,
-    ) -> Result<()> {
-        if self.pipelines.contains_key(&key) {
-            return Ok(());
-        }
-        let (variant, double_sided, format) = key;
-        if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry(variant) {
-            let source = gpu
-                .shaders
-                .compose("transparent.wgsl", &Self::defs(variant, uniform_capacity))?;
-            slot.insert(create_module(gpu, "transparent", &source)?);
-        }
-        let Some(module) = self.modules.get(&variant) else {
-            return Ok(());
-        };
-        // Sorted: premultiplied "over" into the HDR target; weighted: the sums.
-        let targets: Vec<Option<wgpu::ColorTargetState>> = if variant.weighted {
+/// The transparent pass's pipeline of `variant` into `format`. Sorted: premultiplied
+/// "over" into the HDR target; weighted: the sums. Either in front of the opaque surface.
+fn transparent_shape(variant: TransparentVariant, format: wgpu::TextureFormat) -> ForwardShape {
+    ForwardShape {
+        entry: if variant.weighted {
+            "fs_weighted"
+        } else {
+            "fs_main"
+        },
+        targets: if variant.weighted {
             weighted::accumulate_targets().to_vec()
         } else {
             vec![Some(wgpu::ColorTargetState {
@@ -310,30 +277,15 @@ impl TransparentPass {
                 blend: Some(OVER),
                 write_mask: wgpu::ColorWrites::ALL,
             })]
-        };
-        let entry = if variant.weighted {
-            "fs_weighted"
-        } else {
-            "fs_main"
-        };
-        let pipeline = mesh_pipeline(
-            gpu,
-            "transparent",
-            &self.pipeline_layout,
-            (module, entry),
-            double_sided,
-            &targets,
-            wgpu::DepthStencilState {
-                format: targets::DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                // Reversed Z: in front of the opaque surface.
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            },
-        )?;
-        self.pipelines.insert(key, pipeline);
-        Ok(())
+        },
+        depth: wgpu::DepthStencilState {
+            format: targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            // Reversed Z: in front of the opaque surface.
+            depth_compare: Some(wgpu::CompareFunction::Greater),
+            stencil: Default::default(),
+            bias: Default::default(),
+        },
     }
 }
 
@@ -367,12 +319,18 @@ pub fn prepare_transparent(
     ) else {
         return;
     };
-    for batch in frame.transparent_batches() {
-        let key = (variant, batch.double_sided, t.hdr_format);
-        if let Err(e) = pass.ensure(&gpu, key, buffers.uniform_light_capacity) {
-            errors.0.push(e);
-            return;
-        }
+    let capacity = buffers.uniform_light_capacity;
+    if let Err(e) = pass.pipelines.ensure(
+        &gpu,
+        (variant, t.hdr_format),
+        frame.transparent_batches(),
+        ("transparent.wgsl", &|| {
+            TransparentPass::defs(variant, capacity)
+        }),
+        &|format| transparent_shape(variant, format),
+    ) {
+        errors.0.push(e);
+        return;
     }
     if variant.weighted {
         let Some([accum, reveal]) = t.views([OIT_ACCUM, OIT_REVEAL]) else {
@@ -397,7 +355,7 @@ pub fn prepare_transparent(
     let frame_view = chain.map_or(&pass.no_frame, |c| &c.view);
     match VIEW.group(
         &gpu,
-        &pass.view_layout,
+        &pass.pipelines.view_layout,
         vec![
             buffers.view.as_entire_binding(),
             wgpu::BindingResource::TextureView(frame_view),
@@ -487,7 +445,7 @@ pub fn transparent_pass(
             inputs.frame.transparent_batches(),
             |batch| {
                 pass.pipelines
-                    .get(&(variant, batch.double_sided, t.hdr_format))
+                    .get(variant, batch.double_sided, t.hdr_format)
             },
         );
     }
