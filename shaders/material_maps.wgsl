@@ -28,9 +28,12 @@ struct Maps {
     transmission: vec4<f32>,
     // rgb: the attenuation colour; w: the dispersion (20 / Abbe number, 0: none).
     attenuation: vec4<f32>,
-    // Clearcoated materials (clearcoat pass): x: the coat's factor (0: none); y: its
+    // Clearcoated materials (layers pass): x: the coat's factor (0: none); y: its
     // perceptual roughness (clamped).
     clearcoat: vec4<f32>,
+    // Materials with a sheen (layers pass): rgb: its colour; w: its perceptual roughness
+    // (clamped).
+    sheen: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

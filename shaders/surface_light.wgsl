@@ -21,6 +21,11 @@
 // unshadowed lights would cost as if every light were shadowed (measured: +53 ms at
 // 1280×720 for one unused branch).
 //
+// SHEEN_LOBE: the surface is a sheen layer (layers.wgsl): every light and the environment
+// reflect by the sheen lobe (sheen.wgsl) of colour `surface.base_color` and roughness
+// `surface.perceptual_roughness` instead of the Cook-Torrance lobes, its environment
+// albedo being the colour × `layer_albedo`, which the layers pass sets.
+//
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
 // whole range in the same loop (no branch).
@@ -35,6 +40,7 @@
 #import ambient_occlusion
 #import volume_lookup
 #import probe_reflections
+#import sheen
 
 // Group 2, indirect light: the environment and the AO pass's occlusion (ENVIRONMENT).
 @group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
@@ -114,8 +120,11 @@ fn list_light(list: LightList, k: u32) -> u32 {
 // The specular lobe's multiple-scattering compensation for this pixel (1 when off).
 var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
 // Multiplies every diffuse term: 1 − transmission on a transmissive surface (set by the
-// transparent pass before surface_light), 1 everywhere else.
+// transparent pass before surface_light), 0 for a layer, 1 everywhere else.
 var<private> diffuse_weight: f32 = 1.0;
+// With SHEEN_LOBE: the sheen lobe's directional albedo at this pixel (colour 1), set by
+// the layers pass before surface_light.
+var<private> layer_albedo: f32 = 0.0;
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
@@ -124,6 +133,11 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
     let n_dot_l = dot(n, l);
     if !(n_dot_l > 0.0) {
         return vec3<f32>(0.0);
+    }
+    if SHEEN_LOBE {
+        let h = safe_normalize(v + l, n);
+        return sheen_brdf(surface.base_color, surface.perceptual_roughness, max(dot(n, v), MIN_N_DOT_V),
+                          n_dot_l, dot(n, h)) * illuminance * n_dot_l;
     }
     let lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
     return (lobes.diffuse * diffuse_weight + lobes.specular * specular_energy) * illuminance * n_dot_l;
@@ -206,7 +220,10 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
                 diffuse_ao = gtao_multi_bounce(ao, surface.base_color);
             }
         }
-        let e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
+        var e_spec = (f0 * dfg.x + vec3<f32>(dfg.y)) * specular_energy;
+        if SHEEN_LOBE {
+            e_spec = surface.base_color * layer_albedo;
+        }
         var irradiance = vec3<f32>(0.0);
         var prefiltered = vec3<f32>(0.0);
         if HAS_ENVIRONMENT {

@@ -7,12 +7,12 @@ use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
 use lumen::render::antialiasing::{accumulate, copy, fxaa, prepare, resolve, smaa};
 use lumen::render::bindings::{BindGroupSpec, Binding};
-use lumen::render::coat::{self, CoatPass};
 use lumen::render::indirect::ambient_occlusion::{self, AoPass, AoVariant};
 use lumen::render::indirect::depth_pyramid;
 use lumen::render::indirect::irradiance_volume;
 use lumen::render::indirect::reflection_probes;
 use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
+use lumen::render::layers::{self, Layer, LayersPass};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
 use lumen::render::tonemap;
@@ -110,10 +110,10 @@ fn every_bind_group_list_matches_its_shader() {
         ],
     );
     check(
-        "coat.wgsl",
-        &CoatPass::defs(everything, 8),
+        "layers.wgsl",
+        &LayersPass::defs(everything, Layer::Sheen, 8),
         &[
-            (0, coat::VIEW),
+            (0, layers::VIEW),
             (1, lighting::LIGHTS_AND_SHADOWS),
             (2, lighting::ENVIRONMENT),
             (3, lighting::PROBES),

@@ -46,7 +46,7 @@ fn coated_furnace(coat: impl Fn(&mut Material, f32)) -> (App, image::Rgba32FImag
         coat(&mut m, column);
     }
     let report = app.render_headless(FURNACE_SIZE).expect("frame");
-    let coat_pass = decision(&report, PassId::Clearcoat);
+    let coat_pass = decision(&report, PassId::Layers);
     assert!(coat_pass.enabled, "{}", coat_pass.reason);
     let image = app.read_hdr_image().expect("readback");
     (app, image)
@@ -247,9 +247,9 @@ fn the_rasterizer_and_the_path_tracer_agree_on_coated_spheres() {
     });
     let mut app = coated_spheres(coats);
     let report = app.render_headless(SIZE).expect("frame");
-    let coat = decision(&report, PassId::Clearcoat);
+    let coat = decision(&report, PassId::Layers);
     assert!(
-        coat.enabled && coat.reason.contains("3 clearcoated"),
+        coat.enabled && coat.reason.contains("3 clearcoat layer"),
         "{}",
         coat.reason
     );
@@ -267,9 +267,12 @@ fn the_rasterizer_and_the_path_tracer_agree_on_coated_spheres() {
 
     let mut bare = coated_spheres([None; 3]);
     let report = bare.render_headless(SIZE).expect("frame");
-    let skipped = decision(&report, PassId::Clearcoat);
+    let skipped = decision(&report, PassId::Layers);
     assert!(
-        !skipped.enabled && skipped.reason.contains("no clearcoated surface"),
+        !skipped.enabled
+            && skipped
+                .reason
+                .contains("no surface with a sheen or a clearcoat"),
         "{}",
         skipped.reason
     );

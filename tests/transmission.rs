@@ -476,9 +476,9 @@ fn the_materials_scene_draws_each_feature() {
         transparent.reason
     );
     // The car-paint sphere's coat.
-    let coat = decision(&report, PassId::Clearcoat);
+    let coat = decision(&report, PassId::Layers);
     assert!(
-        coat.enabled && coat.reason.contains("1 clearcoated"),
+        coat.enabled && coat.reason.contains("1 clearcoat layer"),
         "{}",
         coat.reason
     );

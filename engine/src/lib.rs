@@ -46,6 +46,7 @@ pub mod reflection_probe;
 pub mod render;
 pub mod scene;
 pub mod shadow_kernel;
+pub mod sheen;
 pub mod time;
 pub mod trace_input;
 pub mod transmission;

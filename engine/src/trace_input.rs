@@ -121,6 +121,10 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                         .maps
                         .and_then(|m| frame.material_maps.get(m as usize))
                         .and_then(|entry| entry.clearcoat),
+                    sheen: batch
+                        .maps
+                        .and_then(|m| frame.material_maps.get(m as usize))
+                        .and_then(|entry| entry.sheen),
                 },
             });
         }
@@ -256,6 +260,7 @@ mod tests {
             blend: false,
             transmissive: false,
             coated: false,
+            sheened: false,
             deformed: None,
             first_instance: 1,
             count: 2,

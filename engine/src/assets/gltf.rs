@@ -586,6 +586,7 @@ const READ_HERE: &[&str] = &[
     "KHR_materials_specular",
     "KHR_materials_dispersion",
     "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
 ];
 
 /// Parses a glTF or GLB file and validates it. A required extension must be one the

@@ -15,8 +15,8 @@
 use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
-    Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, TextureData, TextureHandle,
-    TextureSlot, Textures, Transmission, UvTransform, Wrap,
+    Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, Sheen, TextureData,
+    TextureHandle, TextureSlot, Textures, Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -410,6 +410,7 @@ pub(super) fn material(
         transmission: transmission(m, what, &mut loader.warnings),
         unlit: m.unlit(),
         clearcoat: clearcoat(m, what, &mut loader.warnings),
+        sheen: sheen(m, what, &mut loader.warnings),
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))
@@ -604,23 +605,17 @@ fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opti
             }),
         }
     };
-    let textures: Vec<&str> = [
-        "clearcoatTexture",
-        "clearcoatRoughnessTexture",
-        "clearcoatNormalTexture",
-    ]
-    .into_iter()
-    .filter(|k| ext.get(*k).is_some())
-    .collect();
-    if !textures.is_empty() {
-        warnings.push(format!(
-            "{what}: KHR_materials_clearcoat's {} not sampled; its factors apply",
-            match textures.as_slice() {
-                [one] => format!("{one} is"),
-                many => format!("{} are", many.join(", ")),
-            }
-        ));
-    }
+    unread_textures(
+        ext,
+        "KHR_materials_clearcoat",
+        &[
+            "clearcoatTexture",
+            "clearcoatRoughnessTexture",
+            "clearcoatNormalTexture",
+        ],
+        what,
+        warnings,
+    );
     match (
         number("clearcoatFactor"),
         number("clearcoatRoughnessFactor"),
@@ -633,6 +628,73 @@ fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opti
             warnings.push(e);
             None
         }
+    }
+}
+
+/// `KHR_materials_sheen`'s factors: `sheenColorFactor` (default black: no sheen) and
+/// `sheenRoughnessFactor` (default 0). Its textures (`sheenColorTexture`,
+/// `sheenRoughnessTexture`) are not sampled: a warning names them and the factors alone
+/// apply. A factor of the wrong shape is refused with a warning (no sheen).
+fn sheen(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Sheen> {
+    let ext = m.extension_value("KHR_materials_sheen")?;
+    unread_textures(
+        ext,
+        "KHR_materials_sheen",
+        &["sheenColorTexture", "sheenRoughnessTexture"],
+        what,
+        warnings,
+    );
+    let color = match ext.get("sheenColorFactor") {
+        None => Some(Vec3::ZERO),
+        Some(v) => v.as_array().filter(|a| a.len() == 3).and_then(|a| {
+            let c: Vec<f32> = a
+                .iter()
+                .filter_map(|x| x.as_f64())
+                .map(|x| x as f32)
+                .collect();
+            (c.len() == 3).then(|| Vec3::new(c[0], c[1], c[2]))
+        }),
+    };
+    let roughness = match ext.get("sheenRoughnessFactor") {
+        None => Some(0.0),
+        Some(v) => v.as_f64().map(|x| x as f32),
+    };
+    match (color, roughness) {
+        (Some(color), Some(perceptual_roughness)) => (color.max_element() > 0.0).then_some(Sheen {
+            color,
+            perceptual_roughness,
+        }),
+        _ => {
+            warnings.push(format!(
+                "{what}: KHR_materials_sheen's factors are not a colour of three numbers and a number ({ext}); no sheen"
+            ));
+            None
+        }
+    }
+}
+
+/// Warns that the textures `keys` of the extension object `ext` (named `name`) are not
+/// sampled, if it has any.
+fn unread_textures(
+    ext: &gltf::json::Value,
+    name: &str,
+    keys: &[&str],
+    what: &str,
+    warnings: &mut Vec<String>,
+) {
+    let present: Vec<&str> = keys
+        .iter()
+        .copied()
+        .filter(|k| ext.get(*k).is_some())
+        .collect();
+    if !present.is_empty() {
+        warnings.push(format!(
+            "{what}: {name}'s {} not sampled; its factors apply",
+            match present.as_slice() {
+                [one] => format!("{one} is"),
+                many => format!("{} are", many.join(", ")),
+            }
+        ));
     }
 }
 

@@ -82,8 +82,11 @@ pub struct Batch {
     /// transmission.
     pub transmissive: bool,
     /// Clearcoated ([`crate::scene::Material::coat`]): opaque, drawn by the G-buffer and
-    /// then again by the clearcoat pass; its maps entry holds the coat.
+    /// then again by the layers pass; its maps entry holds the coat.
     pub coated: bool,
+    /// With a sheen ([`crate::scene::Material::layer_sheen`]): drawn again by the layers
+    /// pass, under the coat; its maps entry holds the sheen.
+    pub sheened: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
     pub deformed: Option<u32>,
@@ -113,8 +116,10 @@ pub struct FrameMaps {
     /// Alpha-blended: the transparent pass composites with the base alpha as coverage
     /// (a transmissive surface that is not blended covers what is behind it).
     pub blend: bool,
-    /// The clearcoat the clearcoat pass draws over the opaque surface (clamped).
+    /// The clearcoat the layers pass draws over the opaque surface (clamped).
     pub clearcoat: Option<crate::scene::Clearcoat>,
+    /// The sheen the layers pass draws over the opaque surface (clamped).
+    pub sheen: Option<crate::scene::Sheen>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -248,9 +253,15 @@ impl ExtractedFrame {
             .filter(|b| b.visible > 0 && b.transparent())
     }
 
-    /// The clearcoated batches in view: what the clearcoat pass draws over the lit frame.
+    /// The clearcoated batches in view: the coats the layers pass draws over the lit frame.
     pub fn coated_batches(&self) -> impl Iterator<Item = &Batch> {
         self.drawn_batches().filter(|b| b.coated)
+    }
+
+    /// The batches in view with a sheen: the sheens the layers pass draws over the lit
+    /// frame, before the coats.
+    pub fn sheened_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.drawn_batches().filter(|b| b.sheened)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -534,6 +545,7 @@ pub fn extract_frame(
         blend: bool,
         transmissive: bool,
         coated: bool,
+        sheened: bool,
         // Squared distance (m²) from the camera to the bounding sphere's centre.
         distance2: f32,
         casts: bool,
@@ -577,18 +589,22 @@ pub fn extract_frame(
             .map(|t| world_transmission(&t, &m))
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
-        // The clearcoat pass, too, draws through the maps' bind group, which holds the coat.
+        // The layers pass, too, draws through the maps' bind group, which holds the coat
+        // and the sheen.
         let clearcoat = material.coat().filter(|_| !transmissive);
         let coated = clearcoat.is_some();
+        let sheen = material.layer_sheen().filter(|_| !transmissive);
+        let sheened = sheen.is_some();
         let textured = maps.is_some();
         let maps = maps
-            .or((blend || transmissive || coated).then_some(&neutral_maps))
+            .or((blend || transmissive || coated || sheened).then_some(&neutral_maps))
             .map(|m| {
                 let same = |x: &FrameMaps| {
                     x.maps == *m
                         && x.transmission == transmission
                         && x.blend == blend
                         && x.clearcoat == clearcoat
+                        && x.sheen == sheen
                 };
                 let index = match frame.material_maps.iter().position(same) {
                     Some(i) => i,
@@ -598,6 +614,7 @@ pub fn extract_frame(
                             transmission,
                             blend,
                             clearcoat,
+                            sheen,
                         });
                         frame.material_maps.len() - 1
                     }
@@ -618,6 +635,7 @@ pub fn extract_frame(
             blend,
             transmissive,
             coated,
+            sheened,
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
@@ -721,6 +739,7 @@ pub fn extract_frame(
                 blend: item.blend,
                 transmissive: item.transmissive,
                 coated: item.coated,
+                sheened: item.sheened,
                 deformed: item.deformed,
                 first_instance: index,
                 count: 1,

@@ -25,6 +25,7 @@ struct GpuMaps {
     transmission: [f32; 4],
     attenuation: [f32; 4],
     clearcoat: [f32; 4],
+    sheen: [f32; 4],
 }
 
 impl GpuMaps {
@@ -60,6 +61,9 @@ impl GpuMaps {
         }
         if let Some(c) = entry.clearcoat {
             out.clearcoat = [c.factor, c.perceptual_roughness, 0.0, 0.0];
+        }
+        if let Some(sh) = entry.sheen {
+            out.sheen = sh.color.extend(sh.perceptual_roughness).into();
         }
         out
     }

@@ -12,7 +12,6 @@
 pub mod antialiasing;
 pub mod bindings;
 pub mod capture;
-pub mod coat;
 pub mod debug_view;
 pub mod deform;
 pub mod device;
@@ -28,6 +27,7 @@ pub mod graph;
 pub mod ibl;
 pub mod indirect;
 pub mod jitter;
+pub mod layers;
 pub mod light_culling;
 pub mod lighting;
 pub mod material_maps;

@@ -7,7 +7,6 @@ use crate::render::antialiasing::accumulate::AccumulatePass;
 use crate::render::antialiasing::fxaa::FxaaPass;
 use crate::render::antialiasing::smaa::SmaaPass;
 use crate::render::antialiasing::taa::TaaPass;
-use crate::render::coat::CoatPass;
 use crate::render::debug_view::DebugViewPass;
 use crate::render::deform::DeformPass;
 use crate::render::dof::DofPass;
@@ -17,6 +16,7 @@ use crate::render::graph::registry::Registry;
 use crate::render::indirect::ambient_occlusion::AoPass;
 use crate::render::indirect::depth_pyramid::DepthPyramidPass;
 use crate::render::indirect::reflections::SsrPass;
+use crate::render::layers::LayersPass;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
 use crate::render::shadow::pass::ShadowPass;
@@ -37,7 +37,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<LightCullingPass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
-        .with::<CoatPass>()
+        .with::<LayersPass>()
         .with::<SkyPass>()
         .with::<TransmissionSourcePass>()
         .with::<TransparentPass>()

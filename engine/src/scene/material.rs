@@ -51,6 +51,43 @@ pub struct Material {
     /// normal map), and the base's light is dimmed by what it reflects
     /// (docs/src/materials.md#clearcoat).
     pub clearcoat: Option<Clearcoat>,
+    /// A sheen over the surface (glTF's `KHR_materials_sheen`): velvet, satin, cloth,
+    /// dust. `None`: no sheen. Like the clearcoat it is drawn over opaque, lit surfaces
+    /// only ([`Material::layer_sheen`]), under the coat if both are set
+    /// (docs/src/materials.md#sheen).
+    pub sheen: Option<Sheen>,
+}
+
+/// The sheen of a [`Material`] (glTF's `KHR_materials_sheen`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sheen {
+    /// The sheen's colour: its reflectance, linear RGB 0..1 (clamped; black is no sheen).
+    pub color: Vec3,
+    /// Its perceptual roughness, 0..1: the Charlie distribution's α = r², clamped to
+    /// [`crate::sheen::MIN_SHEEN_ROUGHNESS`]..1.
+    pub perceptual_roughness: f32,
+}
+
+impl Sheen {
+    /// The sheen with its factors made safe: each colour channel in 0..1 (not finite: 0),
+    /// the roughness by [`crate::sheen::clamp_sheen_roughness`].
+    pub fn clamped(self) -> Sheen {
+        let channel = |c: f32| {
+            if c.is_finite() {
+                c.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        Sheen {
+            color: Vec3::new(
+                channel(self.color.x),
+                channel(self.color.y),
+                channel(self.color.z),
+            ),
+            perceptual_roughness: crate::sheen::clamp_sheen_roughness(self.perceptual_roughness),
+        }
+    }
 }
 
 /// The clearcoat of a [`Material`] (glTF's `KHR_materials_clearcoat`).
@@ -144,6 +181,7 @@ impl Default for Material {
             transmission: None,
             unlit: false,
             clearcoat: None,
+            sheen: None,
         }
     }
 }
@@ -165,8 +203,21 @@ impl Material {
         self.clearcoat
             .map(Clearcoat::clamped)
             .filter(|c| c.factor > 0.0)
-            .filter(|_| !self.blend && !self.unlit)
-            .filter(|_| !self.transmission.is_some_and(|t| t.factor > 0.0))
+            .filter(|_| self.opaque_and_lit())
+    }
+
+    /// The sheen that is drawn (clamped): [`Material::sheen`] where its colour is not
+    /// black and the surface is opaque and lit, as for [`Material::coat`].
+    pub fn layer_sheen(&self) -> Option<Sheen> {
+        self.sheen
+            .map(Sheen::clamped)
+            .filter(|s| s.color.max_element() > 0.0)
+            .filter(|_| self.opaque_and_lit())
+    }
+
+    /// Neither blended, transmissive nor unlit: what a layer can be drawn over.
+    fn opaque_and_lit(&self) -> bool {
+        !self.blend && !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }
 
     /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).

@@ -41,6 +41,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             transmission: None,
             unlit: false,
             clearcoat: None,
+            sheen: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

@@ -17,6 +17,7 @@ pub const PLANE_MATERIAL: Material = Material {
     transmission: None,
     unlit: false,
     clearcoat: None,
+    sheen: None,
 };
 
 /// Illuminance of the light in lux.

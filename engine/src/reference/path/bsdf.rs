@@ -1,8 +1,10 @@
 //! The path tracer's BSDF at a hit: `brdf.rs`'s Cook-Torrance (diffuse and GGX specular
 //! lobes) about the shading normal, sampled as a mixture of a cosine lobe and GGX visible
-//! normals (Heitz 2018), and, on a clearcoated material, the coat's GGX lobe about the
-//! mesh's own normal layered over it as the rasterizer layers it
-//! (`crate::clearcoat`): `f = factor · f_coat + (1 − factor · E_coat(n_c·v)) · f_base`.
+//! normals (Heitz 2018); on a material with a sheen, the sheen lobe about the mesh's own
+//! normal over it (`crate::sheen`), and on a clearcoated material the coat's GGX lobe
+//! over both (`crate::clearcoat`), layered as the rasterizer layers them:
+//! `f = factor · f_coat + (1 − factor · E_coat(n·v)) · (f_sheen + (1 − max(c) · E_sheen(n·v)) · f_base)`.
+//! The sheen is sampled by a cosine lobe about its normal.
 
 use super::microfacet::{basis, concentric_disk, g1_ggx};
 use super::rng::Rng;
@@ -63,6 +65,33 @@ impl CoatLobe {
     }
 }
 
+/// A sheen lobe (Charlie distribution, Neubelt visibility) about its own normal.
+struct SheenLobe {
+    frame: Mat3,
+    color: Vec3,
+    roughness: f32,
+}
+
+impl SheenLobe {
+    fn n(&self) -> Vec3 {
+        self.frame.z_axis
+    }
+
+    /// f_sheen(v, l) · (n_s·l).
+    fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
+        let n = self.n();
+        let (n_dot_v, n_dot_l) = (n.dot(v), n.dot(l));
+        let h = (v + l).normalize_or(n);
+        crate::sheen::sheen_brdf(self.color, self.roughness, n_dot_v, n_dot_l, n.dot(h))
+            * n_dot_l.max(0.0)
+    }
+
+    /// The cosine lobe's density about the sheen's normal.
+    fn pdf(&self, l: Vec3) -> f32 {
+        self.n().dot(l).max(0.0) / PI
+    }
+}
+
 /// The BSDF at a hit, in a local frame around the shading normal.
 pub(super) struct Bsdf {
     frame: Mat3,
@@ -79,6 +108,12 @@ pub(super) struct Bsdf {
     base_weight: f32,
     /// Probability of sampling the coat's lobe (0 uncoated).
     p_coat: f32,
+    /// The sheen over the base (under the coat), if any.
+    sheen: Option<SheenLobe>,
+    /// What the sheen lets through of the base's light: 1 − max(colour) · E_sheen.
+    sheen_weight: f32,
+    /// Probability of sampling the sheen's lobe when the coat is not sampled.
+    p_sheen: f32,
 }
 
 impl Bsdf {
@@ -119,7 +154,54 @@ impl Bsdf {
             coat: None,
             base_weight: 1.0,
             p_coat: 0.0,
+            sheen: None,
+            sheen_weight: 1.0,
+            p_sheen: 0.0,
         }
+    }
+
+    /// The same base under a sheen of colour `color` and perceptual roughness
+    /// `roughness` on the unit normal `n_s` (turned to the viewer), seen from `v`.
+    /// Call before [`Bsdf::with_coat`].
+    pub(super) fn with_sheen(
+        mut self,
+        n_s: Vec3,
+        v: Vec3,
+        (color, roughness): (Vec3, f32),
+    ) -> Bsdf {
+        let albedo = crate::sheen::sheen_albedo(
+            crate::sheen::albedo_table(),
+            n_s.dot(v).clamp(0.0, 1.0),
+            roughness,
+        );
+        self.sheen_weight = crate::sheen::sheen_base_weight(color, albedo);
+        let sheen = luminance(color) * albedo;
+        let base = self.sheen_weight * self.reflectance(v);
+        self.p_sheen = if sheen + base > 0.0 {
+            (sheen / (sheen + base)).clamp(0.1, 0.9)
+        } else {
+            0.5
+        };
+        self.sheen = Some(SheenLobe {
+            frame: basis(n_s),
+            color,
+            roughness,
+        });
+        self
+    }
+
+    /// An estimate of the base's reflectance towards `v` (luminance of F plus the
+    /// diffuse albedo), for choosing between lobes.
+    fn reflectance(&self, v: Vec3) -> f32 {
+        let f = crate::brdf::f_schlick(
+            crate::brdf::compute_f0(
+                self.surface.base_color,
+                self.surface.metallic,
+                self.surface.specular_level,
+            ),
+            self.n().dot(v).clamp(0.0, 1.0),
+        );
+        luminance(f) + luminance(self.surface.base_color) * (1.0 - self.surface.metallic)
     }
 
     /// The same base under a clearcoat of strength `factor` (0..1) and perceptual
@@ -143,16 +225,7 @@ impl Bsdf {
         self.base_weight = clearcoat_base_weight(factor, albedo);
         // Sample the coat in proportion to what it reflects against what the base does.
         let coat = factor * albedo;
-        let f = crate::brdf::f_schlick(
-            crate::brdf::compute_f0(
-                self.surface.base_color,
-                self.surface.metallic,
-                self.surface.specular_level,
-            ),
-            self.n().dot(v).clamp(0.0, 1.0),
-        );
-        let base = self.base_weight
-            * (luminance(f) + luminance(self.surface.base_color) * (1.0 - self.surface.metallic));
+        let base = self.base_weight * self.reflectance(v);
         self.p_coat = if coat + base > 0.0 {
             (coat / (coat + base)).clamp(0.1, 0.9)
         } else {
@@ -182,7 +255,10 @@ impl Bsdf {
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
         let lobes = surface_brdf_lobes(n, v, l, &self.surface, self.model);
-        let base = (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0);
+        let mut base = (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0);
+        if let Some(sheen) = &self.sheen {
+            base = sheen.eval(v, l) + base * self.sheen_weight;
+        }
         match &self.coat {
             None => base,
             Some(coat) => base * self.base_weight + coat.eval(v, l, self.model),
@@ -192,12 +268,15 @@ impl Bsdf {
     /// Solid-angle density of [`Bsdf::sample`] choosing `l`.
     pub(super) fn pdf(&self, v: Vec3, l: Vec3) -> f32 {
         let n = self.n();
-        let base = if n.dot(l) <= 0.0 || n.dot(v) <= 0.0 {
+        let mut base = if n.dot(l) <= 0.0 || n.dot(v) <= 0.0 {
             0.0
         } else {
             self.p_specular * reflection_pdf(n, v, l, self.alpha)
                 + (1.0 - self.p_specular) * n.dot(l) / PI
         };
+        if let Some(sheen) = &self.sheen {
+            base = self.p_sheen * sheen.pdf(l) + (1.0 - self.p_sheen) * base;
+        }
         match &self.coat {
             None => base,
             Some(coat) => {
@@ -209,9 +288,19 @@ impl Bsdf {
 
     /// A direction drawn from the mixture, with f·cos/pdf and the pdf.
     pub(super) fn sample(&self, v: Vec3, rng: &mut Rng) -> Option<(Vec3, Vec3, f32)> {
-        let l = match self.coat.as_ref().filter(|_| rng.uniform() < self.p_coat) {
-            Some(coat) => sample_reflection(coat.frame, coat.alpha, v, rng)?,
-            None => {
+        let coat = self.coat.as_ref().filter(|_| rng.uniform() < self.p_coat);
+        let sheen = match coat {
+            None => self.sheen.as_ref().filter(|_| rng.uniform() < self.p_sheen),
+            Some(_) => None,
+        };
+        let l = match (coat, sheen) {
+            (Some(coat), _) => sample_reflection(coat.frame, coat.alpha, v, rng)?,
+            (None, Some(sheen)) => {
+                let d = concentric_disk(rng.pair());
+                let local = Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt());
+                (sheen.frame * local).normalize()
+            }
+            (None, None) => {
                 if (self.frame.transpose() * v).z <= 0.0 {
                     return None;
                 }
@@ -251,18 +340,22 @@ mod tests {
         // quadrature. They agree only if the pdf is the density the sampler draws from.
         let n = Vec3::Z;
         let v = Vec3::new(0.5, 0.0, 0.866).normalize();
-        // (metallic, roughness, clearcoat (factor, roughness) on a normal tilted from n).
+        // (metallic, roughness, clearcoat (factor, roughness), sheen (colour, roughness)),
+        // the layers on a normal tilted from n.
+        let sheen = |c: f32, r: f32| Some((Vec3::splat(c), r));
         let cases = [
-            (0.0, 0.5, None),
-            (1.0, 0.3, None),
-            (0.5, 0.9, None),
-            (1.0, 0.2, None),
-            (0.0, 0.6, Some((1.0, 0.3))),
-            (1.0, 0.5, Some((0.5, 0.8))),
+            (0.0, 0.5, None, None),
+            (1.0, 0.3, None, None),
+            (0.5, 0.9, None, None),
+            (1.0, 0.2, None, None),
+            (0.0, 0.6, Some((1.0, 0.3)), None),
+            (1.0, 0.5, Some((0.5, 0.8)), None),
+            (0.0, 0.8, None, sheen(0.8, 0.3)),
+            (0.0, 0.4, Some((1.0, 0.1)), sheen(1.0, 0.7)),
         ];
         let n_c = Vec3::new(0.2, 0.1, 1.0).normalize();
         let coat_albedo = AlbedoTable::with_f0(32, 1024, VisibilityModel::default(), 0.04);
-        for (metallic, roughness, coat) in cases {
+        for (metallic, roughness, coat, sheen) in cases {
             let m = TraceMaterial {
                 base_color: Vec3::splat(0.7),
                 metallic,
@@ -275,8 +368,13 @@ mod tests {
                 transmission: None,
                 unlit: false,
                 clearcoat: None,
+                sheen: None,
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
+            let bsdf = match sheen {
+                Some(s) => bsdf.with_sheen(n_c, v, s),
+                None => bsdf,
+            };
             let bsdf = match coat {
                 Some(c) => bsdf.with_coat(n_c, v, c, &coat_albedo, None),
                 None => bsdf,
@@ -303,7 +401,7 @@ mod tests {
             let err = (sampled - quadrature).abs() / quadrature;
             assert!(
                 err < 0.02,
-                "metallic {metallic} roughness {roughness} coat {coat:?}: {sampled} vs {quadrature}"
+                "metallic {metallic} roughness {roughness} coat {coat:?} sheen {sheen:?}: {sampled} vs {quadrature}"
             );
         }
     }

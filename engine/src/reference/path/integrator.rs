@@ -506,8 +506,8 @@ impl TraceScene {
     }
 
     /// The BSDF of `material` (the hit's, or its opaque choice) at `surface`, seen from
-    /// `v`: the base about the shading normal `n`, and a clearcoat about the mesh's own
-    /// normal turned to the same side as the geometric normal `facing`.
+    /// `v`: the base about the shading normal `n`, and a sheen and a clearcoat about the
+    /// mesh's own normal turned to the same side as the geometric normal `facing`.
     fn bsdf(
         &self,
         n: Vec3,
@@ -523,9 +523,14 @@ impl TraceScene {
             self.visibility,
             self.energy_compensation.as_ref(),
         );
+        let n_layer = turned(surface.coat_normal, facing);
+        let base = match material.sheen {
+            Some(sheen) => base.with_sheen(n_layer, v, (sheen.color, sheen.perceptual_roughness)),
+            None => base,
+        };
         match (material.clearcoat, self.coat_albedo.as_ref()) {
             (Some(coat), Some(table)) => base.with_coat(
-                turned(surface.coat_normal, facing),
+                n_layer,
                 v,
                 (coat.factor, coat.perceptual_roughness),
                 table,

@@ -166,6 +166,9 @@ pub struct TraceMaterial {
     /// The clearcoat over an opaque surface ([`crate::scene::Material::coat`]), on the
     /// mesh's own normal ([`SurfacePoint::coat_normal`]).
     pub clearcoat: Option<crate::scene::Clearcoat>,
+    /// The sheen over an opaque surface ([`crate::scene::Material::layer_sheen`]), on
+    /// the mesh's own normal.
+    pub sheen: Option<crate::scene::Sheen>,
 }
 
 impl TraceMaterial {
@@ -196,6 +199,10 @@ impl TraceMaterial {
                 .clearcoat
                 .map(crate::scene::Clearcoat::clamped)
                 .filter(|c| c.factor > 0.0),
+            sheen: self
+                .sheen
+                .map(crate::scene::Sheen::clamped)
+                .filter(|s| s.color.max_element() > 0.0),
             ..self
         }
     }
@@ -570,7 +577,7 @@ pub struct SurfacePoint {
     /// Shading normal (unit, not yet turned towards the viewer).
     pub normal: Vec3,
     /// The interpolated normal without the normal map (unit, not yet turned): a
-    /// clearcoat's normal.
+    /// clearcoat's and a sheen's normal.
     pub coat_normal: Vec3,
     /// Coverage: the base colour factor's alpha × the texel's × the vertex colour's.
     pub alpha: f32,

@@ -1,0 +1,384 @@
+//! The layers pass (`shaders/layers.wgsl`): the layers over opaque surfaces, drawn over the
+//! lit frame once the deferred lighting and SSR have lit the base beneath them: a sheen
+//! ([`crate::scene::Material::sheen`], glTF's `KHR_materials_sheen`) and, over it, a
+//! clearcoat ([`crate::scene::Material::clearcoat`], `KHR_materials_clearcoat`).
+//!
+//! Layers are not in the G-buffer. Their surfaces are drawn again, with the G-buffer's
+//! textured vertex code, and a fragment is kept where it lies on the opaque depth the
+//! G-buffer wrote (`GreaterEqual` with reversed Z, pulled a few depth units towards the
+//! camera so that the same triangle always passes). Each fragment is lit by the deferred
+//! pass's own code (`surface_light.wgsl`: every light kind, shadows, the environment, the
+//! probes, the AO pass's occlusion, the light tiles) as a surface with only the layer's
+//! lobe (the coat's GGX lobe, or with `SHEEN_LOBE` the sheen's), and leaves
+//! `(L_layer, 1 − w)`, w being what the layer lets through of the light beneath it
+//! (`crate::clearcoat::clearcoat_base_weight`, `crate::sheen::sheen_base_weight`); the
+//! pipeline composites it as `dst ← src + dst·(1 − α)`. Every sheen is drawn before
+//! every coat, so a coat covers its own surface's sheen. The frame's coverage (alpha) is
+//! kept.
+//!
+//! So a scene without a layer pays nothing, and the G-buffer layout is unchanged; the
+//! price is a second draw of the layered meshes (docs/src/materials.md#clearcoat). Probe
+//! captures do not run this pass: probes see layered surfaces without their layers.
+//!
+//! Its group 0 is the view and the sheen's albedo table ([`VIEW`]); it binds the lighting
+//! pass's groups 1 to 3 as they are and the material maps as group 4, which hold each
+//! layer's factors: it runs only on adapters with five bind groups. Compiled per
+//! (lighting variant, layer, double-sided, HDR format).
+
+use crate::error::Result;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::deform::DEFORMED_VERTICES;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::forward::{
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
+};
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::light_culling::LIGHT_TILES;
+use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::material_maps::{GpuMaterialMaps, group_def};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
+use crate::render::shadow::pass::SHADOW_ATLAS;
+use crate::render::targets::{self, RenderTargets};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::{ScheduleSystem, SystemParam};
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// The sheens and clearcoats of layered surfaces over the lit frame.
+    pub const Layers: PassId = PassId::new("layers");
+}
+
+/// Group 0: the view and the sheen's albedo table.
+pub const VIEW: BindGroupSpec = BindGroupSpec {
+    label: "layers",
+    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("sheen_table", Binding::Uniform),
+    ],
+};
+
+/// Which layer a draw adds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Layer {
+    /// The sheen lobe (`fs_sheen`, compiled with `SHEEN_LOBE`).
+    Sheen,
+    /// The clearcoat's GGX lobe (`fs_coat`).
+    Coat,
+}
+
+/// A layer's blend: colour "over" with premultiplied alpha, dst ← src + dst·(1 − α);
+/// the frame's alpha (its coverage) is kept.
+const LAYER_BLEND: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::Zero,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    },
+};
+
+/// Depth units a layer is pulled towards the camera (reversed Z: up), so that a layer's
+/// fragment passes `GreaterEqual` against the depth its own triangle wrote even where the
+/// two vertex programs round differently.
+const LAYER_DEPTH_BIAS: i32 = 4;
+
+impl FramePass for LayersPass {
+    const ID: PassId = PassId::Layers;
+    const READS: &'static [Slot] = &[
+        DEFORMED_VERTICES,
+        HDR,
+        DEPTH,
+        SHADOW_ATLAS,
+        LIGHT_TILES,
+        AMBIENT_OCCLUSION,
+    ];
+    const WRITES: &'static [Slot] = &[HDR];
+    type Variant = Option<LightingVariant>;
+
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        let lighting = world.resource::<LightingPass>();
+        let maps = world.resource::<GpuMaterialMaps>();
+        Ok(LayersPass::new(gpu, lighting.layouts(), &maps.layout))
+    }
+
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<LightingVariant>> {
+        let frame = world.resource::<ExtractedFrame>();
+        let gpu = world.resource::<Gpu>();
+        let (sheens, coats) = (
+            frame.sheened_batches().count(),
+            frame.coated_batches().count(),
+        );
+        // "2 sheen and 1 clearcoat layer(s)", "1 clearcoat layer(s)".
+        let layers = match (sheens, coats) {
+            (0, c) => format!("{c} clearcoat"),
+            (s, 0) => format!("{s} sheen"),
+            (s, c) => format!("{s} sheen and {c} clearcoat"),
+        };
+        let lighting = plan.variant::<LightingPass>().copied();
+        let hdr = world
+            .resource::<crate::quality::Quality>()
+            .hdr_precision
+            .format();
+        let blendable = hdr != wgpu::TextureFormat::Rgba32Float
+            || gpu
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_BLENDABLE);
+        let groups = gpu.device.limits().max_bind_groups;
+        let (runs, reason) = if sheens + coats == 0 {
+            (
+                false,
+                "no surface with a sheen or a clearcoat in view".to_string(),
+            )
+        } else if lighting.is_none() {
+            (false, "the lighting pass does not run".into())
+        } else if groups <= MAPS_GROUP {
+            (
+                false,
+                format!(
+                    "{layers} layer(s) not drawn: the adapter has {groups} bind groups, the pass needs 5"
+                ),
+            )
+        } else if !blendable {
+            (
+                false,
+                format!(
+                    "{layers} layer(s) not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
+                ),
+            )
+        } else {
+            (true, format!("{layers} layer(s) over the lit base"))
+        };
+        PassDecision::new(runs, reason, lighting.filter(|_| runs))
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_layers.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        layers_pass.into_configs()
+    }
+}
+
+/// The layers pass's pipelines, its view group and the sheen's albedo table.
+#[derive(Resource)]
+pub struct LayersPass {
+    pipelines: ForwardPipelines<(LightingVariant, Layer)>,
+    /// The sheen's albedo table ([`crate::sheen::albedo_table`]), packed in vec4s.
+    sheen_table: wgpu::Buffer,
+    /// The view group and the scene buffers' generation it was built from.
+    view_group: Option<(u64, wgpu::BindGroup)>,
+}
+
+impl LayersPass {
+    /// The layouts: the view, the lighting pass's groups 1 to 3 (`lighting`), and the
+    /// material maps' (`maps`); and the sheen table, uploaded once.
+    pub fn new(
+        gpu: &Gpu,
+        lighting: &[wgpu::BindGroupLayout; 4],
+        maps: &wgpu::BindGroupLayout,
+    ) -> LayersPass {
+        use wgpu::util::DeviceExt;
+        let sheen_table = gpu
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("sheen albedo table"),
+                contents: bytemuck::cast_slice(crate::sheen::albedo_table()),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+        LayersPass {
+            pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, maps),
+            sheen_table,
+            view_group: None,
+        }
+    }
+
+    /// The WGSL header of `layer` in `variant`, for a uniform light copy of
+    /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen,
+    /// and the maps' group.
+    pub fn defs(variant: LightingVariant, layer: Layer, uniform_capacity: u32) -> Vec<ShaderDef> {
+        let mut defs: Vec<ShaderDef> = LightingPass::defs(variant, uniform_capacity)
+            .into_iter()
+            .map(|d| match d {
+                ShaderDef::Bool("SHEEN_LOBE", _) => {
+                    ShaderDef::Bool("SHEEN_LOBE", layer == Layer::Sheen)
+                }
+                other => other,
+            })
+            .collect();
+        defs.push(group_def(MAPS_GROUP));
+        defs
+    }
+}
+
+/// The pipeline of `layer` into `format`: "over" with what the layer takes from the light
+/// beneath it as alpha, on the opaque depth.
+fn layer_shape(layer: Layer, format: wgpu::TextureFormat) -> ForwardShape {
+    ForwardShape {
+        entry: match layer {
+            Layer::Sheen => "fs_sheen",
+            Layer::Coat => "fs_coat",
+        },
+        targets: vec![Some(wgpu::ColorTargetState {
+            format,
+            blend: Some(LAYER_BLEND),
+            write_mask: wgpu::ColorWrites::ALL,
+        })],
+        depth: wgpu::DepthStencilState {
+            format: targets::DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            // Reversed Z: on the opaque surface or in front of it.
+            depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState {
+                constant: LAYER_DEPTH_BIAS,
+                slope_scale: 0.0,
+                clamp: 0.0,
+            },
+        },
+    }
+}
+
+/// What the layers pass prepares from, besides its own resource.
+#[derive(SystemParam)]
+pub struct PrepareInputs<'w> {
+    frame: Res<'w, ExtractedFrame>,
+    buffers: Res<'w, SceneBuffers>,
+    targets: Res<'w, RenderTargets>,
+}
+
+/// Compiles the pipelines this frame's layered batches need and rebuilds the view group
+/// when the scene buffers were recreated.
+pub fn prepare_layers(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    inputs: PrepareInputs,
+    mut pass: ResMut<LayersPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let PrepareInputs {
+        frame,
+        buffers,
+        targets,
+    } = inputs;
+    let (Some(Some(variant)), Some(t)) = (
+        plan.variant::<LayersPass>().copied(),
+        targets.current.as_ref(),
+    ) else {
+        return;
+    };
+    let capacity = buffers.uniform_light_capacity;
+    for (layer, batches) in [
+        (Layer::Sheen, frame.sheened_batches().collect::<Vec<_>>()),
+        (Layer::Coat, frame.coated_batches().collect()),
+    ] {
+        if let Err(e) = pass.pipelines.ensure(
+            &gpu,
+            ((variant, layer), t.hdr_format),
+            batches.into_iter(),
+            ("layers.wgsl", &|| {
+                LayersPass::defs(variant, layer, capacity)
+            }),
+            &|format| layer_shape(layer, format),
+        ) {
+            errors.0.push(e);
+            return;
+        }
+    }
+    if pass
+        .view_group
+        .as_ref()
+        .is_some_and(|(k, _)| *k == buffers.generation)
+    {
+        return;
+    }
+    match VIEW.group(
+        &gpu,
+        &pass.pipelines.view_layout,
+        vec![
+            buffers.view.as_entire_binding(),
+            pass.sheen_table.as_entire_binding(),
+        ],
+    ) {
+        Ok(group) => pass.view_group = Some((buffers.generation, group)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the layered batches' sheens, then their coats, over the HDR target.
+pub fn layers_pass(
+    plan: Res<FramePlan>,
+    pass: Res<LayersPass>,
+    inputs: ForwardInputs,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
+        encoder.as_mut(),
+        inputs.targets.current.as_ref(),
+        plan.variant::<LayersPass>().copied(),
+        pass.view_group.as_ref(),
+        inputs.lighting.shared_groups(),
+    ) else {
+        return;
+    };
+    let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {
+        return;
+    };
+    let scope = timer.begin_pass(PassId::Layers);
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("layers"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: hdr,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        for layer in [Layer::Sheen, Layer::Coat] {
+            let batches: Vec<_> = match layer {
+                Layer::Sheen => inputs.frame.sheened_batches().collect(),
+                Layer::Coat => inputs.frame.coated_batches().collect(),
+            };
+            draw_batches(
+                &mut rp,
+                &inputs,
+                (view_group, shared),
+                MAPS_GROUP,
+                batches.into_iter(),
+                |batch| {
+                    pass.pipelines
+                        .get((variant, layer), batch.double_sided, t.hdr_format)
+                },
+            );
+        }
+    }
+    timer.end_pass(scope);
+}
