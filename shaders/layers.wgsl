@@ -35,11 +35,15 @@ fn sheen_table_at(i: u32, j: u32) -> f32 {
     return sheen_table.entries[k / 4u][k % 4u];
 }
 
-// Bilinear lookup of the table at (n·v, r), both clamped to 0..1 (engine/src/sheen.rs,
-// `sheen_albedo`).
+// Bilinear lookup of the table at (n·v, r), both clamped to 0..1, NaN: 1
+// (engine/src/sheen.rs, `sheen_albedo`).
 fn sheen_albedo(n_dot_v: f32, perceptual_roughness: f32) -> f32 {
     let scale = f32(SHEEN_TABLE_SIZE - 1u);
-    let x = clamp(n_dot_v, 0.0, 1.0) * scale;
+    var nv = clamp(n_dot_v, 0.0, 1.0);
+    if !(n_dot_v == n_dot_v) {
+        nv = 1.0;
+    }
+    let x = nv * scale;
     var r = clamp(perceptual_roughness, 0.0, 1.0);
     if !(perceptual_roughness == perceptual_roughness) {
         r = 1.0;

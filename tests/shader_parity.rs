@@ -14,10 +14,12 @@ use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::{camera, deform};
-use lumen::{clearcoat, color, encoding, ibl, punctual, shadow_kernel, transmission, transparency};
+use lumen::{
+    clearcoat, color, encoding, ibl, punctual, shadow_kernel, sheen, transmission, transparency,
+};
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 47;
+const OUTPUTS: usize = 49;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -333,6 +335,13 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             clearcoat::clearcoat_base_weight(f32::NAN, n_dot_h),
             0.0,
         ),
+        Vec4::new(
+            sheen::d_charlie(r, n_dot_h),
+            sheen::v_neubelt(n_dot_h, x),
+            sheen::sheen_base_weight(base, k),
+            sheen::clamp_sheen_roughness(r * 1.2 - 0.1),
+        ),
+        sheen::sheen_brdf(base, r, n_dot_h, x, alpha.sqrt()).extend(0.0),
     ]
 }
 
@@ -384,6 +393,8 @@ const NAMES: [&str; OUTPUTS] = [
     "skin_matrix",
     "skin_normal_matrix",
     "clearcoat_albedo | clearcoat_base_weight",
+    "d_charlie | v_neubelt | sheen_base_weight | clamp_sheen_roughness",
+    "sheen_brdf",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -114,11 +114,15 @@ pub fn albedo_table() -> &'static [f32] {
 }
 
 /// Bilinear lookup of `table` ([`albedo_table`]'s layout) at (n·v, r), both clamped to
-/// 0..1.
+/// 0..1 (NaN: 1).
 pub fn sheen_albedo(table: &[f32], n_dot_v: f32, perceptual_roughness: f32) -> f32 {
     let size = ALBEDO_TABLE_SIZE;
     let scale = (size - 1) as f32;
-    let x = n_dot_v.clamp(0.0, 1.0) * scale;
+    let x = if n_dot_v.is_nan() {
+        1.0
+    } else {
+        n_dot_v.clamp(0.0, 1.0)
+    } * scale;
     let y = if perceptual_roughness.is_nan() {
         1.0
     } else {
@@ -130,4 +134,77 @@ pub fn sheen_albedo(table: &[f32], n_dot_v: f32, perceptual_roughness: f32) -> f
     let at = |i: usize, j: usize| table.get(j * size + i).copied().unwrap_or(0.0);
     let row = |j: usize| at(x0, j) + (at(x1, j) - at(x0, j)) * fx;
     row(y0) + (row(y1) - row(y0)) * fy
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fixed-seed uniform generator in [0, 1) (xorshift32).
+    fn uniforms(mut state: u32) -> impl FnMut() -> f32 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        }
+    }
+
+    #[test]
+    fn the_charlie_distribution_is_normalised() {
+        // ∫ D(h) (n·h) dω_h = 1 over the hemisphere, by the midpoint rule in θ.
+        for r in [0.1f32, 0.3, 0.6, 1.0] {
+            let steps = 20_000;
+            let total: f32 = (0..steps)
+                .map(|i| {
+                    let theta = (i as f32 + 0.5) / steps as f32 * 0.5 * PI;
+                    let d = d_charlie(r, theta.cos());
+                    d * theta.cos() * theta.sin() * 2.0 * PI * (0.5 * PI / steps as f32)
+                })
+                .sum();
+            assert!((total - 1.0).abs() < 2e-3, "r {r}: {total}");
+        }
+    }
+
+    #[test]
+    fn the_albedo_table_matches_a_monte_carlo_integration() {
+        // E(n·v, r) at table points against 400 000 directions drawn uniformly over the
+        // hemisphere (density 1/(2π)), independent of the table's quadrature: within 1 %
+        // of the value (or 10⁻³).
+        let table = albedo_table();
+        let mut next = uniforms(0x9e37_79b9);
+        for (i, j) in [(31usize, 3usize), (16, 9), (6, 15), (2, 31), (25, 22)] {
+            let n_dot_v = (i as f32 / 31.0).max(1e-3);
+            let r = j as f32 / 31.0;
+            let v = Vec3::new((1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v);
+            let count = 400_000;
+            let mut sum = 0.0f64;
+            for _ in 0..count {
+                let cos_t = next();
+                let phi = 2.0 * PI * next();
+                let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
+                let l = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+                let h = (v + l).normalize_or(Vec3::Z);
+                let f = sheen_brdf(Vec3::ONE, r, n_dot_v, cos_t, h.z).x;
+                sum += f64::from(f * cos_t * 2.0 * PI);
+            }
+            let estimate = (sum / f64::from(count)) as f32;
+            let tabled = table[j * ALBEDO_TABLE_SIZE + i];
+            assert!(
+                (estimate - tabled).abs() < (0.01 * tabled).max(1e-3),
+                "n·v {n_dot_v}, r {r}: table {tabled}, Monte Carlo {estimate}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_lookup_returns_the_table_at_its_points_and_blends_between() {
+        let table = albedo_table();
+        let at = |i: usize, j: usize| table[j * ALBEDO_TABLE_SIZE + i];
+        assert_eq!(sheen_albedo(table, 1.0, 1.0), at(31, 31));
+        assert_eq!(sheen_albedo(table, 10.0 / 31.0, 20.0 / 31.0), at(10, 20));
+        let mid = sheen_albedo(table, 10.5 / 31.0, 20.0 / 31.0);
+        assert!((mid - 0.5 * (at(10, 20) + at(11, 20))).abs() < 1e-5);
+        assert!(sheen_albedo(table, f32::NAN, f32::NAN).is_finite());
+    }
 }

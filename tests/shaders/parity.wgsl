@@ -16,6 +16,7 @@
 #import transmission
 #import skinning
 #import clearcoat
+#import sheen
 
 struct Case {
     n: vec4<f32>,
@@ -29,7 +30,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 47u;
+const OUTPUTS: u32 = 49u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -150,6 +151,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 46u] = vec4<f32>(clearcoat_albedo(vec2<f32>(x, n_dot_h * 0.3), 1.0 + k),
                                  clearcoat_base_weight(x * 1.5 - 0.25, n_dot_h),
                                  clearcoat_base_weight(nan, n_dot_h), 0.0);
+    results[o + 47u] = vec4<f32>(d_charlie(r, n_dot_h), v_neubelt(n_dot_h, x),
+                                 sheen_base_weight(c.base_metallic.rgb, k), clamp_sheen_roughness(r * 1.2 - 0.1));
+    results[o + 48u] = vec4<f32>(sheen_brdf(c.base_metallic.rgb, r, n_dot_h, x, sqrt(alpha)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

@@ -13,18 +13,20 @@
 //! 7. an alpha-blended red pane (`alphaMode: BLEND`, α 0.4);
 //! 8. a car-paint sphere: a red base, half metal, roughness 0.5, under a whole,
 //!    nearly smooth clearcoat (`KHR_materials_clearcoat`, coat roughness 0.05): a sharp
-//!    reflection over a soft highlight.
+//!    reflection over a soft highlight;
+//! 9. a velvet sphere: a dark blue rough base under a light blue sheen
+//!    (`KHR_materials_sheen`, colour (0.5, 0.6, 0.9), roughness 0.4): a bright rim.
 //!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::scene::{Clearcoat, Transmission};
+use lumen::scene::{Clearcoat, Sheen, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 8] = [-2.975, -2.125, -1.275, -0.425, 0.425, 1.275, 2.125, 2.975];
+pub const MATERIALS_X: [f32; 9] = [-2.96, -2.22, -1.48, -0.74, 0.0, 0.74, 1.48, 2.22, 2.96];
 /// Radius of the spheres (m).
-pub const MATERIALS_RADIUS: f32 = 0.37;
+pub const MATERIALS_RADIUS: f32 = 0.32;
 
 fn glass(tint: Vec3, distance_m: f32, roughness: f32, thickness_m: f32) -> Material {
     Material {
@@ -44,8 +46,8 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     let floor = app.add_mesh(plane(12.0, 8.0))?;
     let stripe = app.add_mesh(cuboid(Vec3::new(0.25, 3.0, 0.05)))?;
     let sphere = app.add_mesh(uv_sphere(MATERIALS_RADIUS, 48, 24))?;
-    let pane = app.add_mesh(cuboid(Vec3::new(0.65, 0.8, 0.02)))?;
-    let block = app.add_mesh(cuboid(Vec3::new(0.5, 0.8, 0.3)))?;
+    let pane = app.add_mesh(cuboid(Vec3::new(0.6, 0.8, 0.02)))?;
+    let block = app.add_mesh(cuboid(Vec3::new(0.45, 0.8, 0.25)))?;
     let diameter = 2.0 * MATERIALS_RADIUS;
     let world = app.world_mut();
     world.spawn((
@@ -113,6 +115,17 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             ..Material::new(Vec3::new(0.6, 0.02, 0.03), 0.5, 0.5)
         },
         Transform::from_xyz(MATERIALS_X[7], MATERIALS_RADIUS + 0.01, 0.0),
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            sheen: Some(Sheen {
+                color: Vec3::new(0.5, 0.6, 0.9),
+                perceptual_roughness: 0.4,
+            }),
+            ..Material::new(Vec3::new(0.02, 0.03, 0.12), 0.0, 0.9)
+        },
+        Transform::from_xyz(MATERIALS_X[8], MATERIALS_RADIUS + 0.01, 0.0),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((
