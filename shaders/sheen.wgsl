@@ -15,7 +15,7 @@ fn clamp_sheen_roughness(perceptual_roughness: f32) -> f32 {
     return clamp(perceptual_roughness, MIN_SHEEN_ROUGHNESS, 1.0);
 }
 
-// Estevez & Kulla 2017: (2 + 1/α) (1 − (n·h)²)^(1/(2α)) / (2π), α = r².
+// Conty Estevez & Kulla 2017: (2 + 1/α) (1 − (n·h)²)^(1/(2α)) / (2π), α = r².
 fn d_charlie(perceptual_roughness: f32, n_dot_h: f32) -> f32 {
     let r = clamp_sheen_roughness(perceptual_roughness);
     let inv_alpha = 1.0 / (r * r);

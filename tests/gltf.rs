@@ -325,6 +325,60 @@ fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
+fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let material = json!({"extensions": {"KHR_materials_sheen": {
+        "sheenColorFactor": [0.5, 0.25, 1.0],
+        "sheenRoughnessFactor": 0.7,
+        "sheenColorTexture": {"index": 0},
+        "sheenRoughnessTexture": {"index": 0}
+    }}});
+    let path = write_quad(dir.path(), material, &["KHR_materials_sheen"]);
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    let world = app.world_mut();
+    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    assert_eq!(
+        m[0].sheen,
+        Some(lumen::scene::Sheen {
+            color: Vec3::new(0.5, 0.25, 1.0),
+            perceptual_roughness: 0.7
+        })
+    );
+    assert!(
+        summary.warnings.iter().any(|w| w.contains(
+            "KHR_materials_sheen's sheenColorTexture, sheenRoughnessTexture are not sampled"
+        )),
+        "{:?}",
+        summary.warnings
+    );
+    // The default colour (black) is no sheen; a colour of two numbers is refused with a
+    // warning, and the material still loads.
+    for (sheen, warning) in [
+        (json!({"sheenRoughnessFactor": 0.5}), None),
+        (
+            json!({"sheenColorFactor": [1.0, 1.0]}),
+            Some("KHR_materials_sheen's factors are not a colour of three numbers"),
+        ),
+    ] {
+        let material = json!({"extensions": {"KHR_materials_sheen": sheen}});
+        let path = write_quad(dir.path(), material, &["KHR_materials_sheen"]);
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &path).expect("loads");
+        let world = app.world_mut();
+        let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+        assert_eq!(m[0].sheen, None);
+        if let Some(w) = warning {
+            assert!(
+                summary.warnings.iter().any(|x| x.contains(w)),
+                "{:?}",
+                summary.warnings
+            );
+        }
+    }
+}
+
+#[test]
 fn khr_materials_unlit_maps_onto_the_material() {
     let dir = tempfile::tempdir().expect("temp dir");
     let material = json!({

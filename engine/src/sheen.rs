@@ -4,14 +4,14 @@
 //!
 //! Sheen is the back-scattering of fibres standing out of a surface: velvet, satin, dust,
 //! peach skin. Its lobe is `f_sheen = sheen_colour · D_Charlie · V_Neubelt` (1/sr), with
-//! - the "Charlie" distribution of Estevez & Kulla 2017 ("Production Friendly
+//! - the "Charlie" distribution of Conty Estevez & Kulla 2017 ("Production Friendly
 //!   Microfacet Sheen BRDF"): `D = (2 + 1/α) · sin(θ_h)^(1/α) / (2π)`, α = r², which
 //!   puts its normals at grazing angles (a fuzzy rim);
 //! - the visibility of Neubelt & Pettineo 2013 ("Crafting a Next-Gen Material Pipeline
 //!   for The Order: 1886"): `V = 1 / (4 (n·l + n·v − (n·l)(n·v)))`;
 //! - no Fresnel (the colour is the reflectance).
 //!
-//! The layer sits over the base as glTF and Conty & Kulla 2017 layer it, by albedo:
+//! The layer sits over the base as glTF and the same paper layer it, by albedo:
 //! `L = L_sheen + (1 − max(sheen_colour) · E_sheen(n·v, r)) · L_base`, where E_sheen is the
 //! directional albedo of D·V, tabulated by [`albedo_table`] (glTF's "albedo scaling").
 

@@ -1,4 +1,4 @@
-//! What the forward passes share: the transparent pass and the clearcoat pass draw meshes
+//! What the forward passes share: the transparent pass and the layers pass draw meshes
 //! through the material maps' bind group, lit by the deferred pass's code, with the same
 //! bind group layout (their view group, the lighting pass's groups 1 to 3, the maps as
 //! group 4), the same kind of pipelines ([`ForwardPipelines`]) and the same draw loop
