@@ -270,112 +270,95 @@ fn transmission_and_volume_map_onto_the_material() {
     );
 }
 
-#[test]
-fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let material = json!({"extensions": {"KHR_materials_clearcoat": {
-        "clearcoatFactor": 0.8,
-        "clearcoatRoughnessFactor": 0.3,
-        "clearcoatNormalTexture": {"index": 0}
-    }}});
-    let path = write_quad(dir.path(), material, &["KHR_materials_clearcoat"]);
+/// The first material of a quad written with `extension`'s object `value`, and the
+/// loader's warnings.
+fn load_extension(
+    dir: &Path,
+    extension: &str,
+    value: serde_json::Value,
+) -> (Material, Vec<String>) {
+    let material = json!({"extensions": {extension: value}});
+    let path = write_quad(dir, material, &[extension]);
     let mut app = App::headless().expect("a GPU adapter");
     let summary = load_gltf(&mut app, &path).expect("loads");
     let world = app.world_mut();
     let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    (m[0], summary.warnings)
+}
+
+/// Asserts that some warning of `warnings` contains `needle`.
+fn warned(warnings: &[String], needle: &str) {
+    assert!(warnings.iter().any(|w| w.contains(needle)), "{warnings:?}");
+}
+
+#[test]
+fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ext = "KHR_materials_clearcoat";
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({
+            "clearcoatFactor": 0.8,
+            "clearcoatRoughnessFactor": 0.3,
+            "clearcoatNormalTexture": {"index": 0}
+        }),
+    );
     assert_eq!(
-        m[0].clearcoat,
+        m.clearcoat,
         Some(lumen::scene::Clearcoat {
             factor: 0.8,
             perceptual_roughness: 0.3
         })
     );
-    assert!(
-        summary
-            .warnings
-            .iter()
-            .any(|w| w.contains("KHR_materials_clearcoat's clearcoatNormalTexture is not sampled")),
-        "{:?}",
-        summary.warnings
+    warned(
+        &warnings,
+        "KHR_materials_clearcoat's clearcoatNormalTexture is not sampled",
     );
     // A factor of 0 (the default) is no coat; a factor that is not a number is refused
     // with a warning, and the material still loads.
-    for (coat, warning) in [
-        (json!({"clearcoatRoughnessFactor": 0.5}), None),
-        (
-            json!({"clearcoatFactor": "shiny"}),
-            Some("clearcoatFactor is not a number"),
-        ),
-    ] {
-        let material = json!({"extensions": {"KHR_materials_clearcoat": coat}});
-        let path = write_quad(dir.path(), material, &["KHR_materials_clearcoat"]);
-        let mut app = App::headless().expect("a GPU adapter");
-        let summary = load_gltf(&mut app, &path).expect("loads");
-        let world = app.world_mut();
-        let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
-        assert_eq!(m[0].clearcoat, None);
-        if let Some(w) = warning {
-            assert!(
-                summary.warnings.iter().any(|x| x.contains(w)),
-                "{:?}",
-                summary.warnings
-            );
-        }
-    }
+    let (m, _) = load_extension(dir.path(), ext, json!({"clearcoatRoughnessFactor": 0.5}));
+    assert_eq!(m.clearcoat, None);
+    let (m, warnings) = load_extension(dir.path(), ext, json!({"clearcoatFactor": "shiny"}));
+    assert_eq!(m.clearcoat, None);
+    warned(&warnings, "clearcoatFactor is not a number");
 }
 
 #[test]
 fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let material = json!({"extensions": {"KHR_materials_sheen": {
-        "sheenColorFactor": [0.5, 0.25, 1.0],
-        "sheenRoughnessFactor": 0.7,
-        "sheenColorTexture": {"index": 0},
-        "sheenRoughnessTexture": {"index": 0}
-    }}});
-    let path = write_quad(dir.path(), material, &["KHR_materials_sheen"]);
-    let mut app = App::headless().expect("a GPU adapter");
-    let summary = load_gltf(&mut app, &path).expect("loads");
-    let world = app.world_mut();
-    let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
+    let ext = "KHR_materials_sheen";
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({
+            "sheenColorFactor": [0.5, 0.25, 1.0],
+            "sheenRoughnessFactor": 0.7,
+            "sheenColorTexture": {"index": 0},
+            "sheenRoughnessTexture": {"index": 0}
+        }),
+    );
     assert_eq!(
-        m[0].sheen,
+        m.sheen,
         Some(lumen::scene::Sheen {
             color: Vec3::new(0.5, 0.25, 1.0),
             perceptual_roughness: 0.7
         })
     );
-    assert!(
-        summary.warnings.iter().any(|w| w.contains(
-            "KHR_materials_sheen's sheenColorTexture, sheenRoughnessTexture are not sampled"
-        )),
-        "{:?}",
-        summary.warnings
+    warned(
+        &warnings,
+        "KHR_materials_sheen's sheenColorTexture, sheenRoughnessTexture are not sampled",
     );
     // The default colour (black) is no sheen; a colour of two numbers is refused with a
     // warning, and the material still loads.
-    for (sheen, warning) in [
-        (json!({"sheenRoughnessFactor": 0.5}), None),
-        (
-            json!({"sheenColorFactor": [1.0, 1.0]}),
-            Some("KHR_materials_sheen's factors are not a colour of three numbers"),
-        ),
-    ] {
-        let material = json!({"extensions": {"KHR_materials_sheen": sheen}});
-        let path = write_quad(dir.path(), material, &["KHR_materials_sheen"]);
-        let mut app = App::headless().expect("a GPU adapter");
-        let summary = load_gltf(&mut app, &path).expect("loads");
-        let world = app.world_mut();
-        let m: Vec<Material> = world.query::<&Material>().iter(world).copied().collect();
-        assert_eq!(m[0].sheen, None);
-        if let Some(w) = warning {
-            assert!(
-                summary.warnings.iter().any(|x| x.contains(w)),
-                "{:?}",
-                summary.warnings
-            );
-        }
-    }
+    let (m, _) = load_extension(dir.path(), ext, json!({"sheenRoughnessFactor": 0.5}));
+    assert_eq!(m.sheen, None);
+    let (m, warnings) = load_extension(dir.path(), ext, json!({"sheenColorFactor": [1.0, 1.0]}));
+    assert_eq!(m.sheen, None);
+    warned(
+        &warnings,
+        "KHR_materials_sheen's factors are not a colour of three numbers",
+    );
 }
 
 #[test]
