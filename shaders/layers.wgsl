@@ -91,6 +91,12 @@ fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
     return textured_vertex(in, inst);
 }
 
+// A layer's light kept finite in the f16 target, as the lighting pass keeps its own
+// (docs/src/formulas.md#numerical-guards): NaN becomes 0.
+fn finite_layer(color: vec3<f32>) -> vec3<f32> {
+    return min(select(color, vec3<f32>(0.0), color != color), vec3<f32>(HALF_MAX));
+}
+
 // The sheen: L_sheen over the base, which keeps 1 − max(colour) · E_sheen(n·v, r).
 @fragment
 fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
@@ -106,7 +112,7 @@ fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     let n_dot_v = max(dot(lp.point.n, lp.point.v), MIN_N_DOT_V);
     layer_albedo = sheen_albedo(n_dot_v, sheen.perceptual_roughness);
     let light = surface_light(lp.point, sheen);
-    return vec4<f32>(light, 1.0 - sheen_base_weight(sheen.base_color, layer_albedo));
+    return vec4<f32>(finite_layer(light), 1.0 - sheen_base_weight(sheen.base_color, layer_albedo));
 }
 
 // The coat: factor · L_coat over the base, which keeps 1 − factor · E_coat(n·v, r_c).
@@ -128,5 +134,5 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
     let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
     let factor = maps.clearcoat.x;
     let albedo = clearcoat_albedo(dfg, specular_energy.x);
-    return vec4<f32>(light * factor, 1.0 - clearcoat_base_weight(factor, albedo));
+    return vec4<f32>(finite_layer(light * factor), 1.0 - clearcoat_base_weight(factor, albedo));
 }

@@ -186,9 +186,11 @@ fn a_sheen_over_black_reflects_its_table_in_the_furnace() {
 
 #[test]
 fn a_coated_white_furnace_returns_the_light_it_receives() {
-    // White metals (F0 = 1) and white dielectrics under a whole coat of every roughness:
-    // what the coat reflects, E_coat, is exactly what it takes from the base, so every
-    // sphere still returns 1 (with energy compensation), as the uncoated furnace does.
+    // White metals (F0 = 1) and white dielectrics under a whole coat of every roughness
+    // return 1 (with energy compensation), as the uncoated furnace does. The coat's
+    // environment light and its alpha are the same E_coat by construction, so this checks
+    // the composition (the blend state, the alpha, the base left beneath); the values of
+    // E_coat are checked over a black base above.
     let (_, image) = layered_furnace(|m, r| {
         m.clearcoat = Some(Clearcoat {
             factor: 1.0,
@@ -206,8 +208,8 @@ fn a_coated_white_furnace_returns_the_light_it_receives() {
 
 #[test]
 fn a_white_furnace_under_a_sheen_and_a_coat_returns_the_light_it_receives() {
-    // The same with a white sheen of the column's roughness under a whole coat: the sheen,
-    // too, takes from the light beneath it exactly what it reflects.
+    // The same with a white sheen of the column's roughness under a whole coat: the two
+    // layers compose over the base, each leaving what it does not reflect.
     let (_, image) = layered_furnace(|m, r| {
         m.sheen = Some(Sheen {
             color: Vec3::ONE,
@@ -297,10 +299,10 @@ fn sphere_means(app: &App, image: &image::Rgba32FImage) -> [Vec3; 3] {
 }
 
 /// The rasterizer against the path tracer (256 paths per pixel, direct light only) on
-/// three layered spheres (`materials`, their layers named by `what`), per sphere: within
-/// 1.5 %, while the layers change each sphere by more than 6 % (against the same spheres
-/// without layers), so the agreement is not the bases' alone. The frame plan's reason
-/// for the layers pass contains `planned`.
+/// three layered spheres (`materials`), per sphere: within 1 %, while the layers change
+/// each sphere by more than 6 % (against the same spheres without layers), so the
+/// agreement is not the bases' alone. The frame plan's reason for the layers pass
+/// contains `planned`.
 fn raster_against_path_tracer(materials: [Material; 3], planned: &str) {
     const SIZE: (u32, u32) = (240, 80);
     let mut app = layered_spheres(materials);
@@ -350,7 +352,7 @@ fn raster_against_path_tracer(materials: [Material; 3], planned: &str) {
             change * 100.0,
             bare_error * 100.0
         );
-        assert!(error < 0.015, "sphere {i}: {} vs {}", raster[i], traced[i]);
+        assert!(error < 0.01, "sphere {i}: {} vs {}", raster[i], traced[i]);
         assert!(
             change > 0.06,
             "sphere {i}: the layers change it by {change}"
@@ -360,10 +362,12 @@ fn raster_against_path_tracer(materials: [Material; 3], planned: &str) {
 
 #[test]
 fn the_rasterizer_and_the_path_tracer_agree_on_coated_spheres() {
-    // Measured: 0.55 %, 0.57 %, 0.55 % (the spheres without coats: 0.43 %). The spheres
+    // Measured: 0.71 %, 0.51 %, 0.71 % (the spheres without coats: 0.43 %). The middle
+    // one is emissive: with its emission left undimmed in the path tracer it was 1.33 %
+    // off. The spheres
     // are about 65 px wide: at a third of that the rasterizer's one sample per pixel
     // misses part of the coat's small highlight.
-    let materials =
+    let mut materials =
         [(1.0, 0.25), (0.5, 0.5), (1.0, 0.8)].map(|(factor, perceptual_roughness)| Material {
             clearcoat: Some(Clearcoat {
                 factor,
@@ -371,6 +375,8 @@ fn the_rasterizer_and_the_path_tracer_agree_on_coated_spheres() {
             }),
             ..dark_red()
         });
+    // An emissive base: its emission, too, is dimmed by the coat in both renderers.
+    materials[1].emissive = Vec3::new(0.0, 0.0, 0.3);
     raster_against_path_tracer(materials, "3 clearcoat layer");
 }
 
@@ -407,7 +413,8 @@ fn the_rasterizer_and_the_path_tracer_agree_on_sheen_spheres() {
 #[test]
 fn extreme_layers_stay_finite() {
     // Roughness 0 (a mirror coat, the smoothest sheen, under a sun), factors and colours
-    // beyond the range, NaN and ∞: clamped, never NaN.
+    // beyond the range, NaN and ∞: clamped, never NaN. A NaN factor is no coat and an
+    // infinite colour no sheen, so two spheres of three keep each layer.
     let layers = [
         (1.0, 0.0, Vec3::ONE),
         (f32::NAN, f32::NAN, Vec3::new(f32::NAN, 2.0, -1.0)),
@@ -425,7 +432,13 @@ fn extreme_layers_stay_finite() {
         ..dark_red()
     });
     let mut app = layered_spheres(materials);
-    app.render_headless((96, 32)).expect("frame");
+    let report = app.render_headless((96, 32)).expect("frame");
+    let layers = decision(&report, PassId::Layers);
+    assert!(
+        layers.enabled && layers.reason.contains("2 sheen and 2 clearcoat layer"),
+        "{}",
+        layers.reason
+    );
     common::assert_finite(&app);
     let scene = trace_scene(&mut app, (96, 32)).expect("trace scene");
     let options = ReferenceOptions {
@@ -434,6 +447,7 @@ fn extreme_layers_stay_finite() {
         max_bounces: 2,
         seed: 1,
     };
-    let traced = render(&scene, &options, &|_| {}).image;
-    assert!(traced.pixels().all(|p| p.0.iter().all(|v| v.is_finite())));
+    let traced = render(&scene, &options, &|_| {});
+    // The reference drops non-finite paths and counts them: none may be dropped.
+    assert_eq!(traced.dropped_samples, 0);
 }

@@ -109,7 +109,9 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     roughness: inst.params[1],
                     specular_level: inst.params[2],
                     emissive: Vec3::new(er, eg, eb),
-                    maps: batch.maps,
+                    // The neutral maps a layered material without textures gets for
+                    // the forward passes are not textures: the G-buffer draws it plain.
+                    maps: batch.maps.filter(|_| batch.textured || batch.transparent()),
                     alpha,
                     blend: batch.blend,
                     transmission: batch

@@ -676,6 +676,7 @@ pub fn extract_frame(
                 item.mesh,
                 item.deformed,
                 item.maps,
+                item.textured,
                 item.double_sided,
                 !item.in_view,
                 !item.casts,

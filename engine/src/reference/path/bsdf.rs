@@ -246,6 +246,12 @@ impl Bsdf {
         self
     }
 
+    /// The fraction of the light beneath the layers (the base's, its emission included)
+    /// that leaves through them towards the viewer: 1 without layers.
+    pub(super) fn through_layers(&self) -> f32 {
+        self.base_weight * self.sheen_weight
+    }
+
     /// The shading normal of the base.
     pub(super) fn n(&self) -> Vec3 {
         self.frame.z_axis

@@ -540,6 +540,21 @@ impl TraceScene {
         }
     }
 
+    /// The pre-exposed light hit `hit` emits back along the ray direction `dir`: its
+    /// material's emission ([`TraceMaterial::emitted`]), dimmed by its sheen and coat as
+    /// the rasterizer's layers pass dims everything beneath them.
+    fn emitted(&self, hit: &(f32, usize, SurfacePoint), dir: Vec3) -> Vec3 {
+        let (_, t, surface) = hit;
+        let m = &surface.material;
+        let e = m.emitted();
+        if e == Vec3::ZERO || (m.clearcoat.is_none() && m.sheen.is_none()) {
+            return e;
+        }
+        let v = -dir;
+        let (facing, n) = self.facing_normals(*t, surface.normal, v);
+        e * self.bsdf(n, facing, surface, m, v).through_layers()
+    }
+
     /// The geometric and shading normals of triangle `t` (shading normal `normal`) turned
     /// to the side `v` comes from: (geometric, shading).
     fn facing_normals(&self, t: usize, normal: Vec3, v: Vec3) -> (Vec3, Vec3) {
@@ -587,7 +602,7 @@ impl TraceScene {
         let mut ray_origin = origin;
         let mut ray_dir = dir;
         let mut throughput = Vec3::ONE;
-        let mut radiance = hit.2.material.emitted();
+        let mut radiance = self.emitted(&hit, dir);
         // Density over the area of the current hit with which the previous surface's BSDF
         // sample reached it (None at the first hit).
         let mut arrival_pdf: Option<f32> = None;
@@ -658,7 +673,7 @@ impl TraceScene {
                     }
                     Some(next) => {
                         throughput *= self.absorption(&next, ray_dir);
-                        radiance += throughput * next.2.material.emitted();
+                        radiance += throughput * self.emitted(&next, ray_dir);
                         hit = next;
                     }
                 }
@@ -687,7 +702,7 @@ impl TraceScene {
                     }
                     Some(next) => {
                         throughput *= self.absorption(&next, l);
-                        radiance += throughput * next.2.material.emitted();
+                        radiance += throughput * self.emitted(&next, l);
                         let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
                         arrival_pdf =
                             Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));
