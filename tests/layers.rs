@@ -20,17 +20,6 @@ use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 /// The furnace's frame size.
 const FURNACE_SIZE: (u32, u32) = (256, 96);
 
-/// What the plan of `report` decided for `pass`.
-fn decision(report: &lumen::FrameReport, pass: PassId) -> lumen::render::graph::Decision {
-    report
-        .plan
-        .passes
-        .iter()
-        .find(|(id, _)| *id == pass)
-        .map(|(_, d)| d.clone())
-        .expect("the pass is in the plan")
-}
-
 /// The `furnace` scene (a uniform environment of 1 cd/m², exposure 1, no AO or
 /// reflections), every sphere's material passed through `layer` with its column's
 /// roughness i/10, rendered with energy compensation; the app and the HDR image.
@@ -47,7 +36,7 @@ fn layered_furnace(layer: impl Fn(&mut Material, f32)) -> (App, image::Rgba32FIm
         layer(&mut m, column);
     }
     let report = app.render_headless(FURNACE_SIZE).expect("frame");
-    let layers = decision(&report, PassId::Layers);
+    let layers = common::decision(&report, PassId::Layers);
     assert!(layers.enabled, "{}", layers.reason);
     let image = app.read_hdr_image().expect("readback");
     (app, image)
@@ -184,6 +173,17 @@ fn a_sheen_over_black_reflects_its_table_in_the_furnace() {
     );
 }
 
+/// The largest |red − 1| or |green − 1| over the geometry pixels of `image`, printed.
+fn worst_from_one(image: &image::Rgba32FImage) -> f32 {
+    let worst = image
+        .pixels()
+        .filter(|p| p.0[3] > 0.5)
+        .map(|p| (p.0[0] - 1.0).abs().max((p.0[1] - 1.0).abs()))
+        .fold(0.0f32, f32::max);
+    println!("worst |pixel − 1| = {worst:.5}");
+    worst
+}
+
 #[test]
 fn a_coated_white_furnace_returns_the_light_it_receives() {
     // White metals (F0 = 1) and white dielectrics under a whole coat of every roughness
@@ -197,12 +197,7 @@ fn a_coated_white_furnace_returns_the_light_it_receives() {
             perceptual_roughness: r,
         });
     });
-    let worst = image
-        .pixels()
-        .filter(|p| p.0[3] > 0.5)
-        .map(|p| (p.0[0] - 1.0).abs().max((p.0[1] - 1.0).abs()))
-        .fold(0.0f32, f32::max);
-    println!("worst |pixel − 1| = {worst:.5}");
+    let worst = worst_from_one(&image);
     assert!(worst <= 0.02, "a coated sphere pixel is {worst} from 1");
 }
 
@@ -220,12 +215,7 @@ fn a_white_furnace_under_a_sheen_and_a_coat_returns_the_light_it_receives() {
             perceptual_roughness: 1.0 - r,
         });
     });
-    let worst = image
-        .pixels()
-        .filter(|p| p.0[3] > 0.5)
-        .map(|p| (p.0[0] - 1.0).abs().max((p.0[1] - 1.0).abs()))
-        .fold(0.0f32, f32::max);
-    println!("worst |pixel − 1| = {worst:.5}");
+    let worst = worst_from_one(&image);
     assert!(worst <= 0.02, "a sphere pixel is {worst} from 1");
 }
 
@@ -307,7 +297,7 @@ fn raster_against_path_tracer(materials: [Material; 3], planned: &str) {
     const SIZE: (u32, u32) = (240, 80);
     let mut app = layered_spheres(materials);
     let report = app.render_headless(SIZE).expect("frame");
-    let layers = decision(&report, PassId::Layers);
+    let layers = common::decision(&report, PassId::Layers);
     assert!(
         layers.enabled && layers.reason.contains(planned),
         "{}",
@@ -325,7 +315,7 @@ fn raster_against_path_tracer(materials: [Material; 3], planned: &str) {
 
     let mut bare = layered_spheres([dark_red(); 3]);
     let report = bare.render_headless(SIZE).expect("frame");
-    let skipped = decision(&report, PassId::Layers);
+    let skipped = common::decision(&report, PassId::Layers);
     assert!(
         !skipped.enabled
             && skipped
@@ -433,7 +423,7 @@ fn extreme_layers_stay_finite() {
     });
     let mut app = layered_spheres(materials);
     let report = app.render_headless((96, 32)).expect("frame");
-    let layers = decision(&report, PassId::Layers);
+    let layers = common::decision(&report, PassId::Layers);
     assert!(
         layers.enabled && layers.reason.contains("2 sheen and 2 clearcoat layer"),
         "{}",

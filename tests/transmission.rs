@@ -115,17 +115,6 @@ fn stripe_scene(thickness: f32) -> App {
     app
 }
 
-/// What the plan of `report` decided for `pass`.
-fn decision(report: &lumen::FrameReport, pass: PassId) -> lumen::render::graph::Decision {
-    report
-        .plan
-        .passes
-        .iter()
-        .find(|(id, _)| *id == pass)
-        .map(|(_, d)| d.clone())
-        .expect("the pass is in the plan")
-}
-
 /// Path-tracing options: `size`, `spp` samples per pixel, `bounces`, `seed`.
 fn options(size: (u32, u32), spp: u32, bounces: u32, seed: u64) -> ReferenceOptions {
     ReferenceOptions {
@@ -185,7 +174,7 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     let mut app = stripe_scene(thickness);
     let report = app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
-    let source = decision(&report, PassId::TransmissionSource);
+    let source = common::decision(&report, PassId::TransmissionSource);
     assert!(
         source.enabled && source.reason.contains("1 transmissive"),
         "{}",
@@ -382,7 +371,7 @@ fn opaque_scenes_build_no_transmission_source() {
         m.transmission = None;
     }
     let report = app.render_headless((32, 32)).expect("frame");
-    let source = decision(&report, PassId::TransmissionSource);
+    let source = common::decision(&report, PassId::TransmissionSource);
     assert!(
         !source.enabled && source.reason.contains("no transmissive"),
         "{}",
@@ -469,14 +458,14 @@ fn the_materials_scene_draws_each_feature() {
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");
-    let transparent = decision(&report, PassId::Transparent);
+    let transparent = common::decision(&report, PassId::Transparent);
     assert!(
         transparent.enabled && transparent.reason.contains("1 blended and 5 transmissive"),
         "{}",
         transparent.reason
     );
     // The velvet sphere's sheen and the car-paint sphere's coat.
-    let coat = decision(&report, PassId::Layers);
+    let coat = common::decision(&report, PassId::Layers);
     assert!(
         coat.enabled && coat.reason.contains("1 sheen and 1 clearcoat layer"),
         "{}",

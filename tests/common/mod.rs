@@ -242,3 +242,17 @@ pub fn nearest_slot(texture: lumen::scene::TextureHandle) -> lumen::scene::Textu
         ..TextureSlot::new(texture)
     }
 }
+
+/// What the plan of `report` decided for `pass`.
+pub fn decision(
+    report: &lumen::FrameReport,
+    pass: lumen::render::graph::PassId,
+) -> lumen::render::graph::Decision {
+    report
+        .plan
+        .passes
+        .iter()
+        .find(|(id, _)| *id == pass)
+        .map(|(_, d)| d.clone())
+        .expect("the pass is in the plan")
+}

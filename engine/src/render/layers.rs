@@ -29,7 +29,7 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
+use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::forward::{
     ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
 };
@@ -176,31 +176,34 @@ impl FramePass for LayersPass {
 #[derive(Resource)]
 pub struct LayersPass {
     pipelines: ForwardPipelines<(LightingVariant, Layer)>,
-    /// The sheen's albedo table ([`crate::sheen::albedo_table`]), packed in vec4s.
+    /// The sheen's albedo table ([`crate::sheen::albedo_table`]), packed in vec4s: zeros
+    /// until the first frame with a sheen computes and writes it.
     sheen_table: wgpu::Buffer,
+    /// Whether `sheen_table` holds the table.
+    sheen_table_written: bool,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
 }
 
 impl LayersPass {
     /// The layouts: the view, the lighting pass's groups 1 to 3 (`lighting`), and the
-    /// material maps' (`maps`); and the sheen table, uploaded once.
+    /// material maps' (`maps`); and the sheen table's buffer, filled on first use.
     pub fn new(
         gpu: &Gpu,
         lighting: &[wgpu::BindGroupLayout; 4],
         maps: &wgpu::BindGroupLayout,
     ) -> LayersPass {
-        use wgpu::util::DeviceExt;
-        let sheen_table = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sheen albedo table"),
-                contents: bytemuck::cast_slice(crate::sheen::albedo_table()),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+        let size = crate::sheen::ALBEDO_TABLE_SIZE * crate::sheen::ALBEDO_TABLE_SIZE;
+        let sheen_table = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sheen albedo table"),
+            size: (size * std::mem::size_of::<f32>()) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         LayersPass {
             pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, maps),
             sheen_table,
+            sheen_table_written: false,
             view_group: None,
         }
     }
@@ -221,6 +224,14 @@ impl LayersPass {
         defs.push(group_def(MAPS_GROUP));
         defs
     }
+}
+
+/// The batches in view that carry `layer`.
+fn layer_batches(frame: &ExtractedFrame, layer: Layer) -> impl Iterator<Item = &Batch> {
+    frame.drawn_batches().filter(move |b| match layer {
+        Layer::Sheen => b.sheened,
+        Layer::Coat => b.coated,
+    })
 }
 
 /// The pipeline of `layer` into `format`: "over" with what the layer takes from the light
@@ -280,14 +291,20 @@ pub fn prepare_layers(
         return;
     };
     let capacity = buffers.uniform_light_capacity;
-    for (layer, batches) in [
-        (Layer::Sheen, frame.sheened_batches().collect::<Vec<_>>()),
-        (Layer::Coat, frame.coated_batches().collect()),
-    ] {
+    // The sheen's table is computed (once per process) only for a frame that draws one.
+    if !pass.sheen_table_written && frame.sheened_batches().next().is_some() {
+        gpu.queue.write_buffer(
+            &pass.sheen_table,
+            0,
+            bytemuck::cast_slice(crate::sheen::albedo_table()),
+        );
+        pass.sheen_table_written = true;
+    }
+    for layer in [Layer::Sheen, Layer::Coat] {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
             ((variant, layer), t.hdr_format),
-            batches.into_iter(),
+            layer_batches(&frame, layer),
             ("layers.wgsl", &|| {
                 LayersPass::defs(variant, layer, capacity)
             }),
@@ -363,16 +380,12 @@ pub fn layers_pass(
             multiview_mask: None,
         });
         for layer in [Layer::Sheen, Layer::Coat] {
-            let batches: Vec<_> = match layer {
-                Layer::Sheen => inputs.frame.sheened_batches().collect(),
-                Layer::Coat => inputs.frame.coated_batches().collect(),
-            };
             draw_batches(
                 &mut rp,
                 &inputs,
                 (view_group, shared),
                 MAPS_GROUP,
-                batches.into_iter(),
+                layer_batches(&inputs.frame, layer),
                 |batch| {
                     pass.pipelines
                         .get((variant, layer), batch.double_sided, t.hdr_format)

@@ -136,11 +136,7 @@ impl Bsdf {
         let f = crate::brdf::f_schlick(f0, n.dot(v).clamp(0.0, 1.0));
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
-        let p_specular = if spec + diff > 0.0 {
-            (spec / (spec + diff)).clamp(0.1, 0.9)
-        } else {
-            0.5
-        };
+        let p_specular = lobe_probability(spec, diff);
         let specular_scale = compensation.map_or(Vec3::ONE, |table| {
             table.compensation(f0, n.dot(v), m.roughness)
         });
@@ -177,11 +173,7 @@ impl Bsdf {
         self.sheen_weight = crate::sheen::sheen_base_weight(color, albedo);
         let sheen = luminance(color) * albedo;
         let base = self.sheen_weight * self.reflectance(v);
-        self.p_sheen = if sheen + base > 0.0 {
-            (sheen / (sheen + base)).clamp(0.1, 0.9)
-        } else {
-            0.5
-        };
+        self.p_sheen = lobe_probability(sheen, base);
         self.sheen = Some(SheenLobe {
             frame: basis(n_s),
             color,
@@ -226,11 +218,7 @@ impl Bsdf {
         // Sample the coat in proportion to what it reflects against what the base does.
         let coat = factor * albedo;
         let base = self.base_weight * self.reflectance(v);
-        self.p_coat = if coat + base > 0.0 {
-            (coat / (coat + base)).clamp(0.1, 0.9)
-        } else {
-            0.5
-        };
+        self.p_coat = lobe_probability(coat, base);
         self.coat = Some(CoatLobe {
             frame: basis(n_c),
             surface: Surface {
@@ -328,6 +316,16 @@ impl Bsdf {
         }
         let weight = self.eval(v, l) / pdf;
         weight.is_finite().then_some((l, weight, pdf))
+    }
+}
+
+/// The probability of sampling a lobe that reflects `lobe` against the `rest` (both
+/// luminances), kept in 0.1..0.9 so that neither side is starved; 0.5 when both are 0.
+fn lobe_probability(lobe: f32, rest: f32) -> f32 {
+    if lobe + rest > 0.0 {
+        (lobe / (lobe + rest)).clamp(0.1, 0.9)
+    } else {
+        0.5
     }
 }
 
