@@ -34,6 +34,9 @@ struct Maps {
     // Materials with a sheen (layers pass): rgb: its colour; w: its perceptual roughness
     // (clamped).
     sheen: vec4<f32>,
+    // Anisotropic materials (layers pass): x: the strength (0..1, 0: none); y, z: the
+    // cosine and sine of the direction's angle from the tangent towards the bitangent.
+    anisotropy: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

@@ -26,6 +26,11 @@
 // `surface.perceptual_roughness` instead of the Cook-Torrance lobes, its environment
 // albedo being the colour × `layer_albedo`, which the layers pass sets.
 //
+// ANISOTROPIC_LOBE: the surface's specular lobe is anisotropic GGX (anisotropy.wgsl) along
+// `anisotropy_t` with strength `anisotropy_strength`, which the layers pass sets: every
+// light reflects by it, and the environment and the reflection probes are read about
+// its bent normal.
+//
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
 // whole range in the same loop (no branch).
@@ -41,6 +46,7 @@
 #import volume_lookup
 #import probe_reflections
 #import sheen
+#import anisotropy
 
 // Group 2, indirect light: the environment and the AO pass's occlusion (ENVIRONMENT).
 @group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
@@ -125,6 +131,10 @@ var<private> diffuse_weight: f32 = 1.0;
 // With SHEEN_LOBE: the sheen lobe's directional albedo at this pixel (colour 1), set by
 // the layers pass before surface_light.
 var<private> layer_albedo: f32 = 0.0;
+// With ANISOTROPIC_LOBE: the unit anisotropy direction (world, perpendicular to the
+// normal) and the strength (0..1), set by the layers pass before surface_light.
+var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
+var<private> anisotropy_strength: f32 = 0.0;
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
@@ -139,7 +149,12 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
         return sheen_brdf(surface.base_color, surface.perceptual_roughness, max(dot(n, v), MIN_N_DOT_V),
                           n_dot_l, dot(n, h)) * illuminance * n_dot_l;
     }
-    let lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
+    var lobes: BrdfLobes;
+    if ANISOTROPIC_LOBE {
+        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, anisotropy_strength);
+    } else {
+        lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
+    }
     return (lobes.diffuse * diffuse_weight + lobes.specular * specular_energy) * illuminance * n_dot_l;
 }
 
@@ -226,17 +241,23 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         }
         var irradiance = vec3<f32>(0.0);
         var prefiltered = vec3<f32>(0.0);
+        // The mirror direction the prefiltered light is read along.
+        var reflect_n = n;
+        if ANISOTROPIC_LOBE {
+            reflect_n = anisotropic_bent_normal(n, v, anisotropy_t, anisotropy_strength, surface.perceptual_roughness);
+        }
+        let reflected_world = 2.0 * dot(reflect_n, v) * reflect_n - v;
         if HAS_ENVIRONMENT {
             let rotation = environment.params.y;
             irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
             prefiltered = environment.uniform_radiance.rgb;
             if ENV_MAP {
-                let reflected = rotate_y(2.0 * dot(n, v) * n - v, -rotation);
+                let reflected = rotate_y(reflected_world, -rotation);
                 prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
             }
         }
         if REFLECTION_PROBES {
-            prefiltered = probe_reflection(world, 2.0 * dot(n, v) * n - v, r, prefiltered, view.position_exposure.w);
+            prefiltered = probe_reflection(world, reflected_world, r, prefiltered, view.position_exposure.w);
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {

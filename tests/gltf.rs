@@ -362,6 +362,44 @@ fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
+fn anisotropy_maps_onto_the_material_and_names_its_unread_texture() {
+    // The file requires the extension: Lumen reads it, so the file loads.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ext = "KHR_materials_anisotropy";
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({
+            "anisotropyStrength": 0.6,
+            "anisotropyRotation": 1.25,
+            "anisotropyTexture": {"index": 0}
+        }),
+    );
+    assert_eq!(
+        m.anisotropy,
+        Some(lumen::scene::Anisotropy {
+            strength: 0.6,
+            rotation_rad: 1.25
+        })
+    );
+    warned(
+        &warnings,
+        "KHR_materials_anisotropy's anisotropyTexture is not sampled",
+    );
+    // Strength 0 (the default) is isotropic; a rotation that is not a number is refused
+    // with a warning, and the material still loads.
+    let (m, _) = load_extension(dir.path(), ext, json!({"anisotropyRotation": 0.5}));
+    assert_eq!(m.anisotropy, None);
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({"anisotropyStrength": 0.5, "anisotropyRotation": [1]}),
+    );
+    assert_eq!(m.anisotropy, None);
+    warned(&warnings, "anisotropyRotation is not a number");
+}
+
+#[test]
 fn khr_materials_unlit_maps_onto_the_material() {
     let dir = tempfile::tempdir().expect("temp dir");
     let material = json!({

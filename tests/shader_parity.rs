@@ -7,6 +7,7 @@ use crate::common;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use lumen::ambient_occlusion as ao;
+use lumen::anisotropy as an;
 use lumen::antialiasing as aa;
 use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::irradiance_volume as gi;
@@ -19,7 +20,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 49;
+const OUTPUTS: usize = 53;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -136,6 +137,10 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         n.extend(0.0),
         Vec4::new(0.5, -1.0, 2.0, 1.0),
     );
+    // An anisotropy direction in n's tangent plane, from l, at the angle whose cosine is
+    // n·h.
+    let rotation = Vec2::new(n_dot_h, (1.0 - n_dot_h * n_dot_h).max(0.0).sqrt());
+    let tangent = an::anisotropy_direction(n, l, x - 0.5, rotation);
     let skin = deform::skin_matrix(
         &[ja, jb, ja * 0.5, jb * -0.25],
         [0, 1, 2, 3],
@@ -342,6 +347,21 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             sheen::clamp_sheen_roughness(r * 1.2 - 0.1),
         ),
         sheen::sheen_brdf(base, r, n_dot_h, x, alpha.sqrt()).extend(0.0),
+        {
+            let alphas = an::anisotropic_alphas(alpha, x * 1.2 - 0.1);
+            Vec4::new(
+                alphas.x,
+                alphas.y,
+                an::d_ggx_anisotropic(alphas, n),
+                an::v_smith_ggx_correlated_anisotropic(alphas, v, l),
+            )
+        },
+        {
+            let lobes = an::anisotropic_brdf_lobes(n, v, l, tangent, &s, k);
+            lobes.specular.extend(lobes.diffuse.x)
+        },
+        an::anisotropic_bent_normal(n, v, tangent, k * 1.2 - 0.1, r).extend(0.0),
+        tangent.extend(0.0),
     ]
 }
 
@@ -395,6 +415,10 @@ const NAMES: [&str; OUTPUTS] = [
     "clearcoat_albedo | clearcoat_base_weight",
     "d_charlie | v_neubelt | sheen_base_weight | clamp_sheen_roughness",
     "sheen_brdf",
+    "anisotropic_alphas | d_ggx_anisotropic | v_smith_ggx_correlated_anisotropic",
+    "anisotropic_brdf_lobes",
+    "anisotropic_bent_normal",
+    "anisotropy_direction",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -419,7 +443,7 @@ fn coc_focus(i: usize) -> f32 {
 }
 
 /// Outputs that are unit vectors (or directions' coordinates).
-const UNIT_VECTORS: [usize; 7] = [7, 11, 13, 16, 22, 24, 41];
+const UNIT_VECTORS: [usize; 9] = [7, 11, 13, 16, 22, 24, 41, 51, 52];
 /// Outputs that are angles from `acos` (or integrals of them), held in absolute terms
 /// with a looser tolerance: near ±1, one rounding of the cosine moves `acos` by
 /// √(2 · 6e-8) ≈ 3.5e-4 rad.

@@ -453,7 +453,7 @@ fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
 #[test]
 fn the_materials_scene_draws_each_feature() {
     // Five transmissive objects and one blended pane, all drawn by the transparent pass,
-    // a clearcoated and a sheen sphere; finite; and the clear sphere is not the opaque one: light
+    // a clearcoated, a sheen and an anisotropic sphere; finite; and the clear sphere is not the opaque one: light
     // passes through it.
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
@@ -464,10 +464,13 @@ fn the_materials_scene_draws_each_feature() {
         "{}",
         transparent.reason
     );
-    // The velvet sphere's sheen and the car-paint sphere's coat.
+    // The brushed metal, the velvet sphere's sheen and the car-paint sphere's coat.
     let coat = common::decision(&report, PassId::Layers);
     assert!(
-        coat.enabled && coat.reason.contains("1 sheen and 1 clearcoat layer"),
+        coat.enabled
+            && coat
+                .reason
+                .contains("1 anisotropic, 1 sheen and 1 clearcoat layer"),
         "{}",
         coat.reason
     );

@@ -170,7 +170,14 @@ pub fn energy_compensation(f0: Vec3, dfg: Vec2) -> Vec3 {
 /// them `v` sees, D(h)·G₁(v)·max(v·h, 0)/(n·v), so reflected rays waste no samples on
 /// normals facing away.
 pub fn sample_ggx_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
-    let vh = Vec3::new(alpha * v.x, alpha * v.y, v.z).normalize_or(Vec3::Z);
+    sample_ggx_vndf_anisotropic(v, Vec2::splat(alpha), xi)
+}
+
+/// [`sample_ggx_vndf`] for an anisotropic lobe of widths `alphas` = (α_x, α_y) along the
+/// frame's first two axes (Heitz 2018 stretches by each): the path tracer's sampler of
+/// anisotropic GGX (`crate::anisotropy`).
+pub fn sample_ggx_vndf_anisotropic(v: Vec3, alphas: Vec2, xi: Vec2) -> Vec3 {
+    let vh = Vec3::new(alphas.x * v.x, alphas.y * v.y, v.z).normalize_or(Vec3::Z);
     let len2 = vh.x * vh.x + vh.y * vh.y;
     let t1 = if len2 > 0.0 {
         Vec3::new(-vh.y, vh.x, 0.0) / len2.sqrt()
@@ -184,7 +191,7 @@ pub fn sample_ggx_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
     let s = 0.5 * (1.0 + vh.z);
     let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
     let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
+    Vec3::new(alphas.x * nh.x, alphas.y * nh.y, nh.z.max(0.0)).normalize_or(Vec3::Z)
 }
 
 /// Specular occlusion from ambient occlusion `ao` (Lagarde & de Rousiers 2014, "Moving

@@ -25,6 +25,7 @@
 //! Right-handed, +Y up, cameras and lights look along their local −Z.
 
 pub mod ambient_occlusion;
+pub mod anisotropy;
 pub mod antialiasing;
 pub mod app;
 pub mod assets;

@@ -89,6 +89,8 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
     let mut instances = Vec::with_capacity(frame.instances.len());
     for batch in &frame.batches {
         let range = batch.first_instance as usize..(batch.first_instance + batch.count) as usize;
+        // The batch's forward-pass entry: transmission, layers and anisotropy.
+        let entry = batch.maps.and_then(|m| frame.material_maps.get(m as usize));
         for inst in frame.instances.get(range).into_iter().flatten() {
             let [r, g, b, alpha] = inst.base_color;
             let [er, eg, eb, _] = inst.emissive_occlusion;
@@ -114,19 +116,11 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     maps: batch.maps.filter(|_| batch.textured || batch.transparent()),
                     alpha,
                     blend: batch.blend,
-                    transmission: batch
-                        .maps
-                        .and_then(|m| frame.material_maps.get(m as usize))
-                        .and_then(|entry| entry.transmission),
+                    transmission: entry.and_then(|e| e.transmission),
                     unlit: crate::encoding::is_unlit(inst.params[2]),
-                    clearcoat: batch
-                        .maps
-                        .and_then(|m| frame.material_maps.get(m as usize))
-                        .and_then(|entry| entry.clearcoat),
-                    sheen: batch
-                        .maps
-                        .and_then(|m| frame.material_maps.get(m as usize))
-                        .and_then(|entry| entry.sheen),
+                    clearcoat: entry.and_then(|e| e.clearcoat),
+                    sheen: entry.and_then(|e| e.sheen),
+                    anisotropy: entry.and_then(|e| e.anisotropy),
                 },
             });
         }
@@ -263,6 +257,7 @@ mod tests {
             transmissive: false,
             coated: false,
             sheened: false,
+            anisotropic: false,
             deformed: None,
             first_instance: 1,
             count: 2,

@@ -587,6 +587,7 @@ const READ_HERE: &[&str] = &[
     "KHR_materials_dispersion",
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
+    "KHR_materials_anisotropy",
 ];
 
 /// Parses a glTF or GLB file and validates it. A required extension must be one the

@@ -15,7 +15,7 @@
 use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
-    Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, Sheen, TextureData,
+    Anisotropy, Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, Sheen, TextureData,
     TextureHandle, TextureSlot, Textures, Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
@@ -411,6 +411,7 @@ pub(super) fn material(
         unlit: m.unlit(),
         clearcoat: clearcoat(m, what, &mut loader.warnings),
         sheen: sheen(m, what, &mut loader.warnings),
+        anisotropy: anisotropy(m, what, &mut loader.warnings),
     };
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))
@@ -596,18 +597,12 @@ fn transmission(
 /// names them and the factors alone apply, on the mesh's own normal. A factor that is not
 /// a number is refused with a warning (no coat).
 fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Clearcoat> {
-    let ext = m.extension_value("KHR_materials_clearcoat")?;
-    let number = |key: &str| -> Result<f32, String> {
-        match ext.get(key) {
-            None => Ok(0.0),
-            Some(v) => v.as_f64().map(|x| x as f32).ok_or_else(|| {
-                format!("{what}: KHR_materials_clearcoat's {key} is not a number ({v}); no coat")
-            }),
-        }
-    };
+    let name = "KHR_materials_clearcoat";
+    let ext = m.extension_value(name)?;
+    let number = |key| extension_number(ext, (name, key), what, "no coat");
     unread_textures(
         ext,
-        "KHR_materials_clearcoat",
+        name,
         &[
             "clearcoatTexture",
             "clearcoatRoughnessTexture",
@@ -670,6 +665,46 @@ fn sheen(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<S
             ));
             None
         }
+    }
+}
+
+/// `KHR_materials_anisotropy`'s factors: `anisotropyStrength` (default 0: isotropic) and
+/// `anisotropyRotation` (radians from the tangent towards the bitangent, default 0). Its
+/// `anisotropyTexture` (direction and strength per texel) is not sampled: a warning says
+/// so and the factors alone apply, along the mesh's tangents. A factor that is not a
+/// number is refused with a warning (isotropic).
+fn anisotropy(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Anisotropy> {
+    let name = "KHR_materials_anisotropy";
+    let ext = m.extension_value(name)?;
+    unread_textures(ext, name, &["anisotropyTexture"], what, warnings);
+    let number = |key| extension_number(ext, (name, key), what, "isotropic");
+    match (number("anisotropyStrength"), number("anisotropyRotation")) {
+        (Ok(strength), Ok(rotation_rad)) => (strength != 0.0).then_some(Anisotropy {
+            strength,
+            rotation_rad,
+        }),
+        (Err(e), _) | (_, Err(e)) => {
+            warnings.push(e);
+            None
+        }
+    }
+}
+
+/// The number `key` of the extension object `ext` (`(extension name, key)`), 0 where it
+/// is absent; otherwise an error naming the material `what`, the key and the
+/// `consequence`.
+fn extension_number(
+    ext: &gltf::json::Value,
+    (name, key): (&str, &str),
+    what: &str,
+    consequence: &str,
+) -> Result<f32, String> {
+    match ext.get(key) {
+        None => Ok(0.0),
+        Some(v) => v
+            .as_f64()
+            .map(|x| x as f32)
+            .ok_or_else(|| format!("{what}: {name}'s {key} is not a number ({v}); {consequence}")),
     }
 }
 

@@ -87,6 +87,10 @@ pub struct Batch {
     /// With a sheen ([`crate::scene::Material::layer_sheen`]): drawn again by the layers
     /// pass, under the coat; its maps entry holds the sheen.
     pub sheened: bool,
+    /// Anisotropic ([`crate::scene::Material::anisotropic`]): drawn by the G-buffer, then
+    /// lit again by the layers pass with its anisotropic lobe; its maps entry holds the
+    /// anisotropy.
+    pub anisotropic: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
     pub deformed: Option<u32>,
@@ -120,6 +124,8 @@ pub struct FrameMaps {
     pub clearcoat: Option<crate::scene::Clearcoat>,
     /// The sheen the layers pass draws over the opaque surface (clamped).
     pub sheen: Option<crate::scene::Sheen>,
+    /// The anisotropy the layers pass relights the opaque surface with (clamped).
+    pub anisotropy: Option<crate::scene::Anisotropy>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -262,6 +268,12 @@ impl ExtractedFrame {
     /// frame, before the coats.
     pub fn sheened_batches(&self) -> impl Iterator<Item = &Batch> {
         self.drawn_batches().filter(|b| b.sheened)
+    }
+
+    /// The anisotropic batches in view: the surfaces the layers pass lights again, before
+    /// any sheen or coat.
+    pub fn anisotropic_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.drawn_batches().filter(|b| b.anisotropic)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -546,6 +558,7 @@ pub fn extract_frame(
         transmissive: bool,
         coated: bool,
         sheened: bool,
+        anisotropic: bool,
         // Squared distance (m²) from the camera to the bounding sphere's centre.
         distance2: f32,
         casts: bool,
@@ -595,32 +608,35 @@ pub fn extract_frame(
         let coated = clearcoat.is_some();
         let sheen = material.layer_sheen().filter(|_| !transmissive);
         let sheened = sheen.is_some();
+        let anisotropy = material.anisotropic().filter(|_| !transmissive);
+        let anisotropic = anisotropy.is_some();
         let textured = maps.is_some();
-        let maps = maps
-            .or((blend || transmissive || coated || sheened).then_some(&neutral_maps))
-            .map(|m| {
-                let same = |x: &FrameMaps| {
-                    x.maps == *m
-                        && x.transmission == transmission
-                        && x.blend == blend
-                        && x.clearcoat == clearcoat
-                        && x.sheen == sheen
-                };
-                let index = match frame.material_maps.iter().position(same) {
-                    Some(i) => i,
-                    None => {
-                        frame.material_maps.push(FrameMaps {
-                            maps: m.clone(),
-                            transmission,
-                            blend,
-                            clearcoat,
-                            sheen,
-                        });
-                        frame.material_maps.len() - 1
-                    }
-                };
-                index as u32
-            });
+        let forward = blend || transmissive || coated || sheened || anisotropic;
+        let maps = maps.or(forward.then_some(&neutral_maps)).map(|m| {
+            let same = |x: &FrameMaps| {
+                x.maps == *m
+                    && x.transmission == transmission
+                    && x.blend == blend
+                    && x.clearcoat == clearcoat
+                    && x.sheen == sheen
+                    && x.anisotropy == anisotropy
+            };
+            let index = match frame.material_maps.iter().position(same) {
+                Some(i) => i,
+                None => {
+                    frame.material_maps.push(FrameMaps {
+                        maps: m.clone(),
+                        transmission,
+                        blend,
+                        clearcoat,
+                        sheen,
+                        anisotropy,
+                    });
+                    frame.material_maps.len() - 1
+                }
+            };
+            index as u32
+        });
         let sphere = match &deformed {
             Some(d) => d.bounds.map(|b| sphere_around(&b, &m)),
             None => meshes.bounds(mesh.0).map(|b| sphere_around(&b, &m)),
@@ -636,6 +652,7 @@ pub fn extract_frame(
             transmissive,
             coated,
             sheened,
+            anisotropic,
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
@@ -741,6 +758,7 @@ pub fn extract_frame(
                 transmissive: item.transmissive,
                 coated: item.coated,
                 sheened: item.sheened,
+                anisotropic: item.anisotropic,
                 deformed: item.deformed,
                 first_instance: index,
                 count: 1,

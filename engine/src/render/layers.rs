@@ -1,7 +1,11 @@
 //! The layers pass (`shaders/layers.wgsl`): the layers over opaque surfaces, drawn over the
 //! lit frame once the deferred lighting and SSR have lit the base beneath them: a sheen
 //! ([`crate::scene::Material::sheen`], glTF's `KHR_materials_sheen`) and, over it, a
-//! clearcoat ([`crate::scene::Material::clearcoat`], `KHR_materials_clearcoat`).
+//! clearcoat ([`crate::scene::Material::clearcoat`], `KHR_materials_clearcoat`). Before
+//! them it lights anisotropic bases again ([`crate::scene::Material::anisotropy`],
+//! `KHR_materials_anisotropy`): the G-buffer has no room for a direction, so such a
+//! surface is shaded a second time from its material with the anisotropic GGX lobe
+//! (`ANISOTROPIC_LOBE`), and that light replaces the deferred pass's (alpha 1).
 //!
 //! Layers are not in the G-buffer. Their surfaces are drawn again, with the G-buffer's
 //! textured vertex code, and a fragment is kept where it lies on the opaque depth the
@@ -50,7 +54,8 @@ use bevy_ecs::system::{ScheduleSystem, SystemParam};
 
 #[allow(non_upper_case_globals)]
 impl PassId {
-    /// The sheens and clearcoats of layered surfaces over the lit frame.
+    /// Anisotropic bases, then the sheens and clearcoats of layered surfaces, over the lit
+    /// frame.
     pub const Layers: PassId = PassId::new("layers");
 }
 
@@ -67,10 +72,18 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 /// Which layer a draw adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Layer {
+    /// The base again, with its anisotropic specular lobe (`fs_anisotropic`, compiled
+    /// with `ANISOTROPIC_LOBE`), replacing the deferred pass's light.
+    Anisotropic,
     /// The sheen lobe (`fs_sheen`, compiled with `SHEEN_LOBE`).
     Sheen,
     /// The clearcoat's GGX lobe (`fs_coat`).
     Coat,
+}
+
+impl Layer {
+    /// The order they are drawn in: the base beneath its layers, the coat on top.
+    const ORDER: [Layer; 3] = [Layer::Anisotropic, Layer::Sheen, Layer::Coat];
 }
 
 /// A layer's blend: colour "over" with premultiplied alpha, dst ← src + dst·(1 − α);
@@ -115,15 +128,22 @@ impl FramePass for LayersPass {
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<LightingVariant>> {
         let frame = world.resource::<ExtractedFrame>();
         let gpu = world.resource::<Gpu>();
-        let (sheens, coats) = (
-            frame.sheened_batches().count(),
-            frame.coated_batches().count(),
-        );
-        // "2 sheen and 1 clearcoat layer(s)", "1 clearcoat layer(s)".
-        let layers = match (sheens, coats) {
-            (0, c) => format!("{c} clearcoat"),
-            (s, 0) => format!("{s} sheen"),
-            (s, c) => format!("{s} sheen and {c} clearcoat"),
+        let counts = [
+            (frame.anisotropic_batches().count(), "anisotropic"),
+            (frame.sheened_batches().count(), "sheen"),
+            (frame.coated_batches().count(), "clearcoat"),
+        ];
+        // "2 sheen and 1 clearcoat layer(s)", "1 anisotropic, 1 sheen and 1 clearcoat
+        // layer(s)", "1 clearcoat layer(s)".
+        let named: Vec<String> = counts
+            .iter()
+            .filter(|(n, _)| *n > 0)
+            .map(|(n, what)| format!("{n} {what}"))
+            .collect();
+        let layers = match named.split_last() {
+            Some((last, [])) => last.clone(),
+            Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+            None => String::new(),
         };
         let lighting = plan.variant::<LightingPass>().copied();
         let hdr = world
@@ -136,10 +156,10 @@ impl FramePass for LayersPass {
                 .features()
                 .contains(wgpu::Features::FLOAT32_BLENDABLE);
         let groups = gpu.device.limits().max_bind_groups;
-        let (runs, reason) = if sheens + coats == 0 {
+        let (runs, reason) = if named.is_empty() {
             (
                 false,
-                "no surface with a sheen or a clearcoat in view".to_string(),
+                "no surface with anisotropy, a sheen or a clearcoat in view".to_string(),
             )
         } else if lighting.is_none() {
             (false, "the lighting pass does not run".into())
@@ -209,14 +229,17 @@ impl LayersPass {
     }
 
     /// The WGSL header of `layer` in `variant`, for a uniform light copy of
-    /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen,
-    /// and the maps' group.
+    /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen
+    /// and `ANISOTROPIC_LOBE` for the anisotropic base, and the maps' group.
     pub fn defs(variant: LightingVariant, layer: Layer, uniform_capacity: u32) -> Vec<ShaderDef> {
         let mut defs: Vec<ShaderDef> = LightingPass::defs(variant, uniform_capacity)
             .into_iter()
             .map(|d| match d {
                 ShaderDef::Bool("SHEEN_LOBE", _) => {
                     ShaderDef::Bool("SHEEN_LOBE", layer == Layer::Sheen)
+                }
+                ShaderDef::Bool("ANISOTROPIC_LOBE", _) => {
+                    ShaderDef::Bool("ANISOTROPIC_LOBE", layer == Layer::Anisotropic)
                 }
                 other => other,
             })
@@ -229,16 +252,18 @@ impl LayersPass {
 /// The batches in view that carry `layer`.
 fn layer_batches(frame: &ExtractedFrame, layer: Layer) -> impl Iterator<Item = &Batch> {
     frame.drawn_batches().filter(move |b| match layer {
+        Layer::Anisotropic => b.anisotropic,
         Layer::Sheen => b.sheened,
         Layer::Coat => b.coated,
     })
 }
 
 /// The pipeline of `layer` into `format`: "over" with what the layer takes from the light
-/// beneath it as alpha, on the opaque depth.
+/// beneath it as alpha (all of it for an anisotropic base), on the opaque depth.
 fn layer_shape(layer: Layer, format: wgpu::TextureFormat) -> ForwardShape {
     ForwardShape {
         entry: match layer {
+            Layer::Anisotropic => "fs_anisotropic",
             Layer::Sheen => "fs_sheen",
             Layer::Coat => "fs_coat",
         },
@@ -300,7 +325,7 @@ pub fn prepare_layers(
         );
         pass.sheen_table_written = true;
     }
-    for layer in [Layer::Sheen, Layer::Coat] {
+    for layer in Layer::ORDER {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
             ((variant, layer), t.hdr_format),
@@ -334,7 +359,8 @@ pub fn prepare_layers(
     }
 }
 
-/// Records the layered batches' sheens, then their coats, over the HDR target.
+/// Records the anisotropic bases, then the layered batches' sheens, then their coats, over
+/// the HDR target.
 pub fn layers_pass(
     plan: Res<FramePlan>,
     pass: Res<LayersPass>,
@@ -379,7 +405,7 @@ pub fn layers_pass(
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        for layer in [Layer::Sheen, Layer::Coat] {
+        for layer in Layer::ORDER {
             draw_batches(
                 &mut rp,
                 &inputs,

@@ -26,6 +26,7 @@ struct GpuMaps {
     attenuation: [f32; 4],
     clearcoat: [f32; 4],
     sheen: [f32; 4],
+    anisotropy: [f32; 4],
 }
 
 impl GpuMaps {
@@ -64,6 +65,10 @@ impl GpuMaps {
         }
         if let Some(sh) = entry.sheen {
             out.sheen = sh.color.extend(sh.perceptual_roughness).into();
+        }
+        if let Some(a) = entry.anisotropy {
+            let (sin, cos) = a.rotation_rad.sin_cos();
+            out.anisotropy = [a.strength, cos, sin, 0.0];
         }
         out
     }

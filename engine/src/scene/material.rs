@@ -56,6 +56,42 @@ pub struct Material {
     /// only ([`Material::layer_sheen`]), under the coat if both are set
     /// (docs/src/materials.md#sheen).
     pub sheen: Option<Sheen>,
+    /// A specular lobe stretched along a direction in the surface (glTF's
+    /// `KHR_materials_anisotropy`): brushed metal, satin, hair. `None`: isotropic. Drawn
+    /// on opaque, lit surfaces only ([`Material::anisotropic`]): the layers pass lights the
+    /// base again with the anisotropic lobe, in place of the deferred pass's isotropic one
+    /// (docs/src/materials.md#anisotropy).
+    pub anisotropy: Option<Anisotropy>,
+}
+
+/// The anisotropy of a [`Material`] (glTF's `KHR_materials_anisotropy`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Anisotropy {
+    /// How far the lobe stretches, 0 (isotropic) .. 1: the GGX width along the direction
+    /// is `mix(α, 1, strength²)` ([`crate::anisotropy::anisotropic_alphas`]). A negative
+    /// strength stretches across the direction instead (Filament's convention): it is
+    /// the same as |strength| with the direction turned by 90°.
+    pub strength: f32,
+    /// The direction's angle (radians) from the mesh's tangent towards its bitangent, in
+    /// the tangent plane.
+    pub rotation_rad: f32,
+}
+
+impl Anisotropy {
+    /// The anisotropy made safe: the strength in 0..1, a negative one made positive with
+    /// the direction turned by 90°; NaN or infinite values are 0.
+    pub fn clamped(self) -> Anisotropy {
+        let finite = |x: f32| if x.is_finite() { x } else { 0.0 };
+        let (strength, rotation) = (finite(self.strength), finite(self.rotation_rad));
+        Anisotropy {
+            strength: strength.abs().min(1.0),
+            rotation_rad: if strength < 0.0 {
+                rotation + std::f32::consts::FRAC_PI_2
+            } else {
+                rotation
+            },
+        }
+    }
 }
 
 /// The sheen of a [`Material`] (glTF's `KHR_materials_sheen`).
@@ -182,6 +218,7 @@ impl Default for Material {
             unlit: false,
             clearcoat: None,
             sheen: None,
+            anisotropy: None,
         }
     }
 }
@@ -212,6 +249,15 @@ impl Material {
         self.sheen
             .map(Sheen::clamped)
             .filter(|s| s.color.max_element() > 0.0)
+            .filter(|_| self.opaque_and_lit())
+    }
+
+    /// The anisotropy that is drawn (clamped): [`Material::anisotropy`] where its
+    /// strength is above 0 and the surface is opaque and lit, as for [`Material::coat`].
+    pub fn anisotropic(&self) -> Option<Anisotropy> {
+        self.anisotropy
+            .map(Anisotropy::clamped)
+            .filter(|a| a.strength > 0.0)
             .filter(|_| self.opaque_and_lit())
     }
 

@@ -42,6 +42,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             unlit: false,
             clearcoat: None,
             sheen: None,
+            anisotropy: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

@@ -15,16 +15,21 @@
 //!    nearly smooth clearcoat (`KHR_materials_clearcoat`, coat roughness 0.05): a sharp
 //!    reflection over a soft highlight;
 //! 9. a velvet sphere: a dark blue rough base under a light blue sheen
-//!    (`KHR_materials_sheen`, colour (0.5, 0.6, 0.9), roughness 0.4): a bright rim.
+//!    (`KHR_materials_sheen`, colour (0.5, 0.6, 0.9), roughness 0.4): a bright rim;
+//! 10. a brushed-metal sphere: pale gold, roughness 0.3, anisotropy 0.8 along its
+//!     tangents (`KHR_materials_anisotropy`), which run around it: its highlights are
+//!     drawn out into arcs around the sphere.
 //!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::scene::{Clearcoat, Sheen, Transmission};
+use lumen::scene::{Anisotropy, Clearcoat, Sheen, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 9] = [-2.96, -2.22, -1.48, -0.74, 0.0, 0.74, 1.48, 2.22, 2.96];
+pub const MATERIALS_X: [f32; 10] = [
+    -3.33, -2.59, -1.85, -1.11, -0.37, 0.37, 1.11, 1.85, 2.59, 3.33,
+];
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.32;
 
@@ -126,6 +131,17 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             ..Material::new(Vec3::new(0.02, 0.03, 0.12), 0.0, 0.9)
         },
         Transform::from_xyz(MATERIALS_X[8], MATERIALS_RADIUS + 0.01, 0.0),
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            anisotropy: Some(Anisotropy {
+                strength: 0.8,
+                rotation_rad: 0.0,
+            }),
+            ..Material::new(Vec3::new(0.95, 0.8, 0.55), 1.0, 0.3)
+        },
+        Transform::from_xyz(MATERIALS_X[9], MATERIALS_RADIUS + 0.01, 0.0),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((

@@ -18,6 +18,7 @@ pub const PLANE_MATERIAL: Material = Material {
     unlit: false,
     clearcoat: None,
     sheen: None,
+    anisotropy: None,
 };
 
 /// Illuminance of the light in lux.

@@ -4,39 +4,43 @@
 //! normal over it (`crate::sheen`), and on a clearcoated material the coat's GGX lobe
 //! over both (`crate::clearcoat`), layered as the rasterizer layers them:
 //! `f = factor · f_coat + (1 − factor · E_coat(n·v)) · (f_sheen + (1 − max(c) · E_sheen(n·v)) · f_base)`.
-//! The sheen is sampled by a cosine lobe about its normal.
+//! The sheen is sampled by a cosine lobe about its normal. An anisotropic base
+//! (`crate::anisotropy`) has its GGX lobe stretched along a direction in the tangent
+//! plane, evaluated and sampled (visible normals of the stretched lobe) in a frame whose
+//! first axis is that direction.
 
-use super::microfacet::{basis, concentric_disk, g1_ggx};
+use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
 use super::scene::{AlbedoTable, TraceMaterial};
-use crate::brdf::{Surface, VisibilityModel, d_ggx, surface_brdf_lobes};
+use crate::anisotropy::{anisotropic_alphas, anisotropic_brdf_lobes, d_ggx_anisotropic};
+use crate::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use crate::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
 /// Solid-angle density (1/sr) of drawing `l` by reflecting `v` about a GGX visible normal
-/// of width `alpha` around the unit normal `n` (Heitz 2018: G1(v) D / (4 n·v)); 0 below
-/// either horizon.
-fn reflection_pdf(n: Vec3, v: Vec3, l: Vec3, alpha: f32) -> f32 {
-    let n_dot_l = n.dot(l);
-    let n_dot_v = n.dot(v);
-    if n_dot_l <= 0.0 || n_dot_v <= 0.0 {
+/// of widths `alphas` along the first two axes of `frame` (its third column the normal)
+/// (Heitz 2018: G1(v) D / (4 n·v)); 0 below either horizon.
+fn reflection_pdf(frame: Mat3, v: Vec3, l: Vec3, alphas: Vec2) -> f32 {
+    let (v, l) = (frame.transpose() * v, frame.transpose() * l);
+    if l.z <= 0.0 || v.z <= 0.0 {
         return 0.0;
     }
-    let h = (v + l).normalize_or(n);
-    let n_dot_h = n.dot(h).clamp(0.0, 1.0);
-    let d = d_ggx(alpha, n_dot_h, n.cross(h).length_squared());
-    g1_ggx(n_dot_v, alpha) * d / (4.0 * n_dot_v)
+    let h = (v + l).normalize_or(Vec3::Z);
+    let d = d_ggx_anisotropic(alphas, h);
+    // Smith's masking of the (stretched) lobe, exact and separable.
+    let g1 = 2.0 * v.z / (v.z + Vec3::new(alphas.x * v.x, alphas.y * v.y, v.z).length());
+    g1 * d / (4.0 * v.z)
 }
 
-/// `v` reflected about a GGX visible normal of width `alpha` drawn in `frame` (its third
+/// `v` reflected about a GGX visible normal of widths `alphas` drawn in `frame` (its third
 /// column the normal); `None` when `v` or the reflection is below the surface.
-fn sample_reflection(frame: Mat3, alpha: f32, v: Vec3, rng: &mut Rng) -> Option<Vec3> {
+fn sample_reflection(frame: Mat3, alphas: Vec2, v: Vec3, rng: &mut Rng) -> Option<Vec3> {
     let local_v = frame.transpose() * v;
     if local_v.z <= 0.0 {
         return None;
     }
-    let h = crate::ibl::sample_ggx_vndf(local_v, alpha, rng.pair());
+    let h = crate::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
     let local_l = 2.0 * local_v.dot(h) * h - local_v;
     (local_l.z > 0.0).then(|| (frame * local_l).normalize())
 }
@@ -47,7 +51,8 @@ struct CoatLobe {
     surface: Surface,
     /// Multiplies the lobe (its energy compensation; 1 when off).
     specular_scale: Vec3,
-    alpha: f32,
+    /// Its GGX width, along both axes.
+    alphas: Vec2,
     /// The coat's strength, 0..1.
     factor: f32,
 }
@@ -98,7 +103,11 @@ pub(super) struct Bsdf {
     surface: Surface,
     /// Multiplies the specular lobe (energy compensation; 1 when off).
     specular_scale: Vec3,
-    alpha: f32,
+    /// The specular lobe's GGX widths along the frame's first two axes.
+    alphas: Vec2,
+    /// The anisotropic lobe's strength when the base is anisotropic (its direction is
+    /// the frame's first axis).
+    anisotropy: Option<f32>,
     /// Probability of sampling the specular lobe (when the base is sampled).
     p_specular: f32,
     model: VisibilityModel,
@@ -144,7 +153,8 @@ impl Bsdf {
             frame: basis(n),
             surface,
             specular_scale,
-            alpha: m.roughness * m.roughness,
+            alphas: Vec2::splat(m.roughness * m.roughness),
+            anisotropy: None,
             p_specular,
             model,
             coat: None,
@@ -154,6 +164,29 @@ impl Bsdf {
             sheen_weight: 1.0,
             p_sheen: 0.0,
         }
+    }
+
+    /// The same base with its specular lobe made anisotropic (`anisotropy`, clamped):
+    /// stretched along the direction it makes with the interpolated tangent `tangent`
+    /// (xyz, handedness in w), in the tangent plane of the shading normal. Call before
+    /// the layers.
+    pub(super) fn with_anisotropy(
+        mut self,
+        tangent: Vec4,
+        anisotropy: crate::scene::Anisotropy,
+    ) -> Bsdf {
+        let n = self.n();
+        let (sin, cos) = anisotropy.rotation_rad.sin_cos();
+        let t = crate::anisotropy::anisotropy_direction(
+            n,
+            tangent.truncate(),
+            tangent.w,
+            Vec2::new(cos, sin),
+        );
+        self.frame = Mat3::from_cols(t, n.cross(t), n);
+        self.alphas = anisotropic_alphas(self.alphas.y, anisotropy.strength);
+        self.anisotropy = Some(anisotropy.strength);
+        self
     }
 
     /// The same base under a sheen of colour `color` and perceptual roughness
@@ -228,7 +261,7 @@ impl Bsdf {
                 specular_level: CLEARCOAT_SPECULAR_LEVEL,
             },
             specular_scale,
-            alpha: roughness * roughness,
+            alphas: Vec2::splat(roughness * roughness),
             factor,
         });
         self
@@ -248,7 +281,12 @@ impl Bsdf {
     /// f(v, l) · cos: the base's lobes × (n·l), dimmed by the coat, plus the coat's.
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
-        let lobes = surface_brdf_lobes(n, v, l, &self.surface, self.model);
+        let lobes = match self.anisotropy {
+            Some(strength) => {
+                anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, strength)
+            }
+            None => surface_brdf_lobes(n, v, l, &self.surface, self.model),
+        };
         let mut base = (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0);
         if let Some(sheen) = &self.sheen {
             base = sheen.eval(v, l) + base * self.sheen_weight;
@@ -265,7 +303,7 @@ impl Bsdf {
         let mut base = if n.dot(l) <= 0.0 || n.dot(v) <= 0.0 {
             0.0
         } else {
-            self.p_specular * reflection_pdf(n, v, l, self.alpha)
+            self.p_specular * reflection_pdf(self.frame, v, l, self.alphas)
                 + (1.0 - self.p_specular) * n.dot(l) / PI
         };
         if let Some(sheen) = &self.sheen {
@@ -274,7 +312,7 @@ impl Bsdf {
         match &self.coat {
             None => base,
             Some(coat) => {
-                self.p_coat * reflection_pdf(coat.n(), v, l, coat.alpha)
+                self.p_coat * reflection_pdf(coat.frame, v, l, coat.alphas)
                     + (1.0 - self.p_coat) * base
             }
         }
@@ -288,7 +326,7 @@ impl Bsdf {
             Some(_) => None,
         };
         let l = match (coat, sheen) {
-            (Some(coat), _) => sample_reflection(coat.frame, coat.alpha, v, rng)?,
+            (Some(coat), _) => sample_reflection(coat.frame, coat.alphas, v, rng)?,
             (None, Some(sheen)) => {
                 let d = concentric_disk(rng.pair());
                 let local = Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt());
@@ -299,7 +337,7 @@ impl Bsdf {
                     return None;
                 }
                 if rng.uniform() < self.p_specular {
-                    sample_reflection(self.frame, self.alpha, v, rng)?
+                    sample_reflection(self.frame, self.alphas, v, rng)?
                 } else {
                     let d = concentric_disk(rng.pair());
                     let local = Vec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt());
@@ -344,22 +382,32 @@ mod tests {
         // quadrature. They agree only if the pdf is the density the sampler draws from.
         let n = Vec3::Z;
         let v = Vec3::new(0.5, 0.0, 0.866).normalize();
-        // (metallic, roughness, clearcoat (factor, roughness), sheen (colour, roughness)),
-        // the layers on a normal tilted from n.
+        // (metallic, roughness, clearcoat (factor, roughness), sheen (colour, roughness),
+        // anisotropy (strength, rotation)), the layers on a normal tilted from n.
         let sheen = |c: f32, r: f32| Some((Vec3::splat(c), r));
+        let aniso = |s: f32, r: f32| {
+            Some(crate::scene::Anisotropy {
+                strength: s,
+                rotation_rad: r,
+            })
+        };
         let cases = [
-            (0.0, 0.5, None, None),
-            (1.0, 0.3, None, None),
-            (0.5, 0.9, None, None),
-            (1.0, 0.2, None, None),
-            (0.0, 0.6, Some((1.0, 0.3)), None),
-            (1.0, 0.5, Some((0.5, 0.8)), None),
-            (0.0, 0.8, None, sheen(0.8, 0.3)),
-            (0.0, 0.4, Some((1.0, 0.1)), sheen(1.0, 0.7)),
+            (0.0, 0.5, None, None, None),
+            (1.0, 0.3, None, None, None),
+            (0.5, 0.9, None, None, None),
+            (1.0, 0.2, None, None, None),
+            (0.0, 0.6, Some((1.0, 0.3)), None, None),
+            (1.0, 0.5, Some((0.5, 0.8)), None, None),
+            (0.0, 0.8, None, sheen(0.8, 0.3), None),
+            (0.0, 0.4, Some((1.0, 0.1)), sheen(1.0, 0.7), None),
+            (1.0, 0.3, None, None, aniso(0.8, 0.0)),
+            (1.0, 0.5, None, None, aniso(1.0, 1.0)),
+            (0.0, 0.4, Some((1.0, 0.2)), None, aniso(0.6, -0.5)),
         ];
         let n_c = Vec3::new(0.2, 0.1, 1.0).normalize();
         let coat_albedo = AlbedoTable::with_f0(32, 1024, VisibilityModel::default(), 0.04);
-        for (metallic, roughness, coat, sheen) in cases {
+        let tangent = Vec4::new(1.0, 0.3, 0.2, 1.0);
+        for (metallic, roughness, coat, sheen, anisotropy) in cases {
             let m = TraceMaterial {
                 base_color: Vec3::splat(0.7),
                 metallic,
@@ -373,8 +421,13 @@ mod tests {
                 unlit: false,
                 clearcoat: None,
                 sheen: None,
+                anisotropy: None,
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
+            let bsdf = match anisotropy {
+                Some(a) => bsdf.with_anisotropy(tangent, a),
+                None => bsdf,
+            };
             let bsdf = match sheen {
                 Some(s) => bsdf.with_sheen(n_c, v, s),
                 None => bsdf,
@@ -405,7 +458,7 @@ mod tests {
             let err = (sampled - quadrature).abs() / quadrature;
             assert!(
                 err < 0.02,
-                "metallic {metallic} roughness {roughness} coat {coat:?} sheen {sheen:?}: {sampled} vs {quadrature}"
+                "metallic {metallic} roughness {roughness} coat {coat:?} sheen {sheen:?} anisotropy {anisotropy:?}: {sampled} vs {quadrature}"
             );
         }
     }

@@ -523,6 +523,10 @@ impl TraceScene {
             self.visibility,
             self.energy_compensation.as_ref(),
         );
+        let base = match material.anisotropy {
+            Some(a) => base.with_anisotropy(surface.tangent, a),
+            None => base,
+        };
         let n_layer = turned(surface.coat_normal, facing);
         let base = match material.sheen {
             Some(sheen) => base.with_sheen(n_layer, v, (sheen.color, sheen.perceptual_roughness)),

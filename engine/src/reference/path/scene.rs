@@ -169,6 +169,9 @@ pub struct TraceMaterial {
     /// The sheen over an opaque surface ([`crate::scene::Material::layer_sheen`]), on
     /// the mesh's own normal.
     pub sheen: Option<crate::scene::Sheen>,
+    /// The base's anisotropy ([`crate::scene::Material::anisotropic`]), along a direction
+    /// from the interpolated tangent ([`SurfacePoint::tangent`]).
+    pub anisotropy: Option<crate::scene::Anisotropy>,
 }
 
 impl TraceMaterial {
@@ -203,6 +206,10 @@ impl TraceMaterial {
                 .sheen
                 .map(crate::scene::Sheen::clamped)
                 .filter(|s| s.color.max_element() > 0.0),
+            anisotropy: self
+                .anisotropy
+                .map(crate::scene::Anisotropy::clamped)
+                .filter(|a| a.strength > 0.0),
             ..self
         }
     }
@@ -579,6 +586,9 @@ pub struct SurfacePoint {
     /// The interpolated normal without the normal map (unit, not yet turned): a
     /// clearcoat's and a sheen's normal.
     pub coat_normal: Vec3,
+    /// The interpolated tangent (world, xyz; handedness in w), not yet made perpendicular
+    /// to the normal: an anisotropic lobe's reference direction.
+    pub tangent: Vec4,
     /// Coverage: the base colour factor's alpha × the texel's × the vertex colour's.
     pub alpha: f32,
     /// The material's alpha cutoff, if it is masked.
@@ -592,12 +602,14 @@ impl TraceScene {
         let [c0, c1, c2] = self.corners[t];
         let w = 1.0 - u - v;
         let normal = (c0.normal * w + c1.normal * u + c2.normal * v).normalize_or(Vec3::Z);
+        let tangent = c0.tangent * w + c1.tangent * u + c2.tangent * v;
         let mut material = self.materials[self.material[t] as usize];
         let Some(maps) = material.maps.and_then(|m| self.maps.get(m as usize)) else {
             return SurfacePoint {
                 material,
                 normal,
                 coat_normal: normal,
+                tangent,
                 alpha: material.alpha,
                 alpha_cutoff: None,
             };
@@ -613,7 +625,6 @@ impl TraceScene {
         material.emissive *= maps.sample(4, uv0, uv1).truncate();
         let mut n = normal;
         if maps.slots[2].is_some() {
-            let tangent = c0.tangent * w + c1.tangent * u + c2.tangent * v;
             let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or(Vec3::X);
             let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
             let texel = maps.sample(2, uv0, uv1).truncate() * 2.0 - Vec3::ONE;
@@ -624,6 +635,7 @@ impl TraceScene {
             material,
             normal: n,
             coat_normal: normal,
+            tangent,
             alpha: material.alpha * base.w,
             alpha_cutoff: maps.alpha_cutoff,
         }

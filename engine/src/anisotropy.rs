@@ -1,0 +1,271 @@
+//! Anisotropic GGX (glTF's `KHR_materials_anisotropy`): the CPU twins of
+//! `shaders/anisotropy.wgsl`, with the same names (docs/src/materials.md#anisotropy).
+//!
+//! Brushed metal, satin and hair reflect a highlight stretched across the grooves. The
+//! base's specular lobe is then a GGX distribution with two widths: α_t along the
+//! anisotropy direction t (in the tangent plane) and α_b along b = n × t. glTF sets them
+//! from the material's perceptual roughness r (α = r²) and the anisotropy strength
+//! s ∈ [0, 1]:
+//!
+//! `α_t = mix(α, 1, s²)`, `α_b = α`,
+//!
+//! so s = 0 is the isotropic lobe and s = 1 spreads the microfacets' slopes fully along t.
+//! The distribution and the height-correlated Smith visibility are the anisotropic forms
+//! of Heitz 2014 ("Understanding the Masking-Shadowing Function in Microfacet-Based
+//! BRDFs", JCGT 3(2), eqs. 2 and 99), as Burley 2012 ("Physically Based Shading at
+//! Disney") writes D:
+//!
+//! `D(h) = 1 / (π α_t α_b ((t·h / α_t)² + (b·h / α_b)² + (n·h)²)²)`,
+//! `V(v, l) = 0.5 / ((n·l) |(α_t t·v, α_b b·v, n·v)| + (n·v) |(α_t t·l, α_b b·l, n·l)|)`.
+//!
+//! Image-based light reads the prefiltered environment along the reflection about a
+//! bent normal (McAuley 2015, "Rendering the World of Far Cry 4", as the Khronos sample
+//! renderer does): the normal is turned towards the plane that contains the anisotropic
+//! bitangent and the viewer, by `1 − (1 − s (1 − r))⁴`.
+
+use crate::brdf::{
+    BrdfLobes, PI, Surface, clamp_perceptual_roughness, compute_f0, f_schlick, fd_lambert,
+    safe_normalize,
+};
+use glam::{Vec2, Vec3};
+
+/// The widths (α_t along the anisotropy direction, α_b across it) of a GGX lobe of
+/// width `alpha` (α = r²) and anisotropy strength `strength` (0..1, clamped; NaN: 0).
+pub fn anisotropic_alphas(alpha: f32, strength: f32) -> Vec2 {
+    let s = if strength.is_nan() {
+        0.0
+    } else {
+        strength.clamp(0.0, 1.0)
+    };
+    Vec2::new(alpha + (1.0 - alpha) * s * s, alpha)
+}
+
+/// The anisotropic GGX distribution (1/sr) for the half vector's coordinates
+/// `(t·h, b·h, n·h)` in the lobe's frame and the widths `alphas` = (α_t, α_b), written
+/// as Filament writes it, without dividing by the widths squared.
+pub fn d_ggx_anisotropic(alphas: Vec2, h: Vec3) -> f32 {
+    let a2 = alphas.x * alphas.y;
+    let f = Vec3::new(alphas.y * h.x, alphas.x * h.y, a2 * h.z.clamp(0.0, 1.0));
+    let w2 = a2 / f.length_squared().max(1e-30);
+    a2 * w2 * w2 / PI
+}
+
+/// The height-correlated Smith visibility `G / (4 (n·v)(n·l))` of the anisotropic
+/// lobe (dimensionless over sr) for the directions' coordinates `v` and `l` in the lobe's
+/// frame (t, b, n) and the widths `alphas`.
+pub fn v_smith_ggx_correlated_anisotropic(alphas: Vec2, v: Vec3, l: Vec3) -> f32 {
+    let nv = v.z.max(0.0);
+    let nl = l.z.max(0.0);
+    let lambda_v = nl * Vec3::new(alphas.x * v.x, alphas.y * v.y, nv).length();
+    let lambda_l = nv * Vec3::new(alphas.x * l.x, alphas.y * l.y, nl).length();
+    0.5 / (lambda_v + lambda_l).max(1e-8)
+}
+
+/// The unit anisotropy direction in the tangent plane of the unit normal `n`: the
+/// tangent `tangent` (made perpendicular to `n`) turned towards the bitangent
+/// `b = n × t · handedness` by the angle whose cosine and sine are `rotation`.
+pub fn anisotropy_direction(n: Vec3, tangent: Vec3, handedness: f32, rotation: Vec2) -> Vec3 {
+    let fallback = safe_normalize(n.cross(Vec3::Y), Vec3::X);
+    let t = safe_normalize(tangent - n * n.dot(tangent), fallback);
+    let b = n.cross(t) * if handedness < 0.0 { -1.0 } else { 1.0 };
+    safe_normalize(t * rotation.x + b * rotation.y, t)
+}
+
+/// The Cook-Torrance lobes (1/sr) with the anisotropic GGX specular lobe along the unit
+/// direction `t` (perpendicular to `n`) of strength `strength`: the diffuse lobe of
+/// [`crate::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
+/// zero for lights below the horizon.
+pub fn anisotropic_brdf_lobes(
+    n: Vec3,
+    v: Vec3,
+    l: Vec3,
+    t: Vec3,
+    surface: &Surface,
+    strength: f32,
+) -> BrdfLobes {
+    let n_dot_l = n.dot(l);
+    if n_dot_l <= 0.0 || n_dot_l.is_nan() {
+        return BrdfLobes {
+            diffuse: Vec3::ZERO,
+            specular: Vec3::ZERO,
+        };
+    }
+    let b = n.cross(t);
+    let h = safe_normalize(v + l, n);
+    let local = |x: Vec3| Vec3::new(t.dot(x), b.dot(x), n.dot(x));
+    let r = clamp_perceptual_roughness(surface.perceptual_roughness);
+    let alphas = anisotropic_alphas(r * r, strength);
+    let metallic = surface.metallic.clamp(0.0, 1.0);
+    let f0 = compute_f0(surface.base_color, metallic, surface.specular_level);
+    let f = f_schlick(f0, v.dot(h).clamp(0.0, 1.0));
+    let mut lv = local(v);
+    lv.z = lv.z.max(crate::brdf::MIN_N_DOT_V);
+    let d = d_ggx_anisotropic(alphas, local(h));
+    let vis = v_smith_ggx_correlated_anisotropic(alphas, lv, local(l));
+    let k_d = (Vec3::ONE - f) * (1.0 - metallic);
+    BrdfLobes {
+        diffuse: k_d * surface.base_color * fd_lambert(),
+        specular: f * (d * vis),
+    }
+}
+
+/// The normal whose mirror reflection of `v` reads the prefiltered environment for an
+/// anisotropic lobe along the unit direction `t` of strength `strength` and perceptual
+/// roughness `perceptual_roughness`: `n` bent towards `(b × v) × b`, b = n × t, by
+/// `1 − (1 − s (1 − r))⁴` (McAuley 2015). Unit length; `n` itself at strength 0.
+pub fn anisotropic_bent_normal(
+    n: Vec3,
+    v: Vec3,
+    t: Vec3,
+    strength: f32,
+    perceptual_roughness: f32,
+) -> Vec3 {
+    let s = if strength.is_nan() {
+        0.0
+    } else {
+        strength.clamp(0.0, 1.0)
+    };
+    let r = clamp_perceptual_roughness(perceptual_roughness);
+    let b = n.cross(t);
+    let grain = b.cross(v).cross(b);
+    let bent = safe_normalize(grain, n);
+    let keep = (1.0 - s * (1.0 - r)).powi(4);
+    safe_normalize(bent + (n - bent) * keep, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::brdf::{VisibilityModel, d_ggx, surface_brdf_lobes, v_smith_ggx_correlated};
+
+    /// ∫ f(x) over the hemisphere about +z, x a unit direction, by the midpoint rule in
+    /// (cos θ, φ).
+    fn hemisphere(steps: usize, f: impl Fn(Vec3) -> f32) -> f32 {
+        let mut sum = 0.0f64;
+        for i in 0..steps {
+            let cos_t = (i as f32 + 0.5) / steps as f32;
+            let sin_t = (1.0 - cos_t * cos_t).sqrt();
+            for j in 0..steps {
+                let phi = (j as f32 + 0.5) / steps as f32 * 2.0 * PI;
+                sum += f64::from(f(Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)));
+            }
+        }
+        (sum * 2.0 * f64::from(PI) / (steps * steps) as f64) as f32
+    }
+
+    #[test]
+    fn the_distribution_is_normalised_at_every_strength() {
+        // ∫ D(h) (n·h) dω_h = 1: the projected microfacet area is the macro surface's.
+        for alpha in [0.1, 0.3, 0.7] {
+            for s in [0.0, 0.5, 0.9, 1.0] {
+                let alphas = anisotropic_alphas(alpha, s);
+                let integral = hemisphere(1600, |h| d_ggx_anisotropic(alphas, h) * h.z);
+                assert!(
+                    (integral - 1.0).abs() < 0.01,
+                    "α {alpha}, s {s}: ∫ D cos = {integral}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn strength_zero_is_the_isotropic_lobe() {
+        // D and V reduce to brdf.rs's isotropic GGX and height-correlated Smith.
+        let n = Vec3::Z;
+        let t = Vec3::X;
+        for (alpha, h, v, l) in [
+            (
+                0.2,
+                Vec3::new(0.1, 0.2, 0.97),
+                Vec3::new(0.3, 0.1, 0.95),
+                Vec3::new(-0.5, 0.2, 0.84),
+            ),
+            (
+                0.8,
+                Vec3::new(-0.4, 0.3, 0.87),
+                Vec3::new(0.0, 0.9, 0.44),
+                Vec3::new(0.6, -0.6, 0.53),
+            ),
+        ] {
+            let (h, v, l) = (h.normalize(), v.normalize(), l.normalize());
+            let alphas = anisotropic_alphas(alpha, 0.0);
+            let d = d_ggx_anisotropic(alphas, h);
+            let iso = d_ggx(alpha, h.z, n.cross(h).length_squared());
+            assert!((d - iso).abs() < 1e-4 * iso, "{d} vs {iso}");
+            let vis = v_smith_ggx_correlated_anisotropic(alphas, v, l);
+            let iso = v_smith_ggx_correlated(v.z, l.z, alpha);
+            assert!((vis - iso).abs() < 1e-4 * iso, "{vis} vs {iso}");
+        }
+        let surface = Surface {
+            base_color: Vec3::new(0.8, 0.5, 0.2),
+            metallic: 1.0,
+            perceptual_roughness: 0.5,
+            specular_level: 0.5,
+        };
+        let (v, l) = (
+            Vec3::new(0.3, 0.1, 0.95).normalize(),
+            Vec3::new(-0.5, 0.2, 0.84).normalize(),
+        );
+        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, 0.0);
+        let iso = surface_brdf_lobes(n, v, l, &surface, VisibilityModel::SmithGgxCorrelated);
+        assert!((aniso.specular - iso.specular).length() < 1e-4 * iso.specular.length());
+        assert_eq!(aniso.diffuse, iso.diffuse);
+    }
+
+    #[test]
+    fn the_lobe_is_wider_along_its_direction() {
+        // Tilting h by the same angle towards t and towards b: D falls less along t.
+        let alphas = anisotropic_alphas(0.1, 0.8);
+        let along = d_ggx_anisotropic(alphas, Vec3::new(0.2, 0.0, 1.0).normalize());
+        let across = d_ggx_anisotropic(alphas, Vec3::new(0.0, 0.2, 1.0).normalize());
+        assert!(along > 10.0 * across, "{along} vs {across}");
+        assert!(alphas.x > alphas.y && alphas.y == 0.1);
+        assert_eq!(anisotropic_alphas(0.1, f32::NAN), Vec2::splat(0.1));
+        assert_eq!(anisotropic_alphas(0.1, 3.0), Vec2::new(1.0, 0.1));
+    }
+
+    #[test]
+    fn a_white_anisotropic_lobe_loses_energy_but_never_gains_it() {
+        // The single-scattering albedo ∫ D F V (n·l) dω of a white metal (F = 1) stays
+        // ≤ 1 at every strength and view, and falls as the lobe widens (what the
+        // isotropic energy compensation does not restore, docs/src/materials.md).
+        let (n, t) = (Vec3::Z, Vec3::X);
+        let white = Surface {
+            base_color: Vec3::ONE,
+            metallic: 1.0,
+            perceptual_roughness: 0.5,
+            specular_level: 0.5,
+        };
+        for n_dot_v in [1.0f32, 0.5, 0.1] {
+            let v = Vec3::new((1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v);
+            let mut previous = f32::INFINITY;
+            for s in [0.0, 0.5, 1.0] {
+                let albedo = hemisphere(600, |l| {
+                    anisotropic_brdf_lobes(n, v, l, t, &white, s).specular.x * l.z
+                });
+                println!("n·v {n_dot_v}, s {s}: albedo {albedo:.4}");
+                assert!(albedo <= 1.0 + 1e-3, "n·v {n_dot_v}, s {s}: {albedo}");
+                assert!(
+                    n_dot_v < 0.5 || albedo <= previous + 1e-3,
+                    "n·v {n_dot_v}, s {s}: {albedo} > {previous}"
+                );
+                previous = albedo;
+            }
+        }
+    }
+
+    #[test]
+    fn the_bent_normal_stays_unit_and_is_the_normal_without_anisotropy() {
+        let n = Vec3::new(0.1, 0.2, 1.0).normalize();
+        let t = anisotropy_direction(n, Vec3::X, 1.0, Vec2::new(1.0, 0.0));
+        let v = Vec3::new(0.4, -0.3, 0.8).normalize();
+        assert!((anisotropic_bent_normal(n, v, t, 0.0, 0.5) - n).length() < 1e-6);
+        for s in [0.3, 1.0, f32::NAN, -2.0] {
+            let bent = anisotropic_bent_normal(n, v, t, s, 0.2);
+            assert!((bent.length() - 1.0).abs() < 1e-5 && bent.is_finite());
+        }
+        // A tangent along the normal falls back to a direction in the tangent plane.
+        let d = anisotropy_direction(Vec3::Z, Vec3::Z, 1.0, Vec2::new(1.0, 0.0));
+        assert!(d.is_finite() && d.dot(Vec3::Z).abs() < 1e-6);
+    }
+}
