@@ -568,7 +568,7 @@ fn anisotropy_stretches_the_highlight_along_the_tangent() {
     // sphere's centre, where the UV sphere's tangent runs horizontally. Isotropic, it is
     // round; with strength 0.8 along the tangent it is drawn out sideways; turned by 90°,
     // upwards.
-    let metal = Material::new(Vec3::splat(0.9), 1.0, 0.25);
+    let metal = Material::new(Vec3::splat(0.9), 1.0, 0.4);
     let materials = [
         metal,
         Material {
@@ -597,9 +597,11 @@ fn anisotropy_stretches_the_highlight_along_the_tangent() {
         "second moments (x, y) in px²: isotropic {round}, along the tangent {along}, turned 90° {across}"
     );
     let ratio = |v: Vec2| v.x / v.y;
-    assert!((0.7..1.4).contains(&ratio(round)), "isotropic {round}");
-    assert!(ratio(along) > 3.0, "along the tangent {along}");
-    assert!(ratio(across) < 1.0 / 3.0, "turned {across}");
+    // Measured (px²): isotropic (6.68, 6.63), along the tangent (302, 9.85), turned
+    // (6.69, 218).
+    assert!((0.8..1.25).contains(&ratio(round)), "isotropic {round}");
+    assert!(ratio(along) > 10.0, "along the tangent {along}");
+    assert!(ratio(across) < 0.1, "turned {across}");
     // Stretched, not just moved: wider than the round one along its direction.
     assert!(along.x > 2.0 * round.x && across.y > 2.0 * round.y);
 }
