@@ -40,9 +40,10 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
     return safe_normalize(t * rotation.x + b * rotation.y, t);
 }
 
-// The lobes (1/sr) with the anisotropic specular lobe along the unit direction t.
+// The lobes (1/sr) of a relit base: the anisotropic specular lobe along the unit
+// direction t (strength 0: isotropic, height-correlated Smith), the dielectric F0 tinted.
 fn anisotropic_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>, surface: Surface,
-                          strength: f32) -> BrdfLobes {
+                          strength: f32, tint: vec3<f32>) -> BrdfLobes {
     var lobes: BrdfLobes;
     lobes.diffuse = vec3<f32>(0.0);
     lobes.specular = vec3<f32>(0.0);
@@ -54,7 +55,7 @@ fn anisotropic_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let alphas = anisotropic_alphas(r * r, strength);
     let metallic = clamp(surface.metallic, 0.0, 1.0);
-    let f0 = compute_f0(surface.base_color, metallic, surface.specular_level);
+    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, tint);
     let f = f_schlick(f0, clamp(dot(v, h), 0.0, 1.0));
     let lv = vec3<f32>(dot(t, v), dot(b, v), max(dot(n, v), MIN_N_DOT_V));
     let d = d_ggx_anisotropic(alphas, vec3<f32>(dot(t, h), dot(b, h), dot(n, h)));

@@ -148,6 +148,14 @@ fn compute_f0(base_color: vec3<f32>, metallic: f32, specular_level: f32) -> vec3
     return vec3<f32>(dielectric_f0(specular_level)) * (1.0 - m) + base_color * m;
 }
 
+// compute_f0 with the dielectric F0 tinted by `tint` (each channel clamped to 0..1, NaN:
+// 1), KHR_materials_specular's colour: mix(0.08 · level · tint, base colour, metallic).
+fn tinted_f0(base_color: vec3<f32>, metallic: f32, specular_level: f32, tint: vec3<f32>) -> vec3<f32> {
+    let m = clamp(metallic, 0.0, 1.0);
+    let t = select(clamp(tint, vec3<f32>(0.0), vec3<f32>(1.0)), vec3<f32>(1.0), tint != tint);
+    return t * (dielectric_f0(specular_level) * (1.0 - m)) + base_color * m;
+}
+
 // The two lobes of the BRDF (1/sr): kD c/π and D F V.
 struct BrdfLobes {
     diffuse: vec3<f32>,

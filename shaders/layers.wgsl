@@ -1,16 +1,16 @@
 // Layers pass (engine/src/render/layers.rs): the layers of an opaque surface, drawn over
 // the lit frame after the deferred lighting and SSR have lit its base: a sheen
 // (KHR_materials_sheen, `fs_sheen`, compiled with SHEEN_LOBE) and a clearcoat
-// (KHR_materials_clearcoat, `fs_coat`). Before them, an anisotropic base
-// (KHR_materials_anisotropy, `fs_anisotropic`, compiled with ANISOTROPIC_LOBE) is lit
-// again from its material, with its anisotropic lobe, and replaces the deferred pass's
-// isotropic light (alpha 1). The same mesh, with the same vertex code as the
+// (KHR_materials_clearcoat, `fs_coat`). Before them, a base the G-buffer cannot hold
+// (KHR_materials_anisotropy, a tinted KHR_materials_specular; `fs_relit`, compiled with
+// RELIT_BASE) is lit again from its material, with its anisotropic, tinted lobe, and
+// replaces the deferred pass's light (alpha 1). The same mesh, with the same vertex code as the
 // G-buffer's textured variant, is drawn where its own depth is; each fragment is the
 // layer's lobe on the mesh's interpolated normal (not the base's normal map), lit by
 // surface_light.wgsl, the deferred pass's own code, as a surface without a diffuse lobe.
 // It leaves (L_layer, 1 − w), w being what the layer lets through of the light beneath it
 // (clearcoat.wgsl, sheen.wgsl), which the pipeline composites as dst ← src + dst · (1 − α).
-// Header constants: the lighting pass's, SHEEN_LOBE, ANISOTROPIC_LOBE.
+// Header constants: the lighting pass's, SHEEN_LOBE, RELIT_BASE.
 #import common
 #import brdf
 #import color
@@ -141,12 +141,13 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
     return vec4<f32>(finite_layer(light * factor), 1.0 - clearcoat_base_weight(factor, albedo));
 }
 
-// An anisotropic base (maps.anisotropy: strength, cos and sin of the direction's angle):
-// the whole surface (emission, diffuse and the anisotropic specular lobe, every light and
-// the indirect terms) from its material and normal map, as the G-buffer's textured
-// variant reads them, with alpha 1: it replaces the deferred pass's light.
+// A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
+// maps.specular_tint: the dielectric F0's tint): the whole surface (emission, diffuse and
+// the anisotropic, tinted specular lobe, every light and the indirect terms) from its
+// material and normal map, as the G-buffer's textured variant reads them, with alpha 1:
+// it replaces the deferred pass's light.
 @fragment
-fn fs_anisotropic(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let base = in.base_color * base_color_texel(in.uv0, in.uv1);
     if masked_out(base.a) {
         discard;
@@ -168,6 +169,7 @@ fn fs_anisotropic(in: TexturedOutput, @builtin(front_facing) front: bool) -> @lo
     point.receives = select(0.0, 1.0, in.params.w > 0.5);
     anisotropy_t = anisotropy_direction(mapped.n, in.world_tangent.xyz, in.world_tangent.w, maps.anisotropy.yz);
     anisotropy_strength = maps.anisotropy.x;
+    specular_tint = maps.specular_tint.rgb;
     let light = mapped.emissive + surface_light(point, surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

@@ -37,6 +37,8 @@ struct Maps {
     // Anisotropic materials (layers pass): x: the strength (0..1, 0: none); y, z: the
     // cosine and sine of the direction's angle from the tangent towards the bitangent.
     anisotropy: vec4<f32>,
+    // Relit bases (layers pass): rgb: the dielectric F0's tint (1: untinted).
+    specular_tint: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

@@ -26,10 +26,12 @@
 // `surface.perceptual_roughness` instead of the Cook-Torrance lobes, its environment
 // albedo being the colour × `layer_albedo`, which the layers pass sets.
 //
-// ANISOTROPIC_LOBE: the surface's specular lobe is anisotropic GGX (anisotropy.wgsl) along
-// `anisotropy_t` with strength `anisotropy_strength`, which the layers pass sets: every
-// light reflects by it, and the environment and the reflection probes are read about
-// its bent normal.
+// RELIT_BASE: the surface is a base relit by the layers pass, with what the G-buffer
+// cannot hold: its specular lobe is anisotropic GGX (anisotropy.wgsl) along
+// `anisotropy_t` with strength `anisotropy_strength` (0: isotropic, height-correlated
+// Smith), and its dielectric F0 is tinted by `specular_tint` (KHR_materials_specular),
+// which that pass sets: every light reflects by it, the environment and the reflection
+// probes are read about its bent normal, and the split sum uses the tinted F0.
 //
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
@@ -131,10 +133,12 @@ var<private> diffuse_weight: f32 = 1.0;
 // With SHEEN_LOBE: the sheen lobe's directional albedo at this pixel (colour 1), set by
 // the layers pass before surface_light.
 var<private> layer_albedo: f32 = 0.0;
-// With ANISOTROPIC_LOBE: the unit anisotropy direction (world, perpendicular to the
-// normal) and the strength (0..1), set by the layers pass before surface_light.
+// With RELIT_BASE: the unit anisotropy direction (world, perpendicular to the
+// normal), the strength (0..1) and the dielectric F0's tint, set by the layers pass
+// before surface_light.
 var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
 var<private> anisotropy_strength: f32 = 0.0;
+var<private> specular_tint: vec3<f32> = vec3<f32>(1.0);
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
@@ -150,8 +154,8 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
                           n_dot_l, dot(n, h)) * illuminance * n_dot_l;
     }
     var lobes: BrdfLobes;
-    if ANISOTROPIC_LOBE {
-        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, anisotropy_strength);
+    if RELIT_BASE {
+        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, anisotropy_strength, specular_tint);
     } else {
         lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
     }
@@ -210,7 +214,10 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     // Split-sum terms shared by energy compensation and image-based lighting.
     let n_dot_v = max(dot(n, v), MIN_N_DOT_V);
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
-    let f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
+    var f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
+    if RELIT_BASE {
+        f0 = tinted_f0(surface.base_color, surface.metallic, surface.specular_level, specular_tint);
+    }
     var dfg = vec2<f32>(1.0, 0.0);
     if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
         dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
@@ -243,7 +250,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         var prefiltered = vec3<f32>(0.0);
         // The mirror direction the prefiltered light is read along.
         var reflect_n = n;
-        if ANISOTROPIC_LOBE {
+        if RELIT_BASE {
             reflect_n = anisotropic_bent_normal(n, v, anisotropy_t, anisotropy_strength, surface.perceptual_roughness);
         }
         let reflected_world = 2.0 * dot(reflect_n, v) * reflect_n - v;

@@ -325,6 +325,48 @@ fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
+fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
+    // F0 = 0.04 (IOR 1.5) × factor 1 × colour (1, 0.5, 0.25): level 0.5 (the largest
+    // channel) and tint (1, 0.5, 0.25), drawn without a warning.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ext = "KHR_materials_specular";
+    let colour = json!({"specularColorFactor": [1.0, 0.5, 0.25]});
+    let (m, warnings) = load_extension(dir.path(), ext, colour.clone());
+    assert!(
+        (m.specular_level - 0.5).abs() < 1e-6,
+        "{}",
+        m.specular_level
+    );
+    assert_eq!(m.specular_tint, Vec3::new(1.0, 0.5, 0.25));
+    // glTF's default metallic factor is 1: this quad is a metal, whose F0 is its base
+    // colour, so the tint is not drawn (and needs no warning).
+    assert!(m.tint().is_none());
+    assert!(warnings.iter().all(|w| !w.contains(ext)), "{warnings:?}");
+    // A grey colour is untinted; it scales the level.
+    let (m, _) = load_extension(
+        dir.path(),
+        ext,
+        json!({"specularColorFactor": [0.5, 0.5, 0.5]}),
+    );
+    assert_eq!(m.specular_tint, Vec3::ONE);
+    assert!(
+        (m.specular_level - 0.25).abs() < 1e-6,
+        "{}",
+        m.specular_level
+    );
+    // On a blended material the tint is not drawn, and a warning says so.
+    let material = json!({
+        "alphaMode": "BLEND",
+        "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 0.5], "metallicFactor": 0.0},
+        "extensions": {ext: colour}
+    });
+    let path = write_quad(dir.path(), material, &[ext]);
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    warned(&summary.warnings, "drawn untinted");
+}
+
+#[test]
 fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_sheen";

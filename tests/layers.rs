@@ -307,7 +307,8 @@ fn sphere_means(app: &App, image: &image::Rgba32FImage) -> [Vec3; 3] {
 
 /// The layers pass's reason to skip a frame without layers (only a skipped pass gives
 /// it).
-const NO_LAYER: &str = "no surface with anisotropy, a sheen or a clearcoat in view";
+const NO_LAYER: &str =
+    "no surface with anisotropy, a specular tint, a sheen or a clearcoat in view";
 
 /// The rasterizer against the path tracer (256 paths per pixel, direct light only) on
 /// three layered spheres (`materials`), per sphere: within `tolerance` (relative), while
@@ -351,10 +352,11 @@ fn raster_against_path_tracer(
         let change = (raster[i] - plain[i]).length() / plain[i].length();
         let bare_error = (plain[i] - bare_traced[i]).length() / bare_traced[i].length();
         println!(
-            "coat {:?}, sheen {:?}, anisotropy {:?}: raster {}, path tracer {}, error {:.2} %; without layers {} ({:.1} % change, error {:.2} %)",
+            "coat {:?}, sheen {:?}, anisotropy {:?}, tint {}: raster {}, path tracer {}, error {:.2} %; without layers {} ({:.1} % change, error {:.2} %)",
             materials[i].clearcoat,
             materials[i].sheen,
             materials[i].anisotropy,
+            materials[i].specular_tint,
             raster[i],
             traced[i],
             error * 100.0,
@@ -449,11 +451,19 @@ fn extreme_layers_stay_finite() {
         (f32::INFINITY, -3.0, Vec3::splat(f32::INFINITY)),
     ];
     let strengths = [(1.0, 0.0), (f32::NAN, f32::NAN), (-1.0, f32::INFINITY)];
+    // Tints beyond the range and NaN: clamped (NaN is white). The second sphere is relit
+    // for its tint alone.
+    let tints = [
+        Vec3::new(2.0, -1.0, 0.5),
+        Vec3::new(f32::NAN, 0.0, f32::INFINITY),
+        Vec3::splat(f32::NEG_INFINITY),
+    ];
     let materials = std::array::from_fn(|i| {
         let (factor, perceptual_roughness, color) = layers[i];
         let (strength, rotation_rad) = strengths[i];
         Material {
             anisotropy: anisotropy(strength, rotation_rad),
+            specular_tint: tints[i],
             clearcoat: Some(Clearcoat {
                 factor,
                 perceptual_roughness,
@@ -475,7 +485,7 @@ fn extreme_layers_stay_finite() {
         layers.enabled
             && layers
                 .reason
-                .contains("2 anisotropic, 2 sheen and 2 clearcoat layer"),
+                .contains("3 relit base, 2 sheen and 2 clearcoat layer"),
         "{}",
         layers.reason
     );
@@ -527,7 +537,7 @@ fn the_rasterizer_and_the_path_tracer_agree_on_anisotropic_spheres() {
     raster_against_path_tracer(
         materials,
         bare,
-        ("3 anisotropic and 1 clearcoat layer", "1 clearcoat layer"),
+        ("3 relit base and 1 clearcoat layer", "1 clearcoat layer"),
         (0.01, 0.06),
     );
 }
@@ -617,4 +627,28 @@ fn an_anisotropic_white_furnace_returns_the_light_it_receives() {
         worst <= 0.02,
         "an anisotropic sphere pixel is {worst} from 1"
     );
+}
+
+#[test]
+fn the_rasterizer_and_the_path_tracer_agree_on_tinted_specular() {
+    // KHR_materials_specular's colour: dark dielectrics of specular level 1 (F0 0.08)
+    // whose reflection is tinted orange, blue, and orange again on a brushed sphere.
+    // Each is relit by the layers pass with the tinted F0 in its lobes and in the split
+    // sum's; against the same spheres with a white tint.
+    let dark = |r: f32| Material {
+        specular_level: 1.0,
+        ..Material::new(Vec3::new(0.02, 0.02, 0.03), 0.0, r)
+    };
+    let bare = [dark(0.3), dark(0.5), dark(0.4)];
+    let tints = [
+        Vec3::new(1.0, 0.5, 0.1),
+        Vec3::new(0.2, 0.4, 1.0),
+        Vec3::new(1.0, 0.5, 0.1),
+    ];
+    let mut materials = bare;
+    for (m, tint) in materials.iter_mut().zip(tints) {
+        m.specular_tint = tint;
+    }
+    materials[2].anisotropy = anisotropy(0.7, 0.0);
+    raster_against_path_tracer(materials, bare, ("3 relit base", NO_LAYER), (0.01, 0.06));
 }

@@ -20,7 +20,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 53;
+const OUTPUTS: usize = 54;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -357,11 +357,25 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             )
         },
         {
-            let lobes = an::anisotropic_brdf_lobes(n, v, l, tangent, &s, k);
+            let lobes = an::anisotropic_brdf_lobes(
+                n,
+                v,
+                l,
+                tangent,
+                &s,
+                (k, Vec3::new(base.z, base.y, base.x) * 1.2),
+            );
             lobes.specular.extend(lobes.diffuse.x)
         },
         an::anisotropic_bent_normal(n, v, tangent, k * 1.2 - 0.1, r).extend(0.0),
         tangent.extend(0.0),
+        brdf::tinted_f0(
+            base,
+            c.base_metallic[3],
+            spec,
+            Vec3::new(x * 1.2 - 0.1, k, r),
+        )
+        .extend(0.0),
     ]
 }
 
@@ -419,6 +433,7 @@ const NAMES: [&str; OUTPUTS] = [
     "anisotropic_brdf_lobes",
     "anisotropic_bent_normal",
     "anisotropy_direction",
+    "tinted_f0",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -24,8 +24,8 @@
 //! bitangent and the viewer, by `1 − (1 − s (1 − r))⁴`.
 
 use crate::brdf::{
-    BrdfLobes, PI, Surface, clamp_perceptual_roughness, compute_f0, f_schlick, fd_lambert,
-    safe_normalize,
+    BrdfLobes, PI, Surface, clamp_perceptual_roughness, f_schlick, fd_lambert, safe_normalize,
+    tinted_f0,
 };
 use glam::{Vec2, Vec3};
 
@@ -71,8 +71,10 @@ pub fn anisotropy_direction(n: Vec3, tangent: Vec3, handedness: f32, rotation: V
     safe_normalize(t * rotation.x + b * rotation.y, t)
 }
 
-/// The Cook-Torrance lobes (1/sr) with the anisotropic GGX specular lobe along the unit
-/// direction `t` (perpendicular to `n`) of strength `strength`: the diffuse lobe of
+/// The Cook-Torrance lobes (1/sr) of a relit base (docs/src/materials.md#anisotropy):
+/// the anisotropic GGX specular lobe along the unit direction `t` (perpendicular to `n`)
+/// of strength `strength` (0: isotropic GGX with the height-correlated Smith term), its
+/// dielectric F0 tinted by `tint` ([`crate::brdf::tinted_f0`]); the diffuse lobe of
 /// [`crate::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
 /// zero for lights below the horizon.
 pub fn anisotropic_brdf_lobes(
@@ -81,7 +83,7 @@ pub fn anisotropic_brdf_lobes(
     l: Vec3,
     t: Vec3,
     surface: &Surface,
-    strength: f32,
+    (strength, tint): (f32, Vec3),
 ) -> BrdfLobes {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 || n_dot_l.is_nan() {
@@ -96,7 +98,7 @@ pub fn anisotropic_brdf_lobes(
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let alphas = anisotropic_alphas(r * r, strength);
     let metallic = surface.metallic.clamp(0.0, 1.0);
-    let f0 = compute_f0(surface.base_color, metallic, surface.specular_level);
+    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, tint);
     let f = f_schlick(f0, v.dot(h).clamp(0.0, 1.0));
     let mut lv = local(v);
     lv.z = lv.z.max(crate::brdf::MIN_N_DOT_V);
@@ -206,7 +208,7 @@ mod tests {
             Vec3::new(0.3, 0.1, 0.95).normalize(),
             Vec3::new(-0.5, 0.2, 0.84).normalize(),
         );
-        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, 0.0);
+        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, (0.0, Vec3::ONE));
         let iso = surface_brdf_lobes(n, v, l, &surface, VisibilityModel::SmithGgxCorrelated);
         assert!((aniso.specular - iso.specular).length() < 1e-4 * iso.specular.length());
         assert_eq!(aniso.diffuse, iso.diffuse);
@@ -241,7 +243,10 @@ mod tests {
             let mut previous = f32::INFINITY;
             for s in [0.0, 0.5, 1.0] {
                 let albedo = hemisphere(600, |l| {
-                    anisotropic_brdf_lobes(n, v, l, t, &white, s).specular.x * l.z
+                    anisotropic_brdf_lobes(n, v, l, t, &white, (s, Vec3::ONE))
+                        .specular
+                        .x
+                        * l.z
                 });
                 println!("n·v {n_dot_v}, s {s}: albedo {albedo:.4}");
                 assert!(albedo <= 1.0 + 1e-3, "n·v {n_dot_v}, s {s}: {albedo}");

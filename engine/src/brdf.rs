@@ -243,6 +243,17 @@ pub fn compute_f0(base_color: Vec3, metallic: f32, specular_level: f32) -> Vec3 
     Vec3::splat(dielectric_f0(specular_level)) * (1.0 - m) + base_color * m
 }
 
+/// [`compute_f0`] with the dielectric F0 tinted by `tint` (linear RGB, each channel
+/// clamped to 0..1; NaN: 1), glTF's `KHR_materials_specular` colour:
+/// `F0 = mix(0.08 · specular_level · tint, base_color, metallic)`. A metal's F0 stays
+/// its base colour.
+pub fn tinted_f0(base_color: Vec3, metallic: f32, specular_level: f32, tint: Vec3) -> Vec3 {
+    let m = metallic.clamp(0.0, 1.0);
+    let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
+    let tint = Vec3::new(channel(tint.x), channel(tint.y), channel(tint.z));
+    tint * (dielectric_f0(specular_level) * (1.0 - m)) + base_color * m
+}
+
 /// F0 of a dielectric from its index of refraction against air:
 /// `F0 = ((n − 1)/(n + 1))²` (docs/src/formulas.md#the-brdf; IOR 1.5 → 0.04).
 pub fn f0_from_ior(ior: f32) -> f32 {

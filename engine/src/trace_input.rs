@@ -121,6 +121,7 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     clearcoat: entry.and_then(|e| e.clearcoat),
                     sheen: entry.and_then(|e| e.sheen),
                     anisotropy: entry.and_then(|e| e.anisotropy),
+                    specular_tint: entry.and_then(|e| e.specular_tint),
                 },
             });
         }
@@ -257,7 +258,7 @@ mod tests {
             transmissive: false,
             coated: false,
             sheened: false,
-            anisotropic: false,
+            relit: false,
             deformed: None,
             first_instance: 1,
             count: 2,

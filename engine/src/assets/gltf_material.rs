@@ -396,11 +396,12 @@ pub(super) fn material(
         gltf::material::AlphaMode::Blend => blend = alpha < 1.0 || alpha_textured,
     }
     let strength = m.emissive_strength().unwrap_or(1.0);
+    let (specular_level, specular_tint) = specular_level(m);
     let material = Material {
         base_color: base,
         metallic,
         perceptual_roughness: roughness,
-        specular_level: specular_level(m, what, &mut loader.warnings),
+        specular_level,
         // glTF emissive is a colour factor × strength in nits (cd/m²) per
         // KHR_materials_emissive_strength's reference of 1 = 1 nit.
         emissive: Vec3::from(m.emissive_factor()) * strength,
@@ -412,7 +413,13 @@ pub(super) fn material(
         clearcoat: clearcoat(m, what, &mut loader.warnings),
         sheen: sheen(m, what, &mut loader.warnings),
         anisotropy: anisotropy(m, what, &mut loader.warnings),
+        specular_tint,
     };
+    if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
+        loader.warnings.push(format!(
+            "{what}: the tinted KHR_materials_specular colour of a blended, transmissive or unlit material is drawn untinted"
+        ));
+    }
     let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
     Some((material, textured.then_some(maps)))
 }
@@ -733,25 +740,27 @@ fn unread_textures(
     }
 }
 
-/// Dielectric F0 as Lumen's specular level (F0 = 0.08 × level, clamped to 0..1):
-/// `KHR_materials_ior` gives F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular`
-/// scales it by its factor and the largest channel of its colour (a tinted dielectric
-/// specular is not modelled: a warning says so).
-fn specular_level(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> f32 {
+/// Dielectric F0 as Lumen's specular level and tint, `(level, tint)`, so that
+/// F0 = 0.08 × level × tint ([`crate::brdf::tinted_f0`]): `KHR_materials_ior` gives
+/// F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular` scales it by its factor and its
+/// colour. The level takes the colour's largest channel (clamped to 0..1), the tint the
+/// colour divided by it (white where the colour is grey or black).
+fn specular_level(m: &gltf::Material) -> (f32, Vec3) {
     let mut f0 = f0_from_ior(m.ior().unwrap_or(1.5));
+    let mut tint = Vec3::ONE;
     if let Some(spec) = m.specular() {
         let colour = Vec3::from(spec.specular_color_factor());
-        if colour.max_element() - colour.min_element() > 1e-3 {
-            warnings.push(format!(
-                "{what}: tinted KHR_materials_specular colour is drawn untinted"
-            ));
+        let largest = colour.max_element();
+        if largest > 0.0 && largest.is_finite() && colour.min_element() < largest - 1e-3 {
+            tint = (colour / largest).max(Vec3::ZERO);
         }
-        f0 *= spec.specular_factor() * colour.max_element();
+        f0 *= spec.specular_factor() * largest;
     }
     let level = f0 / 0.08;
-    if level.is_nan() {
+    let level = if level.is_nan() {
         0.5
     } else {
         level.clamp(0.0, 1.0)
-    }
+    };
+    (level, tint)
 }

@@ -87,10 +87,11 @@ pub struct Batch {
     /// With a sheen ([`crate::scene::Material::layer_sheen`]): drawn again by the layers
     /// pass, under the coat; its maps entry holds the sheen.
     pub sheened: bool,
-    /// Anisotropic ([`crate::scene::Material::anisotropic`]): drawn by the G-buffer, then
-    /// lit again by the layers pass with its anisotropic lobe; its maps entry holds the
-    /// anisotropy.
-    pub anisotropic: bool,
+    /// A relit base: anisotropic ([`crate::scene::Material::anisotropic`]) or with a
+    /// tinted specular colour ([`crate::scene::Material::tint`]). Drawn by the G-buffer,
+    /// then lit again by the layers pass with what the G-buffer cannot hold; its maps
+    /// entry holds the anisotropy and the tint.
+    pub relit: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
     pub deformed: Option<u32>,
@@ -126,6 +127,8 @@ pub struct FrameMaps {
     pub sheen: Option<crate::scene::Sheen>,
     /// The anisotropy the layers pass relights the opaque surface with (clamped).
     pub anisotropy: Option<crate::scene::Anisotropy>,
+    /// The specular tint the layers pass relights it with (clamped; `None`: white).
+    pub specular_tint: Option<Vec3>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -270,10 +273,10 @@ impl ExtractedFrame {
         self.drawn_batches().filter(|b| b.sheened)
     }
 
-    /// The anisotropic batches in view: the surfaces the layers pass lights again, before
-    /// any sheen or coat.
-    pub fn anisotropic_batches(&self) -> impl Iterator<Item = &Batch> {
-        self.drawn_batches().filter(|b| b.anisotropic)
+    /// The relit batches in view (anisotropic or with a tinted specular colour): the
+    /// surfaces the layers pass lights again, before any sheen or coat.
+    pub fn relit_batches(&self) -> impl Iterator<Item = &Batch> {
+        self.drawn_batches().filter(|b| b.relit)
     }
 
     /// The G-buffer pass's draw calls: one per batch with an instance in view.
@@ -558,7 +561,7 @@ pub fn extract_frame(
         transmissive: bool,
         coated: bool,
         sheened: bool,
-        anisotropic: bool,
+        relit: bool,
         // Squared distance (m²) from the camera to the bounding sphere's centre.
         distance2: f32,
         casts: bool,
@@ -609,9 +612,10 @@ pub fn extract_frame(
         let sheen = material.layer_sheen().filter(|_| !transmissive);
         let sheened = sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
-        let anisotropic = anisotropy.is_some();
+        let specular_tint = material.tint().filter(|_| !transmissive);
+        let relit = anisotropy.is_some() || specular_tint.is_some();
         let textured = maps.is_some();
-        let forward = blend || transmissive || coated || sheened || anisotropic;
+        let forward = blend || transmissive || coated || sheened || relit;
         let maps = maps.or(forward.then_some(&neutral_maps)).map(|m| {
             let same = |x: &FrameMaps| {
                 x.maps == *m
@@ -620,6 +624,7 @@ pub fn extract_frame(
                     && x.clearcoat == clearcoat
                     && x.sheen == sheen
                     && x.anisotropy == anisotropy
+                    && x.specular_tint == specular_tint
             };
             let index = match frame.material_maps.iter().position(same) {
                 Some(i) => i,
@@ -631,6 +636,7 @@ pub fn extract_frame(
                         clearcoat,
                         sheen,
                         anisotropy,
+                        specular_tint,
                     });
                     frame.material_maps.len() - 1
                 }
@@ -652,7 +658,7 @@ pub fn extract_frame(
             transmissive,
             coated,
             sheened,
-            anisotropic,
+            relit,
             distance2: sphere
                 .map_or(m.w_axis.truncate(), |(c, _)| c)
                 .distance_squared(position),
@@ -758,7 +764,7 @@ pub fn extract_frame(
                 transmissive: item.transmissive,
                 coated: item.coated,
                 sheened: item.sheened,
-                anisotropic: item.anisotropic,
+                relit: item.relit,
                 deformed: item.deformed,
                 first_instance: index,
                 count: 1,

@@ -2,10 +2,12 @@
 //! lit frame once the deferred lighting and SSR have lit the base beneath them: a sheen
 //! ([`crate::scene::Material::sheen`], glTF's `KHR_materials_sheen`) and, over it, a
 //! clearcoat ([`crate::scene::Material::clearcoat`], `KHR_materials_clearcoat`). Before
-//! them it lights anisotropic bases again ([`crate::scene::Material::anisotropy`],
-//! `KHR_materials_anisotropy`): the G-buffer has no room for a direction, so such a
-//! surface is shaded a second time from its material with the anisotropic GGX lobe
-//! (`ANISOTROPIC_LOBE`), and that light replaces the deferred pass's (alpha 1).
+//! them it lights some bases again: anisotropic ones
+//! ([`crate::scene::Material::anisotropy`], `KHR_materials_anisotropy`) and those with a
+//! tinted specular colour ([`crate::scene::Material::specular_tint`],
+//! `KHR_materials_specular`). The G-buffer has no room for a direction or a colour of F0,
+//! so such a surface is shaded a second time from its material with the anisotropic,
+//! tinted GGX lobe (`RELIT_BASE`), and that light replaces the deferred pass's (alpha 1).
 //!
 //! Layers are not in the G-buffer. Their surfaces are drawn again, with the G-buffer's
 //! textured vertex code, and a fragment is kept where it lies on the opaque depth the
@@ -54,7 +56,7 @@ use bevy_ecs::system::{ScheduleSystem, SystemParam};
 
 #[allow(non_upper_case_globals)]
 impl PassId {
-    /// Anisotropic bases, then the sheens and clearcoats of layered surfaces, over the lit
+    /// Relit bases, then the sheens and clearcoats of layered surfaces, over the lit
     /// frame.
     pub const Layers: PassId = PassId::new("layers");
 }
@@ -72,9 +74,9 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 /// Which layer a draw adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Layer {
-    /// The base again, with its anisotropic specular lobe (`fs_anisotropic`, compiled
-    /// with `ANISOTROPIC_LOBE`), replacing the deferred pass's light.
-    Anisotropic,
+    /// The base again, with its anisotropic or tinted specular lobe (`fs_relit`,
+    /// compiled with `RELIT_BASE`), replacing the deferred pass's light.
+    Relit,
     /// The sheen lobe (`fs_sheen`, compiled with `SHEEN_LOBE`).
     Sheen,
     /// The clearcoat's GGX lobe (`fs_coat`).
@@ -83,7 +85,7 @@ pub enum Layer {
 
 impl Layer {
     /// The order they are drawn in: the base beneath its layers, the coat on top.
-    const ORDER: [Layer; 3] = [Layer::Anisotropic, Layer::Sheen, Layer::Coat];
+    const ORDER: [Layer; 3] = [Layer::Relit, Layer::Sheen, Layer::Coat];
 }
 
 /// A layer's blend: colour "over" with premultiplied alpha, dst ← src + dst·(1 − α);
@@ -129,11 +131,11 @@ impl FramePass for LayersPass {
         let frame = world.resource::<ExtractedFrame>();
         let gpu = world.resource::<Gpu>();
         let counts = [
-            (frame.anisotropic_batches().count(), "anisotropic"),
+            (frame.relit_batches().count(), "relit base"),
             (frame.sheened_batches().count(), "sheen"),
             (frame.coated_batches().count(), "clearcoat"),
         ];
-        // "2 sheen and 1 clearcoat layer(s)", "1 anisotropic, 1 sheen and 1 clearcoat
+        // "2 sheen and 1 clearcoat layer(s)", "1 relit base, 1 sheen and 1 clearcoat
         // layer(s)", "1 clearcoat layer(s)".
         let named: Vec<String> = counts
             .iter()
@@ -159,7 +161,8 @@ impl FramePass for LayersPass {
         let (runs, reason) = if named.is_empty() {
             (
                 false,
-                "no surface with anisotropy, a sheen or a clearcoat in view".to_string(),
+                "no surface with anisotropy, a specular tint, a sheen or a clearcoat in view"
+                    .to_string(),
             )
         } else if lighting.is_none() {
             (false, "the lighting pass does not run".into())
@@ -230,7 +233,7 @@ impl LayersPass {
 
     /// The WGSL header of `layer` in `variant`, for a uniform light copy of
     /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen
-    /// and `ANISOTROPIC_LOBE` for the anisotropic base, and the maps' group.
+    /// and `RELIT_BASE` for the relit base, and the maps' group.
     pub fn defs(variant: LightingVariant, layer: Layer, uniform_capacity: u32) -> Vec<ShaderDef> {
         let mut defs: Vec<ShaderDef> = LightingPass::defs(variant, uniform_capacity)
             .into_iter()
@@ -238,8 +241,8 @@ impl LayersPass {
                 ShaderDef::Bool("SHEEN_LOBE", _) => {
                     ShaderDef::Bool("SHEEN_LOBE", layer == Layer::Sheen)
                 }
-                ShaderDef::Bool("ANISOTROPIC_LOBE", _) => {
-                    ShaderDef::Bool("ANISOTROPIC_LOBE", layer == Layer::Anisotropic)
+                ShaderDef::Bool("RELIT_BASE", _) => {
+                    ShaderDef::Bool("RELIT_BASE", layer == Layer::Relit)
                 }
                 other => other,
             })
@@ -252,18 +255,18 @@ impl LayersPass {
 /// The batches in view that carry `layer`.
 fn layer_batches(frame: &ExtractedFrame, layer: Layer) -> impl Iterator<Item = &Batch> {
     frame.drawn_batches().filter(move |b| match layer {
-        Layer::Anisotropic => b.anisotropic,
+        Layer::Relit => b.relit,
         Layer::Sheen => b.sheened,
         Layer::Coat => b.coated,
     })
 }
 
 /// The pipeline of `layer` into `format`: "over" with what the layer takes from the light
-/// beneath it as alpha (all of it for an anisotropic base), on the opaque depth.
+/// beneath it as alpha (all of it for a relit base), on the opaque depth.
 fn layer_shape(layer: Layer, format: wgpu::TextureFormat) -> ForwardShape {
     ForwardShape {
         entry: match layer {
-            Layer::Anisotropic => "fs_anisotropic",
+            Layer::Relit => "fs_relit",
             Layer::Sheen => "fs_sheen",
             Layer::Coat => "fs_coat",
         },
@@ -359,7 +362,7 @@ pub fn prepare_layers(
     }
 }
 
-/// Records the anisotropic bases, then the layered batches' sheens, then their coats, over
+/// Records the relit bases, then the layered batches' sheens, then their coats, over
 /// the HDR target.
 pub fn layers_pass(
     plan: Res<FramePlan>,

@@ -370,7 +370,7 @@ impl LightingPass {
             ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("SHEEN_LOBE", false),
-            ShaderDef::Bool("ANISOTROPIC_LOBE", false),
+            ShaderDef::Bool("RELIT_BASE", false),
             ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
             ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
             ShaderDef::U32(

@@ -27,6 +27,7 @@ struct GpuMaps {
     clearcoat: [f32; 4],
     sheen: [f32; 4],
     anisotropy: [f32; 4],
+    specular_tint: [f32; 4],
 }
 
 impl GpuMaps {
@@ -70,6 +71,11 @@ impl GpuMaps {
             let (sin, cos) = a.rotation_rad.sin_cos();
             out.anisotropy = [a.strength, cos, sin, 0.0];
         }
+        out.specular_tint = entry
+            .specular_tint
+            .unwrap_or(glam::Vec3::ONE)
+            .extend(0.0)
+            .into();
         out
     }
 }

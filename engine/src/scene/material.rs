@@ -62,6 +62,13 @@ pub struct Material {
     /// base again with the anisotropic lobe, in place of the deferred pass's isotropic one
     /// (docs/src/materials.md#anisotropy).
     pub anisotropy: Option<Anisotropy>,
+    /// The colour of the dielectric specular reflection (glTF's `KHR_materials_specular`
+    /// `specularColorFactor`), linear RGB, each channel 0..1 (clamped): the dielectric
+    /// F0 is `0.08 · specular_level · tint` ([`crate::brdf::tinted_f0`]). White (the
+    /// default) is untinted. A tint is drawn on opaque, lit surfaces only
+    /// ([`Material::tint`]), by the layers pass, like the anisotropy
+    /// (docs/src/materials.md#specular-colour).
+    pub specular_tint: Vec3,
 }
 
 /// The anisotropy of a [`Material`] (glTF's `KHR_materials_anisotropy`).
@@ -219,6 +226,7 @@ impl Default for Material {
             clearcoat: None,
             sheen: None,
             anisotropy: None,
+            specular_tint: Vec3::ONE,
         }
     }
 }
@@ -259,6 +267,16 @@ impl Material {
             .map(Anisotropy::clamped)
             .filter(|a| a.strength > 0.0)
             .filter(|_| self.opaque_and_lit())
+    }
+
+    /// The specular tint that is drawn: [`Material::specular_tint`] with each channel
+    /// clamped to 0..1 (NaN: 1), where it is not white and the surface is opaque and lit
+    /// and not wholly metal (a metal's F0 is its base colour).
+    pub fn tint(&self) -> Option<Vec3> {
+        let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
+        let t = self.specular_tint;
+        let tint = Vec3::new(channel(t.x), channel(t.y), channel(t.z));
+        (tint.min_element() < 1.0 && self.metallic < 1.0 && self.opaque_and_lit()).then_some(tint)
     }
 
     /// Neither blended, transmissive nor unlit: what a layer can be drawn over.

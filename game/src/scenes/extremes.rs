@@ -43,6 +43,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             clearcoat: None,
             sheen: None,
             anisotropy: None,
+            specular_tint: Vec3::ONE,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

@@ -18,7 +18,10 @@
 //!    (`KHR_materials_sheen`, colour (0.5, 0.6, 0.9), roughness 0.4): a bright rim;
 //! 10. a brushed-metal sphere: pale gold, roughness 0.3, anisotropy 0.8 along its
 //!     tangents (`KHR_materials_anisotropy`), which run around it: its highlights are
-//!     drawn out into arcs around the sphere.
+//!     drawn out into arcs around the sphere;
+//! 11. a dark dielectric sphere with a coloured specular reflection
+//!     (`KHR_materials_specular`: specular level 1, colour (1, 0.55, 0.15)): orange
+//!     highlights and reflections over a nearly black base.
 //!
 //! docs/src/materials.md describes each.
 
@@ -27,8 +30,8 @@ use lumen::prelude::*;
 use lumen::scene::{Anisotropy, Clearcoat, Sheen, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 10] = [
-    -3.33, -2.59, -1.85, -1.11, -0.37, 0.37, 1.11, 1.85, 2.59, 3.33,
+pub const MATERIALS_X: [f32; 11] = [
+    -3.4, -2.72, -2.04, -1.36, -0.68, 0.0, 0.68, 1.36, 2.04, 2.72, 3.4,
 ];
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.32;
@@ -142,6 +145,15 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             ..Material::new(Vec3::new(0.95, 0.8, 0.55), 1.0, 0.3)
         },
         Transform::from_xyz(MATERIALS_X[9], MATERIALS_RADIUS + 0.01, 0.0),
+    ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            specular_level: 1.0,
+            specular_tint: Vec3::new(1.0, 0.55, 0.15),
+            ..Material::new(Vec3::new(0.02, 0.02, 0.03), 0.0, 0.25)
+        },
+        Transform::from_xyz(MATERIALS_X[10], MATERIALS_RADIUS + 0.01, 0.0),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((

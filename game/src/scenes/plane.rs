@@ -19,6 +19,7 @@ pub const PLANE_MATERIAL: Material = Material {
     clearcoat: None,
     sheen: None,
     anisotropy: None,
+    specular_tint: Vec3::ONE,
 };
 
 /// Illuminance of the light in lux.

@@ -105,9 +105,13 @@ pub(super) struct Bsdf {
     specular_scale: Vec3,
     /// The specular lobe's GGX widths along the frame's first two axes.
     alphas: Vec2,
-    /// The anisotropic lobe's strength when the base is anisotropic (its direction is
-    /// the frame's first axis).
-    anisotropy: Option<f32>,
+    /// The anisotropic lobe's strength (0..1; its direction is the frame's first axis).
+    anisotropy: f32,
+    /// The dielectric F0's tint (1: untinted).
+    tint: Vec3,
+    /// A relit base (anisotropic or tinted): evaluated by `anisotropic_brdf_lobes`, as the
+    /// rasterizer's layers pass relights it.
+    relit: bool,
     /// Probability of sampling the specular lobe (when the base is sampled).
     p_specular: f32,
     model: VisibilityModel,
@@ -141,7 +145,8 @@ impl Bsdf {
             perceptual_roughness: m.roughness,
             specular_level: m.specular_level,
         };
-        let f0 = crate::brdf::compute_f0(m.base_color, m.metallic, m.specular_level);
+        let tint = m.specular_tint.unwrap_or(Vec3::ONE);
+        let f0 = crate::brdf::tinted_f0(m.base_color, m.metallic, m.specular_level, tint);
         let f = crate::brdf::f_schlick(f0, n.dot(v).clamp(0.0, 1.0));
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
@@ -154,7 +159,9 @@ impl Bsdf {
             surface,
             specular_scale,
             alphas: Vec2::splat(m.roughness * m.roughness),
-            anisotropy: None,
+            anisotropy: 0.0,
+            tint,
+            relit: m.specular_tint.is_some(),
             p_specular,
             model,
             coat: None,
@@ -185,7 +192,8 @@ impl Bsdf {
         );
         self.frame = Mat3::from_cols(t, n.cross(t), n);
         self.alphas = anisotropic_alphas(self.alphas.y, anisotropy.strength);
-        self.anisotropy = Some(anisotropy.strength);
+        self.anisotropy = anisotropy.strength;
+        self.relit = true;
         self
     }
 
@@ -219,10 +227,11 @@ impl Bsdf {
     /// diffuse albedo), for choosing between lobes.
     fn reflectance(&self, v: Vec3) -> f32 {
         let f = crate::brdf::f_schlick(
-            crate::brdf::compute_f0(
+            crate::brdf::tinted_f0(
                 self.surface.base_color,
                 self.surface.metallic,
                 self.surface.specular_level,
+                self.tint,
             ),
             self.n().dot(v).clamp(0.0, 1.0),
         );
@@ -281,11 +290,11 @@ impl Bsdf {
     /// f(v, l) · cos: the base's lobes × (n·l), dimmed by the coat, plus the coat's.
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
-        let lobes = match self.anisotropy {
-            Some(strength) => {
-                anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, strength)
-            }
-            None => surface_brdf_lobes(n, v, l, &self.surface, self.model),
+        let lobes = if self.relit {
+            let relit = (self.anisotropy, self.tint);
+            anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, relit)
+        } else {
+            surface_brdf_lobes(n, v, l, &self.surface, self.model)
         };
         let mut base = (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0);
         if let Some(sheen) = &self.sheen {
@@ -422,6 +431,9 @@ mod tests {
                 clearcoat: None,
                 sheen: None,
                 anisotropy: None,
+                // The anisotropic dielectric is tinted too.
+                specular_tint: (metallic == 0.0 && anisotropy.is_some())
+                    .then_some(Vec3::new(1.0, 0.5, 0.2)),
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
             let bsdf = match anisotropy {

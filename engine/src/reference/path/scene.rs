@@ -172,6 +172,8 @@ pub struct TraceMaterial {
     /// The base's anisotropy ([`crate::scene::Material::anisotropic`]), along a direction
     /// from the interpolated tangent ([`SurfacePoint::tangent`]).
     pub anisotropy: Option<crate::scene::Anisotropy>,
+    /// The dielectric F0's tint ([`crate::scene::Material::tint`]); `None`: untinted.
+    pub specular_tint: Option<Vec3>,
 }
 
 impl TraceMaterial {
@@ -210,6 +212,10 @@ impl TraceMaterial {
                 .anisotropy
                 .map(crate::scene::Anisotropy::clamped)
                 .filter(|a| a.strength > 0.0),
+            specular_tint: self.specular_tint.map(|t| {
+                let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
+                Vec3::new(channel(t.x), channel(t.y), channel(t.z))
+            }),
             ..self
         }
     }
