@@ -4,6 +4,15 @@
 // (Heitz 2014, Burley 2012); the environment read about a bent normal (McAuley 2015).
 #import common
 #import brdf
+#import iridescence
+
+// What a relit base adds to its surface: the anisotropy's strength (0..1), the
+// dielectric F0's tint, the iridescent film (factor, index, thickness nm).
+struct RelitLobe {
+    strength: f32,
+    tint: vec3<f32>,
+    film: vec3<f32>,
+}
 
 // (α_t, α_b) of a lobe of width `alpha` and strength `strength` (0..1, clamped; NaN: 0).
 fn anisotropic_alphas(alpha: f32, strength: f32) -> vec2<f32> {
@@ -41,9 +50,10 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
 }
 
 // The lobes (1/sr) of a relit base: the anisotropic specular lobe along the unit
-// direction t (strength 0: isotropic, height-correlated Smith), the dielectric F0 tinted.
+// direction t (strength 0: isotropic, height-correlated Smith), the dielectric F0 tinted,
+// the Fresnel mixed with the film's.
 fn anisotropic_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>, surface: Surface,
-                          strength: f32, tint: vec3<f32>) -> BrdfLobes {
+                          lobe: RelitLobe) -> BrdfLobes {
     var lobes: BrdfLobes;
     lobes.diffuse = vec3<f32>(0.0);
     lobes.specular = vec3<f32>(0.0);
@@ -53,10 +63,10 @@ fn anisotropic_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>
     let b = cross(n, t);
     let h = safe_normalize(v + l, n);
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
-    let alphas = anisotropic_alphas(r * r, strength);
+    let alphas = anisotropic_alphas(r * r, lobe.strength);
     let metallic = clamp(surface.metallic, 0.0, 1.0);
-    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, tint);
-    let f = f_schlick(f0, clamp(dot(v, h), 0.0, 1.0));
+    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, lobe.tint);
+    let f = iridescent_mix(f0, clamp(dot(v, h), 0.0, 1.0), lobe.film);
     let lv = vec3<f32>(dot(t, v), dot(b, v), max(dot(n, v), MIN_N_DOT_V));
     let d = d_ggx_anisotropic(alphas, vec3<f32>(dot(t, h), dot(b, h), dot(n, h)));
     let vis = v_smith_ggx_correlated_anisotropic(alphas, lv, vec3<f32>(dot(t, l), dot(b, l), dot(n, l)));

@@ -142,7 +142,7 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
 }
 
 // A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
-// maps.specular_tint: the dielectric F0's tint): the whole surface (emission, diffuse and
+// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film): the whole surface (emission, diffuse and
 // the anisotropic, tinted specular lobe, every light and the indirect terms) from its
 // material and normal map, as the G-buffer's textured variant reads them, with alpha 1:
 // it replaces the deferred pass's light.
@@ -168,8 +168,7 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     point.occlusion = mapped.occlusion;
     point.receives = select(0.0, 1.0, in.params.w > 0.5);
     anisotropy_t = anisotropy_direction(mapped.n, in.world_tangent.xyz, in.world_tangent.w, maps.anisotropy.yz);
-    anisotropy_strength = maps.anisotropy.x;
-    specular_tint = maps.specular_tint.rgb;
+    relit_lobe = RelitLobe(maps.anisotropy.x, maps.specular_tint.rgb, maps.film.xyz);
     let light = mapped.emissive + surface_light(point, surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

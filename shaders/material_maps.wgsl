@@ -39,6 +39,9 @@ struct Maps {
     anisotropy: vec4<f32>,
     // Relit bases (layers pass): rgb: the dielectric F0's tint (1: untinted).
     specular_tint: vec4<f32>,
+    // Relit bases: the iridescent film: x: factor (0: none); y: index of refraction; z:
+    // thickness (nm).
+    film: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

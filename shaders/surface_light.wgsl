@@ -28,10 +28,13 @@
 //
 // RELIT_BASE: the surface is a base relit by the layers pass, with what the G-buffer
 // cannot hold: its specular lobe is anisotropic GGX (anisotropy.wgsl) along
-// `anisotropy_t` with strength `anisotropy_strength` (0: isotropic, height-correlated
-// Smith), and its dielectric F0 is tinted by `specular_tint` (KHR_materials_specular),
-// which that pass sets: every light reflects by it, the environment and the reflection
-// probes are read about its bent normal, and the split sum uses the tinted F0.
+// `anisotropy_t` with strength `relit_lobe.strength` (0: isotropic, height-correlated
+// Smith), its dielectric F0 is tinted by `relit_lobe.tint` (KHR_materials_specular) and
+// its Fresnel mixed with an iridescent film's (`relit_lobe.film`,
+// KHR_materials_iridescence), which that pass sets: every light reflects by it, the
+// environment and the reflection probes are read about its bent normal, and the split
+// sum uses the tinted F0, and under a film the F0 whose Schlick Fresnel at n·v is the
+// film's (schlick_f0_of).
 //
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
@@ -137,8 +140,7 @@ var<private> layer_albedo: f32 = 0.0;
 // normal), the strength (0..1) and the dielectric F0's tint, set by the layers pass
 // before surface_light.
 var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
-var<private> anisotropy_strength: f32 = 0.0;
-var<private> specular_tint: vec3<f32> = vec3<f32>(1.0);
+var<private> relit_lobe: RelitLobe = RelitLobe(0.0, vec3<f32>(1.0), vec3<f32>(0.0));
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
@@ -155,7 +157,7 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
     }
     var lobes: BrdfLobes;
     if RELIT_BASE {
-        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, anisotropy_strength, specular_tint);
+        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, relit_lobe);
     } else {
         lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
     }
@@ -216,7 +218,11 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     var f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
     if RELIT_BASE {
-        f0 = tinted_f0(surface.base_color, surface.metallic, surface.specular_level, specular_tint);
+        f0 = tinted_f0(surface.base_color, surface.metallic, surface.specular_level, relit_lobe.tint);
+        if relit_lobe.film.x > 0.0 {
+            let film = iridescent_fresnel(n_dot_v, relit_lobe.film.y, relit_lobe.film.z, f0);
+            f0 = mix(f0, schlick_f0_of(film, n_dot_v), clamp(relit_lobe.film.x, 0.0, 1.0));
+        }
     }
     var dfg = vec2<f32>(1.0, 0.0);
     if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
@@ -251,7 +257,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         // The mirror direction the prefiltered light is read along.
         var reflect_n = n;
         if RELIT_BASE {
-            reflect_n = anisotropic_bent_normal(n, v, anisotropy_t, anisotropy_strength, surface.perceptual_roughness);
+            reflect_n = anisotropic_bent_normal(n, v, anisotropy_t, relit_lobe.strength, surface.perceptual_roughness);
         }
         let reflected_world = 2.0 * dot(reflect_n, v) * reflect_n - v;
         if HAS_ENVIRONMENT {

@@ -325,6 +325,44 @@ fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
+fn iridescence_maps_onto_the_material_and_names_its_unread_textures() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ext = "KHR_materials_iridescence";
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({
+            "iridescenceFactor": 0.7,
+            "iridescenceThicknessMaximum": 550.0,
+            "iridescenceThicknessTexture": {"index": 0}
+        }),
+    );
+    // The index defaults to 1.3; without the texture the thickness is the maximum.
+    assert_eq!(
+        m.iridescence,
+        Some(lumen::scene::Iridescence {
+            factor: 0.7,
+            ior: 1.3,
+            thickness_nm: 550.0
+        })
+    );
+    warned(
+        &warnings,
+        "KHR_materials_iridescence's iridescenceThicknessTexture is not sampled",
+    );
+    // Factor 0 (the default) is no film; an index that is not a number is refused.
+    let (m, _) = load_extension(dir.path(), ext, json!({"iridescenceIor": 1.5}));
+    assert_eq!(m.iridescence, None);
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({"iridescenceFactor": 1.0, "iridescenceIor": "oil"}),
+    );
+    assert_eq!(m.iridescence, None);
+    warned(&warnings, "iridescenceIor is not a number");
+}
+
+#[test]
 fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
     // F0 = 0.04 (IOR 1.5) × factor 1 × colour (1, 0.5, 0.25): level 0.5 (the largest
     // channel) and tint (1, 0.5, 0.25), drawn without a warning.

@@ -10,6 +10,7 @@ use lumen::ambient_occlusion as ao;
 use lumen::anisotropy as an;
 use lumen::antialiasing as aa;
 use lumen::brdf::{self, Surface, VisibilityModel};
+use lumen::iridescence as ir;
 use lumen::irradiance_volume as gi;
 use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
@@ -20,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 54;
+const OUTPUTS: usize = 58;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -357,14 +358,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             )
         },
         {
-            let lobes = an::anisotropic_brdf_lobes(
-                n,
-                v,
-                l,
-                tangent,
-                &s,
-                (k, Vec3::new(base.z, base.y, base.x) * 1.2),
-            );
+            let lobe = an::RelitLobe {
+                strength: k,
+                tint: Vec3::new(base.z, base.y, base.x) * 1.2,
+                film: Vec3::new(x, 1.0 + r, 800.0 * n_dot_h),
+            };
+            let lobes = an::anisotropic_brdf_lobes(n, v, l, tangent, &s, &lobe);
             lobes.specular.extend(lobes.diffuse.x)
         },
         an::anisotropic_bent_normal(n, v, tangent, k * 1.2 - 0.1, r).extend(0.0),
@@ -376,6 +375,11 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             Vec3::new(x * 1.2 - 0.1, k, r),
         )
         .extend(0.0),
+        ir::iridescent_fresnel(n_dot_h, 1.0 + 2.0 * r, 500.0 * x, base)
+            .extend(ir::interface_f0(1.0 + r, 1.5)),
+        ir::film_sensitivity(500.0 * x, base * 3.0).extend(0.0),
+        ir::iridescent_mix(base, n_dot_h, Vec3::new(k, 1.0 + r, 500.0 * x)).extend(0.0),
+        ir::schlick_f0_of(base, n_dot_h).extend(0.0),
     ]
 }
 
@@ -434,6 +438,10 @@ const NAMES: [&str; OUTPUTS] = [
     "anisotropic_bent_normal",
     "anisotropy_direction",
     "tinted_f0",
+    "iridescent_fresnel | interface_f0",
+    "film_sensitivity",
+    "iridescent_mix",
+    "schlick_f0_of",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -463,6 +471,10 @@ const UNIT_VECTORS: [usize; 9] = [7, 11, 13, 16, 22, 24, 41, 51, 52];
 /// with a looser tolerance: near ±1, one rounding of the cosine moves `acos` by
 /// √(2 · 6e-8) ≈ 3.5e-4 rad.
 const ANGLES: [usize; 2] = [19, 20];
+/// Outputs of the thin film, held in absolute terms: they take the cosine of phases up
+/// to about 85 rad, where one ulp of the argument is 8e-6, and cross 0 (measured: an
+/// absolute difference of 5e-7 at a value of 1.25e-4).
+const FILM: [usize; 3] = [54, 55, 56];
 
 /// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
 /// `outputs` vec4s per case (binding 1).
@@ -554,7 +566,8 @@ fn wgsl_functions_match_their_rust_twins() {
                 }
                 // Relative error, with an absolute floor for values near 0; unit-vector
                 // outputs (GPU sin/cos are not exact near 0) are held in absolute terms.
-                let floor = if UNIT_VECTORS.contains(&k) || ANGLES.contains(&k) {
+                let floor = if UNIT_VECTORS.contains(&k) || ANGLES.contains(&k) || FILM.contains(&k)
+                {
                     1.0
                 } else {
                     1e-3

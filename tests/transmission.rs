@@ -464,14 +464,14 @@ fn the_materials_scene_draws_each_feature() {
         "{}",
         transparent.reason
     );
-    // The brushed metal and the tinted sphere, the velvet sphere's sheen and the
-    // car-paint sphere's coat.
+    // The brushed metal, the tinted and the iridescent sphere, the velvet sphere's sheen
+    // and the car-paint sphere's coat.
     let coat = common::decision(&report, PassId::Layers);
     assert!(
         coat.enabled
             && coat
                 .reason
-                .contains("2 relit base, 1 sheen and 1 clearcoat layer"),
+                .contains("3 relit base, 1 sheen and 1 clearcoat layer"),
         "{}",
         coat.reason
     );

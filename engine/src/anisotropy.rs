@@ -24,8 +24,7 @@
 //! bitangent and the viewer, by `1 − (1 − s (1 − r))⁴`.
 
 use crate::brdf::{
-    BrdfLobes, PI, Surface, clamp_perceptual_roughness, f_schlick, fd_lambert, safe_normalize,
-    tinted_f0,
+    BrdfLobes, PI, Surface, clamp_perceptual_roughness, fd_lambert, safe_normalize, tinted_f0,
 };
 use glam::{Vec2, Vec3};
 
@@ -71,10 +70,35 @@ pub fn anisotropy_direction(n: Vec3, tangent: Vec3, handedness: f32, rotation: V
     safe_normalize(t * rotation.x + b * rotation.y, t)
 }
 
+/// What a relit base adds to its metal/roughness surface (docs/src/materials.md#anisotropy):
+/// what the G-buffer cannot hold.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelitLobe {
+    /// The anisotropy's strength, 0..1 (0: isotropic).
+    pub strength: f32,
+    /// The dielectric F0's tint, linear RGB 0..1 (1: untinted).
+    pub tint: Vec3,
+    /// The iridescent film ([`crate::iridescence::iridescent_mix`]): factor (0: none),
+    /// index of refraction, thickness (nm).
+    pub film: Vec3,
+}
+
+impl Default for RelitLobe {
+    /// Isotropic, untinted, no film.
+    fn default() -> Self {
+        RelitLobe {
+            strength: 0.0,
+            tint: Vec3::ONE,
+            film: Vec3::ZERO,
+        }
+    }
+}
+
 /// The Cook-Torrance lobes (1/sr) of a relit base (docs/src/materials.md#anisotropy):
 /// the anisotropic GGX specular lobe along the unit direction `t` (perpendicular to `n`)
-/// of strength `strength` (0: isotropic GGX with the height-correlated Smith term), its
-/// dielectric F0 tinted by `tint` ([`crate::brdf::tinted_f0`]); the diffuse lobe of
+/// of the lobe's strength (0: isotropic GGX with the height-correlated Smith term), its
+/// dielectric F0 tinted ([`crate::brdf::tinted_f0`]) and its Fresnel mixed with the
+/// iridescent film's ([`crate::iridescence::iridescent_mix`]); the diffuse lobe of
 /// [`crate::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
 /// zero for lights below the horizon.
 pub fn anisotropic_brdf_lobes(
@@ -83,7 +107,7 @@ pub fn anisotropic_brdf_lobes(
     l: Vec3,
     t: Vec3,
     surface: &Surface,
-    (strength, tint): (f32, Vec3),
+    lobe: &RelitLobe,
 ) -> BrdfLobes {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 || n_dot_l.is_nan() {
@@ -96,10 +120,15 @@ pub fn anisotropic_brdf_lobes(
     let h = safe_normalize(v + l, n);
     let local = |x: Vec3| Vec3::new(t.dot(x), b.dot(x), n.dot(x));
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
-    let alphas = anisotropic_alphas(r * r, strength);
+    let alphas = anisotropic_alphas(r * r, lobe.strength);
     let metallic = surface.metallic.clamp(0.0, 1.0);
-    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, tint);
-    let f = f_schlick(f0, v.dot(h).clamp(0.0, 1.0));
+    let f0 = tinted_f0(
+        surface.base_color,
+        metallic,
+        surface.specular_level,
+        lobe.tint,
+    );
+    let f = crate::iridescence::iridescent_mix(f0, v.dot(h).clamp(0.0, 1.0), lobe.film);
     let mut lv = local(v);
     lv.z = lv.z.max(crate::brdf::MIN_N_DOT_V);
     let d = d_ggx_anisotropic(alphas, local(h));
@@ -208,7 +237,7 @@ mod tests {
             Vec3::new(0.3, 0.1, 0.95).normalize(),
             Vec3::new(-0.5, 0.2, 0.84).normalize(),
         );
-        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, (0.0, Vec3::ONE));
+        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, &RelitLobe::default());
         let iso = surface_brdf_lobes(n, v, l, &surface, VisibilityModel::SmithGgxCorrelated);
         assert!((aniso.specular - iso.specular).length() < 1e-4 * iso.specular.length());
         assert_eq!(aniso.diffuse, iso.diffuse);
@@ -243,10 +272,19 @@ mod tests {
             let mut previous = f32::INFINITY;
             for s in [0.0, 0.5, 1.0] {
                 let albedo = hemisphere(600, |l| {
-                    anisotropic_brdf_lobes(n, v, l, t, &white, (s, Vec3::ONE))
-                        .specular
-                        .x
-                        * l.z
+                    anisotropic_brdf_lobes(
+                        n,
+                        v,
+                        l,
+                        t,
+                        &white,
+                        &RelitLobe {
+                            strength: s,
+                            ..RelitLobe::default()
+                        },
+                    )
+                    .specular
+                    .x * l.z
                 });
                 println!("n·v {n_dot_v}, s {s}: albedo {albedo:.4}");
                 assert!(albedo <= 1.0 + 1e-3, "n·v {n_dot_v}, s {s}: {albedo}");

@@ -38,6 +38,7 @@ pub mod error;
 pub mod files;
 pub mod ibl;
 pub mod input;
+pub mod iridescence;
 pub mod irradiance_volume;
 pub mod limits;
 pub mod punctual;

@@ -122,6 +122,7 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     sheen: entry.and_then(|e| e.sheen),
                     anisotropy: entry.and_then(|e| e.anisotropy),
                     specular_tint: entry.and_then(|e| e.specular_tint),
+                    iridescence: entry.and_then(|e| e.iridescence),
                 },
             });
         }

@@ -588,6 +588,7 @@ const READ_HERE: &[&str] = &[
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
     "KHR_materials_anisotropy",
+    "KHR_materials_iridescence",
 ];
 
 /// Parses a glTF or GLB file and validates it. A required extension must be one the

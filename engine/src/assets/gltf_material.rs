@@ -15,8 +15,8 @@
 use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
-    Anisotropy, Clearcoat, ColorSpace, Filter, Material, MaterialMaps, Sampler, Sheen, TextureData,
-    TextureHandle, TextureSlot, Textures, Transmission, UvTransform, Wrap,
+    Anisotropy, Clearcoat, ColorSpace, Filter, Iridescence, Material, MaterialMaps, Sampler, Sheen,
+    TextureData, TextureHandle, TextureSlot, Textures, Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -414,6 +414,7 @@ pub(super) fn material(
         sheen: sheen(m, what, &mut loader.warnings),
         anisotropy: anisotropy(m, what, &mut loader.warnings),
         specular_tint,
+        iridescence: iridescence(m, what, &mut loader.warnings),
     };
     if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
         loader.warnings.push(format!(
@@ -606,7 +607,7 @@ fn transmission(
 fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Clearcoat> {
     let name = "KHR_materials_clearcoat";
     let ext = m.extension_value(name)?;
-    let number = |key| extension_number(ext, (name, key), what, "no coat");
+    let number = |key| extension_number(ext, (name, key, 0.0), what, "no coat");
     unread_textures(
         ext,
         name,
@@ -684,7 +685,7 @@ fn anisotropy(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opt
     let name = "KHR_materials_anisotropy";
     let ext = m.extension_value(name)?;
     unread_textures(ext, name, &["anisotropyTexture"], what, warnings);
-    let number = |key| extension_number(ext, (name, key), what, "isotropic");
+    let number = |key| extension_number(ext, (name, key, 0.0), what, "isotropic");
     match (number("anisotropyStrength"), number("anisotropyRotation")) {
         (Ok(strength), Ok(rotation_rad)) => (strength != 0.0).then_some(Anisotropy {
             strength,
@@ -697,17 +698,51 @@ fn anisotropy(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opt
     }
 }
 
-/// The number `key` of the extension object `ext` (`(extension name, key)`), 0 where it
-/// is absent; otherwise an error naming the material `what`, the key and the
-/// `consequence`.
+/// `KHR_materials_iridescence`'s factors: `iridescenceFactor` (default 0: no film),
+/// `iridescenceIor` (default 1.3) and `iridescenceThicknessMaximum` (nm, default 400),
+/// the film's thickness where there is no thickness texture. Its `iridescenceTexture`
+/// and `iridescenceThicknessTexture` are not sampled: a warning names them, and the
+/// factors apply (the thickness is the maximum; `iridescenceThicknessMinimum` is used only
+/// with the texture). A factor that is not a number is refused with a warning (no film).
+fn iridescence(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Iridescence> {
+    let name = "KHR_materials_iridescence";
+    let ext = m.extension_value(name)?;
+    unread_textures(
+        ext,
+        name,
+        &["iridescenceTexture", "iridescenceThicknessTexture"],
+        what,
+        warnings,
+    );
+    let number = |key, default| extension_number(ext, (name, key, default), what, "no film");
+    match (
+        number("iridescenceFactor", 0.0),
+        number("iridescenceIor", 1.3),
+        number("iridescenceThicknessMaximum", 400.0),
+    ) {
+        (Ok(factor), Ok(ior), Ok(thickness_nm)) => (factor > 0.0).then_some(Iridescence {
+            factor,
+            ior,
+            thickness_nm,
+        }),
+        (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => {
+            warnings.push(e);
+            None
+        }
+    }
+}
+
+/// The number `key` of the extension object `ext` (`(extension name, key, default)`),
+/// the default where it is absent; otherwise an error naming the material `what`, the
+/// key and the `consequence`.
 fn extension_number(
     ext: &gltf::json::Value,
-    (name, key): (&str, &str),
+    (name, key, default): (&str, &str, f32),
     what: &str,
     consequence: &str,
 ) -> Result<f32, String> {
     match ext.get(key) {
-        None => Ok(0.0),
+        None => Ok(default),
         Some(v) => v
             .as_f64()
             .map(|x| x as f32)

@@ -87,8 +87,9 @@ pub struct Batch {
     /// With a sheen ([`crate::scene::Material::layer_sheen`]): drawn again by the layers
     /// pass, under the coat; its maps entry holds the sheen.
     pub sheened: bool,
-    /// A relit base: anisotropic ([`crate::scene::Material::anisotropic`]) or with a
-    /// tinted specular colour ([`crate::scene::Material::tint`]). Drawn by the G-buffer,
+    /// A relit base: anisotropic ([`crate::scene::Material::anisotropic`]), with a
+    /// tinted specular colour ([`crate::scene::Material::tint`]) or iridescent
+    /// ([`crate::scene::Material::iridescent`]). Drawn by the G-buffer,
     /// then lit again by the layers pass with what the G-buffer cannot hold; its maps
     /// entry holds the anisotropy and the tint.
     pub relit: bool,
@@ -129,6 +130,8 @@ pub struct FrameMaps {
     pub anisotropy: Option<crate::scene::Anisotropy>,
     /// The specular tint the layers pass relights it with (clamped; `None`: white).
     pub specular_tint: Option<Vec3>,
+    /// The iridescent film the layers pass relights it with (clamped).
+    pub iridescence: Option<crate::scene::Iridescence>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -613,7 +616,8 @@ pub fn extract_frame(
         let sheened = sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
         let specular_tint = material.tint().filter(|_| !transmissive);
-        let relit = anisotropy.is_some() || specular_tint.is_some();
+        let iridescence = material.iridescent().filter(|_| !transmissive);
+        let relit = anisotropy.is_some() || specular_tint.is_some() || iridescence.is_some();
         let textured = maps.is_some();
         let forward = blend || transmissive || coated || sheened || relit;
         let maps = maps.or(forward.then_some(&neutral_maps)).map(|m| {
@@ -625,6 +629,7 @@ pub fn extract_frame(
                     && x.sheen == sheen
                     && x.anisotropy == anisotropy
                     && x.specular_tint == specular_tint
+                    && x.iridescence == iridescence
             };
             let index = match frame.material_maps.iter().position(same) {
                 Some(i) => i,
@@ -637,6 +642,7 @@ pub fn extract_frame(
                         sheen,
                         anisotropy,
                         specular_tint,
+                        iridescence,
                     });
                     frame.material_maps.len() - 1
                 }

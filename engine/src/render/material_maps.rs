@@ -28,6 +28,7 @@ struct GpuMaps {
     sheen: [f32; 4],
     anisotropy: [f32; 4],
     specular_tint: [f32; 4],
+    film: [f32; 4],
 }
 
 impl GpuMaps {
@@ -76,6 +77,9 @@ impl GpuMaps {
             .unwrap_or(glam::Vec3::ONE)
             .extend(0.0)
             .into();
+        if let Some(f) = entry.iridescence {
+            out.film = [f.factor, f.ior, f.thickness_nm, 0.0];
+        }
         out
     }
 }

@@ -69,6 +69,47 @@ pub struct Material {
     /// ([`Material::tint`]), by the layers pass, like the anisotropy
     /// (docs/src/materials.md#specular-colour).
     pub specular_tint: Vec3,
+    /// A thin iridescent film over the surface (glTF's `KHR_materials_iridescence`): soap
+    /// bubbles, oil slicks, heat-tinted metal. `None`: no film. Drawn on opaque, lit
+    /// surfaces only ([`Material::iridescent`]), by the layers pass, like the anisotropy
+    /// (docs/src/materials.md#iridescence).
+    pub iridescence: Option<Iridescence>,
+}
+
+/// The iridescent film of a [`Material`] (glTF's `KHR_materials_iridescence`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Iridescence {
+    /// How much of the base's Fresnel the film's replaces, 0..1 (clamped).
+    pub factor: f32,
+    /// The film's index of refraction (≥ 1, clamped; glTF's default 1.3).
+    pub ior: f32,
+    /// The film's thickness in nanometres (≥ 0; glTF's default maximum 400).
+    pub thickness_nm: f32,
+}
+
+impl Default for Iridescence {
+    /// A whole film of index 1.3, 400 nm thick (glTF's defaults without a thickness
+    /// texture).
+    fn default() -> Self {
+        Iridescence {
+            factor: 1.0,
+            ior: 1.3,
+            thickness_nm: 400.0,
+        }
+    }
+}
+
+impl Iridescence {
+    /// The film made safe: the factor in 0..1, the index ≥ 1, the thickness ≥ 0 nm; NaN
+    /// or infinite values are 0 (factor and thickness) or 1.3 (index).
+    pub fn clamped(self) -> Iridescence {
+        let finite = |x: f32, d: f32| if x.is_finite() { x } else { d };
+        Iridescence {
+            factor: finite(self.factor, 0.0).clamp(0.0, 1.0),
+            ior: finite(self.ior, 1.3).max(1.0),
+            thickness_nm: finite(self.thickness_nm, 0.0).max(0.0),
+        }
+    }
 }
 
 /// The anisotropy of a [`Material`] (glTF's `KHR_materials_anisotropy`).
@@ -227,6 +268,7 @@ impl Default for Material {
             sheen: None,
             anisotropy: None,
             specular_tint: Vec3::ONE,
+            iridescence: None,
         }
     }
 }
@@ -277,6 +319,15 @@ impl Material {
         let t = self.specular_tint;
         let tint = Vec3::new(channel(t.x), channel(t.y), channel(t.z));
         (tint.min_element() < 1.0 && self.metallic < 1.0 && self.opaque_and_lit()).then_some(tint)
+    }
+
+    /// The iridescent film that is drawn (clamped): [`Material::iridescence`] where its
+    /// factor is above 0 and the surface is opaque and lit, as for [`Material::coat`].
+    pub fn iridescent(&self) -> Option<Iridescence> {
+        self.iridescence
+            .map(Iridescence::clamped)
+            .filter(|f| f.factor > 0.0)
+            .filter(|_| self.opaque_and_lit())
     }
 
     /// Neither blended, transmissive nor unlit: what a layer can be drawn over.

@@ -44,6 +44,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             sheen: None,
             anisotropy: None,
             specular_tint: Vec3::ONE,
+            iridescence: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

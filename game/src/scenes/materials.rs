@@ -21,17 +21,20 @@
 //!     drawn out into arcs around the sphere;
 //! 11. a dark dielectric sphere with a coloured specular reflection
 //!     (`KHR_materials_specular`: specular level 1, colour (1, 0.55, 0.15)): orange
-//!     highlights and reflections over a nearly black base.
+//!     highlights and reflections over a nearly black base;
+//! 12. an iridescent sphere: a nearly black dielectric under a whole 400 nm film of
+//!     index 1.3 (`KHR_materials_iridescence`): its reflection shifts in colour from the
+//!     centre to the rim.
 //!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::scene::{Anisotropy, Clearcoat, Sheen, Transmission};
+use lumen::scene::{Anisotropy, Clearcoat, Iridescence, Sheen, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 11] = [
-    -3.4, -2.72, -2.04, -1.36, -0.68, 0.0, 0.68, 1.36, 2.04, 2.72, 3.4,
+pub const MATERIALS_X: [f32; 12] = [
+    -3.63, -2.97, -2.31, -1.65, -0.99, -0.33, 0.33, 0.99, 1.65, 2.31, 2.97, 3.63,
 ];
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.32;
@@ -155,6 +158,14 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         },
         Transform::from_xyz(MATERIALS_X[10], MATERIALS_RADIUS + 0.01, 0.0),
     ));
+    world.spawn((
+        Mesh3d(sphere),
+        Material {
+            iridescence: Some(Iridescence::default()),
+            ..Material::new(Vec3::splat(0.03), 0.0, 0.2)
+        },
+        Transform::from_xyz(MATERIALS_X[11], MATERIALS_RADIUS + 0.01, 0.0),
+    ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((
         DirectionalLight {
@@ -167,7 +178,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     world.spawn((
         Camera {
             projection: Projection {
-                fov_y_rad: 40f32.to_radians(),
+                fov_y_rad: 44f32.to_radians(),
                 near_m: 0.1,
                 far_m: 50.0,
                 ..Projection::default()

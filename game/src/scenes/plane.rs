@@ -20,6 +20,7 @@ pub const PLANE_MATERIAL: Material = Material {
     sheen: None,
     anisotropy: None,
     specular_tint: Vec3::ONE,
+    iridescence: None,
 };
 
 /// Illuminance of the light in lux.

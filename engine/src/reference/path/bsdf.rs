@@ -12,9 +12,10 @@
 use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
 use super::scene::{AlbedoTable, TraceMaterial};
-use crate::anisotropy::{anisotropic_alphas, anisotropic_brdf_lobes, d_ggx_anisotropic};
+use crate::anisotropy::{RelitLobe, anisotropic_alphas, anisotropic_brdf_lobes, d_ggx_anisotropic};
 use crate::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use crate::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
+use crate::iridescence::iridescent_mix;
 use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
@@ -105,12 +106,10 @@ pub(super) struct Bsdf {
     specular_scale: Vec3,
     /// The specular lobe's GGX widths along the frame's first two axes.
     alphas: Vec2,
-    /// The anisotropic lobe's strength (0..1; its direction is the frame's first axis).
-    anisotropy: f32,
-    /// The dielectric F0's tint (1: untinted).
-    tint: Vec3,
-    /// A relit base (anisotropic or tinted): evaluated by `anisotropic_brdf_lobes`, as the
-    /// rasterizer's layers pass relights it.
+    /// What a relit base adds (anisotropy along the frame's first axis, tint, film).
+    lobe: RelitLobe,
+    /// A relit base (anisotropic, tinted or iridescent): evaluated by
+    /// `anisotropic_brdf_lobes`, as the rasterizer's layers pass relights it.
     relit: bool,
     /// Probability of sampling the specular lobe (when the base is sampled).
     p_specular: f32,
@@ -145,9 +144,15 @@ impl Bsdf {
             perceptual_roughness: m.roughness,
             specular_level: m.specular_level,
         };
-        let tint = m.specular_tint.unwrap_or(Vec3::ONE);
-        let f0 = crate::brdf::tinted_f0(m.base_color, m.metallic, m.specular_level, tint);
-        let f = crate::brdf::f_schlick(f0, n.dot(v).clamp(0.0, 1.0));
+        let lobe = RelitLobe {
+            strength: 0.0,
+            tint: m.specular_tint.unwrap_or(Vec3::ONE),
+            film: m
+                .iridescence
+                .map_or(Vec3::ZERO, |f| Vec3::new(f.factor, f.ior, f.thickness_nm)),
+        };
+        let f0 = crate::brdf::tinted_f0(m.base_color, m.metallic, m.specular_level, lobe.tint);
+        let f = iridescent_mix(f0, n.dot(v).clamp(0.0, 1.0), lobe.film);
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
         let p_specular = lobe_probability(spec, diff);
@@ -159,9 +164,8 @@ impl Bsdf {
             surface,
             specular_scale,
             alphas: Vec2::splat(m.roughness * m.roughness),
-            anisotropy: 0.0,
-            tint,
-            relit: m.specular_tint.is_some(),
+            lobe,
+            relit: m.specular_tint.is_some() || m.iridescence.is_some(),
             p_specular,
             model,
             coat: None,
@@ -192,7 +196,7 @@ impl Bsdf {
         );
         self.frame = Mat3::from_cols(t, n.cross(t), n);
         self.alphas = anisotropic_alphas(self.alphas.y, anisotropy.strength);
-        self.anisotropy = anisotropy.strength;
+        self.lobe.strength = anisotropy.strength;
         self.relit = true;
         self
     }
@@ -226,15 +230,13 @@ impl Bsdf {
     /// An estimate of the base's reflectance towards `v` (luminance of F plus the
     /// diffuse albedo), for choosing between lobes.
     fn reflectance(&self, v: Vec3) -> f32 {
-        let f = crate::brdf::f_schlick(
-            crate::brdf::tinted_f0(
-                self.surface.base_color,
-                self.surface.metallic,
-                self.surface.specular_level,
-                self.tint,
-            ),
-            self.n().dot(v).clamp(0.0, 1.0),
+        let f0 = crate::brdf::tinted_f0(
+            self.surface.base_color,
+            self.surface.metallic,
+            self.surface.specular_level,
+            self.lobe.tint,
         );
+        let f = iridescent_mix(f0, self.n().dot(v).clamp(0.0, 1.0), self.lobe.film);
         luminance(f) + luminance(self.surface.base_color) * (1.0 - self.surface.metallic)
     }
 
@@ -291,8 +293,7 @@ impl Bsdf {
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
         let lobes = if self.relit {
-            let relit = (self.anisotropy, self.tint);
-            anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, relit)
+            anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, &self.lobe)
         } else {
             surface_brdf_lobes(n, v, l, &self.surface, self.model)
         };
@@ -434,6 +435,9 @@ mod tests {
                 // The anisotropic dielectric is tinted too.
                 specular_tint: (metallic == 0.0 && anisotropy.is_some())
                     .then_some(Vec3::new(1.0, 0.5, 0.2)),
+                // The first anisotropic metal has an iridescent film.
+                iridescence: (metallic == 1.0 && roughness == 0.3 && anisotropy.is_some())
+                    .then_some(crate::scene::Iridescence::default()),
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
             let bsdf = match anisotropy {

@@ -174,6 +174,8 @@ pub struct TraceMaterial {
     pub anisotropy: Option<crate::scene::Anisotropy>,
     /// The dielectric F0's tint ([`crate::scene::Material::tint`]); `None`: untinted.
     pub specular_tint: Option<Vec3>,
+    /// The iridescent film ([`crate::scene::Material::iridescent`]); `None`: no film.
+    pub iridescence: Option<crate::scene::Iridescence>,
 }
 
 impl TraceMaterial {
@@ -216,6 +218,10 @@ impl TraceMaterial {
                 let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
                 Vec3::new(channel(t.x), channel(t.y), channel(t.z))
             }),
+            iridescence: self
+                .iridescence
+                .map(crate::scene::Iridescence::clamped)
+                .filter(|f| f.factor > 0.0),
             ..self
         }
     }
