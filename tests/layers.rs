@@ -308,7 +308,7 @@ fn sphere_means(app: &App, image: &image::Rgba32FImage) -> [Vec3; 3] {
 /// The layers pass's reason to skip a frame without layers (only a skipped pass gives
 /// it).
 const NO_LAYER: &str =
-    "no surface with anisotropy, a specular tint, a sheen or a clearcoat in view";
+    "no surface with anisotropy, a specular tint, a film, a sheen or a clearcoat in view";
 
 /// The rasterizer against the path tracer (256 paths per pixel, direct light only) on
 /// three layered spheres (`materials`), per sphere: within `tolerance` (relative), while

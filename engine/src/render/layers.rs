@@ -161,7 +161,7 @@ impl FramePass for LayersPass {
         let (runs, reason) = if named.is_empty() {
             (
                 false,
-                "no surface with anisotropy, a specular tint, a sheen or a clearcoat in view"
+                "no surface with anisotropy, a specular tint, a film, a sheen or a clearcoat in view"
                     .to_string(),
             )
         } else if lighting.is_none() {
