@@ -19,6 +19,7 @@
 #import mesh_vertex
 #import material_maps
 #import surface_light
+#import forward_surface
 #import clearcoat
 #import sheen
 #import anisotropy
@@ -142,33 +143,18 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
 }
 
 // A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
-// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film): the whole surface (emission, diffuse and
-// the anisotropic, tinted specular lobe, every light and the indirect terms) from its
-// material and normal map, as the G-buffer's textured variant reads them, with alpha 1:
-// it replaces the deferred pass's light.
+// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film): the
+// whole surface (emission, diffuse and the relit specular lobe, every light and the
+// indirect terms) from its material (forward_surface.wgsl), with alpha 1: it replaces
+// the deferred pass's light.
 @fragment
 fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let base = in.base_color * base_color_texel(in.uv0, in.uv1);
-    if masked_out(base.a) {
+    let fragment = forward_surface(in, front);
+    if masked_out(fragment.alpha) {
         discard;
     }
-    let ng = safe_normalize(in.world_normal * select(-1.0, 1.0, front), vec3<f32>(0.0, 0.0, 1.0));
-    let mapped = mapped_material(in.uv0, in.uv1, ng, in.world_tangent, in.params, in.emissive_occlusion);
-    var surface: Surface;
-    surface.base_color = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
-    surface.metallic = mapped.metallic;
-    surface.perceptual_roughness = mapped.roughness;
-    surface.specular_level = clamp(in.params.z, 0.0, 1.0);
-    let world = fragment_world(in.clip);
-    var point: ShadingPoint;
-    point.world = world;
-    point.n = mapped.n;
-    point.v = safe_normalize(view.position_exposure.xyz - world, mapped.n);
-    point.frag = in.clip.xy;
-    point.occlusion = mapped.occlusion;
-    point.receives = select(0.0, 1.0, in.params.w > 0.5);
-    anisotropy_t = anisotropy_direction(mapped.n, in.world_tangent.xyz, in.world_tangent.w, maps.anisotropy.yz);
+    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, in.world_tangent.w, maps.anisotropy.yz);
     relit_lobe = RelitLobe(maps.anisotropy.x, maps.specular_tint.rgb, maps.film.xyz);
-    let light = mapped.emissive + surface_light(point, surface);
+    let light = fragment.emissive + surface_light(fragment.point, fragment.surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

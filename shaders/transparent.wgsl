@@ -19,6 +19,7 @@
 #import mesh_vertex
 #import material_maps
 #import surface_light
+#import forward_surface
 #import transparency
 #import transmission
 
@@ -74,39 +75,22 @@ struct BlendedFragment {
 }
 
 fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
-    // Back faces reach here only for double-sided materials: lit from the side the
-    // viewer sees.
-    let ng = safe_normalize(in.world_normal * select(-1.0, 1.0, front), vec3<f32>(0.0, 0.0, 1.0));
-    let base = in.base_color * base_color_texel(in.uv0, in.uv1);
-    let mapped = mapped_material(in.uv0, in.uv1, ng, in.world_tangent, in.params, in.emissive_occlusion);
-
-    var surface: Surface;
-    surface.base_color = clamp(base.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
-    surface.perceptual_roughness = mapped.roughness;
-    surface.metallic = mapped.metallic;
-    surface.specular_level = clamp(in.params.z, 0.0, 1.0);
-
-    let world = fragment_world(in.clip);
-
-    var point: ShadingPoint;
-    point.world = world;
-    point.n = mapped.n;
-    point.v = safe_normalize(view.position_exposure.xyz - world, mapped.n);
-    point.frag = in.clip.xy;
-    point.occlusion = mapped.occlusion;
-    point.receives = select(0.0, 1.0, in.params.w > 0.5);
+    let fragment = forward_surface(in, front);
+    let surface = fragment.surface;
+    let point = fragment.point;
+    let world = point.world;
     // Coverage: the base alpha where blended, else whole.
-    var alpha = select(1.0, base.a, maps.params.w > 0.5);
+    var alpha = select(1.0, fragment.alpha, maps.params.w > 0.5);
     var transmitted = vec3<f32>(0.0);
     if TRANSMISSION && maps.transmission.x > 0.0 {
-        if masked_out(base.a) {
+        if masked_out(fragment.alpha) {
             alpha = 0.0;
         }
         diffuse_weight = 1.0 - maps.transmission.x;
         transmitted = transmitted_light(point, surface);
     }
     // An unlit surface (KHR_materials_unlit) shows its base colour as it is, pre-exposed.
-    let lit = select(mapped.emissive + surface_light(point, surface) + transmitted, surface.base_color,
+    let lit = select(fragment.emissive + surface_light(point, surface) + transmitted, surface.base_color,
                      is_unlit(in.params.z));
     let color = premultiplied(lit, alpha);
     return BlendedFragment(color, dot(world - view.position_exposure.xyz, view.forward.xyz));

@@ -83,6 +83,19 @@ fn sphere_pixels(app: &App, column: u32, row: u32) -> Vec<((u32, u32), f32)> {
     out
 }
 
+/// The pixels of the furnace's top row of spheres in the last frame with n·v ≥ 0.3
+/// (silhouette pixels mix the sphere with the background): (pixel, n·v, column).
+fn top_row_pixels(app: &App) -> Vec<((u32, u32), f32, u32)> {
+    (0..FURNACE_COLUMNS)
+        .flat_map(|column| {
+            sphere_pixels(app, column, 0)
+                .into_iter()
+                .filter(|(_, n_dot_v)| *n_dot_v >= 0.3)
+                .map(move |(pixel, n_dot_v)| (pixel, n_dot_v, column))
+        })
+        .collect()
+}
+
 /// The coat lobe's albedo E(n·v, r) with energy compensation, from a CPU integration of
 /// the split-sum table (1024 samples): what the coat reflects of a uniform environment
 /// of 1.
@@ -110,20 +123,14 @@ fn layer_over_black(
     });
     let mut worst = (0.0f32, 0.0, 0.0, 0u32);
     let mut counted = 0;
-    for column in 0..FURNACE_COLUMNS {
+    for ((x, y), n_dot_v, column) in top_row_pixels(&app) {
         let r = column as f32 / (FURNACE_COLUMNS - 1) as f32;
-        for ((x, y), n_dot_v) in sphere_pixels(&app, column, 0) {
-            // Silhouette pixels mix the sphere with the background.
-            if n_dot_v < 0.3 {
-                continue;
-            }
-            let got = image.get_pixel(x, y).0[1];
-            let base = dfg_integrate(n_dot_v, 1.0, 1024).y;
-            let want = layer_albedo(n_dot_v, r) + (1.0 - taken(n_dot_v, r)) * base;
-            counted += 1;
-            if (got - want).abs() > (worst.0 - worst.1).abs() {
-                worst = (got, want, n_dot_v, column);
-            }
+        let got = image.get_pixel(x, y).0[1];
+        let base = dfg_integrate(n_dot_v, 1.0, 1024).y;
+        let want = layer_albedo(n_dot_v, r) + (1.0 - taken(n_dot_v, r)) * base;
+        counted += 1;
+        if (got - want).abs() > (worst.0 - worst.1).abs() {
+            worst = (got, want, n_dot_v, column);
         }
     }
     let (got, want, n_dot_v, column) = worst;
@@ -229,14 +236,7 @@ fn dark_red() -> Material {
 /// background, no environment.
 fn layered_spheres(materials: [Material; 3]) -> App {
     spheres_under(materials, |world| {
-        world.spawn((
-            DirectionalLight {
-                illuminance_lux: 10.0,
-                cast_shadows: false,
-                ..DirectionalLight::default()
-            },
-            Transform::from_xyz(1.0, 2.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
+        spawn_sun(world, Vec3::new(1.0, 2.0, 3.0));
         world.spawn((
             PointLight {
                 intensity: lumen::scene::LuminousIntensity::Candela(20.0),
@@ -246,6 +246,18 @@ fn layered_spheres(materials: [Material; 3]) -> App {
             Transform::from_xyz(-2.0, 1.0, 2.0),
         ));
     })
+}
+
+/// An unshadowed sun of 10 lx shining from `from` towards the origin.
+fn spawn_sun(world: &mut World, from: Vec3) {
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 10.0,
+            cast_shadows: false,
+            ..DirectionalLight::default()
+        },
+        Transform::from_translation(from).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
 }
 
 /// Three spheres at x = −1.1, 0, 1.1 of `materials` (radius 0.5 m), seen from 4 m along
@@ -601,16 +613,7 @@ fn anisotropy_stretches_the_highlight_along_the_tangent() {
             ..metal
         },
     ];
-    let mut app = spheres_under(materials, |world| {
-        world.spawn((
-            DirectionalLight {
-                illuminance_lux: 10.0,
-                cast_shadows: false,
-                ..DirectionalLight::default()
-            },
-            Transform::from_xyz(0.0, 0.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
-    });
+    let mut app = spheres_under(materials, |world| spawn_sun(world, Vec3::Z * 5.0));
     app.render_headless((240, 80)).expect("frame");
     let image = app.read_hdr_image().expect("readback");
     let [round, along, across] = [0, 1, 2].map(|i| highlight_spread(&app, &image, i));
@@ -698,20 +701,15 @@ fn an_iridescent_film_changes_hue_with_angle_as_the_formula_predicts() {
     assert!((hue(a) - hue(b)).abs().max_element() > 0.03, "{a} vs {b}");
     let mut worst = (0.0f32, Vec3::ZERO, Vec3::ZERO, 0.0);
     let mut counted = 0;
-    for column in 0..FURNACE_COLUMNS {
+    for ((x, y), n_dot_v, column) in top_row_pixels(&app) {
         let r = column as f32 / (FURNACE_COLUMNS - 1) as f32;
-        for ((x, y), n_dot_v) in sphere_pixels(&app, column, 0) {
-            if n_dot_v < 0.3 {
-                continue;
-            }
-            let p = image.get_pixel(x, y).0;
-            let got = Vec3::new(p[0], p[1], p[2]);
-            let want = predict(n_dot_v, r);
-            let error = (got - want).abs().max_element();
-            counted += 1;
-            if error > worst.0 {
-                worst = (error, got, want, n_dot_v);
-            }
+        let p = image.get_pixel(x, y).0;
+        let got = Vec3::new(p[0], p[1], p[2]);
+        let want = predict(n_dot_v, r);
+        let error = (got - want).abs().max_element();
+        counted += 1;
+        if error > worst.0 {
+            worst = (error, got, want, n_dot_v);
         }
     }
     let (error, got, want, n_dot_v) = worst;

@@ -111,10 +111,7 @@ pub fn anisotropic_brdf_lobes(
 ) -> BrdfLobes {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 || n_dot_l.is_nan() {
-        return BrdfLobes {
-            diffuse: Vec3::ZERO,
-            specular: Vec3::ZERO,
-        };
+        return BrdfLobes::ZERO;
     }
     let b = n.cross(t);
     let h = safe_normalize(v + l, n);

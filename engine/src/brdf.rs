@@ -294,6 +294,14 @@ pub struct BrdfLobes {
     pub specular: Vec3,
 }
 
+impl BrdfLobes {
+    /// Both lobes 0: a light below the horizon.
+    pub const ZERO: BrdfLobes = BrdfLobes {
+        diffuse: Vec3::ZERO,
+        specular: Vec3::ZERO,
+    };
+}
+
 /// The two lobes of the Cook-Torrance BRDF for unit vectors `n` (normal), `v` (to the
 /// viewer) and `l` (to the light); both zero for lights below the horizon.
 /// See [`surface_brdf`].
@@ -306,10 +314,7 @@ pub fn surface_brdf_lobes(
 ) -> BrdfLobes {
     let n_dot_l = n.dot(l);
     if n_dot_l <= 0.0 || n_dot_l.is_nan() {
-        return BrdfLobes {
-            diffuse: Vec3::ZERO,
-            specular: Vec3::ZERO,
-        };
+        return BrdfLobes::ZERO;
     }
     let n_dot_v = n.dot(v).max(MIN_N_DOT_V);
     let h = safe_normalize(v + l, n);
