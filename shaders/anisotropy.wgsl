@@ -52,7 +52,7 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
 // The lobes (1/sr) of a relit base: the anisotropic specular lobe along the unit
 // direction t (strength 0: isotropic, height-correlated Smith), the dielectric F0 tinted,
 // the Fresnel mixed with the film's.
-fn anisotropic_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>, surface: Surface,
+fn relit_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>, surface: Surface,
                           lobe: RelitLobe) -> BrdfLobes {
     var lobes: BrdfLobes;
     lobes.diffuse = vec3<f32>(0.0);

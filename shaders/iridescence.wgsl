@@ -52,12 +52,8 @@ fn iridescent_fresnel(cos_theta1: f32, film_ior: f32, thickness_nm: f32, base_f0
     if fade == 0.0 {
         return bare;
     }
-    let sin2_sq = (1.0 - cos1 * cos1) / (eta * eta);
-    let cos2_sq = 1.0 - sin2_sq;
-    if cos2_sq < 0.0 {
-        return vec3<f32>(1.0);
-    }
-    let cos2 = sqrt(cos2_sq);
+    // η ≥ 1: light entering the film from air always refracts.
+    let cos2 = sqrt(max(1.0 - (1.0 - cos1 * cos1) / (eta * eta), 0.0));
     let r12 = f_schlick(vec3<f32>(interface_f0(eta, 1.0)), cos1).x;
     let t121 = 1.0 - r12;
     let phi21 = PI;
@@ -93,6 +89,20 @@ fn iridescent_mix(f0: vec3<f32>, cos_theta: f32, film: vec3<f32>) -> vec3<f32> {
         return schlick;
     }
     return mix(schlick, iridescent_fresnel(cos_theta, film.y, film.z, f0), k);
+}
+
+// The F0 the split sum and the compensation use under the film (factor, index,
+// thickness): mix(f0, schlick_f0_of(the film's Fresnel at cos_theta), factor).
+fn film_f0(f0: vec3<f32>, cos_theta: f32, film: vec3<f32>) -> vec3<f32> {
+    var k = clamp(film.x, 0.0, 1.0);
+    if !(film.x == film.x) {
+        k = 0.0;
+    }
+    if k == 0.0 {
+        return f0;
+    }
+    let fresnel = iridescent_fresnel(cos_theta, film.y, film.z, f0);
+    return mix(f0, schlick_f0_of(fresnel, cos_theta), k);
 }
 
 // The F0 that makes Schlick's Fresnel at cos_theta equal `fresnel`.

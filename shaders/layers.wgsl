@@ -2,9 +2,9 @@
 // the lit frame after the deferred lighting and SSR have lit its base: a sheen
 // (KHR_materials_sheen, `fs_sheen`, compiled with SHEEN_LOBE) and a clearcoat
 // (KHR_materials_clearcoat, `fs_coat`). Before them, a base the G-buffer cannot hold
-// (KHR_materials_anisotropy, a tinted KHR_materials_specular; `fs_relit`, compiled with
-// RELIT_BASE) is lit again from its material, with its anisotropic, tinted lobe, and
-// replaces the deferred pass's light (alpha 1). The same mesh, with the same vertex code as the
+// (KHR_materials_anisotropy, a tinted KHR_materials_specular, KHR_materials_iridescence;
+// `fs_relit`, compiled with RELIT_BASE) is lit again from its material, with its own
+// lobe, and replaces the deferred pass's light (alpha 1). The same mesh, with the same vertex code as the
 // G-buffer's textured variant, is drawn where its own depth is; each fragment is the
 // layer's lobe on the mesh's interpolated normal (not the base's normal map), lit by
 // surface_light.wgsl, the deferred pass's own code, as a surface without a diffuse lobe.
@@ -153,7 +153,10 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     if masked_out(fragment.alpha) {
         discard;
     }
-    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, in.world_tangent.w, maps.anisotropy.yz);
+    // On a back face the normal is turned, so the handedness turns too: the grain is the
+    // front's.
+    let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
+    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, maps.anisotropy.yz);
     relit_lobe = RelitLobe(maps.anisotropy.x, maps.specular_tint.rgb, maps.film.xyz);
     let light = fragment.emissive + surface_light(fragment.point, fragment.surface);
     return vec4<f32>(finite_layer(light), 1.0);

@@ -137,8 +137,8 @@ var<private> diffuse_weight: f32 = 1.0;
 // the layers pass before surface_light.
 var<private> layer_albedo: f32 = 0.0;
 // With RELIT_BASE: the unit anisotropy direction (world, perpendicular to the
-// normal), the strength (0..1) and the dielectric F0's tint, set by the layers pass
-// before surface_light.
+// normal) and the relit lobe (the anisotropy's strength, the dielectric F0's tint, the
+// film), set by the layers pass before surface_light.
 var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
 var<private> relit_lobe: RelitLobe = RelitLobe(0.0, vec3<f32>(1.0), vec3<f32>(0.0));
 
@@ -157,7 +157,7 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
     }
     var lobes: BrdfLobes;
     if RELIT_BASE {
-        lobes = anisotropic_brdf_lobes(n, v, l, anisotropy_t, surface, relit_lobe);
+        lobes = relit_brdf_lobes(n, v, l, anisotropy_t, surface, relit_lobe);
     } else {
         lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
     }
@@ -218,11 +218,8 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     var f0 = compute_f0(surface.base_color, surface.metallic, surface.specular_level);
     if RELIT_BASE {
-        f0 = tinted_f0(surface.base_color, surface.metallic, surface.specular_level, relit_lobe.tint);
-        if relit_lobe.film.x > 0.0 {
-            let film = iridescent_fresnel(n_dot_v, relit_lobe.film.y, relit_lobe.film.z, f0);
-            f0 = mix(f0, schlick_f0_of(film, n_dot_v), clamp(relit_lobe.film.x, 0.0, 1.0));
-        }
+        f0 = film_f0(tinted_f0(surface.base_color, surface.metallic, surface.specular_level, relit_lobe.tint),
+                     n_dot_v, relit_lobe.film);
     }
     var dfg = vec2<f32>(1.0, 0.0);
     if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {

@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 58;
+const OUTPUTS: usize = 59;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -363,7 +363,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
                 tint: Vec3::new(base.z, base.y, base.x) * 1.2,
                 film: Vec3::new(x, 1.0 + r, 800.0 * n_dot_h),
             };
-            let lobes = an::anisotropic_brdf_lobes(n, v, l, tangent, &s, &lobe);
+            let lobes = an::relit_brdf_lobes(n, v, l, tangent, &s, &lobe);
             lobes.specular.extend(lobes.diffuse.x)
         },
         an::anisotropic_bent_normal(n, v, tangent, k * 1.2 - 0.1, r).extend(0.0),
@@ -380,6 +380,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         ir::film_sensitivity(500.0 * x, base * 3.0).extend(0.0),
         ir::iridescent_mix(base, n_dot_h, Vec3::new(k, 1.0 + r, 500.0 * x)).extend(0.0),
         ir::schlick_f0_of(base, n_dot_h).extend(0.0),
+        ir::film_f0(base, n_dot_h, Vec3::new(k, 1.0 + r, 500.0 * x)).extend(0.0),
     ]
 }
 
@@ -434,7 +435,7 @@ const NAMES: [&str; OUTPUTS] = [
     "d_charlie | v_neubelt | sheen_base_weight | clamp_sheen_roughness",
     "sheen_brdf",
     "anisotropic_alphas | d_ggx_anisotropic | v_smith_ggx_correlated_anisotropic",
-    "anisotropic_brdf_lobes",
+    "relit_brdf_lobes",
     "anisotropic_bent_normal",
     "anisotropy_direction",
     "tinted_f0",
@@ -442,6 +443,7 @@ const NAMES: [&str; OUTPUTS] = [
     "film_sensitivity",
     "iridescent_mix",
     "schlick_f0_of",
+    "film_f0",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -471,10 +473,10 @@ const UNIT_VECTORS: [usize; 9] = [7, 11, 13, 16, 22, 24, 41, 51, 52];
 /// with a looser tolerance: near ±1, one rounding of the cosine moves `acos` by
 /// √(2 · 6e-8) ≈ 3.5e-4 rad.
 const ANGLES: [usize; 2] = [19, 20];
-/// Outputs of the thin film, held in absolute terms: they take the cosine of phases up
-/// to about 85 rad, where one ulp of the argument is 8e-6, and cross 0 (measured: an
+/// Outputs of the thin film (and the relit lobes, which include one), held in absolute
+/// terms: they take the cosine of phases up to about 85 rad, where one ulp of the argument is 8e-6, and cross 0 (measured: an
 /// absolute difference of 5e-7 at a value of 1.25e-4).
-const FILM: [usize; 3] = [54, 55, 56];
+const FILM: [usize; 5] = [50, 54, 55, 56, 58];
 
 /// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
 /// `outputs` vec4s per case (binding 1).

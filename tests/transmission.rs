@@ -453,8 +453,8 @@ fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
 #[test]
 fn the_materials_scene_draws_each_feature() {
     // Five transmissive objects and one blended pane, all drawn by the transparent pass,
-    // a clearcoated, a sheen and an anisotropic sphere; finite; and the clear sphere is not the opaque one: light
-    // passes through it.
+    // a clearcoated, a sheen, an anisotropic, a tinted and an iridescent sphere; finite;
+    // and the clear sphere is not the opaque one: light passes through it.
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");

@@ -101,7 +101,7 @@ impl Default for RelitLobe {
 /// iridescent film's ([`crate::iridescence::iridescent_mix`]); the diffuse lobe of
 /// [`crate::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
 /// zero for lights below the horizon.
-pub fn anisotropic_brdf_lobes(
+pub fn relit_brdf_lobes(
     n: Vec3,
     v: Vec3,
     l: Vec3,
@@ -234,7 +234,7 @@ mod tests {
             Vec3::new(0.3, 0.1, 0.95).normalize(),
             Vec3::new(-0.5, 0.2, 0.84).normalize(),
         );
-        let aniso = anisotropic_brdf_lobes(n, v, l, t, &surface, &RelitLobe::default());
+        let aniso = relit_brdf_lobes(n, v, l, t, &surface, &RelitLobe::default());
         let iso = surface_brdf_lobes(n, v, l, &surface, VisibilityModel::SmithGgxCorrelated);
         assert!((aniso.specular - iso.specular).length() < 1e-4 * iso.specular.length());
         assert_eq!(aniso.diffuse, iso.diffuse);
@@ -269,7 +269,7 @@ mod tests {
             let mut previous = f32::INFINITY;
             for s in [0.0, 0.5, 1.0] {
                 let albedo = hemisphere(600, |l| {
-                    anisotropic_brdf_lobes(
+                    relit_brdf_lobes(
                         n,
                         v,
                         l,

@@ -61,8 +61,7 @@ pub fn film_sensitivity(opd_nm: f32, shift: Vec3) -> Vec3 {
 /// as the thickness tends to 0 (over the first 0.03 nm, weight t = smoothstep); Lumen
 /// also mixes the result into the base's Schlick Fresnel by that t, so that no film is
 /// exactly the base (glTF's index fade alone leaves Schlick's grazing term of the vanished
-/// interface: 0.36 too much at cos 0.3, unit test). Total internal reflection in the
-/// film gives 1.
+/// interface: measured 0.36 too much at cos 0.3 before this fade was added).
 pub fn iridescent_fresnel(
     cos_theta1: f32,
     film_ior: f32,
@@ -91,12 +90,8 @@ pub fn iridescent_fresnel(
     if fade == 0.0 {
         return bare;
     }
-    let sin2_sq = (1.0 - cos1 * cos1) / (eta * eta);
-    let cos2_sq = 1.0 - sin2_sq;
-    if cos2_sq < 0.0 {
-        return Vec3::ONE;
-    }
-    let cos2 = cos2_sq.sqrt();
+    // η ≥ 1: light entering the film from air always refracts.
+    let cos2 = (1.0 - (1.0 - cos1 * cos1) / (eta * eta)).max(0.0).sqrt();
     // Air to film: the film is denser than air (η ≥ 1), so no phase shift on reflection
     // at its top, π at its bottom seen from inside.
     let r12 = f_schlick(Vec3::splat(interface_f0(eta, 1.0)), cos1).x;
@@ -141,6 +136,22 @@ pub fn iridescent_mix(f0: Vec3, cos_theta: f32, film: Vec3) -> Vec3 {
     schlick.lerp(iridescent_fresnel(cos_theta, film.y, film.z, f0), k)
 }
 
+/// The F0 the split sum and the energy compensation use for a surface of F0 `f0` under
+/// the film `film` (as in [`iridescent_mix`]) seen at cosine `cos_theta`:
+/// `mix(f0, schlick_f0_of(iridescent_fresnel(cos, index, thickness, f0), cos), factor)`.
+pub fn film_f0(f0: Vec3, cos_theta: f32, film: Vec3) -> Vec3 {
+    let k = if film.x.is_nan() {
+        0.0
+    } else {
+        film.x.clamp(0.0, 1.0)
+    };
+    if k == 0.0 {
+        return f0;
+    }
+    let fresnel = iridescent_fresnel(cos_theta, film.y, film.z, f0);
+    f0.lerp(schlick_f0_of(fresnel, cos_theta), k)
+}
+
 /// The F0 that makes Schlick's Fresnel at cosine `cos_theta` equal `fresnel`:
 /// `(F − x)/(1 − x)`, x = (1 − cos)⁵, clamped to 0..1. The split sum reads the
 /// environment's specular albedo with it for an iridescent surface, as the Khronos sample
@@ -156,11 +167,12 @@ mod tests {
 
     #[test]
     fn a_film_of_no_thickness_is_the_base_alone() {
-        // At 0 nm the result is Schlick's Fresnel of the base at every angle; with glTF's
-        // fade of the film's index alone, Schlick's grazing term of the vanished
-        // air–film interface (F0 0 but F > 0 away from the normal) is left in the
-        // series: measured 0.0073 above the base at normal view, 0.0324 at cos 0.7 and
-        // 0.3598 at cos 0.3 (F0 (0.04, 0.5, 0.9)), so Lumen fades the result too.
+        // At 0 nm the result is Schlick's Fresnel of the base at every angle. With glTF's
+        // fade of the film's index alone (measured with this function before the result
+        // was faded too), Schlick's grazing term of the vanished air–film interface
+        // (F0 0 but F > 0 away from the normal) was left in the series: 0.0073 above the
+        // base at normal view, 0.0324 at cos 0.7 and 0.3598 at cos 0.3 (F0 (0.04, 0.5,
+        // 0.9)).
         let f0 = Vec3::new(0.04, 0.5, 0.9);
         for cos in [1.0, 0.7, 0.3, 0.05] {
             let film = iridescent_fresnel(cos, 1.3, 0.0, f0);

@@ -32,7 +32,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 58u;
+const OUTPUTS: u32 = 59u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -161,7 +161,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
                                  v_smith_ggx_correlated_anisotropic(alphas, c.v.xyz, c.l.xyz));
     let rotation = vec2<f32>(n_dot_h, sqrt(max(1.0 - n_dot_h * n_dot_h, 0.0)));
     let t = anisotropy_direction(c.n.xyz, c.l.xyz, x - 0.5, rotation);
-    let lobes = anisotropic_brdf_lobes(c.n.xyz, c.v.xyz, c.l.xyz, t, s,
+    let lobes = relit_brdf_lobes(c.n.xyz, c.v.xyz, c.l.xyz, t, s,
                                        RelitLobe(k, c.base_metallic.bgr * 1.2, vec3<f32>(x, 1.0 + r, 800.0 * n_dot_h)));
     results[o + 50u] = vec4<f32>(lobes.specular, lobes.diffuse.x);
     results[o + 51u] = vec4<f32>(anisotropic_bent_normal(c.n.xyz, c.v.xyz, t, k * 1.2 - 0.1, r), 0.0);
@@ -171,6 +171,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 55u] = vec4<f32>(film_sensitivity(500.0 * x, c.base_metallic.rgb * 3.0), 0.0);
     results[o + 56u] = vec4<f32>(iridescent_mix(c.base_metallic.rgb, n_dot_h, vec3<f32>(k, 1.0 + r, 500.0 * x)), 0.0);
     results[o + 57u] = vec4<f32>(schlick_f0_of(c.base_metallic.rgb, n_dot_h), 0.0);
+    results[o + 58u] = vec4<f32>(film_f0(c.base_metallic.rgb, n_dot_h, vec3<f32>(k, 1.0 + r, 500.0 * x)), 0.0);
     results[o + 53u] = vec4<f32>(tinted_f0(c.base_metallic.rgb, c.base_metallic.w, spec, vec3<f32>(x * 1.2 - 0.1, k, r)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }

@@ -91,7 +91,7 @@ pub struct Batch {
     /// tinted specular colour ([`crate::scene::Material::tint`]) or iridescent
     /// ([`crate::scene::Material::iridescent`]). Drawn by the G-buffer,
     /// then lit again by the layers pass with what the G-buffer cannot hold; its maps
-    /// entry holds the anisotropy and the tint.
+    /// entry holds the anisotropy, the tint and the film.
     pub relit: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
@@ -276,7 +276,7 @@ impl ExtractedFrame {
         self.drawn_batches().filter(|b| b.sheened)
     }
 
-    /// The relit batches in view (anisotropic or with a tinted specular colour): the
+    /// The relit batches in view (anisotropic, specular-tinted or iridescent): the
     /// surfaces the layers pass lights again, before any sheen or coat.
     pub fn relit_batches(&self) -> impl Iterator<Item = &Batch> {
         self.drawn_batches().filter(|b| b.relit)

@@ -3,11 +3,12 @@
 //! ([`crate::scene::Material::sheen`], glTF's `KHR_materials_sheen`) and, over it, a
 //! clearcoat ([`crate::scene::Material::clearcoat`], `KHR_materials_clearcoat`). Before
 //! them it lights some bases again: anisotropic ones
-//! ([`crate::scene::Material::anisotropy`], `KHR_materials_anisotropy`) and those with a
+//! ([`crate::scene::Material::anisotropy`], `KHR_materials_anisotropy`), those with a
 //! tinted specular colour ([`crate::scene::Material::specular_tint`],
-//! `KHR_materials_specular`). The G-buffer has no room for a direction or a colour of F0,
-//! so such a surface is shaded a second time from its material with the anisotropic,
-//! tinted GGX lobe (`RELIT_BASE`), and that light replaces the deferred pass's (alpha 1).
+//! `KHR_materials_specular`) and iridescent ones ([`crate::scene::Material::iridescence`],
+//! `KHR_materials_iridescence`). The G-buffer has no room for a direction, a colour of F0
+//! or a film, so such a surface is shaded a second time from its material with its own
+//! lobe (`RELIT_BASE`), and that light replaces the deferred pass's (alpha 1).
 //!
 //! Layers are not in the G-buffer. Their surfaces are drawn again, with the G-buffer's
 //! textured vertex code, and a fragment is kept where it lies on the opaque depth the
@@ -74,7 +75,7 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 /// Which layer a draw adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Layer {
-    /// The base again, with its anisotropic or tinted specular lobe (`fs_relit`,
+    /// The base again, with its anisotropic, tinted or iridescent lobe (`fs_relit`,
     /// compiled with `RELIT_BASE`), replacing the deferred pass's light.
     Relit,
     /// The sheen lobe (`fs_sheen`, compiled with `SHEEN_LOBE`).

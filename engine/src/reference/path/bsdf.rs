@@ -12,7 +12,7 @@
 use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
 use super::scene::{AlbedoTable, TraceMaterial};
-use crate::anisotropy::{RelitLobe, anisotropic_alphas, anisotropic_brdf_lobes, d_ggx_anisotropic};
+use crate::anisotropy::{RelitLobe, anisotropic_alphas, d_ggx_anisotropic, relit_brdf_lobes};
 use crate::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use crate::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
 use crate::iridescence::iridescent_mix;
@@ -109,7 +109,7 @@ pub(super) struct Bsdf {
     /// What a relit base adds (anisotropy along the frame's first axis, tint, film).
     lobe: RelitLobe,
     /// A relit base (anisotropic, tinted or iridescent): evaluated by
-    /// `anisotropic_brdf_lobes`, as the rasterizer's layers pass relights it.
+    /// `relit_brdf_lobes`, as the rasterizer's layers pass relights it.
     relit: bool,
     /// Probability of sampling the specular lobe (when the base is sampled).
     p_specular: f32,
@@ -156,8 +156,10 @@ impl Bsdf {
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
         let p_specular = lobe_probability(spec, diff);
+        // The compensation sees the film's F0, as the rasterizer's split sum does.
+        let compensated = crate::iridescence::film_f0(f0, n.dot(v).clamp(0.0, 1.0), lobe.film);
         let specular_scale = compensation.map_or(Vec3::ONE, |table| {
-            table.compensation(f0, n.dot(v), m.roughness)
+            table.compensation(compensated, n.dot(v), m.roughness)
         });
         Bsdf {
             frame: basis(n),
@@ -293,7 +295,7 @@ impl Bsdf {
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
         let lobes = if self.relit {
-            anisotropic_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, &self.lobe)
+            relit_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, &self.lobe)
         } else {
             surface_brdf_lobes(n, v, l, &self.surface, self.model)
         };

@@ -523,8 +523,13 @@ impl TraceScene {
             self.visibility,
             self.energy_compensation.as_ref(),
         );
+        // Seen from behind (the normal turned), the handedness turns too, so that the
+        // bitangent, and with it the grain, is the front's.
+        let turned_over = n.dot(surface.normal) < 0.0;
+        let tangent =
+            surface.tangent * Vec4::new(1.0, 1.0, 1.0, if turned_over { -1.0 } else { 1.0 });
         let base = match material.anisotropy {
-            Some(a) => base.with_anisotropy(surface.tangent, a),
+            Some(a) => base.with_anisotropy(tangent, a),
             None => base,
         };
         let n_layer = turned(surface.coat_normal, facing);
