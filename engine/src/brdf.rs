@@ -249,9 +249,13 @@ pub fn compute_f0(base_color: Vec3, metallic: f32, specular_level: f32) -> Vec3 
 /// its base colour.
 pub fn tinted_f0(base_color: Vec3, metallic: f32, specular_level: f32, tint: Vec3) -> Vec3 {
     let m = metallic.clamp(0.0, 1.0);
+    clamp_tint(tint) * (dielectric_f0(specular_level) * (1.0 - m)) + base_color * m
+}
+
+/// A specular tint made safe: each channel clamped to 0..1, NaN made 1 (untinted).
+pub fn clamp_tint(tint: Vec3) -> Vec3 {
     let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
-    let tint = Vec3::new(channel(tint.x), channel(tint.y), channel(tint.z));
-    tint * (dielectric_f0(specular_level) * (1.0 - m)) + base_color * m
+    Vec3::new(channel(tint.x), channel(tint.y), channel(tint.z))
 }
 
 /// F0 of a dielectric from its index of refraction against air:

@@ -315,9 +315,7 @@ impl Material {
     /// clamped to 0..1 (NaN: 1), where it is not white and the surface is opaque and lit
     /// and not wholly metal (a metal's F0 is its base colour).
     pub fn tint(&self) -> Option<Vec3> {
-        let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
-        let t = self.specular_tint;
-        let tint = Vec3::new(channel(t.x), channel(t.y), channel(t.z));
+        let tint = crate::brdf::clamp_tint(self.specular_tint);
         (tint.min_element() < 1.0 && self.metallic < 1.0 && self.opaque_and_lit()).then_some(tint)
     }
 

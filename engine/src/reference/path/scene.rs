@@ -214,10 +214,7 @@ impl TraceMaterial {
                 .anisotropy
                 .map(crate::scene::Anisotropy::clamped)
                 .filter(|a| a.strength > 0.0),
-            specular_tint: self.specular_tint.map(|t| {
-                let channel = |c: f32| if c.is_nan() { 1.0 } else { c.clamp(0.0, 1.0) };
-                Vec3::new(channel(t.x), channel(t.y), channel(t.z))
-            }),
+            specular_tint: self.specular_tint.map(crate::brdf::clamp_tint),
             iridescence: self
                 .iridescence
                 .map(crate::scene::Iridescence::clamped)
