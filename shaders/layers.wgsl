@@ -2,7 +2,8 @@
 // the lit frame after the deferred lighting and SSR have lit its base: a sheen
 // (KHR_materials_sheen, `fs_sheen`, compiled with SHEEN_LOBE) and a clearcoat
 // (KHR_materials_clearcoat, `fs_coat`). Before them, a base the G-buffer cannot hold
-// (KHR_materials_anisotropy, a tinted KHR_materials_specular, KHR_materials_iridescence;
+// (KHR_materials_anisotropy, a tinted KHR_materials_specular, KHR_materials_iridescence,
+// KHR_materials_diffuse_transmission;
 // `fs_relit`, compiled with RELIT_BASE) is lit again from its material, with its own
 // lobe, and replaces the deferred pass's light (alpha 1). The same mesh, with the same vertex code as the
 // G-buffer's textured variant, is drawn where its own depth is; each fragment is the
@@ -143,7 +144,8 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
 }
 
 // A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
-// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film): the
+// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film;
+// maps.translucency: the diffuse transmission): the
 // whole surface (emission, diffuse and the relit specular lobe, every light and the
 // indirect terms) from its material (forward_surface.wgsl), with alpha 1: it replaces
 // the deferred pass's light.
@@ -158,6 +160,8 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
     anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, maps.anisotropy.yz);
     relit_lobe = RelitLobe(maps.anisotropy.x, maps.specular_tint.rgb, maps.film.xyz);
+    translucency = maps.translucency;
+    diffuse_weight = 1.0 - maps.translucency.w;
     let light = fragment.emissive + surface_light(fragment.point, fragment.surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

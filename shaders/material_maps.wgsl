@@ -42,6 +42,8 @@ struct Maps {
     // Relit bases: the iridescent film: x: factor (0: none); y: index of refraction; z:
     // thickness (nm).
     film: vec4<f32>,
+    // Relit bases: the diffuse transmission: rgb: its colour; w: its factor (0: none).
+    translucency: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;

@@ -34,7 +34,11 @@
 // KHR_materials_iridescence), which that pass sets: every light reflects by it, the
 // environment and the reflection probes are read about its bent normal, and the split
 // sum uses the tinted F0, and under a film the F0 whose Schlick Fresnel at n·v is the
-// film's (schlick_f0_of).
+// film's (schlick_f0_of). A relit base may also transmit part of its diffuse lobe
+// (`translucency`, KHR_materials_diffuse_transmission, diffuse_transmission.wgsl): lights
+// behind it shine through, their shadows looked up on the side they reach, and the
+// environment's and the probes' irradiance from behind is added in the transmission's
+// colour.
 //
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
@@ -52,6 +56,7 @@
 #import probe_reflections
 #import sheen
 #import anisotropy
+#import diffuse_transmission
 
 // Group 2, indirect light: the environment and the AO pass's occlusion (ENVIRONMENT).
 @group(2) @binding(0) var<uniform> environment: EnvironmentUniform;
@@ -141,12 +146,20 @@ var<private> layer_albedo: f32 = 0.0;
 // film), set by the layers pass before surface_light.
 var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
 var<private> relit_lobe: RelitLobe = RelitLobe(0.0, vec3<f32>(1.0), vec3<f32>(0.0));
+// With RELIT_BASE: the diffuse transmission (rgb: colour, w: factor, 0: none), set by
+// the layers pass; it also sets `diffuse_weight` to 1 − factor.
+var<private> translucency: vec4<f32> = vec4<f32>(0.0);
 
 // Radiance leaving the surface towards v for light arriving from l with illuminance
 // `illuminance` (already × exposure): f_r · E · (n·l), the specular lobe × the
-// pixel's energy compensation.
+// pixel's energy compensation. A relit base's light from behind passes through by its
+// diffuse transmission.
 fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance: vec3<f32>) -> vec3<f32> {
     let n_dot_l = dot(n, l);
+    if RELIT_BASE && n_dot_l < 0.0 {
+        return diffuse_transmission_lobe(n, v, l, surface, relit_lobe, translucency.w, translucency.rgb)
+            * illuminance * -n_dot_l;
+    }
     if !(n_dot_l > 0.0) {
         return vec3<f32>(0.0);
     }
@@ -162,6 +175,15 @@ fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance
         lobes = surface_brdf_lobes(n, v, l, surface, VISIBILITY_MODEL);
     }
     return (lobes.diffuse * diffuse_weight + lobes.specular * specular_energy) * illuminance * n_dot_l;
+}
+
+// The normal a shadow lookup offsets along for a light from l: n, or, for a light behind
+// a relit base (diffuse transmission), −n, the side the light reaches.
+fn light_side(n: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
+    if RELIT_BASE {
+        return select(n, -n, dot(n, l) < 0.0);
+    }
+    return n;
 }
 
 // Direction towards a point or spot light and the illuminance (× exposure) it gives at
@@ -250,6 +272,8 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
             e_spec = surface.base_color * layer_albedo;
         }
         var irradiance = vec3<f32>(0.0);
+        // A relit base's irradiance from behind, for its diffuse transmission.
+        var back_irradiance = vec3<f32>(0.0);
         var prefiltered = vec3<f32>(0.0);
         // The mirror direction the prefiltered light is read along.
         var reflect_n = n;
@@ -260,6 +284,9 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         if HAS_ENVIRONMENT {
             let rotation = environment.params.y;
             irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
+            if RELIT_BASE {
+                back_irradiance = sh_irradiance(environment.sh, rotate_y(-n, -rotation));
+            }
             prefiltered = environment.uniform_radiance.rgb;
             if ENV_MAP {
                 let reflected = rotate_y(reflected_world, -rotation);
@@ -272,9 +299,19 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {
                 irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+                if RELIT_BASE && translucency.w > 0.0 {
+                    back_irradiance = volume_irradiance(world, -n, -n) * (view.position_exposure.w / volume.spacing_exposure.w);
+                }
             }
         }
-        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0)) * surface.base_color * irradiance * fd_lambert() * diffuse_ao * diffuse_weight;
+        // Transmitted from behind: the material's occlusion only (the AO pass sees the
+        // front).
+        var transmitted = vec3<f32>(0.0);
+        if RELIT_BASE {
+            transmitted = translucency.w * translucency.rgb * back_irradiance * p.occlusion;
+        }
+        let diffuse = (vec3<f32>(1.0) - e_spec) * (1.0 - clamp(surface.metallic, 0.0, 1.0))
+            * (surface.base_color * irradiance * diffuse_ao * diffuse_weight + transmitted) * fd_lambert();
         color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
     }
     let shadowed = view.shadowed_counts;
@@ -292,7 +329,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
             for (var i = 0u; i < shadowed.x; i++) {
                 let light = shadowed_light(i, i);
                 let l = light.direction.xyz;
-                let lit = mix(1.0, directional_shadow(light, world, n, p.frag, view_depth), receives);
+                let lit = mix(1.0, directional_shadow(light, world, light_side(n, l), p.frag, view_depth), receives);
                 color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
             }
         }
@@ -308,7 +345,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
             for (var i = counts.x; i < first; i++) {
                 let light = shadowed_light(i, i - counts.x + shadowed.x);
                 let incident = punctual_incident(punctual_of(light), world, n);
-                let lit = mix(1.0, point_shadow(light, world, n, incident.l, p.frag), receives);
+                let lit = mix(1.0, point_shadow(light, world, light_side(n, incident.l), incident.l, p.frag), receives);
                 color += shade(n, v, incident.l, surface, incident.illuminance * lit);
             }
         }
@@ -327,7 +364,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
                 let light = shadowed_light(i, i - start + shadowed.x + shadowed.y);
                 let incident = punctual_incident(punctual_of(light), world, n);
                 let cone = spot_attenuation(dot(-incident.l, light.direction.xyz), light.spot.x, light.spot.y);
-                let lit = mix(1.0, spot_shadow(light, world, n, incident.l, p.frag), receives);
+                let lit = mix(1.0, spot_shadow(light, world, light_side(n, incident.l), incident.l, p.frag), receives);
                 color += shade(n, v, incident.l, surface, incident.illuminance * (cone * lit));
             }
         }

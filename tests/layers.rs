@@ -1,10 +1,11 @@
 //! Layers over opaque surfaces (`Material::clearcoat`, glTF's `KHR_materials_clearcoat`,
 //! and `Material::sheen`, `KHR_materials_sheen`) and relit bases (`Material::anisotropy`,
-//! `specular_tint` and `iridescence`: `KHR_materials_anisotropy`, `_specular`,
-//! `_iridescence`), all drawn by the layers pass:
+//! `specular_tint`, `iridescence` and `diffuse_transmission`: `KHR_materials_anisotropy`,
+//! `_specular`, `_iridescence`, `_diffuse_transmission`), all drawn by the layers pass:
 //! each layer's own light against a CPU integration of its lobe, energy in the white
 //! furnace, the rasterizer against the path tracer, the anisotropic highlight's shape,
-//! extreme factors, and a scene without any of them building no layers pass.
+//! light through a translucent panel under its own shadow map, extreme factors, and a
+//! scene without any of them building no layers pass.
 
 use crate::common;
 
@@ -13,9 +14,9 @@ use lumen::App;
 use lumen::clearcoat::clearcoat_albedo;
 use lumen::ibl::{dfg_integrate, energy_compensation};
 use lumen::prelude::*;
-use lumen::reference::path::{ReferenceOptions, render};
+use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::render::graph::PassId;
-use lumen::scene::{Anisotropy, Clearcoat, Iridescence, Sheen};
+use lumen::scene::{Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Sheen};
 use lumen::trace_input::trace_scene;
 use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 
@@ -233,20 +234,17 @@ fn dark_red() -> Material {
     Material::new(Vec3::new(0.1, 0.01, 0.01), 0.0, 0.7)
 }
 
-/// Three spheres at x = −1.1, 0, 1.1 of `materials` under a sun and a point light, black
-/// background, no environment.
-fn layered_spheres(materials: [Material; 3]) -> App {
-    spheres_under(materials, |world| {
-        spawn_sun(world, Vec3::new(1.0, 2.0, 3.0));
-        world.spawn((
-            PointLight {
-                intensity: lumen::scene::LuminousIntensity::Candela(20.0),
-                range_m: 100.0,
-                ..PointLight::default()
-            },
-            Transform::from_xyz(-2.0, 1.0, 2.0),
-        ));
-    })
+/// A sun from the upper right front and a point light at the upper left front.
+fn front_lights(world: &mut World) {
+    spawn_sun(world, Vec3::new(1.0, 2.0, 3.0));
+    world.spawn((
+        PointLight {
+            intensity: lumen::scene::LuminousIntensity::Candela(20.0),
+            range_m: 100.0,
+            ..PointLight::default()
+        },
+        Transform::from_xyz(-2.0, 1.0, 2.0),
+    ));
 }
 
 /// An unshadowed sun of 10 lx shining from `from` towards the origin.
@@ -263,7 +261,7 @@ fn spawn_sun(world: &mut World, from: Vec3) {
 
 /// Three spheres at x = −1.1, 0, 1.1 of `materials` (radius 0.5 m), seen from 4 m along
 /// +z, lit by what `lights` spawns; black background, no indirect light.
-fn spheres_under(materials: [Material; 3], lights: impl FnOnce(&mut World)) -> App {
+fn spheres_under<const N: usize>(materials: [Material; N], lights: impl FnOnce(&mut World)) -> App {
     let mut app = App::headless().expect("a GPU adapter");
     let sphere = app
         .add_mesh(lumen::assets::procedural::uv_sphere(0.5, 96, 48))
@@ -320,22 +318,33 @@ fn sphere_means(app: &App, image: &image::Rgba32FImage) -> [Vec3; 3] {
 
 /// The layers pass's reason to skip a frame without layers (only a skipped pass gives
 /// it).
-const NO_LAYER: &str =
-    "no surface with anisotropy, a specular tint, a film, a sheen or a clearcoat in view";
+const NO_LAYER: &str = "no surface with anisotropy, a specular tint, a film, a diffuse transmission, a sheen or a clearcoat in view";
 
 /// The rasterizer against the path tracer (256 paths per pixel, direct light only) on
-/// three layered spheres (`materials`), per sphere: within `tolerance` (relative), while
-/// the layers change each sphere by more than `min_change` against the same spheres
-/// without layers (`bare`), so the agreement is not the bases' alone. The frame plan's
-/// reasons for the layers pass contain `planned`: (with the layers, without).
+/// three layered spheres (`materials`) under [`front_lights`], per sphere: within
+/// `tolerance` (relative), while the layers change each sphere by more than `min_change`
+/// against the same spheres without layers (`bare`), so the agreement is not the bases'
+/// alone. The frame plan's reasons for the layers pass contain `planned`: (with the
+/// layers, without).
 fn raster_against_path_tracer(
     materials: [Material; 3],
     bare: [Material; 3],
     planned: (&str, &str),
+    limits: (f32, f32),
+) {
+    raster_against_path_tracer_under(materials, bare, planned, limits, front_lights);
+}
+
+/// [`raster_against_path_tracer`] under the lights `lights` spawns.
+fn raster_against_path_tracer_under(
+    materials: [Material; 3],
+    bare: [Material; 3],
+    planned: (&str, &str),
     (tolerance, min_change): (f32, f32),
+    lights: fn(&mut World),
 ) {
     const SIZE: (u32, u32) = (240, 80);
-    let mut app = layered_spheres(materials);
+    let mut app = spheres_under(materials, lights);
     let report = app.render_headless(SIZE).expect("frame");
     let layers = common::decision(&report, PassId::Layers);
     assert!(
@@ -344,7 +353,10 @@ fn raster_against_path_tracer(
         layers.reason
     );
     let raster = sphere_means(&app, &app.read_hdr_image().expect("readback"));
-    let scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    // The frame's visibility: its unshadowed lights reach every surface that faces them,
+    // so a translucent sphere's far side lets through what a light behind it sends.
+    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    scene.light_visibility = LightVisibility::AsFrame;
     let options = ReferenceOptions {
         size: SIZE,
         samples_per_pixel: 256,
@@ -353,23 +365,25 @@ fn raster_against_path_tracer(
     };
     let traced = sphere_means(&app, &render(&scene, &options, &|_| {}).image);
 
-    let mut bare = layered_spheres(bare);
+    let mut bare = spheres_under(bare, lights);
     let report = bare.render_headless(SIZE).expect("frame");
     let skipped = common::decision(&report, PassId::Layers);
     assert!(skipped.reason.contains(planned.1), "{}", skipped.reason);
     let plain = sphere_means(&bare, &bare.read_hdr_image().expect("readback"));
-    let bare_scene = trace_scene(&mut bare, SIZE).expect("trace scene");
+    let mut bare_scene = trace_scene(&mut bare, SIZE).expect("trace scene");
+    bare_scene.light_visibility = LightVisibility::AsFrame;
     let bare_traced = sphere_means(&bare, &render(&bare_scene, &options, &|_| {}).image);
     for i in 0..3 {
         let error = (raster[i] - traced[i]).length() / traced[i].length();
         let change = (raster[i] - plain[i]).length() / plain[i].length();
         let bare_error = (plain[i] - bare_traced[i]).length() / bare_traced[i].length();
         println!(
-            "coat {:?}, sheen {:?}, anisotropy {:?}, tint {}: raster {}, path tracer {}, error {:.2} %; without layers {} ({:.1} % change, error {:.2} %)",
+            "coat {:?}, sheen {:?}, anisotropy {:?}, tint {}, diffuse transmission {:?}: raster {}, path tracer {}, error {:.2} %; without layers {} ({:.1} % change, error {:.2} %)",
             materials[i].clearcoat,
             materials[i].sheen,
             materials[i].anisotropy,
             materials[i].specular_tint,
+            materials[i].diffuse_transmission,
             raster[i],
             traced[i],
             error * 100.0,
@@ -477,10 +491,21 @@ fn extreme_layers_stay_finite() {
         (f32::NAN, f32::NAN, f32::NAN),
         (2.0, 1.0, f32::INFINITY),
     ];
-    let materials = std::array::from_fn(|i| {
+    // Diffuse transmissions: whole with a colour beyond the range, NaN, and infinite (both
+    // none), each lit by the sun from behind too.
+    let transmissions = [
+        (1.0, Vec3::new(2.0, -1.0, 0.5)),
+        (f32::NAN, Vec3::NAN),
+        (f32::INFINITY, Vec3::splat(f32::INFINITY)),
+    ];
+    let materials: [Material; 3] = std::array::from_fn(|i| {
         let (factor, perceptual_roughness, color) = layers[i];
         let (strength, rotation_rad) = strengths[i];
         Material {
+            diffuse_transmission: Some(DiffuseTransmission {
+                factor: transmissions[i].0,
+                color: transmissions[i].1,
+            }),
             anisotropy: anisotropy(strength, rotation_rad),
             specular_tint: tints[i],
             iridescence: Some(Iridescence {
@@ -502,7 +527,10 @@ fn extreme_layers_stay_finite() {
             }
         }
     });
-    let mut app = layered_spheres(materials);
+    let mut app = spheres_under(materials, |world| {
+        front_lights(world);
+        spawn_sun(world, Vec3::new(-1.0, 1.0, -3.0));
+    });
     let report = app.render_headless((96, 32)).expect("frame");
     let layers = common::decision(&report, PassId::Layers);
     assert!(
@@ -747,5 +775,139 @@ fn the_rasterizer_and_the_path_tracer_agree_on_iridescent_spheres() {
         bare,
         ("3 relit base", "1 relit base"),
         (0.01, 0.06),
+    );
+}
+
+/// A diffuse transmission of `factor` in `color`.
+fn translucent(factor: f32, color: Vec3) -> Option<DiffuseTransmission> {
+    Some(DiffuseTransmission { factor, color })
+}
+
+/// A sun from behind the spheres (upper left) and a point light in front (upper right).
+fn back_and_front_lights(world: &mut World) {
+    spawn_sun(world, Vec3::new(-1.0, 1.5, -3.0));
+    world.spawn((
+        PointLight {
+            intensity: lumen::scene::LuminousIntensity::Candela(20.0),
+            range_m: 100.0,
+            ..PointLight::default()
+        },
+        Transform::from_xyz(2.0, 0.5, 2.5),
+    ));
+}
+
+#[test]
+fn the_rasterizer_and_the_path_tracer_agree_on_translucent_spheres() {
+    // KHR_materials_diffuse_transmission: a leaf green, a paper white and a red wax
+    // sphere, lit by a sun from behind (unshadowed: it reaches the front through the
+    // sphere in both renderers) and a point light in front. The relit base moves the
+    // factor's share of its diffuse lobe to the far side, in the transmission's colour;
+    // against the same spheres without it (no layers pass).
+    let bare = [
+        Material::new(Vec3::new(0.1, 0.35, 0.05), 0.0, 0.6),
+        Material::new(Vec3::splat(0.8), 0.0, 0.9),
+        Material::new(Vec3::new(0.5, 0.1, 0.1), 0.0, 0.4),
+    ];
+    let mut materials = bare;
+    materials[0].diffuse_transmission = translucent(0.6, Vec3::new(0.6, 0.9, 0.2));
+    materials[1].diffuse_transmission = translucent(0.4, Vec3::new(1.0, 0.95, 0.85));
+    materials[2].diffuse_transmission = translucent(1.0, Vec3::new(1.0, 0.3, 0.1));
+    raster_against_path_tracer_under(
+        materials,
+        bare,
+        ("3 relit base", NO_LAYER),
+        (0.01, 0.06),
+        back_and_front_lights,
+    );
+}
+
+#[test]
+fn a_translucent_white_furnace_returns_the_light_it_receives() {
+    // White dielectrics transmitting the column's share r of their diffuse lobe in white:
+    // what the front no longer reflects of the uniform environment comes through from
+    // behind, so every pixel stays 1 (a transmission added without taking it from the
+    // reflection would give 1 + r (1 − E_spec)). Metals have no diffuse lobe: not relit.
+    let (_, image) = layered_furnace(|m, r| m.diffuse_transmission = translucent(r, Vec3::ONE));
+    let worst = worst_from_one(&image);
+    assert!(
+        worst <= 0.02,
+        "a translucent sphere pixel is {worst} from 1"
+    );
+}
+
+/// A 2 m square panel of `material` at the origin facing the camera 4 m away along +z,
+/// lit only by a 10 lx sun from behind, shadowed or not: the mean rgb of the central
+/// quarter of a 64 × 64 frame, rasterized, and the app.
+fn back_lit_panel(material: Material, shadows: bool) -> (Vec3, App) {
+    let mut app = spheres_under::<0>([], |_| {});
+    let panel = app
+        .add_mesh(lumen::assets::procedural::plane(2.0, 2.0))
+        .expect("mesh");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(panel),
+        material,
+        Transform::default()
+            .with_rotation(glam::Quat::from_rotation_x(std::f32::consts::FRAC_PI_2)),
+    ));
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 10.0,
+            cast_shadows: shadows,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(0.5, 1.0, -3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    app.render_headless((64, 64)).expect("frame");
+    let image = app.read_hdr_image().expect("readback");
+    let (mut sum, mut n) = (Vec3::ZERO, 0);
+    for y in 16..48 {
+        for x in 16..48 {
+            let p = image.get_pixel(x, y).0;
+            sum += Vec3::new(p[0], p[1], p[2]);
+            n += 1;
+        }
+    }
+    (sum / n as f32, app)
+}
+
+#[test]
+fn a_translucent_panel_lit_from_behind_is_not_shadowed_by_itself() {
+    // The panel is the sun's only caster: looked up on the side the light reaches (the
+    // normal turned for a light behind), its own shadow map finds it lit, as the path
+    // tracer's shadow rays from its far side do. A normal offset towards the viewer
+    // would put the lookup behind the panel, in its shadow.
+    let material = Material {
+        diffuse_transmission: translucent(0.8, Vec3::new(1.0, 0.9, 0.6)),
+        ..Material::new(Vec3::splat(0.5), 0.0, 0.7)
+    };
+    let (open, _) = back_lit_panel(material, false);
+    let (shadowed, mut app) = back_lit_panel(material, true);
+    let scene = trace_scene(&mut app, (64, 64)).expect("trace scene");
+    let options = ReferenceOptions {
+        size: (64, 64),
+        samples_per_pixel: 16,
+        max_bounces: 1,
+        seed: 5,
+    };
+    let traced = render(&scene, &options, &|_| {}).image;
+    let mut sum = Vec3::ZERO;
+    for y in 16..48 {
+        for x in 16..48 {
+            let p = traced.get_pixel(x, y).0;
+            sum += Vec3::new(p[0], p[1], p[2]);
+        }
+    }
+    let traced = sum / 1024.0;
+    println!("unshadowed {open}, shadowed {shadowed}, path tracer {traced}");
+    // 10 lx × cos θ × 0.8 × (1 − F)/π × colour: about 2 cd/m² in red.
+    assert!(open.x > 1.0, "{open}");
+    assert!(
+        (shadowed - open).length() / open.length() < 0.01,
+        "{shadowed} vs {open}"
+    );
+    assert!(
+        (shadowed - traced).length() / traced.length() < 0.01,
+        "{shadowed} vs {traced}"
     );
 }

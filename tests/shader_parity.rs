@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 59;
+const OUTPUTS: usize = 60;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -381,6 +381,25 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         ir::iridescent_mix(base, n_dot_h, Vec3::new(k, 1.0 + r, 500.0 * x)).extend(0.0),
         ir::schlick_f0_of(base, n_dot_h).extend(0.0),
         ir::film_f0(base, n_dot_h, Vec3::new(k, 1.0 + r, 500.0 * x)).extend(0.0),
+        {
+            let lobe = an::RelitLobe {
+                strength: k,
+                tint: Vec3::new(base.z, base.y, base.x) * 1.2,
+                film: Vec3::new(x, 1.0 + r, 800.0 * n_dot_h),
+            };
+            let below = l - 2.0 * n.dot(l) * n;
+            let color = Vec3::new(base.y, base.z, base.x) * 1.1;
+            lumen::diffuse_transmission::diffuse_transmission_lobe(
+                n,
+                v,
+                below,
+                &s,
+                &lobe,
+                x * 1.2 - 0.1,
+                color,
+            )
+            .extend(0.0)
+        },
     ]
 }
 
@@ -444,6 +463,7 @@ const NAMES: [&str; OUTPUTS] = [
     "iridescent_mix",
     "schlick_f0_of",
     "film_f0",
+    "diffuse_transmission_lobe",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -476,7 +496,7 @@ const ANGLES: [usize; 2] = [19, 20];
 /// Outputs of the thin film (and the relit lobes, which include one), held in absolute
 /// terms: they take the cosine of phases up to about 85 rad, where one ulp of the argument is 8e-6, and cross 0 (measured: an
 /// absolute difference of 5e-7 at a value of 1.25e-4).
-const FILM: [usize; 5] = [50, 54, 55, 56, 58];
+const FILM: [usize; 6] = [50, 54, 55, 56, 58, 59];
 
 /// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
 /// `outputs` vec4s per case (binding 1).

@@ -32,6 +32,7 @@ pub mod assets;
 pub mod brdf;
 pub mod clearcoat;
 pub mod color;
+pub mod diffuse_transmission;
 pub mod encoding;
 pub mod environment_sun;
 pub mod error;

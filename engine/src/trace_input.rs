@@ -123,6 +123,7 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     anisotropy: entry.and_then(|e| e.anisotropy),
                     specular_tint: entry.and_then(|e| e.specular_tint),
                     iridescence: entry.and_then(|e| e.iridescence),
+                    diffuse_transmission: entry.and_then(|e| e.diffuse_transmission),
                 },
             });
         }

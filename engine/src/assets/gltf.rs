@@ -589,6 +589,7 @@ const READ_HERE: &[&str] = &[
     "KHR_materials_sheen",
     "KHR_materials_anisotropy",
     "KHR_materials_iridescence",
+    "KHR_materials_diffuse_transmission",
 ];
 
 /// Parses a glTF or GLB file and validates it. A required extension must be one the

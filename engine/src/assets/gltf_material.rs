@@ -15,8 +15,9 @@
 use super::texture_io;
 use crate::brdf::f0_from_ior;
 use crate::scene::{
-    Anisotropy, Clearcoat, ColorSpace, Filter, Iridescence, Material, MaterialMaps, Sampler, Sheen,
-    TextureData, TextureHandle, TextureSlot, Textures, Transmission, UvTransform, Wrap,
+    Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, Filter, Iridescence, Material,
+    MaterialMaps, Sampler, Sheen, TextureData, TextureHandle, TextureSlot, Textures, Transmission,
+    UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -415,6 +416,7 @@ pub(super) fn material(
         anisotropy: anisotropy(m, what, &mut loader.warnings),
         specular_tint,
         iridescence: iridescence(m, what, &mut loader.warnings),
+        diffuse_transmission: diffuse_transmission(m, what, &mut loader.warnings),
     };
     if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
         loader.warnings.push(format!(
@@ -649,14 +651,7 @@ fn sheen(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<S
     );
     let color = match ext.get("sheenColorFactor") {
         None => Some(Vec3::ZERO),
-        Some(v) => v.as_array().filter(|a| a.len() == 3).and_then(|a| {
-            let c: Vec<f32> = a
-                .iter()
-                .filter_map(|x| x.as_f64())
-                .map(|x| x as f32)
-                .collect();
-            (c.len() == 3).then(|| Vec3::new(c[0], c[1], c[2]))
-        }),
+        Some(v) => three_numbers(v),
     };
     let roughness = match ext.get("sheenRoughnessFactor") {
         None => Some(0.0),
@@ -730,6 +725,58 @@ fn iridescence(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Op
             None
         }
     }
+}
+
+/// `KHR_materials_diffuse_transmission`'s factors: `diffuseTransmissionFactor` (default
+/// 0: none) and `diffuseTransmissionColorFactor` (default white). Its textures
+/// (`diffuseTransmissionTexture`, `diffuseTransmissionColorTexture`) are not sampled: a
+/// warning names them and the factors alone apply. A factor of the wrong shape is refused
+/// with a warning (none). With `KHR_materials_transmission` the transmission wins, as
+/// the extension specifies ([`Material::translucent`] is then `None`).
+fn diffuse_transmission(
+    m: &gltf::Material,
+    what: &str,
+    warnings: &mut Vec<String>,
+) -> Option<DiffuseTransmission> {
+    let name = "KHR_materials_diffuse_transmission";
+    let ext = m.extension_value(name)?;
+    unread_textures(
+        ext,
+        name,
+        &[
+            "diffuseTransmissionTexture",
+            "diffuseTransmissionColorTexture",
+        ],
+        what,
+        warnings,
+    );
+    let factor = extension_number(ext, (name, "diffuseTransmissionFactor", 0.0), what, "none");
+    let color = match ext.get("diffuseTransmissionColorFactor") {
+        None => Ok(Vec3::ONE),
+        Some(v) => three_numbers(v).ok_or_else(|| {
+            format!(
+                "{what}: {name}'s diffuseTransmissionColorFactor is not three numbers ({v}); none"
+            )
+        }),
+    };
+    match (factor, color) {
+        (Ok(factor), Ok(color)) => (factor > 0.0).then_some(DiffuseTransmission { factor, color }),
+        (Err(e), _) | (_, Err(e)) => {
+            warnings.push(e);
+            None
+        }
+    }
+}
+
+/// A JSON array of exactly three numbers, as a colour.
+fn three_numbers(v: &gltf::json::Value) -> Option<Vec3> {
+    let a = v.as_array().filter(|a| a.len() == 3)?;
+    let c: Vec<f32> = a
+        .iter()
+        .filter_map(|x| x.as_f64())
+        .map(|x| x as f32)
+        .collect();
+    (c.len() == 3).then(|| Vec3::new(c[0], c[1], c[2]))
 }
 
 /// The number `key` of the extension object `ext` (`(extension name, key, default)`),

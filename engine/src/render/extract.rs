@@ -88,10 +88,11 @@ pub struct Batch {
     /// pass, under the coat; its maps entry holds the sheen.
     pub sheened: bool,
     /// A relit base: anisotropic ([`crate::scene::Material::anisotropic`]), with a
-    /// tinted specular colour ([`crate::scene::Material::tint`]) or iridescent
-    /// ([`crate::scene::Material::iridescent`]). Drawn by the G-buffer,
+    /// tinted specular colour ([`crate::scene::Material::tint`]), iridescent
+    /// ([`crate::scene::Material::iridescent`]) or translucent
+    /// ([`crate::scene::Material::translucent`]). Drawn by the G-buffer,
     /// then lit again by the layers pass with what the G-buffer cannot hold; its maps
-    /// entry holds the anisotropy, the tint and the film.
+    /// entry holds the anisotropy, the tint, the film and the diffuse transmission.
     pub relit: bool,
     /// Index into [`DeformedFrame::instances`] of its one instance, drawn from the
     /// deformation pass's vertices (`None`: the mesh's own).
@@ -132,6 +133,8 @@ pub struct FrameMaps {
     pub specular_tint: Option<Vec3>,
     /// The iridescent film the layers pass relights it with (clamped).
     pub iridescence: Option<crate::scene::Iridescence>,
+    /// The diffuse transmission the layers pass relights it with (clamped).
+    pub diffuse_transmission: Option<crate::scene::DiffuseTransmission>,
 }
 
 /// A shadow-casting instance and its world-space bounding sphere.
@@ -617,7 +620,11 @@ pub fn extract_frame(
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
         let specular_tint = material.tint().filter(|_| !transmissive);
         let iridescence = material.iridescent().filter(|_| !transmissive);
-        let relit = anisotropy.is_some() || specular_tint.is_some() || iridescence.is_some();
+        let diffuse_transmission = material.translucent().filter(|_| !transmissive);
+        let relit = anisotropy.is_some()
+            || specular_tint.is_some()
+            || iridescence.is_some()
+            || diffuse_transmission.is_some();
         let textured = maps.is_some();
         let forward = blend || transmissive || coated || sheened || relit;
         let maps = maps.or(forward.then_some(&neutral_maps)).map(|m| {
@@ -630,6 +637,7 @@ pub fn extract_frame(
                     && x.anisotropy == anisotropy
                     && x.specular_tint == specular_tint
                     && x.iridescence == iridescence
+                    && x.diffuse_transmission == diffuse_transmission
             };
             let index = match frame.material_maps.iter().position(same) {
                 Some(i) => i,
@@ -643,6 +651,7 @@ pub fn extract_frame(
                         anisotropy,
                         specular_tint,
                         iridescence,
+                        diffuse_transmission,
                     });
                     frame.material_maps.len() - 1
                 }

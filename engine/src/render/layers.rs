@@ -5,9 +5,11 @@
 //! them it lights some bases again: anisotropic ones
 //! ([`crate::scene::Material::anisotropy`], `KHR_materials_anisotropy`), those with a
 //! tinted specular colour ([`crate::scene::Material::specular_tint`],
-//! `KHR_materials_specular`) and iridescent ones ([`crate::scene::Material::iridescence`],
-//! `KHR_materials_iridescence`). The G-buffer has no room for a direction, a colour of F0
-//! or a film, so such a surface is shaded a second time from its material with its own
+//! `KHR_materials_specular`), iridescent ones ([`crate::scene::Material::iridescence`],
+//! `KHR_materials_iridescence`) and translucent ones
+//! ([`crate::scene::Material::diffuse_transmission`],
+//! `KHR_materials_diffuse_transmission`). The G-buffer has no room for a direction, a
+//! colour of F0, a film or light from behind, so such a surface is shaded a second time from its material with its own
 //! lobe (`RELIT_BASE`), and that light replaces the deferred pass's (alpha 1).
 //!
 //! Layers are not in the G-buffer. Their surfaces are drawn again, with the G-buffer's
@@ -75,7 +77,7 @@ pub const VIEW: BindGroupSpec = BindGroupSpec {
 /// Which layer a draw adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Layer {
-    /// The base again, with its anisotropic, tinted or iridescent lobe (`fs_relit`,
+    /// The base again, with its anisotropic, tinted, iridescent or translucent lobes (`fs_relit`,
     /// compiled with `RELIT_BASE`), replacing the deferred pass's light.
     Relit,
     /// The sheen lobe (`fs_sheen`, compiled with `SHEEN_LOBE`).
@@ -162,7 +164,7 @@ impl FramePass for LayersPass {
         let (runs, reason) = if named.is_empty() {
             (
                 false,
-                "no surface with anisotropy, a specular tint, a film, a sheen or a clearcoat in view"
+                "no surface with anisotropy, a specular tint, a film, a diffuse transmission, a sheen or a clearcoat in view"
                     .to_string(),
             )
         } else if lighting.is_none() {

@@ -29,6 +29,7 @@ struct GpuMaps {
     anisotropy: [f32; 4],
     specular_tint: [f32; 4],
     film: [f32; 4],
+    translucency: [f32; 4],
 }
 
 impl GpuMaps {
@@ -79,6 +80,9 @@ impl GpuMaps {
             .into();
         if let Some(f) = entry.iridescence {
             out.film = [f.factor, f.ior, f.thickness_nm, 0.0];
+        }
+        if let Some(d) = entry.diffuse_transmission {
+            out.translucency = d.color.extend(d.factor).into();
         }
         out
     }

@@ -74,6 +74,53 @@ pub struct Material {
     /// surfaces only ([`Material::iridescent`]), by the layers pass, like the anisotropy
     /// (docs/src/materials.md#iridescence).
     pub iridescence: Option<Iridescence>,
+    /// Light passing diffusely through a thin surface (glTF's
+    /// `KHR_materials_diffuse_transmission`): leaves, paper, lampshades, thin fabric.
+    /// `None`: none. Its factor moves that share of the diffuse lobe from reflection to
+    /// transmission, so light from behind shows through in its colour. Drawn on opaque,
+    /// lit surfaces only ([`Material::translucent`]), by the layers pass, like the
+    /// anisotropy (docs/src/materials.md#diffuse-transmission).
+    pub diffuse_transmission: Option<DiffuseTransmission>,
+}
+
+/// The diffuse transmission of a [`Material`] (glTF's
+/// `KHR_materials_diffuse_transmission`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffuseTransmission {
+    /// The share of the diffuse lobe that is transmitted, 0..1 (clamped): 0 reflects it
+    /// all, 1 transmits it all.
+    pub factor: f32,
+    /// The colour of the transmitted light, linear RGB 0..1 (clamped; glTF's default
+    /// white). It replaces the base colour for light that passes through.
+    pub color: Vec3,
+}
+
+impl Default for DiffuseTransmission {
+    /// Half the diffuse light passes through, untinted.
+    fn default() -> Self {
+        DiffuseTransmission {
+            factor: 0.5,
+            color: Vec3::ONE,
+        }
+    }
+}
+
+impl DiffuseTransmission {
+    /// The transmission made safe: the factor and each colour channel in 0..1; NaN or
+    /// infinite values are 0.
+    pub fn clamped(self) -> DiffuseTransmission {
+        let unit = |x: f32| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        DiffuseTransmission {
+            factor: unit(self.factor),
+            color: Vec3::new(unit(self.color.x), unit(self.color.y), unit(self.color.z)),
+        }
+    }
 }
 
 /// The iridescent film of a [`Material`] (glTF's `KHR_materials_iridescence`).
@@ -269,6 +316,7 @@ impl Default for Material {
             anisotropy: None,
             specular_tint: Vec3::ONE,
             iridescence: None,
+            diffuse_transmission: None,
         }
     }
 }
@@ -325,6 +373,16 @@ impl Material {
         self.iridescence
             .map(Iridescence::clamped)
             .filter(|f| f.factor > 0.0)
+            .filter(|_| self.opaque_and_lit())
+    }
+
+    /// The diffuse transmission that is drawn (clamped):
+    /// [`Material::diffuse_transmission`] where its factor is above 0 and the surface is
+    /// opaque and lit and not wholly metal (a metal has no diffuse lobe to transmit).
+    pub fn translucent(&self) -> Option<DiffuseTransmission> {
+        self.diffuse_transmission
+            .map(DiffuseTransmission::clamped)
+            .filter(|d| d.factor > 0.0 && self.metallic < 1.0)
             .filter(|_| self.opaque_and_lit())
     }
 

@@ -22,7 +22,9 @@ pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection,
 pub use deform::{MorphTarget, MorphWeights, SkinnedMesh};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
-pub use material::{Anisotropy, Clearcoat, Iridescence, Material, Sheen, Transmission};
+pub use material::{
+    Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Material, Sheen, Transmission,
+};
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
 pub use probes::{IrradianceVolume, ReflectionProbe};
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};

@@ -45,6 +45,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
             anisotropy: None,
             specular_tint: Vec3::ONE,
             iridescence: None,
+            diffuse_transmission: None,
         },
         Transform::from_xyz(2.5, 0.5, -1.0),
     ));

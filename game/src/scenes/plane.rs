@@ -21,6 +21,7 @@ pub const PLANE_MATERIAL: Material = Material {
     anisotropy: None,
     specular_tint: Vec3::ONE,
     iridescence: None,
+    diffuse_transmission: None,
 };
 
 /// Illuminance of the light in lux.

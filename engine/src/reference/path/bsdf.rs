@@ -7,7 +7,9 @@
 //! The sheen is sampled by a cosine lobe about its normal. An anisotropic base
 //! (`crate::anisotropy`) has its GGX lobe stretched along a direction in the tangent
 //! plane, evaluated and sampled (visible normals of the stretched lobe) in a frame whose
-//! first axis is that direction.
+//! first axis is that direction. A translucent base (`crate::diffuse_transmission`)
+//! moves part of its diffuse lobe to the other side of the surface, sampled by a cosine
+//! lobe about the turned normal; paths then continue through the surface.
 
 use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
@@ -15,6 +17,7 @@ use super::scene::{AlbedoTable, TraceMaterial};
 use crate::anisotropy::{RelitLobe, anisotropic_alphas, d_ggx_anisotropic, relit_brdf_lobes};
 use crate::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use crate::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
+use crate::diffuse_transmission::diffuse_transmission_lobe;
 use crate::iridescence::iridescent_mix;
 use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
@@ -108,11 +111,16 @@ pub(super) struct Bsdf {
     alphas: Vec2,
     /// What a relit base adds (anisotropy along the frame's first axis, tint, film).
     lobe: RelitLobe,
-    /// A relit base (anisotropic, tinted or iridescent): evaluated by
+    /// A relit base (anisotropic, tinted, iridescent or translucent): evaluated by
     /// `relit_brdf_lobes`, as the rasterizer's layers pass relights it.
     relit: bool,
+    /// The diffuse transmission's factor (0: none) and colour.
+    translucency: (f32, Vec3),
     /// Probability of sampling the specular lobe (when the base is sampled).
     p_specular: f32,
+    /// Probability of sampling the transmitted diffuse lobe when the diffuse lobe is
+    /// sampled (0 without diffuse transmission).
+    p_transmit: f32,
     model: VisibilityModel,
     /// The clearcoat over the base, if any.
     coat: Option<CoatLobe>,
@@ -156,6 +164,17 @@ impl Bsdf {
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
         let p_specular = lobe_probability(spec, diff);
+        let translucency = m
+            .diffuse_transmission
+            .map_or((0.0, Vec3::ZERO), |d| (d.factor, d.color));
+        let p_transmit = if translucency.0 > 0.0 {
+            lobe_probability(
+                translucency.0 * luminance(translucency.1),
+                (1.0 - translucency.0) * luminance(m.base_color),
+            )
+        } else {
+            0.0
+        };
         // The compensation sees the film's F0, as the rasterizer's split sum does.
         let compensated = crate::iridescence::film_f0(f0, n.dot(v).clamp(0.0, 1.0), lobe.film);
         let specular_scale = compensation.map_or(Vec3::ONE, |table| {
@@ -167,8 +186,12 @@ impl Bsdf {
             specular_scale,
             alphas: Vec2::splat(m.roughness * m.roughness),
             lobe,
-            relit: m.specular_tint.is_some() || m.iridescence.is_some(),
+            relit: m.specular_tint.is_some()
+                || m.iridescence.is_some()
+                || m.diffuse_transmission.is_some(),
+            translucency,
             p_specular,
+            p_transmit,
             model,
             coat: None,
             base_weight: 1.0,
@@ -286,20 +309,34 @@ impl Bsdf {
         self.base_weight * self.sheen_weight
     }
 
+    /// Whether light passes through the base (diffuse transmission): `eval` is then not
+    /// zero below its horizon, and sampled directions may be there.
+    pub(super) fn transmits(&self) -> bool {
+        self.translucency.0 > 0.0
+    }
+
     /// The shading normal of the base.
     pub(super) fn n(&self) -> Vec3 {
         self.frame.z_axis
     }
 
-    /// f(v, l) · cos: the base's lobes × (n·l), dimmed by the coat, plus the coat's.
+    /// f(v, l) · |cos|: the base's lobes × |n·l| (below the horizon, its diffuse
+    /// transmission), dimmed by the coat, plus the coat's.
     pub(super) fn eval(&self, v: Vec3, l: Vec3) -> Vec3 {
         let n = self.n();
-        let lobes = if self.relit {
-            relit_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, &self.lobe)
+        let n_dot_l = n.dot(l);
+        let (factor, color) = self.translucency;
+        let mut base = if n_dot_l < 0.0 {
+            diffuse_transmission_lobe(n, v, l, &self.surface, &self.lobe, factor, color) * -n_dot_l
         } else {
-            surface_brdf_lobes(n, v, l, &self.surface, self.model)
+            let lobes = if self.relit {
+                relit_brdf_lobes(n, v, l, self.frame.x_axis, &self.surface, &self.lobe)
+            } else {
+                surface_brdf_lobes(n, v, l, &self.surface, self.model)
+            };
+            (lobes.diffuse * (1.0 - factor) + lobes.specular * self.specular_scale)
+                * n_dot_l.max(0.0)
         };
-        let mut base = (lobes.diffuse + lobes.specular * self.specular_scale) * n.dot(l).max(0.0);
         if let Some(sheen) = &self.sheen {
             base = sheen.eval(v, l) + base * self.sheen_weight;
         }
@@ -312,11 +349,15 @@ impl Bsdf {
     /// Solid-angle density of [`Bsdf::sample`] choosing `l`.
     pub(super) fn pdf(&self, v: Vec3, l: Vec3) -> f32 {
         let n = self.n();
-        let mut base = if n.dot(l) <= 0.0 || n.dot(v) <= 0.0 {
+        let n_dot_l = n.dot(l);
+        let p_diffuse = 1.0 - self.p_specular;
+        let mut base = if n.dot(v) <= 0.0 || n_dot_l.is_nan() {
             0.0
-        } else {
+        } else if n_dot_l > 0.0 {
             self.p_specular * reflection_pdf(self.frame, v, l, self.alphas)
-                + (1.0 - self.p_specular) * n.dot(l) / PI
+                + p_diffuse * (1.0 - self.p_transmit) * n_dot_l / PI
+        } else {
+            p_diffuse * self.p_transmit * -n_dot_l / PI
         };
         if let Some(sheen) = &self.sheen {
             base = self.p_sheen * sheen.pdf(l) + (1.0 - self.p_sheen) * base;
@@ -356,6 +397,13 @@ impl Bsdf {
                     if local.z <= 0.0 {
                         return None;
                     }
+                    // Through the surface: the same cosine lobe about the turned normal.
+                    let through = self.p_transmit > 0.0 && rng.uniform() < self.p_transmit;
+                    let local = if through {
+                        Vec3::new(local.x, local.y, -local.z)
+                    } else {
+                        local
+                    };
                     (self.frame * local).normalize()
                 }
             }
@@ -415,6 +463,9 @@ mod tests {
             (1.0, 0.3, None, None, aniso(0.8, 0.0)),
             (1.0, 0.5, None, None, aniso(1.0, 1.0)),
             (0.0, 0.4, Some((1.0, 0.2)), None, aniso(0.6, -0.5)),
+            // Roughness 0.7 and 0.45: translucent (diffuse transmission).
+            (0.0, 0.7, None, None, None),
+            (0.0, 0.45, Some((1.0, 0.3)), sheen(0.5, 0.5), None),
         ];
         let n_c = Vec3::new(0.2, 0.1, 1.0).normalize();
         let coat_albedo = AlbedoTable::with_f0(32, 1024, VisibilityModel::default(), 0.04);
@@ -440,6 +491,12 @@ mod tests {
                 // The first anisotropic metal has an iridescent film.
                 iridescence: (metallic == 1.0 && roughness == 0.3 && anisotropy.is_some())
                     .then_some(crate::scene::Iridescence::default()),
+                diffuse_transmission: [0.7, 0.45].contains(&roughness).then_some(
+                    crate::scene::DiffuseTransmission {
+                        factor: 0.6,
+                        color: Vec3::new(0.9, 0.5, 0.2),
+                    },
+                ),
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
             let bsdf = match anisotropy {

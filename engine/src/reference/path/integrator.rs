@@ -195,6 +195,17 @@ fn transmission_choice(
     }
 }
 
+/// Where a ray along `l` leaves the surface at `p`: lifted by `offset` (the geometric
+/// normal turned to the viewer, scaled) to the viewer's side, or, for a direction
+/// through a translucent `bsdf`, to the other side.
+fn departure(p: Vec3, offset: Vec3, l: Vec3, bsdf: &Bsdf) -> Vec3 {
+    if bsdf.transmits() && l.dot(offset) < 0.0 {
+        p - offset
+    } else {
+        p + offset
+    }
+}
+
 fn power_heuristic(a: f32, b: f32) -> f32 {
     let (a2, b2) = (a * a, b * b);
     if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
@@ -322,18 +333,20 @@ impl TraceScene {
                     (l, light.illuminance(-l, d2), d2.sqrt())
                 }
             };
-            if e == Vec3::ZERO || bsdf.n().dot(l) <= 0.0 {
+            if e == Vec3::ZERO || (!bsdf.transmits() && bsdf.n().dot(l) <= 0.0) {
                 continue;
             }
             let f = bsdf.eval(v, l);
             let tested =
                 light.casts_shadows() || self.light_visibility == LightVisibility::Physical;
-            if f == Vec3::ZERO || (tested && self.occluded(p + offset, l, distance * (1.0 - 1e-4)))
-            {
+            let origin = departure(p, offset, l, bsdf);
+            if f == Vec3::ZERO || (tested && self.occluded(origin, l, distance * (1.0 - 1e-4))) {
                 continue;
             }
+            // Light connections reach `p` only from the side the path arrived on
+            // (reflection): light through a translucent surface has no other strategy.
             let weight = match arrival {
-                Some(a) if count > 0 && self.connectable(light) => {
+                Some(a) if count > 0 && self.connectable(light) && a.facing.dot(l) > 0.0 => {
                     let d2 = distance * distance;
                     let pdf = Self::connection_pdf(light, count, -l, a.facing.dot(l), d2);
                     power_heuristic(a.pdf_area, pdf)
@@ -358,7 +371,7 @@ impl TraceScene {
         let mut sum = Vec3::ZERO;
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
-            if f != Vec3::ZERO && !self.occluded(p + offset, l, f32::MAX) {
+            if f != Vec3::ZERO && !self.occluded(departure(p, offset, l, bsdf), l, f32::MAX) {
                 let w = power_heuristic(pdf, bsdf.pdf(v, l));
                 sum += f * radiance * (w / pdf);
             }
@@ -697,11 +710,13 @@ impl TraceScene {
                 let Some((l, weight, pdf)) = bsdf.sample(v, rng) else {
                     break;
                 };
-                if l.dot(facing) <= 0.0 {
+                // Through the surface only by a diffuse transmission.
+                let through = l.dot(facing) <= 0.0;
+                if through && !bsdf.transmits() {
                     break;
                 }
                 throughput *= weight;
-                ray_origin = p + offset;
+                ray_origin = departure(p, offset, l, &bsdf);
                 ray_dir = l;
                 match self.trace(ray_origin, ray_dir) {
                     None => {
@@ -713,8 +728,11 @@ impl TraceScene {
                         throughput *= self.absorption(&next, l);
                         radiance += throughput * self.emitted(&next, l);
                         let (next_facing, _) = self.facing_normals(next.1, next.2.normal, -l);
-                        arrival_pdf =
-                            Some(pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12));
+                        // Light connections reach the next surface by reflection at this
+                        // one only: a path through it is not weighted against them.
+                        arrival_pdf = (!through).then(|| {
+                            pdf * next_facing.dot(-l).abs() / (next.0 * next.0).max(1e-12)
+                        });
                         hit = next;
                     }
                 }

@@ -176,6 +176,8 @@ pub struct TraceMaterial {
     pub specular_tint: Option<Vec3>,
     /// The iridescent film ([`crate::scene::Material::iridescent`]); `None`: no film.
     pub iridescence: Option<crate::scene::Iridescence>,
+    /// The diffuse transmission ([`crate::scene::Material::translucent`]); `None`: none.
+    pub diffuse_transmission: Option<crate::scene::DiffuseTransmission>,
 }
 
 impl TraceMaterial {
@@ -219,6 +221,10 @@ impl TraceMaterial {
                 .iridescence
                 .map(crate::scene::Iridescence::clamped)
                 .filter(|f| f.factor > 0.0),
+            diffuse_transmission: self
+                .diffuse_transmission
+                .map(crate::scene::DiffuseTransmission::clamped)
+                .filter(|d| d.factor > 0.0),
             ..self
         }
     }
