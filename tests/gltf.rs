@@ -363,6 +363,54 @@ fn iridescence_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
+fn diffuse_transmission_maps_onto_the_material_and_names_its_unread_textures() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ext = "KHR_materials_diffuse_transmission";
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({
+            "diffuseTransmissionFactor": 0.6,
+            "diffuseTransmissionColorFactor": [0.9, 0.5, 0.2],
+            "diffuseTransmissionColorTexture": {"index": 0}
+        }),
+    );
+    let expected = lumen::scene::DiffuseTransmission {
+        factor: 0.6,
+        color: Vec3::new(0.9, 0.5, 0.2),
+    };
+    assert_eq!(m.diffuse_transmission, Some(expected));
+    warned(
+        &warnings,
+        "KHR_materials_diffuse_transmission's diffuseTransmissionColorTexture is not sampled",
+    );
+    // glTF's default metallic factor is 1: a metal has no diffuse lobe to transmit.
+    assert_eq!(m.translucent(), None);
+    let dielectric = Material { metallic: 0.0, ..m };
+    assert_eq!(dielectric.translucent(), Some(expected));
+    // The colour defaults to white; factor 0 (the default) is none; a colour that is not
+    // three numbers is refused.
+    let (m, _) = load_extension(dir.path(), ext, json!({"diffuseTransmissionFactor": 1.0}));
+    assert_eq!(m.diffuse_transmission.map(|d| d.color), Some(Vec3::ONE));
+    let (m, _) = load_extension(
+        dir.path(),
+        ext,
+        json!({"diffuseTransmissionColorFactor": [1.0, 0.0, 0.0]}),
+    );
+    assert_eq!(m.diffuse_transmission, None);
+    let (m, warnings) = load_extension(
+        dir.path(),
+        ext,
+        json!({"diffuseTransmissionFactor": 1.0, "diffuseTransmissionColorFactor": [1.0, 0.5]}),
+    );
+    assert_eq!(m.diffuse_transmission, None);
+    warned(
+        &warnings,
+        "diffuseTransmissionColorFactor is not three numbers",
+    );
+}
+
+#[test]
 fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
     // F0 = 0.04 (IOR 1.5) × factor 1 × colour (1, 0.5, 0.25): level 0.5 (the largest
     // channel) and tint (1, 0.5, 0.25), drawn without a warning.

@@ -453,8 +453,9 @@ fn channel_centre(image: &image::Rgba32FImage, y: u32, channel: usize) -> f32 {
 #[test]
 fn the_materials_scene_draws_each_feature() {
     // Five transmissive objects and one blended pane, all drawn by the transparent pass,
-    // a clearcoated, a sheen, an anisotropic, a tinted and an iridescent sphere; finite;
-    // and the clear sphere is not the opaque one: light passes through it.
+    // a clearcoated, a sheen, an anisotropic, a tinted and an iridescent sphere and a
+    // translucent leaf; finite; the clear sphere is not the opaque one: light passes
+    // through it; and the leaf, seen from the side the sun does not reach, is lit through.
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");
@@ -464,14 +465,14 @@ fn the_materials_scene_draws_each_feature() {
         "{}",
         transparent.reason
     );
-    // The brushed metal, the tinted and the iridescent sphere, the velvet sphere's sheen
-    // and the car-paint sphere's coat.
+    // The brushed metal, the tinted and the iridescent sphere and the leaf, the velvet
+    // sphere's sheen and the car-paint sphere's coat.
     let coat = common::decision(&report, PassId::Layers);
     assert!(
         coat.enabled
             && coat
                 .reason
-                .contains("3 relit base, 1 sheen and 1 clearcoat layer"),
+                .contains("4 relit base, 1 sheen and 1 clearcoat layer"),
         "{}",
         coat.reason
     );
@@ -488,4 +489,16 @@ fn the_materials_scene_draws_each_feature() {
     );
     // The absorbing glass keeps green over red.
     assert!(green.y > 2.0 * green.x, "{green}");
+    // The leaf's centre, against the same leaf without its diffuse transmission.
+    let leaf_centre = Vec3::new(x[12], 0.4, 0.0);
+    let leaf = block(&app, &image, leaf_centre);
+    let world = app.world_mut();
+    let mut materials = world.query::<&mut Material>();
+    for mut m in materials.iter_mut(world) {
+        m.diffuse_transmission = None;
+    }
+    app.render_headless((256, 144)).expect("frame");
+    let opaque_leaf = block(&app, &app.read_hdr_image().expect("readback"), leaf_centre);
+    println!("leaf {leaf}, without its transmission {opaque_leaf}");
+    assert!(leaf.y > 2.5 * opaque_leaf.y, "{leaf} vs {opaque_leaf}");
 }

@@ -24,18 +24,23 @@
 //!     highlights and reflections over a nearly black base;
 //! 12. an iridescent sphere: a nearly black dielectric under a whole 400 nm film of
 //!     index 1.3 (`KHR_materials_iridescence`): its reflection shifts in colour from the
-//!     centre to the rim.
+//!     centre to the rim;
+//! 13. a translucent leaf: a thin green pane that transmits 70 % of its diffuse light in
+//!     yellow-green (`KHR_materials_diffuse_transmission`, colour (0.7, 0.9, 0.2)),
+//!     turned so that the camera sees the side the sun does not reach: it is lit through.
 //!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::scene::{Anisotropy, Clearcoat, Iridescence, Sheen, Transmission};
+use lumen::scene::{Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Sheen, Transmission};
 
 /// The objects' x positions (m), left to right, at the floor's centre line z = 0.
-pub const MATERIALS_X: [f32; 12] = [
-    -3.63, -2.97, -2.31, -1.65, -0.99, -0.33, 0.33, 0.99, 1.65, 2.31, 2.97, 3.63,
+pub const MATERIALS_X: [f32; 13] = [
+    -3.96, -3.3, -2.64, -1.98, -1.32, -0.66, 0.0, 0.66, 1.32, 1.98, 2.64, 3.3, 3.96,
 ];
+/// The translucent leaf's normal (unit): towards the camera's side, away from the sun.
+pub const LEAF_NORMAL: Vec3 = Vec3::new(-0.9363292, -0.2808988, 0.2106741);
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.32;
 
@@ -166,6 +171,21 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         },
         Transform::from_xyz(MATERIALS_X[11], MATERIALS_RADIUS + 0.01, 0.0),
     ));
+    let leaf = app.add_mesh(plane(0.55, 0.7))?;
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(leaf),
+        Material {
+            double_sided: true,
+            diffuse_transmission: Some(DiffuseTransmission {
+                factor: 0.7,
+                color: Vec3::new(0.7, 0.9, 0.2),
+            }),
+            ..Material::new(Vec3::new(0.08, 0.3, 0.04), 0.0, 0.6)
+        },
+        Transform::from_xyz(MATERIALS_X[12], 0.4, 0.0)
+            .with_rotation(Quat::from_rotation_arc(Vec3::Y, LEAF_NORMAL)),
+    ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((
         DirectionalLight {
@@ -178,7 +198,7 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
     world.spawn((
         Camera {
             projection: Projection {
-                fov_y_rad: 44f32.to_radians(),
+                fov_y_rad: 47f32.to_radians(),
                 near_m: 0.1,
                 far_m: 50.0,
                 ..Projection::default()
