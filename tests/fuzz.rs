@@ -452,6 +452,34 @@ fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The quad with its views compressed by `EXT_meshopt_compression` as a GLB: the packed
+/// streams in the binary chunk (buffer 0), decoded into a placeholder (buffer 1).
+fn meshopt_glb() -> Vec<u8> {
+    let bin = common::quad_buffer(1.0);
+    let (packed, views) = common::meshopt_quad(&bin, false);
+    let json = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "extensionsUsed": ["EXT_meshopt_compression"],
+        "extensionsRequired": ["EXT_meshopt_compression"],
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
+        "buffers": [
+            {"byteLength": packed.len()},
+            {"byteLength": bin.len(), "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+        ],
+        "bufferViews": views,
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    glb(&serde_json::to_vec(&json).expect("json"), &packed)
+}
+
 /// A small textured quad as a GLB (positions, UVs, indices and a 4×4 PNG in the binary
 /// chunk).
 fn textured_glb() -> Vec<u8> {
@@ -546,6 +574,13 @@ fn fuzz_glb() {
         .map(|p| std::fs::read(repo().join(p)).expect("model"))
         .collect();
     seeds.push(textured_glb());
+    let packed = meshopt_glb();
+    let mut app = App::new();
+    let path = tempfile::tempdir().expect("temp dir");
+    std::fs::write(path.path().join("packed.glb"), &packed).expect("write");
+    lumen::assets::gltf::load_gltf(&mut app, &path.path().join("packed.glb"))
+        .expect("the meshopt seed loads");
+    seeds.push(packed);
     fuzz("glb", seeds, gltf_loader("input.glb"));
 }
 
@@ -556,6 +591,27 @@ fn fuzz_draco() {
     let seeds = streams.into_iter().map(|(bytes, _)| bytes).collect();
     fuzz("draco", seeds, move |bytes: &[u8]| {
         lumen::assets::draco::decode_primitive(&extension, |_| Some(bytes)).is_ok()
+    });
+}
+
+#[test]
+fn fuzz_meshopt() {
+    // The three codecs on mutants of the quad's streams (and of each other's).
+    let bin = common::quad_buffer(1.0);
+    let indices: Vec<u32> = [0, 1, 2, 0, 2, 3].into();
+    let seeds = vec![
+        common::meshopt_attributes(&bin[..48], 12),
+        common::meshopt_triangles(&indices),
+        vec![
+            0xd1, 0x00, 0x04, 0xcd, 0x01, 0x04, 0x07, 0x98, 0x1f, 0x00, 0x00, 0x00, 0x00,
+        ],
+    ];
+    use lumen::assets::meshopt::*;
+    fuzz("meshopt", seeds, |bytes: &[u8]| {
+        let a = decode_vertex_buffer(bytes, 4, 12).is_ok();
+        let t = decode_index_buffer(bytes, 6, 2).is_ok();
+        let i = decode_index_sequence(bytes, 6, 4).is_ok();
+        a || t || i
     });
 }
 

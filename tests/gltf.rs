@@ -1801,3 +1801,59 @@ fn a_sequence_holds_the_frames_of_single_renders_at_their_times() {
     // The quad moves 0.2 m in 0.1 s: the frames differ.
     assert!(frames[0] != frames[3], "the sequence is animated");
 }
+
+/// The quad of [`write_quad`] with its three buffer views compressed by
+/// `EXT_meshopt_compression` into `packed.bin`, their own buffer a placeholder without
+/// data (`fallback`), the extension required. `corrupt` breaks the index stream's header.
+fn write_meshopt_quad(dir: &Path, corrupt: bool) -> PathBuf {
+    let bin = common::quad_buffer(2.0);
+    let (packed, views) = common::meshopt_quad(&bin, corrupt);
+    std::fs::write(dir.join("packed.bin"), &packed).expect("write packed");
+    write_quad_with(
+        dir,
+        json!({}),
+        &["EXT_meshopt_compression"],
+        json!({
+            "extensionsRequired": ["EXT_meshopt_compression"],
+            "buffers": [
+                {"byteLength": packed.len(), "uri": "packed.bin"},
+                {"byteLength": bin.len(), "extensions": {"EXT_meshopt_compression": {"fallback": true}}}
+            ],
+            "bufferViews": views
+        }),
+        [0.0, 0.0, 0.0, 1.0],
+    )
+}
+
+/// The vertices and indices of the one mesh `path` loads.
+fn loaded_mesh(path: &Path) -> lumen::scene::MeshData {
+    let mut app = App::headless().expect("a GPU adapter");
+    load_gltf(&mut app, path).expect("loads");
+    let world = app.world_mut();
+    let handles: Vec<MeshHandle> = world.query::<&Mesh3d>().iter(world).map(|m| m.0).collect();
+    let meshes = world.resource::<lumen::scene::Meshes>();
+    meshes.get(handles[0]).expect("mesh").as_ref().clone()
+}
+
+#[test]
+fn meshopt_compressed_views_decode_into_their_buffer() {
+    // EXT_meshopt_compression: positions and texture coordinates by the attribute codec,
+    // indices by the triangle codec, decoded into a placeholder buffer without data. The
+    // mesh is the uncompressed quad's, vertex for vertex (the codecs are lossless; their
+    // decoding of meshoptimizer's own streams is unit-tested in assets::meshopt).
+    let dir = tempfile::tempdir().expect("temp dir");
+    let plain = loaded_mesh(&write_quad(dir.path(), json!({}), &[]));
+    let packed_dir = tempfile::tempdir().expect("temp dir");
+    let packed = loaded_mesh(&write_meshopt_quad(packed_dir.path(), false));
+    assert_eq!(packed.indices, plain.indices);
+    assert_eq!(packed.vertices, plain.vertices);
+    // A broken stream is an error naming the view and the extension, not a panic.
+    let broken_dir = tempfile::tempdir().expect("temp dir");
+    let path = write_meshopt_quad(broken_dir.path(), true);
+    let mut app = App::headless().expect("a GPU adapter");
+    let err = load_gltf(&mut app, &path).expect_err("broken").to_string();
+    assert!(
+        err.contains("buffer view 2: EXT_meshopt_compression: not a triangle stream"),
+        "{err}"
+    );
+}

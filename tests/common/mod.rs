@@ -256,3 +256,97 @@ pub fn decision(
         .map(|(_, d)| d.clone())
         .expect("the pass is in the plan")
 }
+
+/// meshoptimizer's attribute codec (`EXT_meshopt_compression` mode 0) in its plainest
+/// legal form: each group of 16 byte deltas stored whole (header bits 3), zigzag-coded
+/// against the previous element, from a zero baseline in the tail.
+pub fn meshopt_attributes(data: &[u8], stride: usize) -> Vec<u8> {
+    let count = data.len() / stride;
+    let block_max = ((8192 / stride) & !15).min(256);
+    let mut out = vec![0xa0];
+    let mut last = vec![0u8; stride];
+    let mut start = 0;
+    while start < count {
+        let block = block_max.min(count - start);
+        let groups = block.div_ceil(16);
+        for (k, previous) in last.iter_mut().enumerate() {
+            out.extend(std::iter::repeat_n(0xffu8, groups.div_ceil(4)));
+            let mut deltas = vec![0u8; groups * 16];
+            for (i, delta) in deltas.iter_mut().take(block).enumerate() {
+                let v = data[(start + i) * stride + k];
+                let d = v.wrapping_sub(*previous) as i8;
+                *delta = ((d << 1) ^ (d >> 7)) as u8;
+                *previous = v;
+            }
+            out.extend(deltas);
+        }
+        start += block;
+    }
+    out.extend(vec![0u8; stride.max(32)]);
+    out
+}
+
+/// The triangle codec (mode 1) in its plainest legal form: every triangle coded `0xff`
+/// with all three indices explicit (zigzag deltas from the last, in varints).
+pub fn meshopt_triangles(indices: &[u32]) -> Vec<u8> {
+    let mut codes = vec![0xe1];
+    let mut data = Vec::new();
+    let mut last = 0u32;
+    for triangle in indices.chunks(3) {
+        codes.push(0xff);
+        data.push(0xff);
+        for &i in triangle {
+            let d = i.wrapping_sub(last) as i32;
+            let mut z = ((d << 1) ^ (d >> 31)) as u32;
+            while z >= 0x80 {
+                data.push((z & 0x7f) as u8 | 0x80);
+                z >>= 7;
+            }
+            data.push(z as u8);
+            last = i;
+        }
+    }
+    [codes, data, vec![0u8; 16]].concat()
+}
+
+/// The views of [`quad_buffer`]'s `bin` (positions, texture coordinates, indices)
+/// compressed by `EXT_meshopt_compression` into one stream: the packed bytes (buffer 0)
+/// and the three buffer views, decoded into buffer 1. `corrupt` breaks the index
+/// stream's header.
+pub fn meshopt_quad(bin: &[u8], corrupt: bool) -> (Vec<u8>, Vec<serde_json::Value>) {
+    let indices: Vec<u32> = bin[80..92]
+        .chunks(2)
+        .map(|c| u32::from(u16::from_le_bytes([c[0], c[1]])))
+        .collect();
+    let mut triangles = meshopt_triangles(&indices);
+    if corrupt {
+        triangles[0] = 0xe0;
+    }
+    let streams = [
+        meshopt_attributes(&bin[..48], 12),
+        meshopt_attributes(&bin[48..80], 8),
+        triangles,
+    ];
+    let mut packed = Vec::new();
+    let mut views = Vec::new();
+    for (k, (stream, (offset, length, stride, count, mode))) in streams
+        .iter()
+        .zip([
+            (0, 48, 12, 4, "ATTRIBUTES"),
+            (48, 32, 8, 4, "ATTRIBUTES"),
+            (80, 12, 2, 6, "TRIANGLES"),
+        ])
+        .enumerate()
+    {
+        let mut view = serde_json::json!({"buffer": 1, "byteOffset": offset, "byteLength": length,
+            "extensions": {"EXT_meshopt_compression": {
+                "buffer": 0, "byteOffset": packed.len(), "byteLength": stream.len(),
+                "byteStride": stride, "count": count, "mode": mode}}});
+        if k < 2 {
+            view["byteStride"] = serde_json::json!(stride);
+        }
+        views.push(view);
+        packed.extend_from_slice(stream);
+    }
+    (packed, views)
+}

@@ -27,7 +27,7 @@ use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};
 use super::gltf_quantized::{self, read_attribute, unit3};
-use super::{draco, gltf_skin, tangents};
+use super::{draco, gltf_skin, meshopt, tangents};
 use crate::app::App;
 use crate::error::{Error, Result};
 use crate::files;
@@ -129,8 +129,10 @@ fn open(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>)> {
     let bytes = files::read(path, FileKind::Model)?;
     let gltf = parse(&bytes).map_err(|e| bad(path, e))?;
     let base = path.parent().unwrap_or(Path::new("."));
-    let buffers = load_buffers(&gltf.document, base, gltf.blob)
+    let mut buffers = load_buffers(&gltf.document, base, gltf.blob)
         .map_err(|e| bad(path, format!("cannot load buffers: {e}")))?;
+    meshopt::decompress(&gltf.document, &mut buffers)
+        .map_err(|e| bad(path, format!("cannot decompress: {e}")))?;
     Ok((gltf.document, buffers))
 }
 
@@ -582,6 +584,7 @@ fn spawn_light(
 const READ_HERE: &[&str] = &[
     draco::EXTENSION,
     gltf_quantized::EXTENSION,
+    meshopt::EXTENSION,
     "KHR_materials_volume",
     "KHR_materials_specular",
     "KHR_materials_dispersion",

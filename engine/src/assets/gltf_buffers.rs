@@ -26,13 +26,19 @@ pub(super) fn read_uri(base: &Path, uri: &str, kind: FileKind) -> Result<Vec<u8>
 
 /// Loads every buffer of `document`: the GLB binary chunk, a base64 `data:` URI, or a file
 /// beside the document read with [`crate::files::read`] (a regular file, capped as
-/// [`FileKind::Buffer`]). A buffer shorter than its `byteLength` is an error.
+/// [`FileKind::Buffer`]). A buffer shorter than its `byteLength` is an error. A
+/// placeholder for `EXT_meshopt_compression`'s decoded views (marked `fallback`, or
+/// without a URI where the binary chunk is taken or absent in a file that uses the
+/// extension) is zeros of its `byteLength`, for [`super::meshopt::decompress`] to fill.
 pub(super) fn load_buffers(
     document: &gltf::Document,
     base: &Path,
     mut blob: Option<Vec<u8>>,
 ) -> Result<Vec<gltf::buffer::Data>, String> {
     let cap = FileKind::Buffer.cap();
+    let meshopt = document
+        .extensions_used()
+        .any(|e| e == super::meshopt::EXTENSION);
     document
         .buffers()
         .map(|buffer| {
@@ -44,7 +50,12 @@ pub(super) fn load_buffers(
                     crate::limits::bytes_text(cap)
                 ));
             }
+            let placeholder = super::meshopt::is_fallback(&buffer)
+                || (meshopt
+                    && blob.is_none()
+                    && matches!(buffer.source(), gltf::buffer::Source::Bin));
             let bytes = match buffer.source() {
+                _ if placeholder => vec![0; declared],
                 gltf::buffer::Source::Bin => blob
                     .take()
                     .ok_or_else(|| format!("{at}: the file has no binary chunk"))?,

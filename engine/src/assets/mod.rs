@@ -10,6 +10,7 @@ mod gltf_material;
 mod gltf_quantized;
 mod gltf_skin;
 pub mod image_io;
+pub mod meshopt;
 pub mod procedural;
 pub mod tangents;
 pub mod texture_io;
