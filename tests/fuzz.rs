@@ -663,6 +663,8 @@ fn fuzz_png_and_jpeg() {
             image::ImageFormat::Jpeg,
         ),
         std::fs::read(repo().join("tests/data/gltf/tiny.png")).expect("tiny.png"),
+        std::fs::read(repo().join("tests/data/ktx2/quadrants_etc1s.ktx2")).expect("ktx2"),
+        std::fs::read(repo().join("tests/data/ktx2/quadrants_uastc_zstd.ktx2")).expect("ktx2"),
     ];
     fuzz("image", seeds, |bytes: &[u8]| {
         let mut warnings = Vec::new();

@@ -733,9 +733,11 @@ fn centre(img: &image::Rgba32FImage) -> Vec3 {
 #[test]
 fn webp_and_basisu_textures_load_or_fall_back() {
     // The same 4 × 4 orange texel as PNG (core source), as WebP (EXT_texture_webp, no
-    // core source), and as a KTX2 image (KHR_texture_basisu) with and without a PNG
-    // fallback. WebP renders as the PNG does; KTX2 is not transcoded: the fallback is
-    // used with a warning, and without one the texture is the magenta checker.
+    // core source), and as Basis Universal KTX2 images (KHR_texture_basisu, no core
+    // source), ETC1S and Zstandard-supercompressed UASTC (tests/data/ktx2). WebP and
+    // UASTC render as the PNG does; ETC1S within its codec's error. A KTX2 image that
+    // cannot be transcoded falls back to the core source with a warning, and without one
+    // the texture is the magenta checker.
     let dir = tempfile::tempdir().expect("temp dir");
     let texel = [230u8, 120, 30, 255];
     write_png(&dir.path().join("t.png"), 4, 4, &[texel; 16]);
@@ -745,7 +747,12 @@ fn webp_and_basisu_textures_load_or_fall_back() {
         .encode(rgba.as_raw(), 4, 4, image::ExtendedColorType::Rgba8)
         .expect("webp");
     std::fs::write(dir.path().join("t.webp"), webp).expect("write webp");
-    std::fs::write(dir.path().join("t.ktx2"), b"\xabKTX 20\xbb\r\n\x1a\n").expect("write ktx2");
+    std::fs::write(dir.path().join("broken.ktx2"), b"\xabKTX 20\xbb\r\n\x1a\n")
+        .expect("write ktx2");
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/ktx2");
+    for name in ["orange_etc1s.ktx2", "orange_uastc_zstd.ktx2"] {
+        std::fs::copy(fixtures.join(name), dir.path().join(name)).expect("copy fixture");
+    }
     let material =
         json!({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}});
     let textures = |images: &[&str], texture: serde_json::Value| {
@@ -785,9 +792,29 @@ fn webp_and_basisu_textures_load_or_fall_back() {
     );
     assert!(w.is_empty(), "{w:?}");
     assert!(relative_error(webp, png) < 1e-3, "webp {webp} vs png {png}");
+    let basisu = |image: &str| {
+        textures(
+            &[image, "t.png"],
+            json!({"sampler": 0, "extensions": {"KHR_texture_basisu": {"source": 0}}}),
+        )
+    };
+    // ETC1S stores (229, 121, 31) for this texel: about 1 % in linear light.
+    for (image, tolerance) in [
+        ("orange_uastc_zstd.ktx2", 1e-3),
+        ("orange_etc1s.ktx2", 0.02),
+    ] {
+        let (ktx2, w) = load(basisu(image), &["KHR_texture_basisu"]);
+        assert!(w.is_empty(), "{image}: {w:?}");
+        let error = relative_error(ktx2, png);
+        println!(
+            "{image}: {ktx2} against the PNG's {png}: {:.2} %",
+            error * 100.0
+        );
+        assert!(error < tolerance, "{image}: {ktx2} vs png {png}");
+    }
     let (fallback, w) = load(
         textures(
-            &["t.ktx2", "t.png"],
+            &["broken.ktx2", "t.png"],
             json!({"source": 1, "sampler": 0, "extensions": {"KHR_texture_basisu": {"source": 0}}}),
         ),
         &["KHR_texture_basisu"],
@@ -798,19 +825,19 @@ fn webp_and_basisu_textures_load_or_fall_back() {
     );
     assert!(
         w.iter()
-            .any(|w| w.contains("KHR_texture_basisu") && w.contains("fallback image 1")),
+            .any(|w| w.contains("Basis Universal") && w.contains("fallback image 1")),
         "{w:?}"
     );
     let (checker, w) = load(
         textures(
-            &["t.ktx2"],
+            &["broken.ktx2"],
             json!({"sampler": 0, "extensions": {"KHR_texture_basisu": {"source": 0}}}),
         ),
         &["KHR_texture_basisu"],
     );
     assert!(
         w.iter()
-            .any(|w| w.contains("does not transcode") && w.contains("magenta")),
+            .any(|w| w.contains("Basis Universal") && w.contains("magenta")),
         "{w:?}"
     );
     assert!(relative_error(checker, png) > 0.1, "{checker} vs {png}");

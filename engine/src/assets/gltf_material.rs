@@ -2,11 +2,12 @@
 //!
 //! - Colour slots (base colour, emissive, spec/gloss diffuse and specular) are sRGB, data
 //!   slots (metallic-roughness, normal, occlusion) linear.
-//! - Images are decoded with `image` (PNG, JPEG, and WebP through `EXT_texture_webp`)
-//!   from a buffer view, a data URI or a file next to the glTF. One that cannot be read
-//!   becomes a magenta checker with a warning. A `KHR_texture_basisu` (KTX2) image is not
-//!   transcoded: the texture's PNG or JPEG fallback is used where it has one, with a
-//!   warning, and the magenta checker where it has none ([`texture_image`]).
+//! - Images are decoded with `image` (PNG, JPEG, and WebP through `EXT_texture_webp`),
+//!   and Basis Universal KTX2 images (`KHR_texture_basisu`) are transcoded
+//!   ([`texture_io`]), from a buffer view, a data URI or a file next to the glTF. An
+//!   extension's image that cannot be read falls back to the texture's core image with a
+//!   warning ([`texture_image`]); one that cannot be read at all becomes a magenta
+//!   checker with a warning.
 //! - A texture larger than the budget (the smaller of [`Quality::max_texture_size`] and
 //!   the device's limit) is downscaled with a warning.
 //! - `KHR_materials_pbrSpecularGlossiness` textures are converted texel by texel to a
@@ -40,8 +41,8 @@ impl TextureLoader<'_> {
     /// The decoded image of `texture` (RGBA8, within the budget), or the missing-texture
     /// checker with a warning.
     fn decode(&mut self, texture: &gltf::Texture, color_space: ColorSpace) -> TextureData {
-        let image = match texture_image(texture, self.images, &mut self.warnings) {
-            Ok(image) => image,
+        let (image, fallback) = match texture_image(texture, self.images) {
+            Ok(images) => images,
             Err(e) => {
                 self.warnings.push(format!(
                     "texture {}: {e}; drawn as a magenta checker",
@@ -50,6 +51,34 @@ impl TextureLoader<'_> {
                 return TextureData::missing(color_space);
             }
         };
+        match (self.decode_image(&image, color_space), fallback) {
+            (Ok(data), _) => data,
+            (Err(e), Some(fallback)) => {
+                self.warnings.push(format!(
+                    "texture {}: {e}; its fallback image {} is used",
+                    texture.index(),
+                    fallback.index()
+                ));
+                self.decode_image(&fallback, color_space)
+                    .unwrap_or_else(|e| self.missing(e, color_space))
+            }
+            (Err(e), None) => self.missing(e, color_space),
+        }
+    }
+
+    /// The missing-texture checker, with the warning `e`.
+    fn missing(&mut self, e: String, color_space: ColorSpace) -> TextureData {
+        self.warnings
+            .push(format!("{e}; drawn as a magenta checker"));
+        TextureData::missing(color_space)
+    }
+
+    /// The decoded `image` (RGBA8, within the budget), or an error naming it.
+    fn decode_image(
+        &mut self,
+        image: &gltf::Image,
+        color_space: ColorSpace,
+    ) -> Result<TextureData, String> {
         let what = format!("image {}", image.index());
         let bytes: Result<Vec<u8>, String> = match image.source() {
             gltf::image::Source::View { view, .. } => self
@@ -65,17 +94,11 @@ impl TextureLoader<'_> {
                 super::gltf_buffers::read_uri(self.base, uri, crate::limits::FileKind::Texture)
             }
         };
-        let decoded = bytes.and_then(|b| {
-            texture_io::decode(&b, color_space, self.max_size, &mut self.warnings, &what)
-        });
-        match decoded {
-            Ok(data) => data,
-            Err(e) => {
-                self.warnings
-                    .push(format!("{what}: {e}; drawn as a magenta checker"));
-                TextureData::missing(color_space)
-            }
-        }
+        bytes
+            .and_then(|b| {
+                texture_io::decode(&b, color_space, self.max_size, &mut self.warnings, &what)
+            })
+            .map_err(|e| format!("{what}: {e}"))
     }
 
     /// The handle of `texture` in `color_space`, decoding it on first use.
@@ -517,45 +540,34 @@ fn spec_gloss_textures(
     maps.metallic_roughness = add(store, mr, ColorSpace::Linear);
 }
 
-/// The image a texture is read from: the `EXT_texture_webp` source where the texture
-/// has one (Lumen decodes WebP), else the core `source`. A texture whose only image is a
-/// `KHR_texture_basisu` (KTX2) one is an error (Lumen has no Basis Universal
-/// transcoder); one with a core fallback beside it uses the fallback, and a warning says
-/// so.
+/// The image a texture is read from, and the one to fall back on if it cannot be
+/// decoded: the `EXT_texture_webp` or `KHR_texture_basisu` (KTX2) source where the
+/// texture has one (Lumen decodes WebP and transcodes Basis Universal), with the core
+/// `source`, if any, as the fallback; else the core `source`.
 fn texture_image<'a>(
     texture: &gltf::Texture<'a>,
     images: &[gltf::Image<'a>],
-    warnings: &mut Vec<String>,
-) -> Result<gltf::Image<'a>, String> {
+) -> Result<(gltf::Image<'a>, Option<gltf::Image<'a>>), String> {
     let document_image = |name: &str| {
         texture
             .extension_value(name)
             .and_then(|e| e.get("source"))
             .and_then(|s| s.as_u64())
     };
-    if let Some(index) = document_image("EXT_texture_webp") {
-        return usize::try_from(index)
-            .ok()
-            .and_then(|i| images.get(i))
-            .cloned()
-            .ok_or(format!("EXT_texture_webp source {index} does not exist"));
-    }
-    let basisu = document_image("KHR_texture_basisu");
-    match (texture.source(), basisu) {
-        (Some(fallback), Some(_)) => {
-            warnings.push(format!(
-                "texture {}: KHR_texture_basisu (KTX2) images are not transcoded; its fallback image {} is used",
-                texture.index(),
-                fallback.index()
-            ));
-            Ok(fallback)
+    for name in ["EXT_texture_webp", "KHR_texture_basisu"] {
+        if let Some(index) = document_image(name) {
+            let image = usize::try_from(index)
+                .ok()
+                .and_then(|i| images.get(i))
+                .cloned()
+                .ok_or(format!("{name} source {index} does not exist"))?;
+            return Ok((image, texture.source()));
         }
-        (Some(image), None) => Ok(image),
-        (None, Some(_)) => Err(
-            "its only image is KHR_texture_basisu (KTX2), which Lumen does not transcode".into(),
-        ),
-        (None, None) => Err("it has no image".into()),
     }
+    texture
+        .source()
+        .map(|image| (image, None))
+        .ok_or("it has no image".into())
 }
 
 /// `KHR_materials_transmission` with `KHR_materials_volume`, `KHR_materials_ior` and
