@@ -49,6 +49,13 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
     return safe_normalize(t * rotation.x + b * rotation.y, t);
 }
 
+// The Fresnel reflectance of a relit base at the cosine v·h (clamped): the tinted F0
+// mixed with the film's. Shared with the diffuse transmission.
+fn relit_fresnel(surface: Surface, lobe: RelitLobe, v_dot_h: f32) -> vec3<f32> {
+    let f0 = tinted_f0(surface.base_color, clamp(surface.metallic, 0.0, 1.0), surface.specular_level, lobe.tint);
+    return iridescent_mix(f0, clamp(v_dot_h, 0.0, 1.0), lobe.film);
+}
+
 // The lobes (1/sr) of a relit base: the anisotropic specular lobe along the unit
 // direction t (strength 0: isotropic, height-correlated Smith), the dielectric F0 tinted,
 // the Fresnel mixed with the film's.
@@ -65,8 +72,7 @@ fn relit_brdf_lobes(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, t: vec3<f32>, surf
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let alphas = anisotropic_alphas(r * r, lobe.strength);
     let metallic = clamp(surface.metallic, 0.0, 1.0);
-    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, lobe.tint);
-    let f = iridescent_mix(f0, clamp(dot(v, h), 0.0, 1.0), lobe.film);
+    let f = relit_fresnel(surface, lobe, dot(v, h));
     let lv = vec3<f32>(dot(t, v), dot(b, v), max(dot(n, v), MIN_N_DOT_V));
     let d = d_ggx_anisotropic(alphas, vec3<f32>(dot(t, h), dot(b, h), dot(n, h)));
     let vis = v_smith_ggx_correlated_anisotropic(alphas, lv, vec3<f32>(dot(t, l), dot(b, l), dot(n, l)));

@@ -23,8 +23,7 @@ fn diffuse_transmission_lobe(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: 
     let mirrored = l - 2.0 * n_dot_l * n;
     let h = safe_normalize(v + mirrored, n);
     let metallic = clamp(surface.metallic, 0.0, 1.0);
-    let f0 = tinted_f0(surface.base_color, metallic, surface.specular_level, lobe.tint);
-    let f = iridescent_mix(f0, clamp(dot(v, h), 0.0, 1.0), lobe.film);
+    let f = relit_fresnel(surface, lobe, dot(v, h));
     let k_d = (vec3<f32>(1.0) - f) * (1.0 - metallic);
     return k_d * clamp(color, vec3<f32>(0.0), vec3<f32>(1.0)) * (d * fd_lambert());
 }

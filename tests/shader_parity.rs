@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 60;
+const OUTPUTS: usize = 61;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -400,6 +400,14 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             )
             .extend(0.0)
         },
+        {
+            let lobe = an::RelitLobe {
+                strength: k,
+                tint: Vec3::new(base.z, base.y, base.x) * 1.2,
+                film: Vec3::new(x, 1.0 + r, 800.0 * n_dot_h),
+            };
+            an::relit_fresnel(&s, &lobe, n_dot_h * 1.2 - 0.1).extend(0.0)
+        },
     ]
 }
 
@@ -464,6 +472,7 @@ const NAMES: [&str; OUTPUTS] = [
     "schlick_f0_of",
     "film_f0",
     "diffuse_transmission_lobe",
+    "relit_fresnel",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges
@@ -496,7 +505,7 @@ const ANGLES: [usize; 2] = [19, 20];
 /// Outputs of the thin film (and the relit lobes, which include one), held in absolute
 /// terms: they take the cosine of phases up to about 85 rad, where one ulp of the argument is 8e-6, and cross 0 (measured: an
 /// absolute difference of 5e-7 at a value of 1.25e-4).
-const FILM: [usize; 6] = [50, 54, 55, 56, 58, 59];
+const FILM: [usize; 7] = [50, 54, 55, 56, 58, 59, 60];
 
 /// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
 /// `outputs` vec4s per case (binding 1).

@@ -94,6 +94,21 @@ impl Default for RelitLobe {
     }
 }
 
+/// The Fresnel reflectance of a relit base at the cosine `v_dot_h` (clamped to 0..1) of
+/// the angle between the view and the half vector: its dielectric F0 tinted
+/// ([`crate::brdf::tinted_f0`]) and mixed with the iridescent film's
+/// ([`crate::iridescence::iridescent_mix`]). Shared by the reflected lobes and the diffuse
+/// transmission ([`crate::diffuse_transmission`]).
+pub fn relit_fresnel(surface: &Surface, lobe: &RelitLobe, v_dot_h: f32) -> Vec3 {
+    let f0 = tinted_f0(
+        surface.base_color,
+        surface.metallic.clamp(0.0, 1.0),
+        surface.specular_level,
+        lobe.tint,
+    );
+    crate::iridescence::iridescent_mix(f0, v_dot_h.clamp(0.0, 1.0), lobe.film)
+}
+
 /// The Cook-Torrance lobes (1/sr) of a relit base (docs/src/materials.md#anisotropy):
 /// the anisotropic GGX specular lobe along the unit direction `t` (perpendicular to `n`)
 /// of the lobe's strength (0: isotropic GGX with the height-correlated Smith term), its
@@ -119,13 +134,7 @@ pub fn relit_brdf_lobes(
     let r = clamp_perceptual_roughness(surface.perceptual_roughness);
     let alphas = anisotropic_alphas(r * r, lobe.strength);
     let metallic = surface.metallic.clamp(0.0, 1.0);
-    let f0 = tinted_f0(
-        surface.base_color,
-        metallic,
-        surface.specular_level,
-        lobe.tint,
-    );
-    let f = crate::iridescence::iridescent_mix(f0, v.dot(h).clamp(0.0, 1.0), lobe.film);
+    let f = relit_fresnel(surface, lobe, v.dot(h));
     let mut lv = local(v);
     lv.z = lv.z.max(crate::brdf::MIN_N_DOT_V);
     let d = d_ggx_anisotropic(alphas, local(h));

@@ -20,7 +20,7 @@
 //! in a uniform environment returns exactly that environment, whatever `d` is.
 
 use crate::anisotropy::RelitLobe;
-use crate::brdf::{Surface, fd_lambert, safe_normalize, tinted_f0};
+use crate::brdf::{Surface, fd_lambert, safe_normalize};
 use glam::Vec3;
 
 /// The diffuse transmission lobe (1/sr) of a relit base of `surface` and `lobe` (the
@@ -51,13 +51,7 @@ pub fn diffuse_transmission_lobe(
     let mirrored = l - 2.0 * n_dot_l * n;
     let h = safe_normalize(v + mirrored, n);
     let metallic = surface.metallic.clamp(0.0, 1.0);
-    let f0 = tinted_f0(
-        surface.base_color,
-        metallic,
-        surface.specular_level,
-        lobe.tint,
-    );
-    let f = crate::iridescence::iridescent_mix(f0, v.dot(h).clamp(0.0, 1.0), lobe.film);
+    let f = crate::anisotropy::relit_fresnel(surface, lobe, v.dot(h));
     let k_d = (Vec3::ONE - f) * (1.0 - metallic);
     k_d * color.clamp(Vec3::ZERO, Vec3::ONE) * (d * fd_lambert())
 }
