@@ -136,7 +136,8 @@ fn list_light(list: LightList, k: u32) -> u32 {
 // The specular lobe's multiple-scattering compensation for this pixel (1 when off).
 var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
 // Multiplies every diffuse term: 1 − transmission on a transmissive surface (set by the
-// transparent pass before surface_light), 0 for a layer, 1 everywhere else.
+// transparent pass before surface_light), 1 − the diffuse transmission's factor on a
+// relit base (set by fs_relit), 0 for a layer, 1 everywhere else.
 var<private> diffuse_weight: f32 = 1.0;
 // With SHEEN_LOBE: the sheen lobe's directional albedo at this pixel (colour 1), set by
 // the layers pass before surface_light.
@@ -156,7 +157,7 @@ var<private> translucency: vec4<f32> = vec4<f32>(0.0);
 // diffuse transmission.
 fn shade(n: vec3<f32>, v: vec3<f32>, l: vec3<f32>, surface: Surface, illuminance: vec3<f32>) -> vec3<f32> {
     let n_dot_l = dot(n, l);
-    if RELIT_BASE && n_dot_l < 0.0 {
+    if RELIT_BASE && n_dot_l < 0.0 && translucency.w > 0.0 {
         return diffuse_transmission_lobe(n, v, l, surface, relit_lobe, translucency.w, translucency.rgb)
             * illuminance * -n_dot_l;
     }
@@ -284,7 +285,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         if HAS_ENVIRONMENT {
             let rotation = environment.params.y;
             irradiance = sh_irradiance(environment.sh, rotate_y(n, -rotation));
-            if RELIT_BASE {
+            if RELIT_BASE && translucency.w > 0.0 {
                 back_irradiance = sh_irradiance(environment.sh, rotate_y(-n, -rotation));
             }
             prefiltered = environment.uniform_radiance.rgb;

@@ -22,8 +22,11 @@
 //! exponent and a 24-bit mantissa).
 //!
 //! The uncompressed buffer a compressed view belongs to may be a placeholder without data
-//! (marked `fallback`): it is allocated here, zeroed, at its declared length (within the
-//! buffer cap). Every malformed stream is an error naming its buffer view, never a panic.
+//! (marked `fallback`): the buffer loader (`gltf_buffers::load_buffers`) allocates it,
+//! zeroed, at its declared length (within the buffer cap). A view is decoded only where
+//! it lies inside its loaded buffer, and the codecs refuse element counts their stream
+//! is too short to hold, so nothing larger than the file's buffers is allocated. Every
+//! malformed stream is an error naming its buffer view, never a panic.
 
 /// The extension's name.
 pub const EXTENSION: &str = "EXT_meshopt_compression";
@@ -162,6 +165,15 @@ pub(super) fn decompress(
         let at = format!("buffer view {}", view.index());
         let c = Compressed::parse(ext, view.length(), view.stride())
             .map_err(|e| format!("{at}: {EXTENSION}: {e}"))?;
+        // The view's place, inside a loaded (capped) buffer, bounds what is decoded.
+        let inside = buffers.get(view.buffer().index()).is_some_and(|b| {
+            view.offset()
+                .checked_add(view.length())
+                .is_some_and(|end| end <= b.0.len())
+        });
+        if !inside {
+            return Err(format!("{at} lies outside its buffer"));
+        }
         let source = buffers
             .get(c.buffer)
             .and_then(|b| b.0.get(c.offset..c.offset.checked_add(c.length)?))
@@ -255,6 +267,13 @@ pub fn decode_vertex_buffer(data: &[u8], count: usize, stride: usize) -> Result<
     }
     if data.len() < 1 + tail {
         return Err("the stream is shorter than its tail".into());
+    }
+    // Each byte position needs a header byte per 64 elements at least.
+    if count.div_ceil(64).saturating_mul(stride) > data.len() {
+        return Err(format!(
+            "{count} elements cannot fit a {}-byte stream",
+            data.len()
+        ));
     }
     let mut last = data[data.len() - stride..].to_vec();
     let mut out = vec![0u8; count.checked_mul(stride).ok_or("the size overflows")?];
@@ -474,8 +493,12 @@ pub fn decode_index_sequence(data: &[u8], count: usize, size: usize) -> Result<V
     if data.first() != Some(&0xd1) {
         return Err("not an index sequence (header 0xd1)".into());
     }
-    if data.len() < 1 + 4 {
-        return Err("the stream is shorter than its tail".into());
+    // A byte per index at least, and the tail.
+    if data.len() < count.saturating_add(1 + 4) {
+        return Err(format!(
+            "{count} indices cannot fit a {}-byte stream",
+            data.len()
+        ));
     }
     let mut r = Reader {
         data,
@@ -806,6 +829,12 @@ mod tests {
             decode_index_sequence(&[0xd1, 0xff, 0xff, 0xff, 0xff, 0xff, 1, 0, 0, 0, 0], 1, 4)
                 .is_err()
         );
+        // Element counts the stream cannot hold are refused before anything is allocated.
+        let mut short = vec![0xa0];
+        short.resize(64, 0);
+        assert!(decode_vertex_buffer(&short, usize::MAX / 2, 4).is_err());
+        assert!(decode_index_sequence(&[0xd1, 0, 0, 0, 0], 1 << 40, 4).is_err());
+        assert!(decode_index_buffer(&[0xe1; 40], usize::MAX - 2, 4).is_err());
         // An index beyond 16 bits in a 2-byte view.
         let big = [0xd1, 0x80, 0x80, 0x10, 0, 0, 0, 0];
         assert!(decode_index_sequence(&big, 1, 4).is_ok());

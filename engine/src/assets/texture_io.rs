@@ -25,7 +25,8 @@ const DECODE_CAP: u64 = 512 << 20;
 /// Checks the sizes a KTX2 file declares (Khronos, "KTX File Format Specification 2.0",
 /// section 3: the header and the level index) before the transcoder trusts them: the
 /// base level's RGBA8 size and every level's uncompressed size within the 512 MiB cap,
-/// every level's bytes inside the file, at most 32 levels, 1 or 6 faces.
+/// every level's bytes inside the file, at most 32 levels, one face, one layer, no depth
+/// (a 2D texture, as glTF's are).
 fn ktx2_within_limits(bytes: &[u8]) -> Result<(), String> {
     let u32_at = |at: usize| {
         bytes
@@ -40,16 +41,16 @@ fn ktx2_within_limits(bytes: &[u8]) -> Result<(), String> {
             .map(u64::from_le_bytes)
             .ok_or("the level index is truncated")
     };
-    let (w, h) = (u32_at(20)?, u32_at(24)?);
-    let (faces, levels) = (u32_at(36)?, u32_at(40)?.max(1));
-    if w * h * 4 > DECODE_CAP {
+    let (w, h, depth) = (u32_at(20)?, u32_at(24)?, u32_at(28)?);
+    let (layers, faces, levels) = (u32_at(32)?, u32_at(36)?, u32_at(40)?.max(1));
+    if w.saturating_mul(h).saturating_mul(4) > DECODE_CAP {
         return Err(format!(
             "its {w}×{h} base level is over the 512 MiB decoding cap"
         ));
     }
-    if levels > 32 || !(faces == 1 || faces == 6) {
+    if levels > 32 || faces != 1 || depth > 1 || layers > 1 {
         return Err(format!(
-            "{levels} levels and {faces} faces are not a 2D texture's"
+            "{levels} levels, {faces} faces, depth {depth} and {layers} layers are not a 2D texture's"
         ));
     }
     for level in 0..levels as usize {

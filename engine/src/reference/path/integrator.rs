@@ -197,13 +197,16 @@ fn transmission_choice(
 
 /// Where a ray along `l` leaves the surface at `p`: lifted by `offset` (the geometric
 /// normal turned to the viewer, scaled) to the viewer's side, or, for a direction
-/// through a translucent `bsdf`, to the other side.
-fn departure(p: Vec3, offset: Vec3, l: Vec3, bsdf: &Bsdf) -> Vec3 {
-    if bsdf.transmits() && l.dot(offset) < 0.0 {
-        p - offset
-    } else {
-        p + offset
+/// through a translucent `bsdf`, to the other side. `None` where a translucent surface's
+/// shading and geometric normals disagree on the side `l` is on (smooth or mapped normals
+/// at grazing angles): light reflected by the lobes must not leave through the back, nor
+/// transmitted light through the front.
+fn departure(p: Vec3, offset: Vec3, l: Vec3, bsdf: &Bsdf) -> Option<Vec3> {
+    if !bsdf.transmits() {
+        return Some(p + offset);
     }
+    let through = l.dot(offset) < 0.0;
+    (through == (bsdf.n().dot(l) < 0.0)).then_some(if through { p - offset } else { p + offset })
 }
 
 fn power_heuristic(a: f32, b: f32) -> f32 {
@@ -339,7 +342,9 @@ impl TraceScene {
             let f = bsdf.eval(v, l);
             let tested =
                 light.casts_shadows() || self.light_visibility == LightVisibility::Physical;
-            let origin = departure(p, offset, l, bsdf);
+            let Some(origin) = departure(p, offset, l, bsdf) else {
+                continue;
+            };
             if f == Vec3::ZERO || (tested && self.occluded(origin, l, distance * (1.0 - 1e-4))) {
                 continue;
             }
@@ -371,7 +376,10 @@ impl TraceScene {
         let mut sum = Vec3::ZERO;
         if let Some((l, radiance, pdf)) = self.sample_environment(bsdf.n(), rng) {
             let f = bsdf.eval(v, l);
-            if f != Vec3::ZERO && !self.occluded(departure(p, offset, l, bsdf), l, f32::MAX) {
+            let origin = departure(p, offset, l, bsdf);
+            if let Some(origin) = origin.filter(|_| f != Vec3::ZERO)
+                && !self.occluded(origin, l, f32::MAX)
+            {
                 let w = power_heuristic(pdf, bsdf.pdf(v, l));
                 sum += f * radiance * (w / pdf);
             }
@@ -715,8 +723,11 @@ impl TraceScene {
                 if through && !bsdf.transmits() {
                     break;
                 }
+                let Some(origin) = departure(p, offset, l, &bsdf) else {
+                    break;
+                };
                 throughput *= weight;
-                ray_origin = departure(p, offset, l, &bsdf);
+                ray_origin = origin;
                 ray_dir = l;
                 match self.trace(ray_origin, ray_dir) {
                     None => {
