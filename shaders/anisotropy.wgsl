@@ -49,6 +49,20 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
     return safe_normalize(t * rotation.x + b * rotation.y, t);
 }
 
+// The anisotropy at a texel of anisotropyTexture (engine/src/anisotropy.rs,
+// `textured_anisotropy`): x the strength × blue; y, z the cosine and sine of the
+// direction (red and green × 2 − 1, the tangent where 0) turned by `rotation`.
+fn textured_anisotropy(strength: f32, rotation: vec2<f32>, texel: vec3<f32>) -> vec3<f32> {
+    let d = texel.xy * 2.0 - vec2<f32>(1.0);
+    let len = length(d);
+    var unit = vec2<f32>(1.0, 0.0);
+    if len > 1e-6 {
+        unit = d / len;
+    }
+    let turned = vec2<f32>(rotation.x * unit.x - rotation.y * unit.y, rotation.y * unit.x + rotation.x * unit.y);
+    return vec3<f32>(strength * clamp(texel.z, 0.0, 1.0), turned);
+}
+
 // The Fresnel reflectance of a relit base at the cosine v·h (clamped): the tinted F0
 // mixed with the film's. Shared with the diffuse transmission.
 fn relit_fresnel(surface: Surface, lobe: RelitLobe, v_dot_h: f32) -> vec3<f32> {

@@ -110,3 +110,9 @@ fn schlick_f0_of(fresnel: vec3<f32>, cos_theta: f32) -> vec3<f32> {
     let x = pow5_one_minus(cos_theta);
     return clamp((fresnel - vec3<f32>(x)) / max(1.0 - x, 1e-4), vec3<f32>(0.0), vec3<f32>(1.0));
 }
+
+// The film's thickness (nm) at green `g` of iridescenceThicknessTexture
+// (engine/src/iridescence.rs, `film_thickness`): the minimum at 0, the maximum at 1.
+fn film_thickness(min_nm: f32, max_nm: f32, g: f32) -> f32 {
+    return min_nm + (max_nm - min_nm) * clamp(g, 0.0, 1.0);
+}

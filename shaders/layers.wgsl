@@ -106,15 +106,17 @@ fn finite_layer(color: vec3<f32>) -> vec3<f32> {
 // The sheen: L_sheen over the base, which keeps 1 − max(colour) · E_sheen(n·v, r).
 @fragment
 fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let ext = extension_texels(in.uv0, in.uv1);
     let lp = layer_point(in, front);
     if !lp.kept {
         discard;
     }
     var sheen: Surface;
-    sheen.base_color = clamp(maps.sheen.rgb, vec3<f32>(0.0), vec3<f32>(1.0));
+    let color = maps.sheen.rgb * extension_texel(ext, PROPERTY_SHEEN_COLOR).rgb;
+    sheen.base_color = clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
     sheen.metallic = 0.0;
     sheen.specular_level = 0.0;
-    sheen.perceptual_roughness = clamp_sheen_roughness(maps.sheen.w);
+    sheen.perceptual_roughness = clamp_sheen_roughness(maps.sheen.w * extension_texel(ext, PROPERTY_SHEEN_ROUGHNESS).a);
     let n_dot_v = max(dot(lp.point.n, lp.point.v), MIN_N_DOT_V);
     layer_albedo = sheen_albedo(n_dot_v, sheen.perceptual_roughness);
     let light = surface_light(lp.point, sheen);
@@ -124,6 +126,7 @@ fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
 // The coat: factor · L_coat over the base, which keeps 1 − factor · E_coat(n·v, r_c).
 @fragment
 fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let ext = extension_texels(in.uv0, in.uv1);
     let lp = layer_point(in, front);
     if !lp.kept {
         discard;
@@ -132,36 +135,51 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
     coat.base_color = vec3<f32>(0.0);
     coat.metallic = 0.0;
     coat.specular_level = CLEARCOAT_SPECULAR_LEVEL;
-    coat.perceptual_roughness = maps.clearcoat.y;
+    coat.perceptual_roughness = maps.clearcoat.y * extension_texel(ext, PROPERTY_CLEARCOAT_ROUGHNESS).g;
     let light = surface_light(lp.point, coat);
     // surface_light left the coat lobe's energy compensation in `specular_energy`.
     let n_dot_v = max(dot(lp.point.n, lp.point.v), MIN_N_DOT_V);
     let r = clamp_perceptual_roughness(coat.perceptual_roughness);
     let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
-    let factor = maps.clearcoat.x;
+    let factor = maps.clearcoat.x * extension_texel(ext, PROPERTY_CLEARCOAT).r;
     let albedo = clearcoat_albedo(dfg, specular_energy.x);
     return vec4<f32>(finite_layer(light * factor), 1.0 - clearcoat_base_weight(factor, albedo));
 }
 
 // A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
 // maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film;
-// maps.translucency: the diffuse transmission): the
+// maps.translucency: the diffuse transmission; each scaled by its extension texture): the
 // whole surface (emission, diffuse and the relit specular lobe, every light and the
 // indirect terms) from its material (forward_surface.wgsl), with alpha 1: it replaces
 // the deferred pass's light.
 @fragment
 fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let ext = extension_texels(in.uv0, in.uv1);
     let fragment = forward_surface(in, front);
     if masked_out(fragment.alpha) {
         discard;
     }
+    // The extension textures scale their factors (anisotropyTexture also turns the
+    // direction; iridescenceThicknessTexture picks the film's thickness).
+    var anisotropy = vec3<f32>(maps.anisotropy.x, maps.anisotropy.yz);
+    if extension_unit(PROPERTY_ANISOTROPY) < EXTENSION_UNITS {
+        anisotropy = textured_anisotropy(maps.anisotropy.x, maps.anisotropy.yz,
+                                         extension_texel(ext, PROPERTY_ANISOTROPY).rgb);
+    }
+    var film = maps.film.xyz;
+    film.x *= extension_texel(ext, PROPERTY_IRIDESCENCE).r;
+    if extension_unit(PROPERTY_IRIDESCENCE_THICKNESS) < EXTENSION_UNITS {
+        film.z = film_thickness(maps.extension_params.x, maps.film.z,
+                                extension_texel(ext, PROPERTY_IRIDESCENCE_THICKNESS).g);
+    }
     // On a back face the normal is turned, so the handedness turns too: the grain is the
     // front's.
     let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
-    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, maps.anisotropy.yz);
-    relit_lobe = RelitLobe(maps.anisotropy.x, maps.specular_tint.rgb, maps.film.xyz);
-    translucency = maps.translucency;
-    diffuse_weight = 1.0 - maps.translucency.w;
+    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, anisotropy.yz);
+    relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb, film);
+    translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
+                             maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);
+    diffuse_weight = 1.0 - translucency.w;
     let light = fragment.emissive + surface_light(fragment.point, fragment.surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

@@ -44,6 +44,16 @@ struct Maps {
     film: vec4<f32>,
     // Relit bases: the diffuse transmission: rgb: its colour; w: its factor (0: none).
     translucency: vec4<f32>,
+    // The extension textures (engine/src/scene/extension_maps.rs): per unit, the rows of
+    // its 2 × 3 texture-coordinate transform.
+    extension_transforms: array<vec4<f32>, 8>,
+    // Per unit, its texture coordinate set (0 or 1).
+    extension_uv_sets: vec4<u32>,
+    // Per property (PROPERTY_*), four to a vec4, its unit (EXTENSION_UNITS: none).
+    extension_units: array<vec4<u32>, 3>,
+    // x: the film's thickness (nm) where its thickness texture reads 0; y: how many
+    // units are bound.
+    extension_params: vec4<f32>,
 }
 
 @group(MAPS_GROUP) @binding(0) var<uniform> maps: Maps;
@@ -57,6 +67,76 @@ struct Maps {
 @group(MAPS_GROUP) @binding(8) var normal_sampler: sampler;
 @group(MAPS_GROUP) @binding(9) var occlusion_sampler: sampler;
 @group(MAPS_GROUP) @binding(10) var emissive_sampler: sampler;
+@group(MAPS_GROUP) @binding(11) var extension_map_0: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(12) var extension_map_1: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(13) var extension_map_2: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(14) var extension_map_3: texture_2d<f32>;
+@group(MAPS_GROUP) @binding(15) var extension_sampler_0: sampler;
+@group(MAPS_GROUP) @binding(16) var extension_sampler_1: sampler;
+@group(MAPS_GROUP) @binding(17) var extension_sampler_2: sampler;
+@group(MAPS_GROUP) @binding(18) var extension_sampler_3: sampler;
+
+// The extension textures' properties (EXTENSION_TEXTURES in
+// engine/src/scene/extension_maps.rs), each scaling its layer's factor by one channel.
+const EXTENSION_UNITS: u32 = 4u;
+const PROPERTY_TRANSMISSION: u32 = 0u;
+const PROPERTY_THICKNESS: u32 = 1u;
+const PROPERTY_CLEARCOAT: u32 = 2u;
+const PROPERTY_CLEARCOAT_ROUGHNESS: u32 = 3u;
+const PROPERTY_SHEEN_COLOR: u32 = 4u;
+const PROPERTY_SHEEN_ROUGHNESS: u32 = 5u;
+const PROPERTY_ANISOTROPY: u32 = 6u;
+const PROPERTY_IRIDESCENCE: u32 = 7u;
+const PROPERTY_IRIDESCENCE_THICKNESS: u32 = 8u;
+const PROPERTY_DIFFUSE_TRANSMISSION: u32 = 9u;
+const PROPERTY_DIFFUSE_TRANSMISSION_COLOR: u32 = 10u;
+
+// The extension units' texels at one fragment; the last entry is white (no texture).
+struct ExtensionTexels {
+    texels: array<vec4<f32>, 5>,
+}
+
+// The coordinates of extension unit `unit` after its set choice and transform.
+fn extension_uv(unit: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
+    let uv = vec3<f32>(select(uv0, uv1, maps.extension_uv_sets[unit] == 1u), 1.0);
+    return vec2<f32>(dot(maps.extension_transforms[unit * 2u].xyz, uv),
+                     dot(maps.extension_transforms[unit * 2u + 1u].xyz, uv));
+}
+
+// Every bound extension unit sampled at (uv0, uv1); unbound units read white. Call it in
+// uniform control flow (before any discard); the unit count is uniform, so the
+// branches are too.
+fn extension_texels(uv0: vec2<f32>, uv1: vec2<f32>) -> ExtensionTexels {
+    var out: ExtensionTexels;
+    for (var k = 0u; k <= EXTENSION_UNITS; k++) {
+        out.texels[k] = vec4<f32>(1.0);
+    }
+    let bound = maps.extension_params.y;
+    if bound > 0.5 {
+        out.texels[0] = textureSample(extension_map_0, extension_sampler_0, extension_uv(0u, uv0, uv1));
+    }
+    if bound > 1.5 {
+        out.texels[1] = textureSample(extension_map_1, extension_sampler_1, extension_uv(1u, uv0, uv1));
+    }
+    if bound > 2.5 {
+        out.texels[2] = textureSample(extension_map_2, extension_sampler_2, extension_uv(2u, uv0, uv1));
+    }
+    if bound > 3.5 {
+        out.texels[3] = textureSample(extension_map_3, extension_sampler_3, extension_uv(3u, uv0, uv1));
+    }
+    return out;
+}
+
+// The unit of `property` (EXTENSION_UNITS where it has no texture).
+fn extension_unit(property: u32) -> u32 {
+    return min(maps.extension_units[property / 4u][property % 4u], EXTENSION_UNITS);
+}
+
+// The texel that scales `property`'s factor (white where it has no texture).
+fn extension_texel(t: ExtensionTexels, property: u32) -> vec4<f32> {
+    var texels = t.texels;
+    return texels[extension_unit(property)];
+}
 
 // The coordinates of `slot` after its set choice and KHR_texture_transform.
 fn slot_uv(slot: u32, uv_set: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {

@@ -39,7 +39,7 @@ fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
 // × the volume's Beer–Lambert transmittance over the path (KHR_materials_transmission
 // and _volume; one interface, as the Khronos sample renderer).
 fn transmitted_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
-    let t = maps.transmission;
+    let t = transmission_here;
     let f0 = compute_f0(surface.base_color, 0.0, surface.specular_level);
     let fresnel = f_schlick(f0, max(dot(p.n, p.v), MIN_N_DOT_V));
     let weight = (1.0 - clamp(surface.metallic, 0.0, 1.0)) * t.x;
@@ -68,6 +68,11 @@ fn seen_through(p: ShadingPoint, surface: Surface, ior: f32, thickness_m: f32) -
     return volume_transmittance(maps.attenuation.rgb, maps.transmission.w, path_m) * behind;
 }
 
+// The fragment's transmission (as `Maps.transmission`: factor, index, thickness in m,
+// attenuation distance), the factor × transmissionTexture's red and the thickness ×
+// thicknessTexture's green.
+var<private> transmission_here: vec4<f32>;
+
 // A blended fragment's premultiplied colour and coverage, and its view depth (m).
 struct BlendedFragment {
     color: vec4<f32>,
@@ -75,6 +80,9 @@ struct BlendedFragment {
 }
 
 fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
+    let ext = extension_texels(in.uv0, in.uv1);
+    transmission_here = maps.transmission * vec4<f32>(extension_texel(ext, PROPERTY_TRANSMISSION).r, 1.0,
+                                                      extension_texel(ext, PROPERTY_THICKNESS).g, 1.0);
     let fragment = forward_surface(in, front);
     let surface = fragment.surface;
     let point = fragment.point;
@@ -86,7 +94,7 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
         if masked_out(fragment.alpha) {
             alpha = 0.0;
         }
-        diffuse_weight = 1.0 - maps.transmission.x;
+        diffuse_weight = 1.0 - transmission_here.x;
         transmitted = transmitted_light(point, surface);
     }
     // An unlit surface (KHR_materials_unlit) shows its base colour as it is, pre-exposed.

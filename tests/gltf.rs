@@ -7,6 +7,7 @@ use crate::common;
 use lumen::assets::gltf::{GltfSummary, load_gltf};
 use lumen::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use lumen::prelude::*;
+use lumen::scene::{ColorSpace, MaterialMaps};
 use lumen::workflow::{MetalRough, to_spec_gloss};
 use lumen::{App, FrameTarget};
 use serde_json::json;
@@ -325,7 +326,7 @@ fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
-fn iridescence_maps_onto_the_material_and_names_its_unread_textures() {
+fn iridescence_maps_onto_the_material_and_warns_of_a_missing_texture() {
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_iridescence";
     let (m, warnings) = load_extension(
@@ -346,9 +347,10 @@ fn iridescence_maps_onto_the_material_and_names_its_unread_textures() {
             thickness_nm: 550.0
         })
     );
+    // This file has no textures: the texture info names none, and the factors apply.
     warned(
         &warnings,
-        "KHR_materials_iridescence's iridescenceThicknessTexture is not sampled",
+        "KHR_materials_iridescence's iridescenceThicknessTexture: its texture index (0) names no texture",
     );
     // Factor 0 (the default) is no film; an index that is not a number is refused.
     let (m, _) = load_extension(dir.path(), ext, json!({"iridescenceIor": 1.5}));
@@ -363,7 +365,7 @@ fn iridescence_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
-fn diffuse_transmission_maps_onto_the_material_and_names_its_unread_textures() {
+fn diffuse_transmission_maps_onto_the_material_and_warns_of_a_missing_texture() {
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_diffuse_transmission";
     let (m, warnings) = load_extension(
@@ -382,7 +384,7 @@ fn diffuse_transmission_maps_onto_the_material_and_names_its_unread_textures() {
     assert_eq!(m.diffuse_transmission, Some(expected));
     warned(
         &warnings,
-        "KHR_materials_diffuse_transmission's diffuseTransmissionColorTexture is not sampled",
+        "KHR_materials_diffuse_transmission's diffuseTransmissionColorTexture: its texture index (0) names no texture",
     );
     // glTF's default metallic factor is 1: a metal has no diffuse lobe to transmit.
     assert_eq!(m.translucent(), None);
@@ -453,7 +455,7 @@ fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
 }
 
 #[test]
-fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
+fn sheen_maps_onto_the_material_and_warns_of_missing_textures() {
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_sheen";
     let (m, warnings) = load_extension(
@@ -473,10 +475,12 @@ fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
             perceptual_roughness: 0.7
         })
     );
-    warned(
-        &warnings,
-        "KHR_materials_sheen's sheenColorTexture, sheenRoughnessTexture are not sampled",
-    );
+    for texture in ["sheenColorTexture", "sheenRoughnessTexture"] {
+        warned(
+            &warnings,
+            &format!("KHR_materials_sheen's {texture}: its texture index (0) names no texture"),
+        );
+    }
     // The default colour (black) is no sheen; a colour of two numbers is refused with a
     // warning, and the material still loads.
     let (m, _) = load_extension(dir.path(), ext, json!({"sheenRoughnessFactor": 0.5}));
@@ -490,7 +494,7 @@ fn sheen_maps_onto_the_material_and_names_its_unread_textures() {
 }
 
 #[test]
-fn anisotropy_maps_onto_the_material_and_names_its_unread_texture() {
+fn anisotropy_maps_onto_the_material_and_warns_of_a_missing_texture() {
     // The file requires the extension: Lumen reads it, so the file loads.
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_anisotropy";
@@ -512,7 +516,7 @@ fn anisotropy_maps_onto_the_material_and_names_its_unread_texture() {
     );
     warned(
         &warnings,
-        "KHR_materials_anisotropy's anisotropyTexture is not sampled",
+        "KHR_materials_anisotropy's anisotropyTexture: its texture index (0) names no texture",
     );
     // Strength 0 (the default) is isotropic; a rotation that is not a number is refused
     // with a warning, and the material still loads.
@@ -1069,6 +1073,143 @@ fn texture_transforms_and_coordinate_sets_move_the_texture() {
     for (name, v) in [("scale", scaled), ("offset", offset), ("texCoord 1", set1)] {
         assert!(v < 0.05 * plain, "{name}: {v} vs {plain}");
     }
+}
+
+#[test]
+fn extension_textures_are_read_where_their_texture_infos_point() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Left texel black, right texel white, sampled nearest.
+    write_png(
+        &dir.path().join("halves.png"),
+        2,
+        1,
+        &[[0, 0, 0, 255], [255, 255, 255, 255]],
+    );
+    let textures = texture_json(&["halves.png"], true);
+    let ext = "KHR_materials_clearcoat";
+    // A black dielectric under a coat whose clearcoatTexture is the halves: coated on the
+    // right only; with KHR_texture_transform's offset of 0.5 on the left only.
+    let quarters = |info: serde_json::Value| {
+        let material = json!({
+            "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+            "extensions": {ext: {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5, "clearcoatTexture": info}}
+        });
+        let path = write_quad_with(
+            dir.path(),
+            material,
+            &[ext, "KHR_texture_transform"],
+            textures.clone(),
+            [0.0, 0.0, 0.0, 1.0],
+        );
+        let mut app = App::headless().expect("a GPU adapter");
+        let summary = load_gltf(&mut app, &path).expect("loads");
+        assert!(
+            summary.warnings.iter().all(|w| !w.contains(ext)),
+            "{:?}",
+            summary.warnings
+        );
+        let img = render_image(&path, |_| {});
+        (
+            common::lum(img.get_pixel(SIZE.0 / 4, SIZE.1 / 2)),
+            common::lum(img.get_pixel(SIZE.0 * 3 / 4, SIZE.1 / 2)),
+        )
+    };
+    let (left, right) = quarters(json!({"index": 0}));
+    let (shifted_left, shifted_right) = quarters(
+        json!({"index": 0, "extensions": {"KHR_texture_transform": {"offset": [0.5, 0.0]}}}),
+    );
+    println!(
+        "coat texture: left {left}, right {right}; offset by 0.5: left {shifted_left}, right {shifted_right}"
+    );
+    assert!(right > 1.5 * left, "{left} {right}");
+    assert!(shifted_left > 1.5 * shifted_right, "{shifted_left} {shifted_right}");
+
+    // Colour textures load as sRGB, data textures as linear; the film's minimum comes
+    // along with its thickness texture.
+    let material = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {
+            "KHR_materials_sheen": {
+                "sheenColorFactor": [1.0, 1.0, 1.0],
+                "sheenColorTexture": {"index": 0},
+                "sheenRoughnessTexture": {"index": 0, "texCoord": 1}
+            },
+            "KHR_materials_iridescence": {
+                "iridescenceFactor": 1.0,
+                "iridescenceThicknessMinimum": 250.0,
+                "iridescenceThicknessTexture": {"index": 0}
+            }
+        }
+    });
+    let path = write_quad_with(
+        dir.path(),
+        material,
+        &["KHR_materials_sheen", "KHR_materials_iridescence"],
+        textures.clone(),
+        [0.0, 0.0, 0.0, 1.0],
+    );
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
+    let world = app.world_mut();
+    let maps: Vec<MaterialMaps> = world.query::<&MaterialMaps>().iter(world).cloned().collect();
+    let e = maps[0].extensions;
+    let store = app.world().resource::<lumen::scene::Textures>();
+    let space = |slot: Option<lumen::scene::TextureSlot>| {
+        slot.and_then(|s| store.get(s.texture))
+            .map(|t| t.color_space)
+    };
+    assert_eq!(space(e.sheen_color), Some(ColorSpace::Srgb));
+    assert_eq!(space(e.sheen_roughness), Some(ColorSpace::Linear));
+    assert_eq!(e.sheen_roughness.map(|s| s.uv_set), Some(1));
+    assert_eq!(space(e.iridescence_thickness), Some(ColorSpace::Linear));
+    assert_eq!(e.iridescence_thickness_min_nm, 250.0);
+    assert_eq!(e.iridescence, None);
+
+    // Five distinct textures for one material: the fifth is dropped with a warning naming
+    // it, and its factor applies.
+    let mut five = texture_json(&["halves.png"; 5], true);
+    five["samplers"] = json!([{"magFilter": 9728, "minFilter": 9728}]);
+    let material = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {
+            "KHR_materials_clearcoat": {
+                "clearcoatFactor": 1.0,
+                "clearcoatTexture": {"index": 0},
+                "clearcoatRoughnessTexture": {"index": 1}
+            },
+            "KHR_materials_sheen": {
+                "sheenColorFactor": [1.0, 1.0, 1.0],
+                "sheenColorTexture": {"index": 2},
+                "sheenRoughnessTexture": {"index": 3}
+            },
+            "KHR_materials_iridescence": {
+                "iridescenceFactor": 1.0,
+                "iridescenceTexture": {"index": 4}
+            }
+        }
+    });
+    let path = write_quad_with(
+        dir.path(),
+        material,
+        &[
+            "KHR_materials_clearcoat",
+            "KHR_materials_sheen",
+            "KHR_materials_iridescence",
+        ],
+        five,
+        [0.0, 0.0, 0.0, 1.0],
+    );
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    warned(
+        &summary.warnings,
+        "more than 4 distinct extension textures; iridescenceTexture not sampled",
+    );
+    let world = app.world_mut();
+    let maps: Vec<MaterialMaps> = world.query::<&MaterialMaps>().iter(world).cloned().collect();
+    assert!(maps[0].extensions.sheen_roughness.is_some());
+    assert_eq!(maps[0].extensions.iridescence, None);
 }
 
 /// The quad's geometry arrays (as `write_quad` writes them) plus a COLOR_0 accessor (3)

@@ -16,7 +16,10 @@ use lumen::ibl::{dfg_integrate, energy_compensation};
 use lumen::prelude::*;
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::render::graph::PassId;
-use lumen::scene::{Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Sheen};
+use lumen::scene::{
+    Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, ExtensionMaps, Iridescence,
+    MaterialMaps, Sheen, TextureData, TextureSlot, Textures,
+};
 use lumen::trace_input::trace_scene;
 use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 
@@ -910,4 +913,194 @@ fn a_translucent_panel_lit_from_behind_is_not_shadowed_by_itself() {
         (shadowed - traced).length() / traced.length() < 0.01,
         "{shadowed} vs {traced}"
     );
+}
+
+/// A 1 × 1 texture of `rgba` in `color_space`, added to `app`'s store, as a slot.
+fn texel_slot(app: &mut App, rgba: [u8; 4], color_space: ColorSpace) -> TextureSlot {
+    let handle = app
+        .world_mut()
+        .resource_mut::<Textures>()
+        .add(TextureData {
+            width: 1,
+            height: 1,
+            rgba8: rgba.to_vec(),
+            color_space,
+        })
+        .expect("texture");
+    TextureSlot::new(handle)
+}
+
+/// `rgba`'s channels as a texture of `color_space` reads them (sRGB colour decoded).
+fn texel_value(rgba: [u8; 4], color_space: ColorSpace) -> Vec4 {
+    let c = |b: u8| {
+        let x = f32::from(b) / 255.0;
+        if color_space == ColorSpace::Srgb {
+            lumen::color::srgb_decode(x)
+        } else {
+            x
+        }
+    };
+    Vec4::new(c(rgba[0]), c(rgba[1]), c(rgba[2]), f32::from(rgba[3]) / 255.0)
+}
+
+#[test]
+fn extension_textures_scale_their_factors_in_both_renderers() {
+    // Three spheres whose layers are all textured (1 × 1 texels, so every pixel reads
+    // the same value): a coat and a sheen (clearcoatTexture's red, clearcoatRoughness-
+    // Texture's green and sheenRoughnessTexture's alpha from one shared texture, the sheen
+    // colour from an sRGB one), a brushed iridescent metal (anisotropyTexture turning the
+    // direction and scaling the strength; iridescenceTexture and
+    // iridescenceThicknessTexture between 200 and 600 nm) and a translucent leaf
+    // (diffuseTransmissionTexture's alpha, the colour from an sRGB texture). The textured
+    // frame must equal the frame whose factors are multiplied out on the CPU
+    // (textured_anisotropy, film_thickness), differ from the untextured factors, and agree
+    // with the path tracer, which reads the same textures.
+    const SIZE: (u32, u32) = (240, 80);
+    let factors = [
+        Material {
+            clearcoat: Some(Clearcoat {
+                factor: 1.0,
+                perceptual_roughness: 0.8,
+            }),
+            sheen: Some(Sheen {
+                color: Vec3::new(0.9, 0.6, 0.8),
+                perceptual_roughness: 0.8,
+            }),
+            ..dark_red()
+        },
+        Material {
+            anisotropy: anisotropy(0.9, 0.4),
+            iridescence: film(1.0, 1.5, 600.0),
+            ..Material::new(Vec3::new(0.9, 0.7, 0.5), 1.0, 0.45)
+        },
+        Material {
+            diffuse_transmission: translucent(0.9, Vec3::new(0.9, 1.0, 0.6)),
+            ..Material::new(Vec3::new(0.1, 0.35, 0.05), 0.0, 0.6)
+        },
+    ];
+    let (linear, srgb) = (ColorSpace::Linear, ColorSpace::Srgb);
+    let layer = [115, 178, 0, 153];
+    let sheen_color = [128, 200, 64, 255];
+    let grain = [200, 60, 166, 255];
+    let film_texel = [140, 100, 0, 255];
+    let leaf = [0, 0, 0, 102];
+    let leaf_color = [255, 128, 200, 255];
+
+    let textured = |app: &mut App| {
+        let l = texel_slot(app, layer, linear);
+        let maps = [
+            ExtensionMaps {
+                clearcoat: Some(l),
+                clearcoat_roughness: Some(l),
+                sheen_roughness: Some(l),
+                sheen_color: Some(texel_slot(app, sheen_color, srgb)),
+                ..ExtensionMaps::default()
+            },
+            ExtensionMaps {
+                anisotropy: Some(texel_slot(app, grain, linear)),
+                iridescence: Some(texel_slot(app, film_texel, linear)),
+                iridescence_thickness: Some(texel_slot(app, film_texel, linear)),
+                iridescence_thickness_min_nm: 200.0,
+                ..ExtensionMaps::default()
+            },
+            ExtensionMaps {
+                diffuse_transmission: Some(texel_slot(app, leaf, linear)),
+                diffuse_transmission_color: Some(texel_slot(app, leaf_color, srgb)),
+                ..ExtensionMaps::default()
+            },
+        ];
+        let world = app.world_mut();
+        let mut spheres: Vec<(Entity, f32)> = world
+            .query::<(Entity, &Transform, &Material)>()
+            .iter(world)
+            .map(|(e, t, _)| (e, t.translation.x))
+            .collect();
+        spheres.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for ((e, _), extensions) in spheres.into_iter().zip(maps) {
+            world.entity_mut(e).insert(MaterialMaps {
+                extensions,
+                ..MaterialMaps::default()
+            });
+        }
+    };
+
+    // The factors multiplied out as the shaders and the path tracer do.
+    let mut multiplied = factors;
+    let l = texel_value(layer, linear);
+    if let (Some(c), Some(s)) = (
+        multiplied[0].clearcoat.as_mut(),
+        multiplied[0].sheen.as_mut(),
+    ) {
+        c.factor *= l.x;
+        c.perceptual_roughness *= l.y;
+        s.color *= texel_value(sheen_color, srgb).xyz();
+        s.perceptual_roughness *= l.w;
+    }
+    if let (Some(a), Some(f)) = (
+        multiplied[1].anisotropy.as_mut(),
+        multiplied[1].iridescence.as_mut(),
+    ) {
+        let (sin, cos) = a.rotation_rad.sin_cos();
+        let (strength, d) = lumen::anisotropy::textured_anisotropy(
+            a.strength,
+            Vec2::new(cos, sin),
+            texel_value(grain, linear).xyz(),
+        );
+        a.strength = strength;
+        a.rotation_rad = d.y.atan2(d.x);
+        let t = texel_value(film_texel, linear);
+        f.factor *= t.x;
+        f.thickness_nm = lumen::iridescence::film_thickness(200.0, f.thickness_nm, t.y);
+    }
+    if let Some(d) = multiplied[2].diffuse_transmission.as_mut() {
+        d.factor *= texel_value(leaf, linear).w;
+        d.color *= texel_value(leaf_color, srgb).xyz();
+    }
+
+    let raster = |materials: [Material; 3], maps: bool| {
+        let mut app = spheres_under(materials, back_and_front_lights);
+        if maps {
+            textured(&mut app);
+        }
+        let report = app.render_headless(SIZE).expect("frame");
+        let layers = common::decision(&report, PassId::Layers);
+        assert!(
+            layers.reason.contains("2 relit base, 1 sheen and 1 clearcoat layer"),
+            "{}",
+            layers.reason
+        );
+        let image = app.read_hdr_image().expect("readback");
+        (sphere_means(&app, &image), app)
+    };
+    let (with_textures, mut app) = raster(factors, true);
+    let (with_products, _) = raster(multiplied, false);
+    let (with_factors, _) = raster(factors, false);
+    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    scene.light_visibility = LightVisibility::AsFrame;
+    let options = ReferenceOptions {
+        size: SIZE,
+        samples_per_pixel: 256,
+        max_bounces: 1,
+        seed: 3,
+    };
+    let traced = sphere_means(&app, &render(&scene, &options, &|_| {}).image);
+    for i in 0..3 {
+        let relative = |a: Vec3, b: Vec3| (a - b).length() / b.length();
+        let exact = relative(with_textures[i], with_products[i]);
+        let change = relative(with_textures[i], with_factors[i]);
+        let traced_error = relative(with_textures[i], traced[i]);
+        println!(
+            "sphere {i}: textured {}, factors multiplied out {} ({:.3} %), untextured {} ({:.1} % change), path tracer {} ({:.2} %)",
+            with_textures[i],
+            with_products[i],
+            exact * 100.0,
+            with_factors[i],
+            change * 100.0,
+            traced[i],
+            traced_error * 100.0
+        );
+        assert!(exact < 0.005, "sphere {i}: {exact}");
+        assert!(change > 0.03, "sphere {i}: the textures change it by {change}");
+        assert!(traced_error < 0.01, "sphere {i}: {traced_error}");
+    }
 }

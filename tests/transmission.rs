@@ -502,3 +502,94 @@ fn the_materials_scene_draws_each_feature() {
     println!("leaf {leaf}, without its transmission {opaque_leaf}");
     assert!(leaf.y > 2.5 * opaque_leaf.y, "{leaf} vs {opaque_leaf}");
 }
+
+#[test]
+fn transmission_and_thickness_textures_scale_their_factors() {
+    // Three 0.6 m slabs of the absorbing glass, each with one linear texel whose red
+    // scales the transmission (transmissionTexture) and whose green the volume's thickness
+    // (thicknessTexture, the same texture: one unit). Each must equal the slab whose
+    // factors are multiplied out, in the rasterizer and in the path tracer (which
+    // follows the geometry's thickness, so only the factor shows there), and differ from
+    // the untextured slab.
+    let texels: [[u8; 4]; 3] = [[102, 255, 0, 255], [204, 128, 0, 255], [255, 51, 0, 255]];
+    let colour = Vec3::new(0.5, 0.7, 0.9);
+    let scene = |textured: bool, multiplied: bool| {
+        let mut app = absorbing_slabs([0.6; 3], colour, 0.5);
+        let slots: Vec<lumen::scene::TextureSlot> = texels
+            .iter()
+            .map(|t| {
+                let handle = app
+                    .world_mut()
+                    .resource_mut::<lumen::scene::Textures>()
+                    .add(lumen::scene::TextureData {
+                        width: 1,
+                        height: 1,
+                        rgba8: t.to_vec(),
+                        color_space: lumen::scene::ColorSpace::Linear,
+                    })
+                    .expect("texture");
+                lumen::scene::TextureSlot::new(handle)
+            })
+            .collect();
+        let world = app.world_mut();
+        let mut slabs: Vec<(Entity, f32)> = world
+            .query::<(Entity, &Transform, &Material)>()
+            .iter(world)
+            .filter(|(_, _, m)| m.transmission.is_some())
+            .map(|(e, t, _)| (e, t.translation.x))
+            .collect();
+        slabs.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for (k, (e, _)) in slabs.into_iter().enumerate() {
+            let mut entity = world.entity_mut(e);
+            if textured {
+                entity.insert(lumen::scene::MaterialMaps {
+                    extensions: lumen::scene::ExtensionMaps {
+                        transmission: Some(slots[k]),
+                        thickness: Some(slots[k]),
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                });
+            }
+            if multiplied && let Some(mut m) = entity.get_mut::<Material>() {
+                if let Some(t) = m.transmission.as_mut() {
+                    t.factor *= f32::from(texels[k][0]) / 255.0;
+                    t.thickness_m *= f32::from(texels[k][1]) / 255.0;
+                }
+            }
+        }
+        app.render_headless(SIZE).expect("frame");
+        let raster = app.read_hdr_image().expect("readback");
+        let trace = trace_scene(&mut app, SIZE).expect("trace scene");
+        let traced = render(&trace, &options(SIZE, 16, 6, 5), &|_| {}).image;
+        let blocks = |image: &image::Rgba32FImage| -> Vec<Vec3> {
+            (0..3)
+                .map(|k| block(&app, image, Vec3::new(-0.7 + 0.7 * k as f32, 0.0, 0.0)))
+                .collect()
+        };
+        (blocks(&raster), blocks(&traced))
+    };
+    let (raster, traced) = scene(true, false);
+    let (raster_products, traced_products) = scene(false, true);
+    let (raster_factors, _) = scene(false, false);
+    let relative = |a: Vec3, b: Vec3| (a - b).length() / b.length().max(1e-6);
+    for k in 0..3 {
+        let exact = relative(raster[k], raster_products[k]);
+        let traced_exact = relative(traced[k], traced_products[k]);
+        let change = relative(raster[k], raster_factors[k]);
+        println!(
+            "slab {k}: textured {} vs multiplied out {} ({:.3} %), untextured {} ({:.1} % change); path tracer {} vs {} ({:.3} %)",
+            raster[k],
+            raster_products[k],
+            exact * 100.0,
+            raster_factors[k],
+            change * 100.0,
+            traced[k],
+            traced_products[k],
+            traced_exact * 100.0
+        );
+        assert!(exact < 0.005, "slab {k}: {exact}");
+        assert!(traced_exact < 0.01, "slab {k}: {traced_exact}");
+        assert!(change > 0.05, "slab {k}: {change}");
+    }
+}

@@ -70,6 +70,22 @@ pub fn anisotropy_direction(n: Vec3, tangent: Vec3, handedness: f32, rotation: V
     safe_normalize(t * rotation.x + b * rotation.y, t)
 }
 
+/// The anisotropy at a texel of glTF's `anisotropyTexture` (`KHR_materials_anisotropy`):
+/// the texel's red and green, each × 2 − 1, are a direction in tangent space (the tangent
+/// itself where they are 0), turned by the material's rotation (cosine and sine
+/// `rotation`); its blue scales the strength. Returns the strength and the cosine and sine
+/// of the direction's angle from the tangent towards the bitangent.
+pub fn textured_anisotropy(strength: f32, rotation: Vec2, texel: Vec3) -> (f32, Vec2) {
+    let d = texel.truncate() * 2.0 - Vec2::ONE;
+    let len = d.length();
+    let d = if len > 1e-6 { d / len } else { Vec2::X };
+    let turned = Vec2::new(
+        rotation.x * d.x - rotation.y * d.y,
+        rotation.y * d.x + rotation.x * d.y,
+    );
+    (strength * texel.z.clamp(0.0, 1.0), turned)
+}
+
 /// What a relit base adds to its metal/roughness surface (docs/src/materials.md#anisotropy):
 /// what the G-buffer cannot hold.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -161,6 +161,13 @@ pub fn schlick_f0_of(fresnel: Vec3, cos_theta: f32) -> Vec3 {
     ((fresnel - Vec3::splat(x)) / (1.0 - x).max(1e-4)).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
+/// The film's thickness (nm) at a texel of glTF's `iridescenceThicknessTexture`: its
+/// green channel `g` (0..1) mixes the minimum (0) and the maximum (1), the material's
+/// `thickness_nm` (`KHR_materials_iridescence`).
+pub fn film_thickness(min_nm: f32, max_nm: f32, g: f32) -> f32 {
+    min_nm + (max_nm - min_nm) * g.clamp(0.0, 1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

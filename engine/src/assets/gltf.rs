@@ -101,11 +101,13 @@ fn read_material_inputs(
     let base = path.parent().unwrap_or(Path::new("."));
     let views: Vec<gltf::buffer::View> = document.views().collect();
     let images: Vec<gltf::Image> = document.images().collect();
+    let textures: Vec<gltf::Texture> = document.textures().collect();
     let mut loader = TextureLoader {
         base,
         buffers: &buffers,
         views: &views,
         images: &images,
+        textures: &textures,
         max_size: max_texture_size.max(1),
         cache: HashMap::new(),
         warnings: Vec::new(),
@@ -191,11 +193,13 @@ fn load_into(app: &mut App, path: &Path, options: &GltfOptions) -> Result<GltfSu
     };
     let max_size = texture_budget(app);
     let images: Vec<gltf::Image> = document.images().collect();
+    let textures: Vec<gltf::Texture> = document.textures().collect();
     let mut loader = TextureLoader {
         base,
         buffers: &buffers,
         views: &source.views,
         images: &images,
+        textures: &textures,
         max_size,
         cache: HashMap::new(),
         warnings: Vec::new(),

@@ -15,10 +15,11 @@
 
 use super::texture_io;
 use crate::brdf::f0_from_ior;
+use crate::scene::extension_maps::{EXTENSION_TEXTURES, EXTENSION_UNITS};
 use crate::scene::{
-    Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, Filter, Iridescence, Material,
-    MaterialMaps, Sampler, Sheen, TextureData, TextureHandle, TextureSlot, Textures, Transmission,
-    UvTransform, Wrap,
+    Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, ExtensionMaps, Filter, Iridescence,
+    Material, MaterialMaps, Sampler, Sheen, TextureData, TextureHandle, TextureSlot, Textures,
+    Transmission, UvTransform, Wrap,
 };
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
@@ -32,6 +33,8 @@ pub(super) struct TextureLoader<'a> {
     pub views: &'a [gltf::buffer::View<'a>],
     /// The file's images, for sources that extensions name.
     pub images: &'a [gltf::Image<'a>],
+    /// The file's textures, for the texture infos that material extensions name.
+    pub textures: &'a [gltf::Texture<'a>],
     pub max_size: u32,
     pub cache: HashMap<(usize, ColorSpace), TextureHandle>,
     pub warnings: Vec<String>,
@@ -150,6 +153,38 @@ impl TextureLoader<'_> {
             uv_set: if uv_set <= 1 { uv_set } else { 0 },
             transform,
         })
+    }
+
+    /// The slot of a material extension's texture info `info` (its JSON: `index`,
+    /// `texCoord` and `KHR_texture_transform`), or `None` with a warning when it names no
+    /// texture of the file.
+    fn extension_slot(
+        &mut self,
+        store: &mut Textures,
+        info: &gltf::json::Value,
+        color_space: ColorSpace,
+        what: &str,
+    ) -> Option<TextureSlot> {
+        let index = info.get("index").and_then(gltf::json::Value::as_u64);
+        let Some(texture) = index
+            .and_then(|i| usize::try_from(i).ok())
+            .and_then(|i| self.textures.get(i))
+        else {
+            self.warnings.push(format!(
+                "{what}: its texture index ({}) names no texture of the file; the factor alone applies",
+                info.get("index").map_or("missing".into(), ToString::to_string)
+            ));
+            return None;
+        };
+        let tex_coord = info
+            .get("texCoord")
+            .and_then(gltf::json::Value::as_u64)
+            .map_or(0, |t| u32::try_from(t).unwrap_or(u32::MAX));
+        let transform = json_transform(
+            info.get("extensions")
+                .and_then(|e| e.get("KHR_texture_transform")),
+        );
+        self.slot(store, &texture.clone(), tex_coord, transform, color_space)
     }
 }
 
@@ -432,7 +467,7 @@ pub(super) fn material(
         occlusion: 1.0,
         double_sided: m.double_sided(),
         blend,
-        transmission: transmission(m, what, &mut loader.warnings),
+        transmission: transmission(m),
         unlit: m.unlit(),
         clearcoat: clearcoat(m, what, &mut loader.warnings),
         sheen: sheen(m, what, &mut loader.warnings),
@@ -441,12 +476,23 @@ pub(super) fn material(
         iridescence: iridescence(m, what, &mut loader.warnings),
         diffuse_transmission: diffuse_transmission(m, what, &mut loader.warnings),
     };
+    maps.extensions = extension_maps(m, &material, what, loader, store);
+    if let Some(ext) = m.extension_value("KHR_materials_specular") {
+        unread_textures(
+            ext,
+            "KHR_materials_specular",
+            &["specularTexture", "specularColorTexture"],
+            what,
+            &mut loader.warnings,
+        );
+    }
     if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
         loader.warnings.push(format!(
             "{what}: the tinted KHR_materials_specular colour of a blended, transmissive or unlit material is drawn untinted"
         ));
     }
-    let textured = maps.slots().iter().any(Option::is_some) || has_vertex_colors;
+    let textured =
+        maps.slots().iter().any(Option::is_some) || maps.extensions.any() || has_vertex_colors;
     Some((material, textured.then_some(maps)))
 }
 
@@ -570,30 +616,86 @@ fn texture_image<'a>(
         .ok_or("it has no image".into())
 }
 
+/// The textures of the material's extension layers ([`ExtensionMaps`]), read only for
+/// the layers `material` has (a texture scales a factor, so a layer without its factor
+/// needs none). Colour textures (sheen, diffuse transmission) are sRGB, the rest linear.
+/// Past [`EXTENSION_UNITS`] distinct textures the rest are dropped with a warning, and
+/// their factors apply.
+fn extension_maps(
+    m: &gltf::Material,
+    material: &Material,
+    what: &str,
+    loader: &mut TextureLoader,
+    store: &mut Textures,
+) -> ExtensionMaps {
+    let mut out = ExtensionMaps::default();
+    let mut read = |extension: &str, key: &str, color_space: ColorSpace| {
+        let info = m.extension_value(extension)?.get(key)?;
+        loader.extension_slot(store, info, color_space, &format!("{what}: {extension}'s {key}"))
+    };
+    let (linear, srgb) = (ColorSpace::Linear, ColorSpace::Srgb);
+    if material.transmission.is_some() {
+        out.transmission = read("KHR_materials_transmission", "transmissionTexture", linear);
+        out.thickness = read("KHR_materials_volume", "thicknessTexture", linear);
+    }
+    if material.clearcoat.is_some() {
+        out.clearcoat = read("KHR_materials_clearcoat", "clearcoatTexture", linear);
+        out.clearcoat_roughness =
+            read("KHR_materials_clearcoat", "clearcoatRoughnessTexture", linear);
+    }
+    if material.sheen.is_some() {
+        out.sheen_color = read("KHR_materials_sheen", "sheenColorTexture", srgb);
+        out.sheen_roughness = read("KHR_materials_sheen", "sheenRoughnessTexture", linear);
+    }
+    if material.anisotropy.is_some() {
+        out.anisotropy = read("KHR_materials_anisotropy", "anisotropyTexture", linear);
+    }
+    if material.iridescence.is_some() {
+        out.iridescence = read("KHR_materials_iridescence", "iridescenceTexture", linear);
+        out.iridescence_thickness = read(
+            "KHR_materials_iridescence",
+            "iridescenceThicknessTexture",
+            linear,
+        );
+    }
+    if material.diffuse_transmission.is_some() {
+        let name = "KHR_materials_diffuse_transmission";
+        out.diffuse_transmission = read(name, "diffuseTransmissionTexture", linear);
+        out.diffuse_transmission_color = read(name, "diffuseTransmissionColorTexture", srgb);
+    }
+    if out.iridescence_thickness.is_some() {
+        let ext = m.extension_value("KHR_materials_iridescence");
+        match ext.map(|e| {
+            extension_number(
+                e,
+                ("KHR_materials_iridescence", "iridescenceThicknessMinimum", 100.0),
+                what,
+                "the default 100 nm applies",
+            )
+        }) {
+            Some(Ok(min_nm)) => out.iridescence_thickness_min_nm = min_nm,
+            Some(Err(e)) => loader.warnings.push(e),
+            None => {}
+        }
+    }
+    let dropped = out.units().dropped;
+    if !dropped.is_empty() {
+        let names: Vec<&str> = dropped.iter().map(|&k| EXTENSION_TEXTURES[k].1).collect();
+        loader.warnings.push(format!(
+            "{what}: more than {EXTENSION_UNITS} distinct extension textures; {} not sampled, the factors apply",
+            names.join(", ")
+        ));
+    }
+    out.packable()
+}
+
 /// `KHR_materials_transmission` with `KHR_materials_volume`, `KHR_materials_ior` and
 /// `KHR_materials_dispersion`:
-/// the factors (a transmission or thickness texture is not sampled: a warning says so,
-/// and the factor alone applies). No transmission extension, or a factor of 0: opaque.
-fn transmission(
-    m: &gltf::Material,
-    what: &str,
-    warnings: &mut Vec<String>,
-) -> Option<Transmission> {
+/// the factors (their textures are read by [`extension_maps`]). No transmission
+/// extension, or a factor of 0: opaque.
+fn transmission(m: &gltf::Material) -> Option<Transmission> {
     let t = m.transmission()?;
-    if t.transmission_texture().is_some() {
-        warnings.push(format!(
-            "{what}: KHR_materials_transmission's texture is not sampled; its factor applies"
-        ));
-    }
     let volume = m.volume();
-    if volume
-        .as_ref()
-        .is_some_and(|v| v.thickness_texture().is_some())
-    {
-        warnings.push(format!(
-            "{what}: KHR_materials_volume's thickness texture is not sampled; its factor applies"
-        ));
-    }
     let factor = t.transmission_factor();
     (factor > 0.0).then(|| Transmission {
         factor,
@@ -614,25 +716,15 @@ fn transmission(
 }
 
 /// `KHR_materials_clearcoat`'s factors: `clearcoatFactor` (default 0: no coat) and
-/// `clearcoatRoughnessFactor` (default 0). Its textures (`clearcoatTexture`,
-/// `clearcoatRoughnessTexture`, `clearcoatNormalTexture`) are not sampled: a warning
-/// names them and the factors alone apply, on the mesh's own normal. A factor that is not
-/// a number is refused with a warning (no coat).
+/// `clearcoatRoughnessFactor` (default 0); its `clearcoatTexture` and
+/// `clearcoatRoughnessTexture` are read by [`extension_maps`]. Its
+/// `clearcoatNormalTexture` is not sampled: a warning names it, and the coat lies on the
+/// mesh's own normal. A factor that is not a number is refused with a warning (no coat).
 fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Clearcoat> {
     let name = "KHR_materials_clearcoat";
     let ext = m.extension_value(name)?;
     let number = |key| extension_number(ext, (name, key, 0.0), what, "no coat");
-    unread_textures(
-        ext,
-        name,
-        &[
-            "clearcoatTexture",
-            "clearcoatRoughnessTexture",
-            "clearcoatNormalTexture",
-        ],
-        what,
-        warnings,
-    );
+    unread_textures(ext, name, &["clearcoatNormalTexture"], what, warnings);
     match (
         number("clearcoatFactor"),
         number("clearcoatRoughnessFactor"),
@@ -649,18 +741,10 @@ fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opti
 }
 
 /// `KHR_materials_sheen`'s factors: `sheenColorFactor` (default black: no sheen) and
-/// `sheenRoughnessFactor` (default 0). Its textures (`sheenColorTexture`,
-/// `sheenRoughnessTexture`) are not sampled: a warning names them and the factors alone
-/// apply. A factor of the wrong shape is refused with a warning (no sheen).
+/// `sheenRoughnessFactor` (default 0); its textures are read by [`extension_maps`]. A
+/// factor of the wrong shape is refused with a warning (no sheen).
 fn sheen(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Sheen> {
     let ext = m.extension_value("KHR_materials_sheen")?;
-    unread_textures(
-        ext,
-        "KHR_materials_sheen",
-        &["sheenColorTexture", "sheenRoughnessTexture"],
-        what,
-        warnings,
-    );
     let color = match ext.get("sheenColorFactor") {
         None => Some(Vec3::ZERO),
         Some(v) => three_numbers(v),
@@ -684,14 +768,12 @@ fn sheen(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<S
 }
 
 /// `KHR_materials_anisotropy`'s factors: `anisotropyStrength` (default 0: isotropic) and
-/// `anisotropyRotation` (radians from the tangent towards the bitangent, default 0). Its
-/// `anisotropyTexture` (direction and strength per texel) is not sampled: a warning says
-/// so and the factors alone apply, along the mesh's tangents. A factor that is not a
-/// number is refused with a warning (isotropic).
+/// `anisotropyRotation` (radians from the tangent towards the bitangent, default 0); its
+/// `anisotropyTexture` (direction and strength per texel) is read by [`extension_maps`].
+/// A factor that is not a number is refused with a warning (isotropic).
 fn anisotropy(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Anisotropy> {
     let name = "KHR_materials_anisotropy";
     let ext = m.extension_value(name)?;
-    unread_textures(ext, name, &["anisotropyTexture"], what, warnings);
     let number = |key| extension_number(ext, (name, key, 0.0), what, "isotropic");
     match (number("anisotropyStrength"), number("anisotropyRotation")) {
         (Ok(strength), Ok(rotation_rad)) => (strength != 0.0).then_some(Anisotropy {
@@ -707,20 +789,12 @@ fn anisotropy(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Opt
 
 /// `KHR_materials_iridescence`'s factors: `iridescenceFactor` (default 0: no film),
 /// `iridescenceIor` (default 1.3) and `iridescenceThicknessMaximum` (nm, default 400),
-/// the film's thickness where there is no thickness texture. Its `iridescenceTexture`
-/// and `iridescenceThicknessTexture` are not sampled: a warning names them, and the
-/// factors apply (the thickness is the maximum; `iridescenceThicknessMinimum` is used only
-/// with the texture). A factor that is not a number is refused with a warning (no film).
+/// the film's thickness where there is no thickness texture; its textures and
+/// `iridescenceThicknessMinimum` are read by [`extension_maps`]. A factor that is not a
+/// number is refused with a warning (no film).
 fn iridescence(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Iridescence> {
     let name = "KHR_materials_iridescence";
     let ext = m.extension_value(name)?;
-    unread_textures(
-        ext,
-        name,
-        &["iridescenceTexture", "iridescenceThicknessTexture"],
-        what,
-        warnings,
-    );
     let number = |key, default| extension_number(ext, (name, key, default), what, "no film");
     match (
         number("iridescenceFactor", 0.0),
@@ -740,10 +814,8 @@ fn iridescence(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Op
 }
 
 /// `KHR_materials_diffuse_transmission`'s factors: `diffuseTransmissionFactor` (default
-/// 0: none) and `diffuseTransmissionColorFactor` (default white). Its textures
-/// (`diffuseTransmissionTexture`, `diffuseTransmissionColorTexture`) are not sampled: a
-/// warning names them and the factors alone apply. A factor of the wrong shape is refused
-/// with a warning (none). With `KHR_materials_transmission` the transmission wins, as
+/// 0: none) and `diffuseTransmissionColorFactor` (default white); its textures are read
+/// by [`extension_maps`]. A factor of the wrong shape is refused with a warning (none). With `KHR_materials_transmission` the transmission wins, as
 /// the extension specifies ([`Material::translucent`] is then `None`).
 fn diffuse_transmission(
     m: &gltf::Material,
@@ -752,16 +824,6 @@ fn diffuse_transmission(
 ) -> Option<DiffuseTransmission> {
     let name = "KHR_materials_diffuse_transmission";
     let ext = m.extension_value(name)?;
-    unread_textures(
-        ext,
-        name,
-        &[
-            "diffuseTransmissionTexture",
-            "diffuseTransmissionColorTexture",
-        ],
-        what,
-        warnings,
-    );
     let factor = extension_number(ext, (name, "diffuseTransmissionFactor", 0.0), what, "none");
     let color = match ext.get("diffuseTransmissionColorFactor") {
         None => Ok(Vec3::ONE),

@@ -9,7 +9,10 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedFrame, FrameMaps};
 use crate::render::frame::FrameErrors;
-use crate::scene::{ColorSpace, Filter, Sampler, TextureData, TextureHandle, Textures, Wrap};
+use crate::scene::extension_maps::{EXTENSION_PROPERTIES, EXTENSION_UNITS, NO_UNIT};
+use crate::scene::{
+    ColorSpace, Filter, Sampler, TextureData, TextureHandle, TextureSlot, Textures, Wrap,
+};
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
@@ -30,6 +33,25 @@ struct GpuMaps {
     specular_tint: [f32; 4],
     film: [f32; 4],
     translucency: [f32; 4],
+    extension_transforms: [[f32; 4]; 8],
+    extension_uv_sets: [u32; 4],
+    extension_units: [u32; 12],
+    extension_params: [f32; 4],
+}
+
+/// The rows of the 2 × 3 part of `slot`'s coordinate transform acting on (u, v, 1)
+/// (the identity without a slot or with a non-finite transform).
+fn transform_rows(slot: Option<&TextureSlot>) -> [[f32; 4]; 2] {
+    let m = slot.map_or(glam::Mat3::IDENTITY, |s| s.transform.matrix());
+    let m = if m.is_finite() {
+        m
+    } else {
+        glam::Mat3::IDENTITY
+    };
+    [
+        [m.x_axis.x, m.y_axis.x, m.z_axis.x, 0.0],
+        [m.x_axis.y, m.y_axis.y, m.z_axis.y, 0.0],
+    ]
 }
 
 impl GpuMaps {
@@ -37,16 +59,24 @@ impl GpuMaps {
         let maps = &entry.maps;
         let mut out = GpuMaps::default();
         for (k, slot) in maps.slots().iter().enumerate() {
-            let m = slot.map_or(glam::Mat3::IDENTITY, |s| s.transform.matrix());
-            let m = if m.is_finite() {
-                m
-            } else {
-                glam::Mat3::IDENTITY
-            };
-            // Rows of the 2 × 3 part acting on (u, v, 1).
-            out.transforms[2 * k] = [m.x_axis.x, m.y_axis.x, m.z_axis.x, 0.0];
-            out.transforms[2 * k + 1] = [m.x_axis.y, m.y_axis.y, m.z_axis.y, 0.0];
+            [out.transforms[2 * k], out.transforms[2 * k + 1]] = transform_rows(slot.as_ref());
         }
+        let units = maps.extensions.units();
+        for (k, slot) in units.units.iter().enumerate() {
+            [
+                out.extension_transforms[2 * k],
+                out.extension_transforms[2 * k + 1],
+            ] = transform_rows(slot.as_ref());
+            out.extension_uv_sets[k] = slot.map_or(0, |s| s.uv_set.min(1));
+        }
+        out.extension_units = [NO_UNIT; 12];
+        out.extension_units[..EXTENSION_PROPERTIES].copy_from_slice(&units.of);
+        out.extension_params = [
+            maps.extensions.thickness_min_nm(),
+            units.units.iter().filter(|u| u.is_some()).count() as f32,
+            0.0,
+            0.0,
+        ];
         let set = |k: usize| maps.slots()[k].map_or(0, |s| s.uv_set.min(1));
         out.uv_sets = [set(0), set(1), set(2), set(3)];
         out.extra = [set(4), u32::from(maps.normal.is_some()), 0, 0];
@@ -162,7 +192,9 @@ fn mipmap_filter(f: Filter) -> wgpu::MipmapFilterMode {
 }
 
 /// The material maps' bind group (the G-buffer pass's group 1): the factors, then the five
-/// textures, then their samplers, in the order of [`MaterialMaps::slots`].
+/// textures, then their samplers, in the order of [`MaterialMaps::slots`], then the
+/// [`EXTENSION_UNITS`] extension textures and their samplers
+/// ([`crate::scene::ExtensionMaps::units`]).
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     label: "material maps",
     visibility: wgpu::ShaderStages::FRAGMENT,
@@ -193,6 +225,26 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("normal_sampler", Binding::Sampler),
         ("occlusion_sampler", Binding::Sampler),
         ("emissive_sampler", Binding::Sampler),
+        (
+            "extension_map_0",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "extension_map_1",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "extension_map_2",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        (
+            "extension_map_3",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("extension_sampler_0", Binding::Sampler),
+        ("extension_sampler_1", Binding::Sampler),
+        ("extension_sampler_2", Binding::Sampler),
+        ("extension_sampler_3", Binding::Sampler),
     ],
 };
 /// The header constant that places the maps' bind group (`MAPS_GROUP` in
@@ -318,7 +370,7 @@ pub fn prepare_material_maps(
             continue;
         }
         let m = &entry.maps;
-        for slot in m.slots().into_iter().flatten() {
+        for slot in m.all_slots() {
             if !maps.textures.contains_key(&slot.texture)
                 && let Some(data) = store.get(slot.texture)
             {
@@ -356,20 +408,22 @@ pub fn prepare_material_maps(
         let Some(white) = maps.white.as_ref() else {
             return;
         };
-        // Colour slots (base colour, emissive) default to sRGB white, data slots to
-        // linear white; every default multiplies its factor by 1.
+        // Colour slots (base colour, emissive) default to sRGB white, data slots and
+        // unbound extension units to linear white; every default multiplies its factor
+        // by 1.
         let srgb_slot = [true, false, false, false, true];
-        let views: Vec<&wgpu::TextureView> = m
-            .slots()
+        let units = m.extensions.units().units;
+        let defaults = srgb_slot.into_iter().chain([false; EXTENSION_UNITS]);
+        let slots: Vec<Option<TextureSlot>> = m.slots().into_iter().chain(units).collect();
+        let views: Vec<&wgpu::TextureView> = slots
             .iter()
-            .enumerate()
-            .map(|(k, slot)| {
+            .zip(defaults)
+            .map(|(slot, srgb)| {
                 slot.and_then(|s| maps.textures.get(&s.texture))
-                    .map_or(&white[usize::from(!srgb_slot[k])].1, |(_, v)| v)
+                    .map_or(&white[usize::from(!srgb)].1, |(_, v)| v)
             })
             .collect();
-        let samplers: Vec<&wgpu::Sampler> = m
-            .slots()
+        let samplers: Vec<&wgpu::Sampler> = slots
             .iter()
             .map(|slot| {
                 slot.and_then(|s| maps.samplers.get(&s.sampler))
@@ -384,9 +438,15 @@ pub fn prepare_material_maps(
                 contents: bytemuck::bytes_of(&GpuMaps::new(entry)),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
+        // The binding order: the factors, the five slots' textures, their samplers, then
+        // the extension units' textures and their samplers.
+        let (core_views, unit_views) = views.split_at(5);
+        let (core_samplers, unit_samplers) = samplers.split_at(5);
         let resources = std::iter::once(uniform.as_entire_binding())
-            .chain(views.into_iter().map(wgpu::BindingResource::TextureView))
-            .chain(samplers.into_iter().map(wgpu::BindingResource::Sampler))
+            .chain(core_views.iter().map(|v| wgpu::BindingResource::TextureView(v)))
+            .chain(core_samplers.iter().map(|s| wgpu::BindingResource::Sampler(s)))
+            .chain(unit_views.iter().map(|v| wgpu::BindingResource::TextureView(v)))
+            .chain(unit_samplers.iter().map(|s| wgpu::BindingResource::Sampler(s)))
             .collect();
         let group = match BINDINGS.group(&gpu, &maps.layout, resources) {
             Ok(group) => group,

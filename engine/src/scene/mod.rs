@@ -8,6 +8,7 @@ pub mod animation;
 pub mod camera;
 pub mod deform;
 pub mod environment;
+pub mod extension_maps;
 pub mod light;
 pub mod material;
 pub mod mesh;
@@ -21,6 +22,7 @@ pub use animation::{AnimationClip, AnimationPlayer};
 pub use camera::{AutoExposure, Camera, DepthOfField, Exposure, Lens, Projection, Vignette};
 pub use deform::{MorphTarget, MorphWeights, SkinnedMesh};
 pub use environment::{Background, Environment, EnvironmentSource, EquirectImage};
+pub use extension_maps::ExtensionMaps;
 pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, SpotLight};
 pub use material::{
     Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Material, Sheen, Transmission,

@@ -2,6 +2,7 @@
 //! meshes. A [`MaterialMaps`] component next to a [`crate::scene::Material`] multiplies
 //! the material's factors by its textures, as glTF's metal/roughness model does.
 
+use crate::scene::ExtensionMaps;
 use bevy_ecs::prelude::*;
 use glam::{Mat3, Vec2, Vec3};
 use std::sync::Arc;
@@ -229,6 +230,8 @@ pub struct MaterialMaps {
     pub occlusion_strength: f32,
     /// Alpha mask: fragments with alpha below this are discarded (`None`: opaque).
     pub alpha_cutoff: Option<f32>,
+    /// The textures of the PBR extensions' layers (transmission, clearcoat, sheen, …).
+    pub extensions: ExtensionMaps,
 }
 
 impl Default for MaterialMaps {
@@ -242,6 +245,7 @@ impl Default for MaterialMaps {
             normal_scale: 1.0,
             occlusion_strength: 1.0,
             alpha_cutoff: None,
+            extensions: ExtensionMaps::default(),
         }
     }
 }
@@ -257,6 +261,14 @@ impl MaterialMaps {
             self.occlusion,
             self.emissive,
         ]
+    }
+
+    /// Every texture the maps use: the five slots, then the extensions'.
+    pub fn all_slots(&self) -> impl Iterator<Item = TextureSlot> {
+        self.slots()
+            .into_iter()
+            .chain(self.extensions.slots())
+            .flatten()
     }
 }
 

@@ -638,6 +638,7 @@ impl TraceScene {
         material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
         material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
         material.emissive *= maps.sample(4, uv0, uv1).truncate();
+        maps.apply_extensions(&mut material, uv0, uv1);
         let mut n = normal;
         if maps.slots[2].is_some() {
             let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or(Vec3::X);

@@ -2,7 +2,11 @@
 //! variant samples, read on the CPU with bilinear filtering (no mip maps: the reference
 //! supersamples every pixel), the samplers' wrap modes and `KHR_texture_transform`.
 
+use super::scene::TraceMaterial;
+use crate::anisotropy::textured_anisotropy;
 use crate::color::srgb_decode;
+use crate::iridescence::film_thickness;
+use crate::scene::extension_maps::EXTENSION_PROPERTIES;
 use crate::scene::{ColorSpace, Filter, MaterialMaps, TextureData, TextureSlot, Textures, Wrap};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
@@ -24,6 +28,10 @@ pub struct TraceMaps {
     pub normal_scale: f32,
     /// Alpha cutoff of a masked material.
     pub alpha_cutoff: Option<f32>,
+    /// The extensions' textures, in [`crate::scene::ExtensionMaps::slots`] order.
+    pub extensions: [Option<TraceSlot>; EXTENSION_PROPERTIES],
+    /// The film's thickness (nm) where its thickness texture reads 0.
+    pub thickness_min_nm: f32,
 }
 
 fn wrap(t: f32, mode: Wrap) -> f32 {
@@ -119,6 +127,54 @@ impl TraceMaps {
                 1.0
             },
             alpha_cutoff: maps.alpha_cutoff,
+            // What the GPU binds: the properties past its last unit keep their factors.
+            extensions: maps
+                .extensions
+                .packable()
+                .slots()
+                .map(|s| s.and_then(|s| TraceSlot::new(s, textures))),
+            thickness_min_nm: maps.extensions.thickness_min_nm(),
+        }
+    }
+
+    /// Extension property `k`'s texel at the coordinates, if it is textured.
+    fn extension(&self, k: usize, uv0: Vec2, uv1: Vec2) -> Option<Vec4> {
+        self.extensions[k].as_ref().map(|s| s.sample(uv0, uv1))
+    }
+
+    /// Scales `material`'s layers by the extension textures at (uv0, uv1), as the layers
+    /// and transparent passes do (`extension_texel` in `material_maps.wgsl`).
+    pub fn apply_extensions(&self, material: &mut TraceMaterial, uv0: Vec2, uv1: Vec2) {
+        let at = |k: usize| self.extension(k, uv0, uv1);
+        let one = Vec4::ONE;
+        if let Some(t) = material.transmission.as_mut() {
+            t.factor *= at(0).unwrap_or(one).x;
+            t.thickness_m *= at(1).unwrap_or(one).y;
+        }
+        if let Some(c) = material.clearcoat.as_mut() {
+            c.factor *= at(2).unwrap_or(one).x;
+            c.perceptual_roughness *= at(3).unwrap_or(one).y;
+        }
+        if let Some(sh) = material.sheen.as_mut() {
+            sh.color *= at(4).unwrap_or(one).truncate();
+            sh.perceptual_roughness *= at(5).unwrap_or(one).w;
+        }
+        if let (Some(a), Some(texel)) = (material.anisotropy.as_mut(), at(6)) {
+            let (sin, cos) = a.rotation_rad.sin_cos();
+            let (strength, d) =
+                textured_anisotropy(a.strength, Vec2::new(cos, sin), texel.truncate());
+            a.strength = strength;
+            a.rotation_rad = d.y.atan2(d.x);
+        }
+        if let Some(f) = material.iridescence.as_mut() {
+            f.factor *= at(7).unwrap_or(one).x;
+            if let Some(texel) = at(8) {
+                f.thickness_nm = film_thickness(self.thickness_min_nm, f.thickness_nm, texel.y);
+            }
+        }
+        if let Some(d) = material.diffuse_transmission.as_mut() {
+            d.factor *= at(9).unwrap_or(one).w;
+            d.color *= at(10).unwrap_or(one).truncate();
         }
     }
 
