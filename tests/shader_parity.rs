@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 61;
+const OUTPUTS: usize = 62;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -408,6 +408,17 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             };
             an::relit_fresnel(&s, &lobe, n_dot_h * 1.2 - 0.1).extend(0.0)
         },
+        {
+            // The texel's channels reach outside 0..1 and its direction may vanish.
+            let texel = base * 1.2 - Vec3::splat(0.1);
+            let (strength, d) = an::textured_anisotropy(k, Vec2::new(r, spec), texel);
+            Vec4::new(
+                strength,
+                d.x,
+                d.y,
+                ir::film_thickness(100.0 * x, 800.0 * n_dot_h, spec * 1.2 - 0.1),
+            )
+        },
     ]
 }
 
@@ -473,6 +484,7 @@ const NAMES: [&str; OUTPUTS] = [
     "film_f0",
     "diffuse_transmission_lobe",
     "relit_fresnel",
+    "textured_anisotropy | film_thickness",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -173,6 +173,14 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_thickness_texel_mixes_the_minimum_and_the_maximum() {
+        assert_eq!(film_thickness(100.0, 400.0, 0.0), 100.0);
+        assert_eq!(film_thickness(100.0, 400.0, 1.0), 400.0);
+        assert!((film_thickness(100.0, 400.0, 0.25) - 175.0).abs() < 1e-4);
+        assert_eq!(film_thickness(100.0, 400.0, 3.0), 400.0);
+    }
+
+    #[test]
     fn a_film_of_no_thickness_is_the_base_alone() {
         // At 0 nm the result is Schlick's Fresnel of the base at every angle. With glTF's
         // fade of the film's index alone (measured with this function before the result
