@@ -127,9 +127,14 @@ fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
 @fragment
 fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let ext = extension_texels(in.uv0, in.uv1);
-    let lp = layer_point(in, front);
+    var lp = layer_point(in, front);
     if !lp.kept {
         discard;
+    }
+    // clearcoatNormalTexture bends the coat's normal as the base's normal map bends its.
+    if extension_unit(PROPERTY_CLEARCOAT_NORMAL) < EXTENSION_UNITS {
+        lp.point.n = normal_from_map(lp.point.n, in.world_tangent,
+                                     extension_texel(ext, PROPERTY_CLEARCOAT_NORMAL).rgb, maps.extension_params.z);
     }
     var coat: Surface;
     coat.base_color = vec3<f32>(0.0);
@@ -176,10 +181,12 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     // front's.
     let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
     anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, anisotropy.yz);
-    relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb, film);
+    relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb * extension_texel(ext, PROPERTY_SPECULAR_COLOR).rgb, film);
     translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
                              maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);
     diffuse_weight = 1.0 - translucency.w;
-    let light = fragment.emissive + surface_light(fragment.point, fragment.surface);
+    var surface = fragment.surface;
+    surface.specular_level *= extension_texel(ext, PROPERTY_SPECULAR).a;
+    let light = fragment.emissive + surface_light(fragment.point, surface);
     return vec4<f32>(finite_layer(light), 1.0);
 }

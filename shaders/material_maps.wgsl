@@ -50,9 +50,9 @@ struct Maps {
     // Per unit, its texture coordinate set (0 or 1).
     extension_uv_sets: vec4<u32>,
     // Per property (PROPERTY_*), four to a vec4, its unit (EXTENSION_UNITS: none).
-    extension_units: array<vec4<u32>, 3>,
+    extension_units: array<vec4<u32>, 4>,
     // x: the film's thickness (nm) where its thickness texture reads 0; y: how many
-    // units are bound.
+    // units are bound; z: the coat normal map's scale.
     extension_params: vec4<f32>,
 }
 
@@ -90,6 +90,9 @@ const PROPERTY_IRIDESCENCE: u32 = 7u;
 const PROPERTY_IRIDESCENCE_THICKNESS: u32 = 8u;
 const PROPERTY_DIFFUSE_TRANSMISSION: u32 = 9u;
 const PROPERTY_DIFFUSE_TRANSMISSION_COLOR: u32 = 10u;
+const PROPERTY_SPECULAR: u32 = 11u;
+const PROPERTY_SPECULAR_COLOR: u32 = 12u;
+const PROPERTY_CLEARCOAT_NORMAL: u32 = 13u;
 
 // The extension units' texels at one fragment; the last entry is white (no texture).
 struct ExtensionTexels {
@@ -192,10 +195,7 @@ fn mapped_material(uv0: vec2<f32>, uv1: vec2<f32>, ng: vec3<f32>, tangent: vec4<
     out.n = ng;
     out.normal_length = 1.0;
     if maps.extra.y != 0u {
-        let t = safe_normalize(tangent.xyz - ng * dot(ng, tangent.xyz), vec3<f32>(1.0, 0.0, 0.0));
-        let b = cross(ng, t) * select(-1.0, 1.0, tangent.w >= 0.0);
-        let tn = (normal_texel * 2.0 - 1.0) * vec3<f32>(maps.params.x, maps.params.x, 1.0);
-        out.n = safe_normalize(t * tn.x + b * tn.y + ng * tn.z, ng);
+        out.n = normal_from_map(ng, tangent, normal_texel, maps.params.x);
         out.normal_length = length(normal_texel * 2.0 - 1.0);
     }
     out.metallic = clamp(params.x * mr.b, 0.0, 1.0);

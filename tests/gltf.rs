@@ -293,7 +293,7 @@ fn warned(warnings: &[String], needle: &str) {
 }
 
 #[test]
-fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
+fn clearcoat_maps_onto_the_material_and_warns_of_a_missing_texture() {
     let dir = tempfile::tempdir().expect("temp dir");
     let ext = "KHR_materials_clearcoat";
     let (m, warnings) = load_extension(
@@ -314,7 +314,7 @@ fn clearcoat_maps_onto_the_material_and_names_its_unread_textures() {
     );
     warned(
         &warnings,
-        "KHR_materials_clearcoat's clearcoatNormalTexture is not sampled",
+        "KHR_materials_clearcoat's clearcoatNormalTexture: its texture index (0) names no texture",
     );
     // A factor of 0 (the default) is no coat; a factor that is not a number is refused
     // with a warning, and the material still loads.
@@ -1122,7 +1122,10 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
         "coat texture: left {left}, right {right}; offset by 0.5: left {shifted_left}, right {shifted_right}"
     );
     assert!(right > 1.5 * left, "{left} {right}");
-    assert!(shifted_left > 1.5 * shifted_right, "{shifted_left} {shifted_right}");
+    assert!(
+        shifted_left > 1.5 * shifted_right,
+        "{shifted_left} {shifted_right}"
+    );
 
     // Colour textures load as sRGB, data textures as linear; the film's minimum comes
     // along with its thickness texture.
@@ -1152,7 +1155,11 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
     let summary = load_gltf(&mut app, &path).expect("loads");
     assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
     let world = app.world_mut();
-    let maps: Vec<MaterialMaps> = world.query::<&MaterialMaps>().iter(world).cloned().collect();
+    let maps: Vec<MaterialMaps> = world
+        .query::<&MaterialMaps>()
+        .iter(world)
+        .cloned()
+        .collect();
     let e = maps[0].extensions;
     let store = app.world().resource::<lumen::scene::Textures>();
     let space = |slot: Option<lumen::scene::TextureSlot>| {
@@ -1207,7 +1214,11 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
         "more than 4 distinct extension textures; iridescenceTexture not sampled",
     );
     let world = app.world_mut();
-    let maps: Vec<MaterialMaps> = world.query::<&MaterialMaps>().iter(world).cloned().collect();
+    let maps: Vec<MaterialMaps> = world
+        .query::<&MaterialMaps>()
+        .iter(world)
+        .cloned()
+        .collect();
     assert!(maps[0].extensions.sheen_roughness.is_some());
     assert_eq!(maps[0].extensions.iridescence, None);
 }

@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 62;
+const OUTPUTS: usize = 63;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -419,6 +419,13 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
                 ir::film_thickness(100.0 * x, 800.0 * n_dot_h, spec * 1.2 - 0.1),
             )
         },
+        lumen::scene::texture::normal_from_map(
+            n,
+            l.extend(x - 0.5),
+            Vec3::new(base.z, base.x, base.y),
+            k * 3.0 - 1.0,
+        )
+        .extend(0.0),
     ]
 }
 
@@ -485,6 +492,7 @@ const NAMES: [&str; OUTPUTS] = [
     "diffuse_transmission_lobe",
     "relit_fresnel",
     "textured_anisotropy | film_thickness",
+    "normal_from_map",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -196,13 +196,19 @@ mod tests {
         let quarter = Vec2::new(0.0, 1.0);
         // Red 1, green 0.5: the tangent itself, so the material's rotation alone.
         let (s, d) = textured_anisotropy(0.8, quarter, Vec3::new(1.0, 0.5, 0.5));
-        assert!((s - 0.4).abs() < 1e-6 && (d - quarter).length() < 1e-6, "{s} {d}");
+        assert!(
+            (s - 0.4).abs() < 1e-6 && (d - quarter).length() < 1e-6,
+            "{s} {d}"
+        );
         // Green 1: the bitangent, turned a further quarter: −tangent.
         let (_, d) = textured_anisotropy(0.8, quarter, Vec3::new(0.5, 1.0, 1.0));
         assert!((d - Vec2::new(-1.0, 0.0)).length() < 1e-6, "{d}");
         // No direction (0.5, 0.5): the tangent; blue outside 0..1 is clamped.
         let (s, d) = textured_anisotropy(0.8, Vec2::X, Vec3::new(0.5, 0.5, 2.0));
-        assert!((s - 0.8).abs() < 1e-6 && (d - Vec2::X).length() < 1e-6, "{s} {d}");
+        assert!(
+            (s - 0.8).abs() < 1e-6 && (d - Vec2::X).length() < 1e-6,
+            "{s} {d}"
+        );
     }
 
     /// ∫ f(x) over the hemisphere about +z, x a unit direction, by the midpoint rule in

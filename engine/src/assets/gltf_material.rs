@@ -477,15 +477,6 @@ pub(super) fn material(
         diffuse_transmission: diffuse_transmission(m, what, &mut loader.warnings),
     };
     maps.extensions = extension_maps(m, &material, what, loader, store);
-    if let Some(ext) = m.extension_value("KHR_materials_specular") {
-        unread_textures(
-            ext,
-            "KHR_materials_specular",
-            &["specularTexture", "specularColorTexture"],
-            what,
-            &mut loader.warnings,
-        );
-    }
     if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
         loader.warnings.push(format!(
             "{what}: the tinted KHR_materials_specular colour of a blended, transmissive or unlit material is drawn untinted"
@@ -618,7 +609,9 @@ fn texture_image<'a>(
 
 /// The textures of the material's extension layers ([`ExtensionMaps`]), read only for
 /// the layers `material` has (a texture scales a factor, so a layer without its factor
-/// needs none). Colour textures (sheen, diffuse transmission) are sRGB, the rest linear.
+/// needs none; the specular textures are read wherever `KHR_materials_specular` is).
+/// Colour textures (sheen, diffuse transmission, specular colour) are sRGB, the rest
+/// linear; the coat normal map's `scale` comes with it.
 /// Past [`EXTENSION_UNITS`] distinct textures the rest are dropped with a warning, and
 /// their factors apply.
 fn extension_maps(
@@ -631,7 +624,12 @@ fn extension_maps(
     let mut out = ExtensionMaps::default();
     let mut read = |extension: &str, key: &str, color_space: ColorSpace| {
         let info = m.extension_value(extension)?.get(key)?;
-        loader.extension_slot(store, info, color_space, &format!("{what}: {extension}'s {key}"))
+        loader.extension_slot(
+            store,
+            info,
+            color_space,
+            &format!("{what}: {extension}'s {key}"),
+        )
     };
     let (linear, srgb) = (ColorSpace::Linear, ColorSpace::Srgb);
     if material.transmission.is_some() {
@@ -640,8 +638,12 @@ fn extension_maps(
     }
     if material.clearcoat.is_some() {
         out.clearcoat = read("KHR_materials_clearcoat", "clearcoatTexture", linear);
-        out.clearcoat_roughness =
-            read("KHR_materials_clearcoat", "clearcoatRoughnessTexture", linear);
+        out.clearcoat_roughness = read(
+            "KHR_materials_clearcoat",
+            "clearcoatRoughnessTexture",
+            linear,
+        );
+        out.clearcoat_normal = read("KHR_materials_clearcoat", "clearcoatNormalTexture", linear);
     }
     if material.sheen.is_some() {
         out.sheen_color = read("KHR_materials_sheen", "sheenColorTexture", srgb);
@@ -663,12 +665,27 @@ fn extension_maps(
         out.diffuse_transmission = read(name, "diffuseTransmissionTexture", linear);
         out.diffuse_transmission_color = read(name, "diffuseTransmissionColorTexture", srgb);
     }
+    out.specular = read("KHR_materials_specular", "specularTexture", linear);
+    out.specular_color = read("KHR_materials_specular", "specularColorTexture", srgb);
+    if out.clearcoat_normal.is_some()
+        && let Some(scale) = m
+            .extension_value("KHR_materials_clearcoat")
+            .and_then(|e| e.get("clearcoatNormalTexture"))
+            .and_then(|info| info.get("scale"))
+            .and_then(gltf::json::Value::as_f64)
+    {
+        out.clearcoat_normal_scale = scale as f32;
+    }
     if out.iridescence_thickness.is_some() {
         let ext = m.extension_value("KHR_materials_iridescence");
         match ext.map(|e| {
             extension_number(
                 e,
-                ("KHR_materials_iridescence", "iridescenceThicknessMinimum", 100.0),
+                (
+                    "KHR_materials_iridescence",
+                    "iridescenceThicknessMinimum",
+                    100.0,
+                ),
                 what,
                 "the default 100 nm applies",
             )
@@ -716,15 +733,12 @@ fn transmission(m: &gltf::Material) -> Option<Transmission> {
 }
 
 /// `KHR_materials_clearcoat`'s factors: `clearcoatFactor` (default 0: no coat) and
-/// `clearcoatRoughnessFactor` (default 0); its `clearcoatTexture` and
-/// `clearcoatRoughnessTexture` are read by [`extension_maps`]. Its
-/// `clearcoatNormalTexture` is not sampled: a warning names it, and the coat lies on the
-/// mesh's own normal. A factor that is not a number is refused with a warning (no coat).
+/// `clearcoatRoughnessFactor` (default 0); its textures are read by [`extension_maps`].
+/// A factor that is not a number is refused with a warning (no coat).
 fn clearcoat(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Option<Clearcoat> {
     let name = "KHR_materials_clearcoat";
     let ext = m.extension_value(name)?;
     let number = |key| extension_number(ext, (name, key, 0.0), what, "no coat");
-    unread_textures(ext, name, &["clearcoatNormalTexture"], what, warnings);
     match (
         number("clearcoatFactor"),
         number("clearcoatRoughnessFactor"),
@@ -868,31 +882,6 @@ fn extension_number(
             .as_f64()
             .map(|x| x as f32)
             .ok_or_else(|| format!("{what}: {name}'s {key} is not a number ({v}); {consequence}")),
-    }
-}
-
-/// Warns that the textures `keys` of the extension object `ext` (named `name`) are not
-/// sampled, if it has any.
-fn unread_textures(
-    ext: &gltf::json::Value,
-    name: &str,
-    keys: &[&str],
-    what: &str,
-    warnings: &mut Vec<String>,
-) {
-    let present: Vec<&str> = keys
-        .iter()
-        .copied()
-        .filter(|k| ext.get(*k).is_some())
-        .collect();
-    if !present.is_empty() {
-        warnings.push(format!(
-            "{what}: {name}'s {} not sampled; its factors apply",
-            match present.as_slice() {
-                [one] => format!("{one} is"),
-                many => format!("{} are", many.join(", ")),
-            }
-        ));
     }
 }
 

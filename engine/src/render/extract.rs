@@ -618,7 +618,10 @@ pub fn extract_frame(
         let sheen = material.layer_sheen().filter(|_| !transmissive);
         let sheened = sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
-        let specular_tint = material.tint().filter(|_| !transmissive);
+        let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
+        let specular_tint = material
+            .relit_tint(specular_textured)
+            .filter(|_| !transmissive);
         let iridescence = material.iridescent().filter(|_| !transmissive);
         let diffuse_transmission = material.translucent().filter(|_| !transmissive);
         let relit = anisotropy.is_some()

@@ -35,7 +35,7 @@ struct GpuMaps {
     translucency: [f32; 4],
     extension_transforms: [[f32; 4]; 8],
     extension_uv_sets: [u32; 4],
-    extension_units: [u32; 12],
+    extension_units: [u32; 16],
     extension_params: [f32; 4],
 }
 
@@ -69,12 +69,12 @@ impl GpuMaps {
             ] = transform_rows(slot.as_ref());
             out.extension_uv_sets[k] = slot.map_or(0, |s| s.uv_set.min(1));
         }
-        out.extension_units = [NO_UNIT; 12];
+        out.extension_units = [NO_UNIT; 16];
         out.extension_units[..EXTENSION_PROPERTIES].copy_from_slice(&units.of);
         out.extension_params = [
             maps.extensions.thickness_min_nm(),
             units.units.iter().filter(|u| u.is_some()).count() as f32,
-            0.0,
+            maps.extensions.coat_normal_scale(),
             0.0,
         ];
         let set = |k: usize| maps.slots()[k].map_or(0, |s| s.uv_set.min(1));
@@ -443,10 +443,26 @@ pub fn prepare_material_maps(
         let (core_views, unit_views) = views.split_at(5);
         let (core_samplers, unit_samplers) = samplers.split_at(5);
         let resources = std::iter::once(uniform.as_entire_binding())
-            .chain(core_views.iter().map(|v| wgpu::BindingResource::TextureView(v)))
-            .chain(core_samplers.iter().map(|s| wgpu::BindingResource::Sampler(s)))
-            .chain(unit_views.iter().map(|v| wgpu::BindingResource::TextureView(v)))
-            .chain(unit_samplers.iter().map(|s| wgpu::BindingResource::Sampler(s)))
+            .chain(
+                core_views
+                    .iter()
+                    .map(|v| wgpu::BindingResource::TextureView(v)),
+            )
+            .chain(
+                core_samplers
+                    .iter()
+                    .map(|s| wgpu::BindingResource::Sampler(s)),
+            )
+            .chain(
+                unit_views
+                    .iter()
+                    .map(|v| wgpu::BindingResource::TextureView(v)),
+            )
+            .chain(
+                unit_samplers
+                    .iter()
+                    .map(|s| wgpu::BindingResource::Sampler(s)),
+            )
             .collect();
         let group = match BINDINGS.group(&gpu, &maps.layout, resources) {
             Ok(group) => group,

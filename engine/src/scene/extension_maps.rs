@@ -1,6 +1,7 @@
 //! The textures of the glTF PBR extensions (transmission, volume, clearcoat, sheen,
-//! anisotropy, iridescence, diffuse transmission): each multiplies, per texel, the factor
-//! of its [`crate::scene::Material`] layer that glTF names it after
+//! anisotropy, iridescence, diffuse transmission, specular): each multiplies, per texel,
+//! the factor of its [`crate::scene::Material`] layer that glTF names it after, and the
+//! clearcoat's normal texture bends the coat's normal
 //! (docs/src/materials.md#extension-textures).
 //!
 //! On the GPU a material binds at most [`EXTENSION_UNITS`] distinct textures for them
@@ -17,7 +18,7 @@ pub const EXTENSION_UNITS: usize = 4;
 pub const NO_UNIT: u32 = EXTENSION_UNITS as u32;
 
 /// How many textured properties there are ([`ExtensionMaps::slots`]).
-pub const EXTENSION_PROPERTIES: usize = 11;
+pub const EXTENSION_PROPERTIES: usize = 14;
 
 /// Per property, the glTF texture that scales it and the channel it reads, in
 /// [`ExtensionMaps::slots`] order (the order of the `PROPERTY_*` constants in
@@ -31,7 +32,11 @@ pub const EXTENSION_TEXTURES: [(&str, &str, &str); EXTENSION_PROPERTIES] = [
     ("KHR_materials_sheen", "sheenRoughnessTexture", "a"),
     ("KHR_materials_anisotropy", "anisotropyTexture", "rgb"),
     ("KHR_materials_iridescence", "iridescenceTexture", "r"),
-    ("KHR_materials_iridescence", "iridescenceThicknessTexture", "g"),
+    (
+        "KHR_materials_iridescence",
+        "iridescenceThicknessTexture",
+        "g",
+    ),
     (
         "KHR_materials_diffuse_transmission",
         "diffuseTransmissionTexture",
@@ -42,6 +47,9 @@ pub const EXTENSION_TEXTURES: [(&str, &str, &str); EXTENSION_PROPERTIES] = [
         "diffuseTransmissionColorTexture",
         "rgb",
     ),
+    ("KHR_materials_specular", "specularTexture", "a"),
+    ("KHR_materials_specular", "specularColorTexture", "rgb"),
+    ("KHR_materials_clearcoat", "clearcoatNormalTexture", "rgb"),
 ];
 
 /// The extensions' textures of one material; `None` leaves the factor as it is.
@@ -71,6 +79,17 @@ pub struct ExtensionMaps {
     pub diffuse_transmission: Option<TextureSlot>,
     /// RGB (sRGB) × the diffuse transmission colour.
     pub diffuse_transmission_color: Option<TextureSlot>,
+    /// Alpha × the dielectric specular level (`specularTexture`); it makes an opaque,
+    /// lit, not wholly metal surface a relit base.
+    pub specular: Option<TextureSlot>,
+    /// RGB (sRGB) × the dielectric F0's tint (`specularColorTexture`); a relit base too.
+    pub specular_color: Option<TextureSlot>,
+    /// The coat's tangent-space normal map (`clearcoatNormalTexture`, as the base's
+    /// normal map), scaled by [`ExtensionMaps::clearcoat_normal_scale`].
+    pub clearcoat_normal: Option<TextureSlot>,
+    /// The scale of the coat normal map's x and y (the texture info's `scale`, 1 by
+    /// default).
+    pub clearcoat_normal_scale: f32,
     /// The film's thickness (nm) where the thickness texture reads 0 (glTF's
     /// `iridescenceThicknessMinimum`, 100 nm by default).
     pub iridescence_thickness_min_nm: f32,
@@ -90,6 +109,10 @@ impl Default for ExtensionMaps {
             iridescence_thickness: None,
             diffuse_transmission: None,
             diffuse_transmission_color: None,
+            specular: None,
+            specular_color: None,
+            clearcoat_normal: None,
+            clearcoat_normal_scale: 1.0,
             iridescence_thickness_min_nm: 100.0,
         }
     }
@@ -121,7 +144,21 @@ impl ExtensionMaps {
             self.iridescence_thickness,
             self.diffuse_transmission,
             self.diffuse_transmission_color,
+            self.specular,
+            self.specular_color,
+            self.clearcoat_normal,
         ]
+    }
+
+    /// Whether a specular texture is set (the surface is then a relit base).
+    pub fn specular_textured(&self) -> bool {
+        self.specular.is_some() || self.specular_color.is_some()
+    }
+
+    /// [`ExtensionMaps::clearcoat_normal_scale`], 1 where it is not finite.
+    pub fn coat_normal_scale(&self) -> f32 {
+        let s = self.clearcoat_normal_scale;
+        if s.is_finite() { s } else { 1.0 }
     }
 
     /// Whether any property is textured.
@@ -179,7 +216,10 @@ impl ExtensionMaps {
             7 => &mut self.iridescence,
             8 => &mut self.iridescence_thickness,
             9 => &mut self.diffuse_transmission,
-            _ => &mut self.diffuse_transmission_color,
+            10 => &mut self.diffuse_transmission_color,
+            11 => &mut self.specular,
+            12 => &mut self.specular_color,
+            _ => &mut self.clearcoat_normal,
         }
     }
 }

@@ -363,8 +363,17 @@ impl Material {
     /// clamped to 0..1 (NaN: 1), where it is not white and the surface is opaque and lit
     /// and not wholly metal (a metal's F0 is its base colour).
     pub fn tint(&self) -> Option<Vec3> {
+        self.relit_tint(false)
+    }
+
+    /// The specular tint a relit base is drawn with: [`Material::tint`], or, where
+    /// `textured` (a specular texture scales the level or the tint per texel,
+    /// [`crate::scene::ExtensionMaps::specular_textured`]), the clamped tint even when
+    /// it is white, on the same surfaces.
+    pub fn relit_tint(&self, textured: bool) -> Option<Vec3> {
         let tint = crate::brdf::clamp_tint(self.specular_tint);
-        (tint.min_element() < 1.0 && self.metallic < 1.0 && self.opaque_and_lit()).then_some(tint)
+        ((tint.min_element() < 1.0 || textured) && self.metallic < 1.0 && self.opaque_and_lit())
+            .then_some(tint)
     }
 
     /// The iridescent film that is drawn (clamped): [`Material::iridescence`] where its

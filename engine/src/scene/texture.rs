@@ -209,6 +209,17 @@ impl TextureSlot {
     }
 }
 
+/// The shading normal a tangent-space normal map gives (glTF 2.0, `normalTexture`): the
+/// texel's rgb × 2 − 1, its x and y × `scale`, in the frame of the unit normal `n`, the
+/// tangent `tangent.xyz` made perpendicular to it and the bitangent `n × t` × the sign of
+/// `tangent.w`; unit length (`n` where the result vanishes).
+pub fn normal_from_map(n: Vec3, tangent: glam::Vec4, texel: Vec3, scale: f32) -> Vec3 {
+    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or(Vec3::X);
+    let b = n.cross(t) * if tangent.w >= 0.0 { 1.0 } else { -1.0 };
+    let tn = (texel * 2.0 - Vec3::ONE) * Vec3::new(scale, scale, 1.0);
+    (t * tn.x + b * tn.y + n * tn.z).normalize_or(n)
+}
+
 /// The textures of a material (glTF's metal/roughness maps). Each multiplies the
 /// corresponding factor of the entity's [`crate::scene::Material`]; the vertex colours of
 /// the mesh, where it has them, multiply the base colour too.

@@ -553,14 +553,14 @@ impl TraceScene {
             Some(a) => base.with_anisotropy(tangent, a),
             None => base,
         };
-        let n_layer = turned(surface.coat_normal, facing);
+        let n_sheen = turned(surface.layer_normal, facing);
         let base = match material.sheen {
-            Some(sheen) => base.with_sheen(n_layer, v, (sheen.color, sheen.perceptual_roughness)),
+            Some(sheen) => base.with_sheen(n_sheen, v, (sheen.color, sheen.perceptual_roughness)),
             None => base,
         };
         match (material.clearcoat, self.coat_albedo.as_ref()) {
             (Some(coat), Some(table)) => base.with_coat(
-                n_layer,
+                turned(surface.coat_normal, facing),
                 v,
                 (coat.factor, coat.perceptual_roughness),
                 table,

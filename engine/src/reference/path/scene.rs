@@ -6,6 +6,7 @@
 use super::bvh::{Bvh, Triangle};
 use crate::brdf::VisibilityModel;
 use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
+use crate::scene::texture::normal_from_map;
 use crate::scene::{Environment, EnvironmentSource, MaterialMaps, MeshHandle, Meshes};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
@@ -598,8 +599,11 @@ pub struct SurfacePoint {
     pub material: TraceMaterial,
     /// Shading normal (unit, not yet turned towards the viewer).
     pub normal: Vec3,
-    /// The interpolated normal without the normal map (unit, not yet turned): a
-    /// clearcoat's and a sheen's normal.
+    /// The interpolated normal without the normal map (unit, not yet turned): a sheen's
+    /// normal.
+    pub layer_normal: Vec3,
+    /// The clearcoat's normal (unit, not yet turned): the interpolated normal, bent by
+    /// the coat's own normal map where it has one.
     pub coat_normal: Vec3,
     /// The interpolated tangent (world, xyz; handedness in w), not yet made perpendicular
     /// to the normal: an anisotropic lobe's reference direction.
@@ -623,6 +627,7 @@ impl TraceScene {
             return SurfacePoint {
                 material,
                 normal,
+                layer_normal: normal,
                 coat_normal: normal,
                 tangent,
                 alpha: material.alpha,
@@ -641,16 +646,14 @@ impl TraceScene {
         maps.apply_extensions(&mut material, uv0, uv1);
         let mut n = normal;
         if maps.slots[2].is_some() {
-            let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or(Vec3::X);
-            let b = n.cross(t) * if tangent.w < 0.0 { -1.0 } else { 1.0 };
-            let texel = maps.sample(2, uv0, uv1).truncate() * 2.0 - Vec3::ONE;
-            let tn = texel * Vec3::new(maps.normal_scale, maps.normal_scale, 1.0);
-            n = (t * tn.x + b * tn.y + n * tn.z).normalize_or(normal);
+            let texel = maps.sample(2, uv0, uv1).truncate();
+            n = normal_from_map(normal, tangent, texel, maps.normal_scale);
         }
         SurfacePoint {
             material,
             normal: n,
-            coat_normal: normal,
+            layer_normal: normal,
+            coat_normal: maps.coat_normal(normal, tangent, uv0, uv1),
             tangent,
             alpha: material.alpha * base.w,
             alpha_cutoff: maps.alpha_cutoff,

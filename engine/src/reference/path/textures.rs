@@ -7,6 +7,7 @@ use crate::anisotropy::textured_anisotropy;
 use crate::color::srgb_decode;
 use crate::iridescence::film_thickness;
 use crate::scene::extension_maps::EXTENSION_PROPERTIES;
+use crate::scene::texture::normal_from_map;
 use crate::scene::{ColorSpace, Filter, MaterialMaps, TextureData, TextureSlot, Textures, Wrap};
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
@@ -32,6 +33,8 @@ pub struct TraceMaps {
     pub extensions: [Option<TraceSlot>; EXTENSION_PROPERTIES],
     /// The film's thickness (nm) where its thickness texture reads 0.
     pub thickness_min_nm: f32,
+    /// The scale of the coat normal map's x and y.
+    pub coat_normal_scale: f32,
 }
 
 fn wrap(t: f32, mode: Wrap) -> f32 {
@@ -134,7 +137,16 @@ impl TraceMaps {
                 .slots()
                 .map(|s| s.and_then(|s| TraceSlot::new(s, textures))),
             thickness_min_nm: maps.extensions.thickness_min_nm(),
+            coat_normal_scale: maps.extensions.coat_normal_scale(),
         }
+    }
+
+    /// The coat's normal at the coordinates: the interpolated normal `normal` bent by
+    /// the coat normal map where there is one (`fs_coat` in `layers.wgsl`).
+    pub fn coat_normal(&self, normal: Vec3, tangent: Vec4, uv0: Vec2, uv1: Vec2) -> Vec3 {
+        self.extension(13, uv0, uv1).map_or(normal, |texel| {
+            normal_from_map(normal, tangent, texel.truncate(), self.coat_normal_scale)
+        })
     }
 
     /// Extension property `k`'s texel at the coordinates, if it is textured.
@@ -175,6 +187,11 @@ impl TraceMaps {
         if let Some(d) = material.diffuse_transmission.as_mut() {
             d.factor *= at(9).unwrap_or(one).w;
             d.color *= at(10).unwrap_or(one).truncate();
+        }
+        // Only a relit base has a tint (white where only textures set it).
+        if let Some(tint) = material.specular_tint.as_mut() {
+            material.specular_level *= at(11).unwrap_or(one).w;
+            *tint *= at(12).unwrap_or(one).truncate();
         }
     }
 
