@@ -19,6 +19,7 @@
 #import bindings
 #import mesh_vertex
 #import material_maps
+#import extension_units
 #import surface_light
 #import forward_surface
 #import clearcoat

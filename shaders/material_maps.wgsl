@@ -1,7 +1,9 @@
 // A textured material's maps (engine/src/render/material_maps.rs, `BINDINGS`) and the
 // texture coordinates of each slot. They are group MAPS_GROUP, a header constant
-// (`material_maps::GROUP_DEF`): group 1 of the G-buffer's textured variants and of the
-// shadow pass's alpha-masked casters, group 4 of the transparent pass.
+// (`material_maps::group_defs`): group 1 of the G-buffer's textured variants and of the
+// shadow pass's alpha-masked casters, group 4 of the transparent and layers passes.
+// The extension units (bindings 11 to 18) and their sampling are in
+// extension_units.wgsl, which the passes that read them import.
 #import common
 #import brdf
 
@@ -67,15 +69,6 @@ struct Maps {
 @group(MAPS_GROUP) @binding(8) var normal_sampler: sampler;
 @group(MAPS_GROUP) @binding(9) var occlusion_sampler: sampler;
 @group(MAPS_GROUP) @binding(10) var emissive_sampler: sampler;
-@group(MAPS_GROUP) @binding(11) var extension_map_0: texture_2d<f32>;
-@group(MAPS_GROUP) @binding(12) var extension_map_1: texture_2d<f32>;
-@group(MAPS_GROUP) @binding(13) var extension_map_2: texture_2d<f32>;
-@group(MAPS_GROUP) @binding(14) var extension_map_3: texture_2d<f32>;
-@group(MAPS_GROUP) @binding(15) var extension_sampler_0: sampler;
-@group(MAPS_GROUP) @binding(16) var extension_sampler_1: sampler;
-@group(MAPS_GROUP) @binding(17) var extension_sampler_2: sampler;
-@group(MAPS_GROUP) @binding(18) var extension_sampler_3: sampler;
-
 // The extension textures' properties (EXTENSION_TEXTURES in
 // engine/src/scene/extension_maps.rs), each scaling its layer's factor by one channel.
 const EXTENSION_UNITS: u32 = 4u;
@@ -94,40 +87,10 @@ const PROPERTY_SPECULAR: u32 = 11u;
 const PROPERTY_SPECULAR_COLOR: u32 = 12u;
 const PROPERTY_CLEARCOAT_NORMAL: u32 = 13u;
 
-// The extension units' texels at one fragment; the last entry is white (no texture).
+// The extension units' texels at one fragment (`extension_texels`, extension_units.wgsl);
+// the last entry is white (no texture).
 struct ExtensionTexels {
     texels: array<vec4<f32>, 5>,
-}
-
-// The coordinates of extension unit `unit` after its set choice and transform.
-fn extension_uv(unit: u32, uv0: vec2<f32>, uv1: vec2<f32>) -> vec2<f32> {
-    let uv = vec3<f32>(select(uv0, uv1, maps.extension_uv_sets[unit] == 1u), 1.0);
-    return vec2<f32>(dot(maps.extension_transforms[unit * 2u].xyz, uv),
-                     dot(maps.extension_transforms[unit * 2u + 1u].xyz, uv));
-}
-
-// Every bound extension unit sampled at (uv0, uv1); unbound units read white. Call it in
-// uniform control flow (before any discard); the unit count is uniform, so the
-// branches are too.
-fn extension_texels(uv0: vec2<f32>, uv1: vec2<f32>) -> ExtensionTexels {
-    var out: ExtensionTexels;
-    for (var k = 0u; k <= EXTENSION_UNITS; k++) {
-        out.texels[k] = vec4<f32>(1.0);
-    }
-    let bound = maps.extension_params.y;
-    if bound > 0.5 {
-        out.texels[0] = textureSample(extension_map_0, extension_sampler_0, extension_uv(0u, uv0, uv1));
-    }
-    if bound > 1.5 {
-        out.texels[1] = textureSample(extension_map_1, extension_sampler_1, extension_uv(1u, uv0, uv1));
-    }
-    if bound > 2.5 {
-        out.texels[2] = textureSample(extension_map_2, extension_sampler_2, extension_uv(2u, uv0, uv1));
-    }
-    if bound > 3.5 {
-        out.texels[3] = textureSample(extension_map_3, extension_sampler_3, extension_uv(3u, uv0, uv1));
-    }
-    return out;
 }
 
 // The unit of `property` (EXTENSION_UNITS where it has no texture).

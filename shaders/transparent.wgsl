@@ -18,6 +18,7 @@
 #import bindings
 #import mesh_vertex
 #import material_maps
+#import extension_units
 #import surface_light
 #import forward_surface
 #import transparency

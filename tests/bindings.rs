@@ -91,35 +91,43 @@ fn every_bind_group_list_matches_its_shader() {
             (3, lighting::PROBES),
         ],
     );
-    check(
-        "transparent.wgsl",
-        &TransparentPass::defs(
-            TransparentVariant::of(
-                everything,
-                lumen::quality::Transparency::WeightedBlended,
-                true,
+    // The passes that read the extension textures, with the maps' units and without
+    // (extension_units_unbound.wgsl in their place).
+    for (units, maps) in [
+        (true, material_maps::BINDINGS),
+        (false, material_maps::CORE_BINDINGS),
+    ] {
+        check(
+            "transparent.wgsl",
+            &TransparentPass::defs(
+                TransparentVariant::of(
+                    everything,
+                    lumen::quality::Transparency::WeightedBlended,
+                    true,
+                ),
+                8,
+                units,
             ),
-            8,
-        ),
-        &[
-            (0, transparent::VIEW),
-            (1, lighting::LIGHTS_AND_SHADOWS),
-            (2, lighting::ENVIRONMENT),
-            (3, lighting::PROBES),
-            (4, material_maps::BINDINGS),
-        ],
-    );
-    check(
-        "layers.wgsl",
-        &LayersPass::defs(everything, Layer::Sheen, 8),
-        &[
-            (0, layers::VIEW),
-            (1, lighting::LIGHTS_AND_SHADOWS),
-            (2, lighting::ENVIRONMENT),
-            (3, lighting::PROBES),
-            (4, material_maps::BINDINGS),
-        ],
-    );
+            &[
+                (0, transparent::VIEW),
+                (1, lighting::LIGHTS_AND_SHADOWS),
+                (2, lighting::ENVIRONMENT),
+                (3, lighting::PROBES),
+                (4, maps),
+            ],
+        );
+        check(
+            "layers.wgsl",
+            &LayersPass::defs(everything, Layer::Sheen, 8, units),
+            &[
+                (0, layers::VIEW),
+                (1, lighting::LIGHTS_AND_SHADOWS),
+                (2, lighting::ENVIRONMENT),
+                (3, lighting::PROBES),
+                (4, maps),
+            ],
+        );
+    }
     check(
         "transparent_resolve.wgsl",
         &[],
@@ -144,7 +152,7 @@ fn every_bind_group_list_matches_its_shader() {
         ],
         &[
             (0, gbuffer::VIEW),
-            (1, material_maps::BINDINGS),
+            (1, material_maps::CORE_BINDINGS),
             (2, gbuffer::MOTION_BINDINGS),
         ],
     );
@@ -168,7 +176,10 @@ fn every_bind_group_list_matches_its_shader() {
     check(
         "shadow.wgsl",
         &[material_maps::group_def(1)],
-        &[(0, shadow::pass::CASTERS), (1, material_maps::BINDINGS)],
+        &[
+            (0, shadow::pass::CASTERS),
+            (1, material_maps::CORE_BINDINGS),
+        ],
     );
     check(
         "sky.wgsl",

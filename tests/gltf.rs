@@ -1223,6 +1223,57 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
     assert_eq!(maps[0].extensions.iridescence, None);
 }
 
+#[test]
+fn extension_textures_fall_back_to_their_factors_where_the_adapter_cannot_bind_them() {
+    // OpenGL binds 16 textures per stage: the transparent and layers passes already bind
+    // 15, so there the maps' layout has no extension units and the factors apply (the
+    // plan says so). Lavapipe binds them. The coat's texture is the black | white halves.
+    let dir = tempfile::tempdir().expect("temp dir");
+    write_png(
+        &dir.path().join("halves.png"),
+        2,
+        1,
+        &[[0, 0, 0, 255], [255, 255, 255, 255]],
+    );
+    let ext = "KHR_materials_clearcoat";
+    let material = json!({
+        "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+        "extensions": {ext: {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5, "clearcoatTexture": {"index": 0}}}
+    });
+    let path = write_quad_with(
+        dir.path(),
+        material,
+        &[ext],
+        texture_json(&["halves.png"], true),
+        [0.0, 0.0, 0.0, 1.0],
+    );
+    let note = "extension textures not sampled";
+    for (backend, sampled) in [("vulkan", true), ("gl", false)] {
+        let out = dir.path().join(format!("{backend}.png"));
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args(["render", "--size", "64x64", "--explain", "--out"])
+            .arg(&out)
+            .arg(&path)
+            .env("WGPU_BACKEND", backend)
+            .output()
+            .expect("lumen runs");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(output.status.success(), "{backend}: {stderr}");
+        assert_eq!(stderr.contains(note), !sampled, "{backend}: {stderr}");
+        let img = image::open(&out).expect("png").to_luma8();
+        let (left, right) = (
+            f32::from(img.get_pixel(16, 32).0[0]),
+            f32::from(img.get_pixel(48, 32).0[0]),
+        );
+        println!("{backend}: left {left}, right {right}");
+        if sampled {
+            assert!(right > left + 10.0, "{backend}: {left} {right}");
+        } else {
+            assert!((right - left).abs() <= 2.0, "{backend}: {left} {right}");
+        }
+    }
+}
+
 /// The quad's geometry arrays (as `write_quad` writes them) plus a COLOR_0 accessor (3)
 /// reading `colors.bin` (buffer 1), for documents that replace `meshes`.
 fn geometry_with_colours(dir: &Path, colour: [f32; 4]) -> serde_json::Value {

@@ -94,6 +94,18 @@ pub struct BindGroupSpec {
 }
 
 impl BindGroupSpec {
+    /// How many textures (sampled, depth or loaded) and samplers it binds: what counts
+    /// against `max_sampled_textures_per_shader_stage` and `max_samplers_per_shader_stage`.
+    pub fn textures_and_samplers(&self) -> (u32, u32) {
+        self.bindings
+            .iter()
+            .fold((0, 0), |(t, s), (_, kind)| match kind {
+                Binding::TextureLoad | Binding::Sampled(_) | Binding::Depth => (t + 1, s),
+                Binding::Sampler | Binding::ComparisonSampler => (t, s + 1),
+                _ => (t, s),
+            })
+    }
+
     /// The layout.
     pub fn layout(&self, gpu: &Gpu) -> wgpu::BindGroupLayout {
         let entries: Vec<wgpu::BindGroupLayoutEntry> = self

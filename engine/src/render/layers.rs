@@ -48,7 +48,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
-use crate::render::material_maps::{GpuMaterialMaps, group_def};
+use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::SHADOW_ATLAS;
@@ -127,7 +127,7 @@ impl FramePass for LayersPass {
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
         let lighting = world.resource::<LightingPass>();
         let maps = world.resource::<GpuMaterialMaps>();
-        Ok(LayersPass::new(gpu, lighting.layouts(), &maps.layout))
+        Ok(LayersPass::new(gpu, lighting.layouts(), maps))
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<LightingVariant>> {
@@ -184,7 +184,14 @@ impl FramePass for LayersPass {
                 ),
             )
         } else {
-            (true, format!("{layers} layer(s) over the lit base"))
+            let units = world.resource::<GpuMaterialMaps>().units;
+            (
+                true,
+                format!(
+                    "{layers} layer(s) over the lit base{}",
+                    crate::render::material_maps::unsampled_note(frame, units)
+                ),
+            )
         };
         PassDecision::new(runs, reason, lighting.filter(|_| runs))
     }
@@ -209,6 +216,8 @@ pub struct LayersPass {
     sheen_table_written: bool,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
+    /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
+    units: bool,
 }
 
 impl LayersPass {
@@ -217,7 +226,7 @@ impl LayersPass {
     pub fn new(
         gpu: &Gpu,
         lighting: &[wgpu::BindGroupLayout; 4],
-        maps: &wgpu::BindGroupLayout,
+        maps: &GpuMaterialMaps,
     ) -> LayersPass {
         let size = crate::sheen::ALBEDO_TABLE_SIZE * crate::sheen::ALBEDO_TABLE_SIZE;
         let sheen_table = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -227,17 +236,24 @@ impl LayersPass {
             mapped_at_creation: false,
         });
         LayersPass {
-            pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, maps),
+            pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, &maps.layout),
             sheen_table,
             sheen_table_written: false,
             view_group: None,
+            units: maps.units,
         }
     }
 
     /// The WGSL header of `layer` in `variant`, for a uniform light copy of
     /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen
-    /// and `RELIT_BASE` for the relit base, and the maps' group.
-    pub fn defs(variant: LightingVariant, layer: Layer, uniform_capacity: u32) -> Vec<ShaderDef> {
+    /// and `RELIT_BASE` for the relit base, and the maps' group (with the extension
+    /// units where `units`).
+    pub fn defs(
+        variant: LightingVariant,
+        layer: Layer,
+        uniform_capacity: u32,
+        units: bool,
+    ) -> Vec<ShaderDef> {
         let mut defs: Vec<ShaderDef> = LightingPass::defs(variant, uniform_capacity)
             .into_iter()
             .map(|d| match d {
@@ -250,7 +266,7 @@ impl LayersPass {
                 other => other,
             })
             .collect();
-        defs.push(group_def(MAPS_GROUP));
+        defs.extend(unit_defs(MAPS_GROUP, units));
         defs
     }
 }
@@ -322,6 +338,7 @@ pub fn prepare_layers(
         return;
     };
     let capacity = buffers.uniform_light_capacity;
+    let units = pass.units;
     // The sheen's table is computed (once per process) only for a frame that draws one.
     if !pass.sheen_table_written && frame.sheened_batches().next().is_some() {
         gpu.queue.write_buffer(
@@ -337,7 +354,7 @@ pub fn prepare_layers(
             ((variant, layer), t.hdr_format),
             layer_batches(&frame, layer),
             ("layers.wgsl", &|| {
-                LayersPass::defs(variant, layer, capacity)
+                LayersPass::defs(variant, layer, capacity, units)
             }),
             &|format| layer_shape(layer, format),
         ) {

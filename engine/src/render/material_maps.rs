@@ -9,6 +9,7 @@ use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedFrame, FrameMaps};
 use crate::render::frame::FrameErrors;
+use crate::render::shaders::ShaderDef;
 use crate::scene::extension_maps::{EXTENSION_PROPERTIES, EXTENSION_UNITS, NO_UNIT};
 use crate::scene::{
     ColorSpace, Filter, Sampler, TextureData, TextureHandle, TextureSlot, Textures, Wrap,
@@ -247,11 +248,44 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("extension_sampler_3", Binding::Sampler),
     ],
 };
+/// [`BINDINGS`] without the extension units, for adapters that cannot bind them beside
+/// the lighting pass's textures (OpenGL's 16 textures per stage, for one): extension
+/// textures are then not sampled, and their factors apply.
+pub const CORE_BINDINGS: BindGroupSpec = BindGroupSpec {
+    label: "material maps (no extension textures)",
+    visibility: BINDINGS.visibility,
+    bindings: BINDINGS.bindings.split_at(11).0,
+};
+
 /// The header constant that places the maps' bind group (`MAPS_GROUP` in
 /// `material_maps.wgsl`) at `group`: 1 in the G-buffer and shadow passes, 4 in the
-/// transparent pass, whose groups 1 to 3 are the lighting pass's.
-pub const fn group_def(group: u32) -> crate::render::shaders::ShaderDef {
-    crate::render::shaders::ShaderDef::U32("MAPS_GROUP", group)
+/// transparent and layers passes, whose groups 1 to 3 are the lighting pass's.
+pub const fn group_def(group: u32) -> ShaderDef {
+    ShaderDef::U32("MAPS_GROUP", group)
+}
+
+/// The shader defs of a pass that reads the extension textures (it imports
+/// `extension_units.wgsl`) at maps group `group`: where the layout has no units
+/// ([`CORE_BINDINGS`]), the module that reads white for every unit takes its place.
+pub fn unit_defs(group: u32, units: bool) -> Vec<ShaderDef> {
+    let mut defs = vec![group_def(group)];
+    if !units {
+        defs.push(ShaderDef::Import(
+            "extension_units",
+            "extension_units_unbound",
+        ));
+    }
+    defs
+}
+
+/// What a pass that reads the extension textures adds to its reason to run: a note that
+/// they are not sampled where the layout has no units and `frame` has some.
+pub fn unsampled_note(frame: &ExtractedFrame, units: bool) -> &'static str {
+    if !units && frame.material_maps.iter().any(|m| m.maps.extensions.any()) {
+        "; extension textures not sampled (the adapter binds too few textures per stage), their factors apply"
+    } else {
+        ""
+    }
 }
 
 /// The GPU side of textured materials.
@@ -259,6 +293,9 @@ pub const fn group_def(group: u32) -> crate::render::shaders::ShaderDef {
 pub struct GpuMaterialMaps {
     /// Layout of group 1 of the textured G-buffer variant.
     pub layout: wgpu::BindGroupLayout,
+    /// Whether the layout binds the extension units ([`BINDINGS`]) or not
+    /// ([`CORE_BINDINGS`]).
+    pub units: bool,
     textures: HashMap<TextureHandle, (wgpu::Texture, wgpu::TextureView)>,
     samplers: HashMap<Sampler, wgpu::Sampler>,
     /// 1 × 1 white, for slots without a texture (sRGB and linear).
@@ -270,9 +307,10 @@ pub struct GpuMaterialMaps {
 }
 
 impl GpuMaterialMaps {
-    /// The bind group layout; nothing is uploaded until a frame uses textures.
-    pub fn new(gpu: &Gpu) -> Self {
-        let layout = BINDINGS.layout(gpu);
+    /// The bind group layout, with the extension units where `units`; nothing is
+    /// uploaded until a frame uses textures.
+    pub fn new(gpu: &Gpu, units: bool) -> Self {
+        let layout = if units { &BINDINGS } else { &CORE_BINDINGS }.layout(gpu);
         let anisotropic = gpu
             .adapter
             .get_downlevel_capabilities()
@@ -280,6 +318,7 @@ impl GpuMaterialMaps {
             .contains(wgpu::DownlevelFlags::ANISOTROPIC_FILTERING);
         GpuMaterialMaps {
             layout,
+            units,
             textures: HashMap::new(),
             samplers: HashMap::new(),
             white: None,
@@ -442,29 +481,39 @@ pub fn prepare_material_maps(
         // the extension units' textures and their samplers.
         let (core_views, unit_views) = views.split_at(5);
         let (core_samplers, unit_samplers) = samplers.split_at(5);
+        let units = if maps.units { unit_views.len() } else { 0 };
         let resources = std::iter::once(uniform.as_entire_binding())
             .chain(
                 core_views
                     .iter()
-                    .map(|v| wgpu::BindingResource::TextureView(v)),
+                    .copied()
+                    .map(wgpu::BindingResource::TextureView),
             )
             .chain(
                 core_samplers
                     .iter()
-                    .map(|s| wgpu::BindingResource::Sampler(s)),
+                    .copied()
+                    .map(wgpu::BindingResource::Sampler),
             )
             .chain(
-                unit_views
+                unit_views[..units]
                     .iter()
-                    .map(|v| wgpu::BindingResource::TextureView(v)),
+                    .copied()
+                    .map(wgpu::BindingResource::TextureView),
             )
             .chain(
-                unit_samplers
+                unit_samplers[..units]
                     .iter()
-                    .map(|s| wgpu::BindingResource::Sampler(s)),
+                    .copied()
+                    .map(wgpu::BindingResource::Sampler),
             )
             .collect();
-        let group = match BINDINGS.group(&gpu, &maps.layout, resources) {
+        let spec = if maps.units {
+            &BINDINGS
+        } else {
+            &CORE_BINDINGS
+        };
+        let group = match spec.group(&gpu, &maps.layout, resources) {
             Ok(group) => group,
             Err(e) => {
                 errors.0.push(e);

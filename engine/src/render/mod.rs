@@ -117,7 +117,10 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     if !world.contains_resource::<Registry>() {
         world.insert_resource(passes::builtin()?);
     }
-    world.insert_resource(material_maps::GpuMaterialMaps::new(&gpu));
+    world.insert_resource(material_maps::GpuMaterialMaps::new(
+        &gpu,
+        extension_units_fit(&gpu.device.limits()),
+    ));
     world.init_resource::<crate::scene::Textures>();
     world.init_resource::<frame::MeteredExposure>();
     world.init_resource::<frame::FrameDelta>();
@@ -141,6 +144,26 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.add_schedule(extract);
     build_render_schedule(world);
     Ok(())
+}
+
+/// Whether the material maps' extension units fit in the adapter's per-stage limits beside
+/// everything else the pass with the most textures binds: the transparent pass (its
+/// view group, the lighting pass's groups 1 to 3 and the maps). Where they do not (16
+/// textures per stage on OpenGL ES 3, for one), extension textures are not sampled
+/// ([`material_maps::CORE_BINDINGS`]).
+pub fn extension_units_fit(limits: &wgpu::Limits) -> bool {
+    let (textures, samplers) = [
+        transparent::VIEW,
+        lighting::LIGHTS_AND_SHADOWS,
+        lighting::ENVIRONMENT,
+        lighting::PROBES,
+        material_maps::BINDINGS,
+    ]
+    .iter()
+    .map(bindings::BindGroupSpec::textures_and_samplers)
+    .fold((0, 0), |(t, s), (dt, ds)| (t + dt, s + ds));
+    textures <= limits.max_sampled_textures_per_shader_stage
+        && samplers <= limits.max_samplers_per_shader_stage
 }
 
 /// The systems every pass's preparation needs, after `plan`.

@@ -62,7 +62,7 @@ impl ShaderLibrary {
         let mut composed = Composed::header(defs);
         let mut stack = Vec::new();
         let mut done = Vec::new();
-        self.append(name, source, &mut stack, &mut done, &mut composed)?;
+        self.append(name, source, defs, (&mut stack, &mut done), &mut composed)?;
         Ok(composed)
     }
 
@@ -70,12 +70,19 @@ impl ShaderLibrary {
         &self,
         name: &str,
         source: &str,
-        stack: &mut Vec<String>,
-        done: &mut Vec<String>,
+        defs: &[ShaderDef],
+        (stack, done): (&mut Vec<String>, &mut Vec<String>),
         out: &mut Composed,
     ) -> Result<()> {
         stack.push(name.to_string());
         for (line, import) in imports(source) {
+            let import = defs
+                .iter()
+                .find_map(|d| match d {
+                    ShaderDef::Import(from, to) if *from == import => Some(*to),
+                    _ => None,
+                })
+                .unwrap_or(import);
             let file = format!("{import}.wgsl");
             if stack.contains(&file) {
                 let mut cycle = stack.clone();
@@ -93,7 +100,7 @@ impl ShaderLibrary {
                     "shaders/{name}:{line}: imports '{import}', but shaders/{file} does not exist"
                 ))
             })?;
-            self.append(&file, &text, stack, done, out)?;
+            self.append(&file, &text, defs, (&mut *stack, &mut *done), out)?;
         }
         stack.pop();
         done.push(name.to_string());
@@ -158,6 +165,9 @@ pub enum ShaderDef {
     Bool(&'static str, bool),
     /// `const NAME: u32 = value;`
     U32(&'static str, u32),
+    /// `#import FROM` reads the module `TO` instead (an alternative implementation of the
+    /// same functions, e.g. without bindings the layout lacks).
+    Import(&'static str, &'static str),
 }
 
 /// A composed WGSL source and where each of its lines came from.
@@ -180,6 +190,7 @@ impl Composed {
                     source.push_str(&format!("const {name}: bool = {v};\n"))
                 }
                 ShaderDef::U32(name, v) => source.push_str(&format!("const {name}: u32 = {v}u;\n")),
+                ShaderDef::Import(..) => {}
             }
         }
         Composed {

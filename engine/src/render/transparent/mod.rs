@@ -35,7 +35,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
-use crate::render::material_maps::{GpuMaterialMaps, group_def};
+use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::pipelines::draw_fullscreen_with;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
@@ -120,7 +120,7 @@ impl FramePass for TransparentPass {
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
         let lighting = world.resource::<LightingPass>();
         let maps = world.resource::<GpuMaterialMaps>();
-        Ok(TransparentPass::new(gpu, lighting.layouts(), &maps.layout))
+        Ok(TransparentPass::new(gpu, lighting.layouts(), maps))
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<TransparentVariant>> {
@@ -170,14 +170,16 @@ impl FramePass for TransparentPass {
                 ),
             )
         } else {
+            let units = world.resource::<GpuMaterialMaps>().units;
+            let note = crate::render::material_maps::unsampled_note(frame, units);
             (
                 true,
                 match mode {
                     Transparency::Sorted => {
-                        format!("{blended} surface(s), back to front, premultiplied alpha")
+                        format!("{blended} surface(s), back to front, premultiplied alpha{note}")
                     }
                     Transparency::WeightedBlended => format!(
-                        "{blended} surface(s), weighted blended OIT (any order, one resolve)"
+                        "{blended} surface(s), weighted blended OIT (any order, one resolve){note}"
                     ),
                 },
             )
@@ -210,6 +212,8 @@ pub struct TransparentPass {
     /// 1 × 1 black, bound in the chain's place when no surface transmits.
     no_frame: wgpu::TextureView,
     resolve: WeightedResolve,
+    /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
+    units: bool,
 }
 
 impl TransparentPass {
@@ -218,7 +222,7 @@ impl TransparentPass {
     pub fn new(
         gpu: &Gpu,
         lighting: &[wgpu::BindGroupLayout; 4],
-        maps: &wgpu::BindGroupLayout,
+        maps: &GpuMaterialMaps,
     ) -> TransparentPass {
         let no_frame = gpu
             .device
@@ -238,20 +242,23 @@ impl TransparentPass {
             })
             .create_view(&wgpu::TextureViewDescriptor::default());
         TransparentPass {
-            pipelines: ForwardPipelines::new(gpu, "transparent", &VIEW, lighting, maps),
+            pipelines: ForwardPipelines::new(gpu, "transparent", &VIEW, lighting, &maps.layout),
             view_group: None,
             no_frame,
             resolve: WeightedResolve::new(gpu),
+            units: maps.units,
         }
     }
 
-    /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights.
+    /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights, the
+    /// maps' layout with the extension units where `units`.
     pub fn defs(
         variant: TransparentVariant,
         uniform_capacity: u32,
+        units: bool,
     ) -> Vec<crate::render::shaders::ShaderDef> {
         let mut defs = LightingPass::defs(variant.lighting, uniform_capacity);
-        defs.push(group_def(MAPS_GROUP));
+        defs.extend(unit_defs(MAPS_GROUP, units));
         defs.push(crate::render::shaders::ShaderDef::Bool(
             "TRANSMISSION",
             variant.transmission,
@@ -320,12 +327,13 @@ pub fn prepare_transparent(
         return;
     };
     let capacity = buffers.uniform_light_capacity;
+    let units = pass.units;
     if let Err(e) = pass.pipelines.ensure(
         &gpu,
         (variant, t.hdr_format),
         frame.transparent_batches(),
         ("transparent.wgsl", &|| {
-            TransparentPass::defs(variant, capacity)
+            TransparentPass::defs(variant, capacity, units)
         }),
         &|format| transparent_shape(variant, format),
     ) {
