@@ -551,11 +551,12 @@ fn transmission_and_thickness_textures_scale_their_factors() {
                     ..Default::default()
                 });
             }
-            if multiplied && let Some(mut m) = entity.get_mut::<Material>() {
-                if let Some(t) = m.transmission.as_mut() {
-                    t.factor *= f32::from(texels[k][0]) / 255.0;
-                    t.thickness_m *= f32::from(texels[k][1]) / 255.0;
-                }
+            if multiplied
+                && let Some(mut m) = entity.get_mut::<Material>()
+                && let Some(t) = m.transmission.as_mut()
+            {
+                t.factor *= f32::from(texels[k][0]) / 255.0;
+                t.thickness_m *= f32::from(texels[k][1]) / 255.0;
             }
         }
         app.render_headless(SIZE).expect("frame");
