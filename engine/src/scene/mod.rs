@@ -11,6 +11,7 @@ pub mod environment;
 pub mod extension_maps;
 pub mod light;
 pub mod material;
+pub mod material_maps;
 pub mod mesh;
 pub mod mesh_data;
 pub mod probes;
@@ -27,11 +28,12 @@ pub use light::{DirectionalLight, LightColor, LuminousIntensity, PointLight, Spo
 pub use material::{
     Anisotropy, Clearcoat, DiffuseTransmission, Iridescence, Material, Sheen, Transmission,
 };
+pub use material_maps::MaterialMaps;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
 pub use probes::{IrradianceVolume, ReflectionProbe};
 pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
 pub use texture::{
-    ColorSpace, Filter, MaterialMaps, Sampler, TextureData, TextureHandle, TextureSlot, Textures,
-    UvTransform, Wrap,
+    ColorSpace, Filter, Sampler, TextureData, TextureHandle, TextureSlot, Textures, UvTransform,
+    Wrap,
 };
 pub use transform::{GlobalTransform, Transform, propagate_transforms};

@@ -4,8 +4,11 @@
 //! use the same instances, materials, lights, exposure and camera).
 
 use super::bvh::{Bvh, Triangle};
+use super::textures::TraceMaps;
+use crate::anisotropy::textured_anisotropy;
 use crate::brdf::VisibilityModel;
 use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
+use crate::iridescence::film_thickness;
 use crate::scene::texture::normal_from_map;
 use crate::scene::{Environment, EnvironmentSource, MaterialMaps, MeshHandle, Meshes};
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
@@ -228,6 +231,46 @@ impl TraceMaterial {
                 .filter(|d| d.factor > 0.0),
             ..self
         }
+    }
+}
+
+/// Scales `material`'s layers by `maps`' extension textures at (uv0, uv1), as the layers
+/// and transparent passes do (`extension_texel` in `material_maps.wgsl`).
+fn apply_extensions(maps: &TraceMaps, material: &mut TraceMaterial, uv0: Vec2, uv1: Vec2) {
+    let at = |k: usize| maps.extension(k, uv0, uv1);
+    let one = Vec4::ONE;
+    if let Some(t) = material.transmission.as_mut() {
+        t.factor *= at(0).unwrap_or(one).x;
+        t.thickness_m *= at(1).unwrap_or(one).y;
+    }
+    if let Some(c) = material.clearcoat.as_mut() {
+        c.factor *= at(2).unwrap_or(one).x;
+        c.perceptual_roughness *= at(3).unwrap_or(one).y;
+    }
+    if let Some(sh) = material.sheen.as_mut() {
+        sh.color *= at(4).unwrap_or(one).truncate();
+        sh.perceptual_roughness *= at(5).unwrap_or(one).w;
+    }
+    if let (Some(a), Some(texel)) = (material.anisotropy.as_mut(), at(6)) {
+        let (sin, cos) = a.rotation_rad.sin_cos();
+        let (strength, d) = textured_anisotropy(a.strength, Vec2::new(cos, sin), texel.truncate());
+        a.strength = strength;
+        a.rotation_rad = d.y.atan2(d.x);
+    }
+    if let Some(f) = material.iridescence.as_mut() {
+        f.factor *= at(7).unwrap_or(one).x;
+        if let Some(texel) = at(8) {
+            f.thickness_nm = film_thickness(maps.thickness_min_nm, f.thickness_nm, texel.y);
+        }
+    }
+    if let Some(d) = material.diffuse_transmission.as_mut() {
+        d.factor *= at(9).unwrap_or(one).w;
+        d.color *= at(10).unwrap_or(one).truncate();
+    }
+    // Only a relit base has a tint (white where only textures set it).
+    if let Some(tint) = material.specular_tint.as_mut() {
+        material.specular_level *= at(11).unwrap_or(one).w;
+        *tint *= at(12).unwrap_or(one).truncate();
     }
 }
 
@@ -643,7 +686,7 @@ impl TraceScene {
         material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
         material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
         material.emissive *= maps.sample(4, uv0, uv1).truncate();
-        maps.apply_extensions(&mut material, uv0, uv1);
+        apply_extensions(maps, &mut material, uv0, uv1);
         let mut n = normal;
         if maps.slots[2].is_some() {
             let texel = maps.sample(2, uv0, uv1).truncate();

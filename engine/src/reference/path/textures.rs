@@ -2,10 +2,7 @@
 //! variant samples, read on the CPU with bilinear filtering (no mip maps: the reference
 //! supersamples every pixel), the samplers' wrap modes and `KHR_texture_transform`.
 
-use super::scene::TraceMaterial;
-use crate::anisotropy::textured_anisotropy;
 use crate::color::srgb_decode;
-use crate::iridescence::film_thickness;
 use crate::scene::extension_maps::EXTENSION_PROPERTIES;
 use crate::scene::texture::normal_from_map;
 use crate::scene::{ColorSpace, Filter, MaterialMaps, TextureData, TextureSlot, Textures, Wrap};
@@ -150,49 +147,8 @@ impl TraceMaps {
     }
 
     /// Extension property `k`'s texel at the coordinates, if it is textured.
-    fn extension(&self, k: usize, uv0: Vec2, uv1: Vec2) -> Option<Vec4> {
+    pub fn extension(&self, k: usize, uv0: Vec2, uv1: Vec2) -> Option<Vec4> {
         self.extensions[k].as_ref().map(|s| s.sample(uv0, uv1))
-    }
-
-    /// Scales `material`'s layers by the extension textures at (uv0, uv1), as the layers
-    /// and transparent passes do (`extension_texel` in `material_maps.wgsl`).
-    pub fn apply_extensions(&self, material: &mut TraceMaterial, uv0: Vec2, uv1: Vec2) {
-        let at = |k: usize| self.extension(k, uv0, uv1);
-        let one = Vec4::ONE;
-        if let Some(t) = material.transmission.as_mut() {
-            t.factor *= at(0).unwrap_or(one).x;
-            t.thickness_m *= at(1).unwrap_or(one).y;
-        }
-        if let Some(c) = material.clearcoat.as_mut() {
-            c.factor *= at(2).unwrap_or(one).x;
-            c.perceptual_roughness *= at(3).unwrap_or(one).y;
-        }
-        if let Some(sh) = material.sheen.as_mut() {
-            sh.color *= at(4).unwrap_or(one).truncate();
-            sh.perceptual_roughness *= at(5).unwrap_or(one).w;
-        }
-        if let (Some(a), Some(texel)) = (material.anisotropy.as_mut(), at(6)) {
-            let (sin, cos) = a.rotation_rad.sin_cos();
-            let (strength, d) =
-                textured_anisotropy(a.strength, Vec2::new(cos, sin), texel.truncate());
-            a.strength = strength;
-            a.rotation_rad = d.y.atan2(d.x);
-        }
-        if let Some(f) = material.iridescence.as_mut() {
-            f.factor *= at(7).unwrap_or(one).x;
-            if let Some(texel) = at(8) {
-                f.thickness_nm = film_thickness(self.thickness_min_nm, f.thickness_nm, texel.y);
-            }
-        }
-        if let Some(d) = material.diffuse_transmission.as_mut() {
-            d.factor *= at(9).unwrap_or(one).w;
-            d.color *= at(10).unwrap_or(one).truncate();
-        }
-        // Only a relit base has a tint (white where only textures set it).
-        if let Some(tint) = material.specular_tint.as_mut() {
-            material.specular_level *= at(11).unwrap_or(one).w;
-            *tint *= at(12).unwrap_or(one).truncate();
-        }
     }
 
     /// Slot `k` at the coordinates, or white.
