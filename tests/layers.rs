@@ -1238,3 +1238,67 @@ fn specular_and_coat_normal_textures_shape_their_spheres_in_both_renderers() {
         assert!(traced_error < tolerance, "sphere {i}: {traced_error}");
     }
 }
+
+#[test]
+fn extreme_extension_textures_stay_finite() {
+    // Every layer at once, under texels of 0 and of 255 in every channel, a coat normal map
+    // scaled by NaN, ∞ and −∞ (NaN and ∞ count as 1), and film minimums of NaN, −5 nm and
+    // ∞ nm: finite in the rasterizer, and no path dropped by the path tracer.
+    let material = Material {
+        diffuse_transmission: translucent(1.0, Vec3::ONE),
+        anisotropy: anisotropy(1.0, 0.3),
+        specular_tint: Vec3::new(1.0, 0.5, 0.2),
+        iridescence: film(1.0, 1.5, 500.0),
+        clearcoat: Some(Clearcoat {
+            factor: 1.0,
+            perceptual_roughness: 0.0,
+        }),
+        sheen: Some(Sheen {
+            color: Vec3::ONE,
+            perceptual_roughness: 0.0,
+        }),
+        ..dark_red()
+    };
+    let texels = [[0u8; 4], [255; 4], [128, 128, 0, 0]];
+    let scales = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY];
+    let minimums = [f32::NAN, -5.0, f32::INFINITY];
+    let textured = |app: &mut App| {
+        std::array::from_fn(|i| {
+            let a = texel_slot(app, texels[i], ColorSpace::Linear);
+            let b = texel_slot(app, texels[(i + 1) % 3], ColorSpace::Srgb);
+            ExtensionMaps {
+                clearcoat: Some(a),
+                clearcoat_roughness: Some(a),
+                clearcoat_normal: Some(a),
+                clearcoat_normal_scale: scales[i],
+                sheen_color: Some(b),
+                sheen_roughness: Some(a),
+                anisotropy: Some(a),
+                iridescence: Some(a),
+                iridescence_thickness: Some(a),
+                iridescence_thickness_min_nm: minimums[i],
+                diffuse_transmission: Some(a),
+                diffuse_transmission_color: Some(b),
+                specular: Some(a),
+                specular_color: Some(b),
+                ..ExtensionMaps::default()
+            }
+        })
+    };
+    let (_, mut app) = textured_spheres(
+        [material; 3],
+        Some(&textured),
+        "3 relit base, 3 sheen and 3 clearcoat layer",
+        back_and_front_lights,
+    );
+    common::assert_finite(&app);
+    let scene = trace_scene(&mut app, (96, 32)).expect("trace scene");
+    let options = ReferenceOptions {
+        size: (96, 32),
+        samples_per_pixel: 4,
+        max_bounces: 2,
+        seed: 1,
+    };
+    let traced = render(&scene, &options, &|_| {});
+    assert_eq!(traced.dropped_samples, 0);
+}
