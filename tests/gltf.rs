@@ -707,6 +707,17 @@ fn write_png(path: &Path, w: u32, h: u32, texels: &[[u8; 4]]) {
     img.save(path).expect("png");
 }
 
+/// Writes `halves.png` into `dir`: a 2 × 1 RGBA PNG, its left texel black, its right
+/// texel white.
+fn write_halves(dir: &Path) {
+    write_png(
+        &dir.join("halves.png"),
+        2,
+        1,
+        &[[0, 0, 0, 255], [255, 255, 255, 255]],
+    );
+}
+
 /// Images, textures and a sampler for `files` (one texture per file, in order).
 fn texture_json(files: &[&str], nearest: bool) -> serde_json::Value {
     json!({
@@ -1034,12 +1045,7 @@ fn image_problems_fall_back_or_downscale_with_warnings() {
 fn texture_transforms_and_coordinate_sets_move_the_texture() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Left texel black, right texel white, sampled nearest.
-    write_png(
-        &dir.path().join("halves.png"),
-        2,
-        1,
-        &[[0, 0, 0, 255], [255, 255, 255, 255]],
-    );
+    write_halves(dir.path());
     let textures = texture_json(&["halves.png"], true);
     let right_quarter = |info: serde_json::Value| {
         let material =
@@ -1079,12 +1085,7 @@ fn texture_transforms_and_coordinate_sets_move_the_texture() {
 fn extension_textures_are_read_where_their_texture_infos_point() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Left texel black, right texel white, sampled nearest.
-    write_png(
-        &dir.path().join("halves.png"),
-        2,
-        1,
-        &[[0, 0, 0, 255], [255, 255, 255, 255]],
-    );
+    write_halves(dir.path());
     let textures = texture_json(&["halves.png"], true);
     let ext = "KHR_materials_clearcoat";
     // A black dielectric under a coat whose clearcoatTexture is the halves: coated on the
@@ -1229,12 +1230,7 @@ fn extension_textures_fall_back_to_their_factors_where_the_adapter_cannot_bind_t
     // 15, so there the maps' layout has no extension units and the factors apply (the
     // plan says so). Lavapipe binds them. The coat's texture is the black | white halves.
     let dir = tempfile::tempdir().expect("temp dir");
-    write_png(
-        &dir.path().join("halves.png"),
-        2,
-        1,
-        &[[0, 0, 0, 255], [255, 255, 255, 255]],
-    );
+    write_halves(dir.path());
     let ext = "KHR_materials_clearcoat";
     let material = json!({
         "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},

@@ -544,8 +544,14 @@ fn extreme_layers_stay_finite() {
         "{}",
         layers.reason
     );
-    common::assert_finite(&app);
-    let scene = trace_scene(&mut app, (96, 32)).expect("trace scene");
+    assert_finite_in_both(&mut app);
+}
+
+/// Every pixel of `app`'s last frame finite, and no path of a short path-traced render
+/// of the same scene dropped (the reference drops non-finite paths and counts them).
+fn assert_finite_in_both(app: &mut App) {
+    common::assert_finite(app);
+    let scene = trace_scene(app, (96, 32)).expect("trace scene");
     let options = ReferenceOptions {
         size: (96, 32),
         samples_per_pixel: 4,
@@ -553,7 +559,6 @@ fn extreme_layers_stay_finite() {
         seed: 1,
     };
     let traced = render(&scene, &options, &|_| {});
-    // The reference drops non-finite paths and counts them: none may be dropped.
     assert_eq!(traced.dropped_samples, 0);
 }
 
@@ -1291,14 +1296,5 @@ fn extreme_extension_textures_stay_finite() {
         "3 relit base, 3 sheen and 3 clearcoat layer",
         back_and_front_lights,
     );
-    common::assert_finite(&app);
-    let scene = trace_scene(&mut app, (96, 32)).expect("trace scene");
-    let options = ReferenceOptions {
-        size: (96, 32),
-        samples_per_pixel: 4,
-        max_bounces: 2,
-        seed: 1,
-    };
-    let traced = render(&scene, &options, &|_| {});
-    assert_eq!(traced.dropped_samples, 0);
+    assert_finite_in_both(&mut app);
 }
