@@ -1168,7 +1168,12 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
             .map(|t| t.color_space)
     };
     assert_eq!(space(e.sheen_color), Some(ColorSpace::Srgb));
-    assert_eq!(space(e.sheen_roughness), Some(ColorSpace::Linear));
+    // Read from alpha, which is linear in an sRGB texture too: the same decoded texture.
+    assert_eq!(space(e.sheen_roughness), Some(ColorSpace::Srgb));
+    assert_eq!(
+        e.sheen_roughness.map(|s| s.texture),
+        e.sheen_color.map(|s| s.texture)
+    );
     assert_eq!(e.sheen_roughness.map(|s| s.uv_set), Some(1));
     assert_eq!(space(e.iridescence_thickness), Some(ColorSpace::Linear));
     assert_eq!(e.iridescence_thickness_min_nm, 250.0);
@@ -1228,46 +1233,72 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
 fn extension_textures_fall_back_to_their_factors_where_the_adapter_cannot_bind_them() {
     // OpenGL binds 16 textures per stage: the transparent and layers passes already bind
     // 15, so there the maps' layout has no extension units and the factors apply (the
-    // plan says so). Lavapipe binds them. The coat's texture is the black | white halves.
+    // plan says so): the quad equals the same quad without its textures, the coat's
+    // normal unbent. Lavapipe binds them. The coat's texture is the black | white halves,
+    // its normal map a texel tilting it.
     let dir = tempfile::tempdir().expect("temp dir");
     write_halves(dir.path());
+    write_png(&dir.path().join("tilt.png"), 1, 1, &[[150, 128, 250, 255]]);
     let ext = "KHR_materials_clearcoat";
-    let material = json!({
-        "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
-        "extensions": {ext: {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5, "clearcoatTexture": {"index": 0}}}
-    });
-    let path = write_quad_with(
-        dir.path(),
-        material,
-        &[ext],
-        texture_json(&["halves.png"], true),
-        [0.0, 0.0, 0.0, 1.0],
-    );
-    let note = "extension textures not sampled";
-    for (backend, sampled) in [("vulkan", true), ("gl", false)] {
-        let out = dir.path().join(format!("{backend}.png"));
+    let quad = |name: &str, textured: bool| {
+        let coat = if textured {
+            json!({"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5,
+                   "clearcoatTexture": {"index": 0}, "clearcoatNormalTexture": {"index": 1}})
+        } else {
+            json!({"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.5})
+        };
+        let material = json!({
+            "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0},
+            "extensions": {ext: coat}
+        });
+        let sub = dir.path().join(name);
+        std::fs::create_dir_all(&sub).expect("dir");
+        for png in ["halves.png", "tilt.png"] {
+            std::fs::copy(dir.path().join(png), sub.join(png)).expect("copy");
+        }
+        write_quad_with(
+            &sub,
+            material,
+            &[ext],
+            texture_json(&["halves.png", "tilt.png"], true),
+            [0.0, 0.0, 0.0, 1.0],
+        )
+    };
+    let render = |path: &Path, backend: &str| {
+        let out = path.with_extension(format!("{backend}.png"));
         let output = std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
             .args(["render", "--size", "64x64", "--explain", "--out"])
             .arg(&out)
-            .arg(&path)
+            .arg(path)
             .env("WGPU_BACKEND", backend)
             .output()
             .expect("lumen runs");
-        let stderr = String::from_utf8_lossy(&output.stderr);
+        let stderr = String::from_utf8_lossy(&output.stderr).to_string();
         assert!(output.status.success(), "{backend}: {stderr}");
-        assert_eq!(stderr.contains(note), !sampled, "{backend}: {stderr}");
         let img = image::open(&out).expect("png").to_luma8();
-        let (left, right) = (
-            f32::from(img.get_pixel(16, 32).0[0]),
-            f32::from(img.get_pixel(48, 32).0[0]),
-        );
-        println!("{backend}: left {left}, right {right}");
-        if sampled {
-            assert!(right > left + 10.0, "{backend}: {left} {right}");
-        } else {
-            assert!((right - left).abs() <= 2.0, "{backend}: {left} {right}");
-        }
-    }
+        let at = |x: u32| f32::from(img.get_pixel(x, 32).0[0]);
+        ((at(16), at(48)), stderr)
+    };
+    let (textured, plain) = (quad("textured", true), quad("plain", false));
+    let note = "extension textures not sampled";
+    let ((left, right), stderr) = render(&textured, "vulkan");
+    let ((plain_left, plain_right), _) = render(&plain, "vulkan");
+    println!(
+        "vulkan: left {left}, right {right}; without the textures {plain_left}, {plain_right}"
+    );
+    assert!(!stderr.contains(note), "{stderr}");
+    assert!(
+        (left - plain_left).abs() > 10.0 && (right - plain_right).abs() > 10.0,
+        "{left} {right} vs {plain_left} {plain_right}"
+    );
+    let ((left, right), stderr) = render(&textured, "gl");
+    let ((plain_left, plain_right), _) = render(&plain, "gl");
+    println!("gl: left {left}, right {right}; without the textures {plain_left}, {plain_right}");
+    assert!(stderr.contains(note), "{stderr}");
+    assert!(
+        (left - plain_left).abs() <= 1.0 && (right - plain_right).abs() <= 1.0,
+        "{left} {right} vs {plain_left} {plain_right}"
+    );
 }
 
 /// The quad's geometry arrays (as `write_quad` writes them) plus a COLOR_0 accessor (3)

@@ -610,8 +610,10 @@ fn texture_image<'a>(
 /// The textures of the material's extension layers ([`ExtensionMaps`]), read only for
 /// the layers `material` has (a texture scales a factor, so a layer without its factor
 /// needs none; the specular textures are read wherever `KHR_materials_specular` is).
-/// Colour textures (sheen, diffuse transmission, specular colour) are sRGB, the rest
-/// linear; the coat normal map's `scale` comes with it.
+/// Colour textures (sheen, diffuse transmission, specular colour) and those read from
+/// alpha are sRGB (alpha stays linear), the rest linear; the coat normal map's `scale`
+/// comes with it. Specular textures are read where the surface is opaque and lit
+/// ([`Material::relit_tint`]); elsewhere a warning says they are not drawn.
 /// Past [`EXTENSION_UNITS`] distinct textures the rest are dropped with a warning, and
 /// their factors apply.
 fn extension_maps(
@@ -645,9 +647,12 @@ fn extension_maps(
         );
         out.clearcoat_normal = read("KHR_materials_clearcoat", "clearcoatNormalTexture", linear);
     }
+    // Alpha is linear in every texture, so the properties read from alpha load as sRGB:
+    // an image that packs a colour in rgb and its companion in alpha (as glTF's sheen,
+    // diffuse transmission and specular textures often do) is then one unit, not two.
     if material.sheen.is_some() {
         out.sheen_color = read("KHR_materials_sheen", "sheenColorTexture", srgb);
-        out.sheen_roughness = read("KHR_materials_sheen", "sheenRoughnessTexture", linear);
+        out.sheen_roughness = read("KHR_materials_sheen", "sheenRoughnessTexture", srgb);
     }
     if material.anisotropy.is_some() {
         out.anisotropy = read("KHR_materials_anisotropy", "anisotropyTexture", linear);
@@ -662,11 +667,19 @@ fn extension_maps(
     }
     if material.diffuse_transmission.is_some() {
         let name = "KHR_materials_diffuse_transmission";
-        out.diffuse_transmission = read(name, "diffuseTransmissionTexture", linear);
+        out.diffuse_transmission = read(name, "diffuseTransmissionTexture", srgb);
         out.diffuse_transmission_color = read(name, "diffuseTransmissionColorTexture", srgb);
     }
-    out.specular = read("KHR_materials_specular", "specularTexture", linear);
-    out.specular_color = read("KHR_materials_specular", "specularColorTexture", srgb);
+    if material.relit_tint(true).is_some() {
+        out.specular = read("KHR_materials_specular", "specularTexture", srgb);
+        out.specular_color = read("KHR_materials_specular", "specularColorTexture", srgb);
+    } else if let Some(ext) = m.extension_value("KHR_materials_specular")
+        && (ext.get("specularTexture").is_some() || ext.get("specularColorTexture").is_some())
+    {
+        loader.warnings.push(format!(
+            "{what}: KHR_materials_specular's textures are not drawn on a blended, transmissive or unlit material; its factors apply"
+        ));
+    }
     if out.clearcoat_normal.is_some()
         && let Some(scale) = m
             .extension_value("KHR_materials_clearcoat")

@@ -18,7 +18,7 @@ use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
 
-/// `Maps` in `gbuffer.wgsl`.
+/// `Maps` in `material_maps.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 struct GpuMaps {
@@ -56,14 +56,23 @@ fn transform_rows(slot: Option<&TextureSlot>) -> [[f32; 4]; 2] {
 }
 
 impl GpuMaps {
-    fn new(entry: &FrameMaps) -> Self {
+    /// The uniform of `entry`. A unit is bound only where the layout has units (`bound`)
+    /// and its texture was uploaded (`uploaded`); a property whose unit is not bound
+    /// keeps its factor, as in the path tracer (white is not a neutral direction or
+    /// normal).
+    fn new(entry: &FrameMaps, bound: bool, uploaded: impl Fn(TextureHandle) -> bool) -> Self {
         let maps = &entry.maps;
         let mut out = GpuMaps::default();
         for (k, slot) in maps.slots().iter().enumerate() {
             [out.transforms[2 * k], out.transforms[2 * k + 1]] = transform_rows(slot.as_ref());
         }
-        let units = maps.extensions.units();
+        let mut units = maps.extensions.units();
         for (k, slot) in units.units.iter().enumerate() {
+            if !bound || !slot.is_some_and(|s| uploaded(s.texture)) {
+                for of in units.of.iter_mut().filter(|u| **u == k as u32) {
+                    *of = NO_UNIT;
+                }
+            }
             [
                 out.extension_transforms[2 * k],
                 out.extension_transforms[2 * k + 1],
@@ -474,7 +483,9 @@ pub fn prepare_material_maps(
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("material maps"),
-                contents: bytemuck::bytes_of(&GpuMaps::new(entry)),
+                contents: bytemuck::bytes_of(&GpuMaps::new(entry, maps.units, |h| {
+                    maps.textures.contains_key(&h)
+                })),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
         // The binding order: the factors, the five slots' textures, their samplers, then

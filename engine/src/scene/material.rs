@@ -369,11 +369,13 @@ impl Material {
     /// The specular tint a relit base is drawn with: [`Material::tint`], or, where
     /// `textured` (a specular texture scales the level or the tint per texel,
     /// [`crate::scene::ExtensionMaps::specular_textured`]), the clamped tint even when
-    /// it is white, on the same surfaces.
+    /// it is white, on every opaque, lit surface: whatever the metallic factor, since a
+    /// metallic-roughness texture may make any texel a dielectric.
     pub fn relit_tint(&self, textured: bool) -> Option<Vec3> {
         let tint = crate::brdf::clamp_tint(self.specular_tint);
-        ((tint.min_element() < 1.0 || textured) && self.metallic < 1.0 && self.opaque_and_lit())
+        ((tint.min_element() < 1.0 && self.metallic < 1.0) || textured)
             .then_some(tint)
+            .filter(|_| self.opaque_and_lit())
     }
 
     /// The iridescent film that is drawn (clamped): [`Material::iridescence`] where its
@@ -407,5 +409,31 @@ impl Material {
             unlit: true,
             ..Material::default()
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn specular_textures_relight_every_opaque_lit_surface() {
+        let metal = Material::new(Vec3::ONE, 1.0, 0.5);
+        // A metal's constant tint is not drawn; its specular textures are (a
+        // metallic-roughness texture may make any texel a dielectric).
+        let tinted = Material {
+            specular_tint: Vec3::new(1.0, 0.5, 0.5),
+            ..metal
+        };
+        assert_eq!(tinted.tint(), None);
+        assert_eq!(metal.relit_tint(true), Some(Vec3::ONE));
+        let blended = Material {
+            blend: true,
+            ..Material::new(Vec3::ONE, 0.0, 0.5)
+        };
+        assert_eq!(blended.relit_tint(true), None);
+        let dielectric = Material::new(Vec3::ONE, 0.0, 0.5);
+        assert_eq!(dielectric.relit_tint(false), None);
+        assert_eq!(tinted.relit_tint(true), Some(Vec3::new(1.0, 0.5, 0.5)));
     }
 }

@@ -245,7 +245,10 @@ fn apply_extensions(maps: &TraceMaps, material: &mut TraceMaterial, uv0: Vec2, u
     }
     if let Some(c) = material.clearcoat.as_mut() {
         c.factor *= at(2).unwrap_or(one).x;
-        c.perceptual_roughness *= at(3).unwrap_or(one).y;
+        // Clamped again, as the layers pass clamps the product.
+        c.perceptual_roughness = crate::brdf::clamp_perceptual_roughness(
+            c.perceptual_roughness * at(3).unwrap_or(one).y,
+        );
     }
     if let Some(sh) = material.sheen.as_mut() {
         sh.color *= at(4).unwrap_or(one).truncate();
