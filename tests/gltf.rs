@@ -1081,6 +1081,24 @@ fn texture_transforms_and_coordinate_sets_move_the_texture() {
     }
 }
 
+/// A fresh app with `path` loaded, and the loader's summary.
+fn loaded(path: &Path) -> (App, GltfSummary) {
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, path).expect("loads");
+    (app, summary)
+}
+
+/// The extension textures of the first `MaterialMaps` in `app`'s world.
+fn first_extensions(app: &mut App) -> lumen::scene::ExtensionMaps {
+    let world = app.world_mut();
+    let maps: Vec<MaterialMaps> = world
+        .query::<&MaterialMaps>()
+        .iter(world)
+        .cloned()
+        .collect();
+    maps[0].extensions
+}
+
 #[test]
 fn extension_textures_are_read_where_their_texture_infos_point() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -1152,16 +1170,9 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
         textures.clone(),
         [0.0, 0.0, 0.0, 1.0],
     );
-    let mut app = App::headless().expect("a GPU adapter");
-    let summary = load_gltf(&mut app, &path).expect("loads");
+    let (mut app, summary) = loaded(&path);
     assert!(summary.warnings.is_empty(), "{:?}", summary.warnings);
-    let world = app.world_mut();
-    let maps: Vec<MaterialMaps> = world
-        .query::<&MaterialMaps>()
-        .iter(world)
-        .cloned()
-        .collect();
-    let e = maps[0].extensions;
+    let e = first_extensions(&mut app);
     let store = app.world().resource::<lumen::scene::Textures>();
     let space = |slot: Option<lumen::scene::TextureSlot>| {
         slot.and_then(|s| store.get(s.texture))
@@ -1213,20 +1224,14 @@ fn extension_textures_are_read_where_their_texture_infos_point() {
         five,
         [0.0, 0.0, 0.0, 1.0],
     );
-    let mut app = App::headless().expect("a GPU adapter");
-    let summary = load_gltf(&mut app, &path).expect("loads");
+    let (mut app, summary) = loaded(&path);
     warned(
         &summary.warnings,
         "more than 4 distinct extension textures; iridescenceTexture not sampled",
     );
-    let world = app.world_mut();
-    let maps: Vec<MaterialMaps> = world
-        .query::<&MaterialMaps>()
-        .iter(world)
-        .cloned()
-        .collect();
-    assert!(maps[0].extensions.sheen_roughness.is_some());
-    assert_eq!(maps[0].extensions.iridescence, None);
+    let e = first_extensions(&mut app);
+    assert!(e.sheen_roughness.is_some());
+    assert_eq!(e.iridescence, None);
 }
 
 #[test]
