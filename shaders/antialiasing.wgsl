@@ -22,6 +22,21 @@ fn running_mean(mean: vec4<f32>, sample: vec4<f32>, weight: f32) -> vec4<f32> {
     return mean + (sample - mean) * weight;
 }
 
+// How sharply the depth bends at a pixel, from its reversed-Z depth and its four
+// neighbours': the larger of the horizontal and vertical second differences, relative to
+// the largest of the five depths (0 where all are 0). Reversed-Z depth is proportional
+// to 1/distance, linear across the screen on any plane (Heckbert & Moreton 1991), so the
+// bend is 0 inside a flat surface, small on a curved one, and of the order of 1 where
+// one surface ends in front of another: a silhouette.
+fn depth_bend(centre: f32, north: f32, south: f32, west: f32, east: f32) -> f32 {
+    let scale = max(centre, max(max(north, south), max(west, east)));
+    let second = max(abs(north + south - 2.0 * centre), abs(west + east - 2.0 * centre));
+    return select(0.0, second / scale, scale > 0.0);
+}
+
+// The depth_bend above which FXAA treats a pixel as on a silhouette.
+const SILHOUETTE_BEND: f32 = 0.02;
+
 // Karis's luminance compression (Karis 2014): c / (1 + Y(c)).
 fn compress_hdr(c: vec3<f32>) -> vec3<f32> {
     return c / (1.0 + max(luminance(c), 0.0));

@@ -1,8 +1,10 @@
 // Fast approximate anti-aliasing (Lottes 2009, "FXAA", the quality variant's steps),
 // on the image aa_prepare.wgsl wrote (linear colour, perceptual luma in a), back into the
 // HDR target:
-// 1. the local contrast of the centre and its four neighbours decides whether the pixel
-//    is on an edge at all;
+// 1. the local contrast of the centre and its four neighbours, and a silhouette in the
+//    depth buffer (depth_bend), decide whether the pixel is on an edge at all: edges of
+//    texture and shading inside a surface are left as they are, since a blur there
+//    softens detail the frame had right;
 // 2. second differences over the 3×3 neighbourhood decide whether the edge runs
 //    horizontally or vertically, and the steeper neighbour across it which side it is on;
 // 3. a search along the edge, half a pixel across it, finds both of its ends (where the
@@ -10,10 +12,30 @@
 // 4. the pixel's distance to the nearer end gives how far across the edge to sample: the
 //    blend an exact coverage of the edge's line would give;
 // 5. a sub-pixel term from the 3×3 average blurs isolated single-pixel features.
+#import color
+#import antialiasing
 #import fullscreen
 
 @group(0) @binding(0) var prepared: texture_2d<f32>;
 @group(0) @binding(1) var linear_sampler: sampler;
+@group(0) @binding(2) var depth_buffer: texture_2d<f32>;
+
+fn depth_px(p: vec2<i32>) -> f32 {
+    let last = vec2<i32>(textureDimensions(depth_buffer)) - vec2<i32>(1);
+    return textureLoad(depth_buffer, clamp(p, vec2<i32>(0), last), 0).r;
+}
+
+// Whether a silhouette crosses pixel p (depth_bend).
+fn on_silhouette(p: vec2<i32>) -> bool {
+    let bend = depth_bend(
+        depth_px(p),
+        depth_px(p + vec2<i32>(0, -1)),
+        depth_px(p + vec2<i32>(0, 1)),
+        depth_px(p + vec2<i32>(-1, 0)),
+        depth_px(p + vec2<i32>(1, 0)),
+    );
+    return bend > SILHOUETTE_BEND;
+}
 
 // Smallest contrast, relative to the local maximum, that is treated as an edge.
 const EDGE_THRESHOLD: f32 = 0.125;
@@ -56,9 +78,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let lo = min(m, min(min(n, s), min(w, e)));
     let hi = max(m, max(max(n, s), max(w, e)));
     let range = hi - lo;
-    // Off every edge: the HDR target keeps its own value (the pass loads it), not the
-    // f16 copy's.
-    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
+    // Off every edge, or inside a surface: the HDR target keeps its own value (the pass
+    // loads it), not the f16 copy's.
+    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) || !on_silhouette(p) {
         discard;
     }
     let nw = luma_px(p + vec2<i32>(-1, -1));

@@ -223,7 +223,9 @@ fn specular_aa_widens_roughness_only_where_the_normal_varies() {
 
 /// The display image of `aliasing` at 192 × 108 with the given anti-aliasing, and its
 /// depth.
-fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, image::Rgba32FImage) {
+/// `aliasing` at 192 × 108 without probes, rendered with `method` (and `accumulate`
+/// renders).
+fn aliasing_rendered(method: AaMethod, accumulate: u32) -> App {
     let mut app = common::app_with("aliasing");
     {
         let mut q = app.world_mut().resource_mut::<Quality>();
@@ -233,10 +235,82 @@ fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, ima
         q.aa.accumulate = accumulate;
     }
     app.render_headless((192, 108)).expect("frame");
+    app
+}
+
+fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, image::Rgba32FImage) {
+    let app = aliasing_rendered(method, accumulate);
     (
         app.read_display_image().expect("display"),
         app.read_target(FrameTarget::Depth).expect("depth"),
     )
+}
+
+#[test]
+fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
+    use lumen::antialiasing as aa;
+    let frame = |method| {
+        let app = aliasing_rendered(method, 1);
+        (
+            app.read_hdr_image().expect("hdr"),
+            app.read_target(FrameTarget::Depth).expect("depth"),
+        )
+    };
+    let (none, depth) = frame(AaMethod::None);
+    let (fxaa, _) = frame(AaMethod::Fxaa);
+    let (w, h) = none.dimensions();
+    let at = |x: i64, y: i64| {
+        (
+            x.clamp(0, i64::from(w) - 1) as u32,
+            y.clamp(0, i64::from(h) - 1) as u32,
+        )
+    };
+    let d = |x: i64, y: i64| {
+        let (x, y) = at(x, y);
+        depth.get_pixel(x, y).0[0]
+    };
+    // The luma the filter compares (aa_prepare.wgsl).
+    let luma = |x: i64, y: i64| {
+        let (x, y) = at(x, y);
+        let p = none.get_pixel(x, y).0;
+        aa::perceptual_luma(aa::compress_hdr(Vec3::new(p[0], p[1], p[2])))
+    };
+    let (mut texture_edges, mut changed_inside, mut changed_on_silhouettes) = (0, 0, 0);
+    for y in 0..i64::from(h) {
+        for x in 0..i64::from(w) {
+            let bend = aa::depth_bend(d(x, y), d(x, y - 1), d(x, y + 1), d(x - 1, y), d(x + 1, y));
+            let (px, py) = at(x, y);
+            let changed = none.get_pixel(px, py) != fxaa.get_pixel(px, py);
+            let around = [
+                luma(x, y),
+                luma(x, y - 1),
+                luma(x, y + 1),
+                luma(x - 1, y),
+                luma(x + 1, y),
+            ];
+            let hi = around.iter().copied().fold(0.0f32, f32::max);
+            let lo = around.iter().copied().fold(f32::MAX, f32::min);
+            // Away from the threshold, where the GPU's rounding could decide either way.
+            if bend < 0.5 * aa::SILHOUETTE_BEND {
+                // FXAA's own contrast test (fxaa.wgsl) passes: a texture or shading edge.
+                if hi - lo >= (0.125 * hi).max(0.0625) {
+                    texture_edges += 1;
+                }
+                changed_inside += usize::from(changed);
+            } else if bend > 2.0 * aa::SILHOUETTE_BEND {
+                changed_on_silhouettes += usize::from(changed);
+            }
+        }
+    }
+    eprintln!(
+        "texture and shading edges inside surfaces {texture_edges}, changed there {changed_inside}; changed on silhouettes {changed_on_silhouettes}"
+    );
+    assert!(texture_edges > 500, "{texture_edges} texture edges");
+    assert_eq!(changed_inside, 0, "pixels inside surfaces FXAA changed");
+    assert!(
+        changed_on_silhouettes > 200,
+        "{changed_on_silhouettes} silhouette pixels changed"
+    );
 }
 
 #[test]

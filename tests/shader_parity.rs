@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 63;
+const OUTPUTS: usize = 64;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -426,6 +426,13 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             k * 3.0 - 1.0,
         )
         .extend(0.0),
+        // A neighbour beyond the others, and the background (all depths 0).
+        Vec4::new(
+            aa::depth_bend(x, k, r, spec, n_dot_h),
+            aa::depth_bend(x, 4.0 * k, r, spec, x),
+            aa::depth_bend(0.0, 0.0, 0.0, 0.0, 0.0),
+            aa::SILHOUETTE_BEND,
+        ),
     ]
 }
 
@@ -493,6 +500,7 @@ const NAMES: [&str; OUTPUTS] = [
     "relit_fresnel",
     "textured_anisotropy | film_thickness",
     "normal_from_map",
+    "depth_bend | SILHOUETTE_BEND",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

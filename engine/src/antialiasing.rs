@@ -43,6 +43,27 @@ pub fn perceptual_luma(compressed: Vec3) -> f32 {
     luminance(compressed).max(0.0).sqrt()
 }
 
+/// How sharply the depth bends at a pixel, from its reversed-Z depth `centre` and its
+/// four neighbours' (north, south, west, east): the larger of the horizontal and vertical
+/// second differences, relative to the largest of the five depths (0 where all are 0,
+/// the background). Reversed-Z depth is proportional to 1/distance, which varies
+/// linearly across the screen on any plane (perspective-correct interpolation, Heckbert
+/// & Moreton 1991), so the bend is 0 inside a flat surface, small on a curved one, and
+/// of the order of 1 where one surface ends in front of another. FXAA filters only
+/// pixels whose bend exceeds [`SILHOUETTE_BEND`].
+pub fn depth_bend(centre: f32, north: f32, south: f32, west: f32, east: f32) -> f32 {
+    let scale = centre.max(north).max(south).max(west).max(east);
+    let second = (north + south - 2.0 * centre)
+        .abs()
+        .max((west + east - 2.0 * centre).abs());
+    if scale > 0.0 { second / scale } else { 0.0 }
+}
+
+/// The [`depth_bend`] above which FXAA treats a pixel as on a silhouette (dimensionless).
+/// A sphere of 50 pixels' radius bends by at most about 0.005 away from its rim; the rim
+/// of a sphere in front of a floor a metre behind it, by more than 0.1.
+pub const SILHOUETTE_BEND: f32 = 0.02;
+
 /// SMAA's luma edge test (Jimenez et al. 2012, "SMAA: Enhanced Subpixel Morphological
 /// Antialiasing", §3.1, with local contrast adaptation): a luma step `delta` between two
 /// neighbours is an edge if it reaches `threshold` and at least half of `local_max`, the
@@ -271,5 +292,38 @@ mod tests {
                 "{c} → {k} → {back}"
             );
         }
+    }
+
+    #[test]
+    fn depth_bends_only_where_one_surface_ends_in_front_of_another() {
+        // A plane seen at an angle: reversed-Z depth 1/z steps evenly across the screen.
+        let plane = |x: f32, y: f32| 0.4 + 0.03 * x - 0.02 * y;
+        let flat = depth_bend(
+            plane(0.0, 0.0),
+            plane(0.0, -1.0),
+            plane(0.0, 1.0),
+            plane(-1.0, 0.0),
+            plane(1.0, 0.0),
+        );
+        assert!(flat < 1e-6, "{flat}");
+        // A sphere of 50 pixels' radius, 3 m away, half-way to its rim: 1/z of its surface.
+        let sphere = |x: f32, y: f32| {
+            let (dx, dy) = (x / 50.0, y / 50.0);
+            1.0 / (3.0 - (1.0 - (0.5 + dx).powi(2) - dy * dy).sqrt())
+        };
+        let curved = depth_bend(
+            sphere(0.0, 0.0),
+            sphere(0.0, -1.0),
+            sphere(0.0, 1.0),
+            sphere(-1.0, 0.0),
+            sphere(1.0, 0.0),
+        );
+        assert!(curved < 0.2 * SILHOUETTE_BEND, "{curved}");
+        // The rim of an object 2 m away in front of a wall 3 m away, and in front of sky.
+        let (near, far) = (1.0 / 2.0, 1.0 / 3.0);
+        let rim = depth_bend(near, near, near, far, near);
+        assert!(rim > 10.0 * SILHOUETTE_BEND, "{rim}");
+        assert!(depth_bend(near, near, near, 0.0, near) > 0.9);
+        assert_eq!(depth_bend(0.0, 0.0, 0.0, 0.0, 0.0), 0.0);
     }
 }

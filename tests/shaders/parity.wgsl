@@ -33,7 +33,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 63u;
+const OUTPUTS: u32 = 64u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -182,6 +182,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     results[o + 61u] = vec4<f32>(textured_anisotropy(k, vec2<f32>(r, spec), c.base_metallic.rgb * 1.2 - vec3<f32>(0.1)),
                                  film_thickness(100.0 * x, 800.0 * n_dot_h, spec * 1.2 - 0.1));
     results[o + 62u] = vec4<f32>(normal_from_map(c.n.xyz, vec4<f32>(c.l.xyz, x - 0.5), c.base_metallic.brg, k * 3.0 - 1.0), 0.0);
+    results[o + 63u] = vec4<f32>(
+        depth_bend(x, k, r, spec, n_dot_h),
+        depth_bend(x, 4.0 * k, r, spec, x),
+        depth_bend(0.0, 0.0, 0.0, 0.0, 0.0),
+        SILHOUETTE_BEND,
+    );
     results[o + 53u] = vec4<f32>(tinted_f0(c.base_metallic.rgb, c.base_metallic.w, spec, vec3<f32>(x * 1.2 - 0.1, k, r)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }

@@ -9,7 +9,7 @@ use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::graph::slots::HDR;
+use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{PerFormat, draw_fullscreen_with};
 use crate::render::targets::RenderTargets;
@@ -25,7 +25,7 @@ impl PassId {
 
 impl FramePass for FxaaPass {
     const ID: PassId = PassId::Fxaa;
-    const READS: &'static [Slot] = &[HDR];
+    const READS: &'static [Slot] = &[HDR, DEPTH];
     const WRITES: &'static [Slot] = &[HDR];
     type Variant = wgpu::TextureFormat;
 
@@ -65,6 +65,7 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     bindings: &[
         ("prepared", Binding::Sampled(wgpu::TextureViewDimension::D2)),
         ("linear_sampler", Binding::Sampler),
+        ("depth_buffer", Binding::TextureLoad),
     ],
 };
 
@@ -122,10 +123,10 @@ pub fn prepare_fxaa(
         errors.0.push(e);
         return;
     }
-    let Some((t, hdr)) = targets
+    let Some((t, hdr, depth)) = targets
         .current
         .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?)))
+        .and_then(|t| Some((t, t.view(HDR)?, t.view(DEPTH)?)))
     else {
         return;
     };
@@ -143,6 +144,7 @@ pub fn prepare_fxaa(
             vec![
                 wgpu::BindingResource::TextureView(&image.target.view),
                 wgpu::BindingResource::Sampler(&pass.sampler),
+                wgpu::BindingResource::TextureView(depth),
             ],
         )?;
         Ok(Prepared {
