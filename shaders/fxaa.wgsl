@@ -80,7 +80,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let range = hi - lo;
     // Off every edge, or inside a surface: the HDR target keeps its own value (the pass
     // loads it), not the f16 copy's.
-    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) || !on_silhouette(p) {
+    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
+        discard;
+    }
+    // The depth is read only where the luma has an edge.
+    if !on_silhouette(p) {
         discard;
     }
     let nw = luma_px(p + vec2<i32>(-1, -1));
