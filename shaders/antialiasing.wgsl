@@ -24,18 +24,28 @@ fn running_mean(mean: vec4<f32>, sample: vec4<f32>, weight: f32) -> vec4<f32> {
 
 // How sharply the depth bends at a pixel, from its reversed-Z depth and its four
 // neighbours': the larger of the horizontal and vertical second differences, relative to
-// the largest of the five depths (0 where all are 0). Reversed-Z depth is proportional
-// to 1/distance, linear across the screen on any plane (Heckbert & Moreton 1991), so the
-// bend is 0 inside a flat surface, small on a curved one, and of the order of 1 where
-// one surface ends in front of another: a silhouette.
+// the largest of the five depths (0 where all are 0). Reversed-Z depth is affine in
+// 1/z (z the view depth), and 1/z is linear across the screen on any plane (Heckbert &
+// Moreton 1991, "Interpolation for Polygon Texture Mapping and Shading"), so the bend is
+// 0 inside a flat surface, small on a curved one, and of the order of 1 where one surface
+// ends in front of another: a silhouette.
 fn depth_bend(centre: f32, north: f32, south: f32, west: f32, east: f32) -> f32 {
     let scale = max(centre, max(max(north, south), max(west, east)));
     let second = max(abs(north + south - 2.0 * centre), abs(west + east - 2.0 * centre));
     return select(0.0, second / scale, scale > 0.0);
 }
 
-// The depth_bend above which FXAA treats a pixel as on a silhouette.
+// The depth_bend (dimensionless) above which FXAA treats a pixel as on a silhouette.
 const SILHOUETTE_BEND: f32 = 0.02;
+
+// Whether unit normals a and b meet at a crease, the edge between two faces of one
+// object: an angle of more than 60° between them, where no depth step shows it.
+fn creased(a: vec3<f32>, b: vec3<f32>) -> bool {
+    return dot(a, b) < CREASE_COSINE;
+}
+
+// The cosine of the smallest angle between two normals that creased calls a crease.
+const CREASE_COSINE: f32 = 0.5;
 
 // Karis's luminance compression (Karis 2014): c / (1 + Y(c)).
 fn compress_hdr(c: vec3<f32>) -> vec3<f32> {

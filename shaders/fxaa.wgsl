@@ -1,10 +1,11 @@
 // Fast approximate anti-aliasing (Lottes 2009, "FXAA", the quality variant's steps),
 // on the image aa_prepare.wgsl wrote (linear colour, perceptual luma in a), back into the
 // HDR target:
-// 1. the local contrast of the centre and its four neighbours, and a silhouette in the
-//    depth buffer (depth_bend), decide whether the pixel is on an edge at all: edges of
-//    texture and shading inside a surface are left as they are, since a blur there
-//    softens detail the frame had right;
+// 1. the local contrast of the centre and its four neighbours, and a geometric edge
+//    (a silhouette in the depth buffer, depth_bend, or a crease between the G-buffer's
+//    normals, creased), decide whether the pixel is on an edge at all: edges of texture
+//    and shading inside a surface are left as they are, since a blur there softens
+//    detail the frame had right;
 // 2. second differences over the 3×3 neighbourhood decide whether the edge runs
 //    horizontally or vertically, and the steeper neighbour across it which side it is on;
 // 3. a search along the edge, half a pixel across it, finds both of its ends (where the
@@ -13,28 +14,35 @@
 //    blend an exact coverage of the edge's line would give;
 // 5. a sub-pixel term from the 3×3 average blurs isolated single-pixel features.
 #import color
+#import encoding
 #import antialiasing
 #import fullscreen
 
 @group(0) @binding(0) var prepared: texture_2d<f32>;
 @group(0) @binding(1) var linear_sampler: sampler;
 @group(0) @binding(2) var depth_buffer: texture_2d<f32>;
+@group(0) @binding(3) var gbuffer1: texture_2d<f32>;
 
 fn depth_px(p: vec2<i32>) -> f32 {
     let last = vec2<i32>(textureDimensions(depth_buffer)) - vec2<i32>(1);
     return textureLoad(depth_buffer, clamp(p, vec2<i32>(0), last), 0).r;
 }
 
-// Whether a silhouette crosses pixel p (depth_bend).
-fn on_silhouette(p: vec2<i32>) -> bool {
-    let bend = depth_bend(
-        depth_px(p),
-        depth_px(p + vec2<i32>(0, -1)),
-        depth_px(p + vec2<i32>(0, 1)),
-        depth_px(p + vec2<i32>(-1, 0)),
-        depth_px(p + vec2<i32>(1, 0)),
-    );
-    return bend > SILHOUETTE_BEND;
+fn normal_px(p: vec2<i32>) -> vec3<f32> {
+    let last = vec2<i32>(textureDimensions(gbuffer1)) - vec2<i32>(1);
+    return oct_decode(textureLoad(gbuffer1, clamp(p, vec2<i32>(0), last), 0).rg);
+}
+
+// Whether a geometric edge runs between pixel p and its neighbours p ± step (the two
+// across the luma edge): a silhouette (depth_bend along that axis alone), or a crease
+// between two faces of one surface (creased).
+fn geometric_edge_across(p: vec2<i32>, step: vec2<i32>) -> bool {
+    let c = depth_px(p);
+    if depth_bend(c, depth_px(p - step), depth_px(p + step), c, c) > SILHOUETTE_BEND {
+        return true;
+    }
+    let n = normal_px(p);
+    return creased(n, normal_px(p - step)) || creased(n, normal_px(p + step));
 }
 
 // Smallest contrast, relative to the local maximum, that is treated as an edge.
@@ -83,10 +91,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
         discard;
     }
-    // The depth is read only where the luma has an edge.
-    if !on_silhouette(p) {
-        discard;
-    }
     let nw = luma_px(p + vec2<i32>(-1, -1));
     let ne = luma_px(p + vec2<i32>(1, -1));
     let sw = luma_px(p + vec2<i32>(-1, 1));
@@ -96,6 +100,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let horizontal = 2.0 * abs(n + s - 2.0 * m) + abs(nw + sw - 2.0 * w) + abs(ne + se - 2.0 * e);
     let vertical = 2.0 * abs(w + e - 2.0 * m) + abs(nw + ne - 2.0 * n) + abs(sw + se - 2.0 * s);
     let is_horizontal = horizontal >= vertical;
+    // Only where the luma has an edge: are the depth or the normals broken across it?
+    if !geometric_edge_across(p, select(vec2<i32>(1, 0), vec2<i32>(0, 1), is_horizontal)) {
+        discard;
+    }
     let before = select(w, n, is_horizontal);
     let after = select(e, s, is_horizontal);
     let g_before = abs(before - m);

@@ -221,8 +221,6 @@ fn specular_aa_widens_roughness_only_where_the_normal_varies() {
     );
 }
 
-/// The display image of `aliasing` at 192 × 108 with the given anti-aliasing, and its
-/// depth.
 /// `aliasing` at 192 × 108 without probes, rendered with `method` (and `accumulate`
 /// renders).
 fn aliasing_rendered(method: AaMethod, accumulate: u32) -> App {
@@ -238,6 +236,8 @@ fn aliasing_rendered(method: AaMethod, accumulate: u32) -> App {
     app
 }
 
+/// The display image of `aliasing` at 192 × 108 with the given anti-aliasing, and its
+/// depth.
 fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, image::Rgba32FImage) {
     let app = aliasing_rendered(method, accumulate);
     (
@@ -247,7 +247,7 @@ fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, ima
 }
 
 #[test]
-fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
+fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
     use lumen::antialiasing as aa;
     let frame = |method| {
         let app = aliasing_rendered(method, 1);
@@ -258,6 +258,9 @@ fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
     };
     let (none, depth) = frame(AaMethod::None);
     let (fxaa, _) = frame(AaMethod::Fxaa);
+    let normals = aliasing_rendered(AaMethod::None, 1)
+        .read_target(FrameTarget::GBuffer1)
+        .expect("normals");
     let (w, h) = none.dimensions();
     let at = |x: i64, y: i64| {
         (
@@ -275,6 +278,11 @@ fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
         let p = none.get_pixel(x, y).0;
         aa::perceptual_luma(aa::compress_hdr(Vec3::new(p[0], p[1], p[2])))
     };
+    let normal = |x: i64, y: i64| {
+        let (x, y) = at(x, y);
+        let p = normals.get_pixel(x, y).0;
+        lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
+    };
     let (mut texture_edges, mut changed_inside, mut changed_on_silhouettes) = (0, 0, 0);
     for y in 0..i64::from(h) {
         for x in 0..i64::from(w) {
@@ -290,8 +298,14 @@ fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
             ];
             let hi = around.iter().copied().fold(0.0f32, f32::max);
             let lo = around.iter().copied().fold(f32::MAX, f32::min);
-            // Away from the threshold, where the GPU's rounding could decide either way.
-            if bend < 0.5 * aa::SILHOUETTE_BEND {
+            // The smallest cosine between the pixel's normal and a neighbour's.
+            let n = normal(x, y);
+            let crease = [(0, -1), (0, 1), (-1, 0), (1, 0)]
+                .map(|(dx, dy)| n.dot(normal(x + dx, y + dy)))
+                .into_iter()
+                .fold(1.0f32, f32::min);
+            // Away from the thresholds, where the GPU's rounding could decide either way.
+            if bend < 0.5 * aa::SILHOUETTE_BEND && crease > aa::CREASE_COSINE + 0.1 {
                 // FXAA's own contrast test (fxaa.wgsl) passes: a texture or shading edge.
                 if hi - lo >= (0.125 * hi).max(0.0625) {
                     texture_edges += 1;
@@ -310,6 +324,82 @@ fn fxaa_blends_silhouettes_and_leaves_texture_edges_alone() {
     assert!(
         changed_on_silhouettes > 200,
         "{changed_on_silhouettes} silhouette pixels changed"
+    );
+}
+
+#[test]
+fn fxaa_blends_the_crease_between_two_faces() {
+    use lumen::antialiasing as aa;
+    use lumen::assets::procedural::cuboid;
+    // A 3 m cube turned so that the edge between its two lit faces crosses the 64 × 64
+    // frame at a slant. Only crease pixels whose depth bends too little to be silhouettes
+    // count: there, only the normals show the edge.
+    let frame = |method| {
+        let mut app = App::headless().expect("a GPU adapter");
+        let cube = app.add_mesh(cuboid(Vec3::splat(3.0))).expect("mesh");
+        bare_quality(&mut app);
+        app.world_mut().resource_mut::<Quality>().aa.method = method;
+        let world = app.world_mut();
+        world.spawn((
+            Mesh3d(cube),
+            Material::new(Vec3::splat(0.8), 0.0, 0.6),
+            Transform::IDENTITY.with_rotation(
+                Quat::from_rotation_z(0.3) * Quat::from_rotation_y(std::f32::consts::FRAC_PI_4),
+            ),
+        ));
+        world.spawn((
+            DirectionalLight {
+                illuminance_lux: 20_000.0,
+                ..DirectionalLight::default()
+            },
+            Transform::from_translation(Vec3::new(3.0, 0.5, 1.0)).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+        world.spawn((
+            Camera {
+                exposure: Exposure::Ev100(12.0),
+                ..Camera::default()
+            },
+            Transform::from_translation(Vec3::new(0.0, 0.0, 4.2)).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+        app.render_headless((64, 64)).expect("frame");
+        (
+            app.read_hdr_image().expect("hdr"),
+            app.read_target(FrameTarget::Depth).expect("depth"),
+            app.read_target(FrameTarget::GBuffer1).expect("normals"),
+        )
+    };
+    let (none, depth, normals) = frame(AaMethod::None);
+    let (fxaa, _, _) = frame(AaMethod::Fxaa);
+    let (w, h) = none.dimensions();
+    let (mut crease, mut changed) = (0, 0);
+    for y in 1..h - 1 {
+        for x in 1..w - 1 {
+            let at = |dx: i32, dy: i32| (x.wrapping_add_signed(dx), y.wrapping_add_signed(dy));
+            let d = |dx: i32, dy: i32| {
+                let (x, y) = at(dx, dy);
+                depth.get_pixel(x, y).0[0]
+            };
+            let n = |dx: i32, dy: i32| {
+                let (x, y) = at(dx, dy);
+                let p = normals.get_pixel(x, y).0;
+                lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
+            };
+            let bend = aa::depth_bend(d(0, 0), d(0, -1), d(0, 1), d(-1, 0), d(1, 0));
+            let across = [(0, -1), (0, 1), (-1, 0), (1, 0)]
+                .map(|(dx, dy)| n(0, 0).dot(n(dx, dy)))
+                .into_iter()
+                .fold(1.0f32, f32::min);
+            if across < aa::CREASE_COSINE - 0.1 && bend < 0.5 * aa::SILHOUETTE_BEND {
+                crease += 1;
+                changed += usize::from(none.get_pixel(x, y) != fxaa.get_pixel(x, y));
+            }
+        }
+    }
+    eprintln!("crease pixels away from silhouettes {crease}, changed {changed}");
+    assert!(crease > 20, "{crease} crease pixels");
+    assert!(
+        changed > crease / 2,
+        "{changed} of {crease} crease pixels blended"
     );
 }
 

@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 64;
+const OUTPUTS: usize = 65;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -433,6 +433,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             aa::depth_bend(0.0, 0.0, 0.0, 0.0, 0.0),
             aa::SILHOUETTE_BEND,
         ),
+        Vec4::new(
+            f32::from(u8::from(aa::creased(n, v))),
+            f32::from(u8::from(aa::creased(n, l))),
+            n.dot(v),
+            aa::CREASE_COSINE,
+        ),
     ]
 }
 
@@ -501,6 +507,7 @@ const NAMES: [&str; OUTPUTS] = [
     "textured_anisotropy | film_thickness",
     "normal_from_map",
     "depth_bend | SILHOUETTE_BEND",
+    "creased | CREASE_COSINE",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

@@ -43,14 +43,15 @@ pub fn perceptual_luma(compressed: Vec3) -> f32 {
     luminance(compressed).max(0.0).sqrt()
 }
 
-/// How sharply the depth bends at a pixel, from its reversed-Z depth `centre` and its
-/// four neighbours' (north, south, west, east): the larger of the horizontal and vertical
-/// second differences, relative to the largest of the five depths (0 where all are 0,
-/// the background). Reversed-Z depth is proportional to 1/distance, which varies
-/// linearly across the screen on any plane (perspective-correct interpolation, Heckbert
-/// & Moreton 1991), so the bend is 0 inside a flat surface, small on a curved one, and
-/// of the order of 1 where one surface ends in front of another. FXAA filters only
-/// pixels whose bend exceeds [`SILHOUETTE_BEND`].
+/// How sharply the depth bends at a pixel, from its reversed-Z depth `centre` and its four
+/// neighbours' (north, south, west, east): the larger of the horizontal and vertical second
+/// differences, relative to the largest of the five depths (0 where all are 0, the
+/// background). Reversed-Z depth is affine in 1/z (z the view depth, m), and 1/z varies
+/// linearly across the screen on any plane (Heckbert & Moreton 1991, "Interpolation for
+/// Polygon Texture Mapping and Shading"), so the bend is 0 inside a flat surface, small on
+/// a curved one, and of the order of 1 where one surface ends in front of another. FXAA
+/// filters only pixels whose bend exceeds [`SILHOUETTE_BEND`], or where the normals crease
+/// ([`creased`]).
 pub fn depth_bend(centre: f32, north: f32, south: f32, west: f32, east: f32) -> f32 {
     let scale = centre.max(north).max(south).max(west).max(east);
     let second = (north + south - 2.0 * centre)
@@ -60,9 +61,21 @@ pub fn depth_bend(centre: f32, north: f32, south: f32, west: f32, east: f32) -> 
 }
 
 /// The [`depth_bend`] above which FXAA treats a pixel as on a silhouette (dimensionless).
-/// A sphere of 50 pixels' radius bends by at most about 0.005 away from its rim; the rim
-/// of a sphere in front of a floor a metre behind it, by more than 0.1.
+/// A sphere of 50 pixels' radius 3 m away bends by less than 0.006 except on its rim
+/// pixel; the rim of an object 2 m away in front of a wall 3 m away, by more than 0.3.
 pub const SILHOUETTE_BEND: f32 = 0.02;
+
+/// Whether unit normals `a` and `b` meet at a crease: the edge between two faces of one
+/// object (a cube's corner seen against its own faces), which bends the depth too little
+/// to count as a silhouette. An angle of more than 60° between them
+/// (`a · b` < [`CREASE_COSINE`]).
+pub fn creased(a: Vec3, b: Vec3) -> bool {
+    a.dot(b) < CREASE_COSINE
+}
+
+/// The cosine of the smallest angle between two normals that [`creased`] calls a crease
+/// (60°).
+pub const CREASE_COSINE: f32 = 0.5;
 
 /// SMAA's luma edge test (Jimenez et al. 2012, "SMAA: Enhanced Subpixel Morphological
 /// Antialiasing", §3.1, with local contrast adaptation): a luma step `delta` between two
@@ -325,5 +338,16 @@ mod tests {
         assert!(rim > 10.0 * SILHOUETTE_BEND, "{rim}");
         assert!(depth_bend(near, near, near, 0.0, near) > 0.9);
         assert_eq!(depth_bend(0.0, 0.0, 0.0, 0.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn normals_crease_beyond_sixty_degrees() {
+        let turned = |deg: f32| Vec3::new(deg.to_radians().sin(), 0.0, deg.to_radians().cos());
+        assert!(!creased(Vec3::Z, Vec3::Z));
+        assert!(!creased(Vec3::Z, turned(45.0)));
+        assert!(!creased(Vec3::Z, turned(59.0)));
+        assert!(creased(Vec3::Z, turned(61.0)));
+        // Two faces of a cube.
+        assert!(creased(Vec3::X, Vec3::Y));
     }
 }

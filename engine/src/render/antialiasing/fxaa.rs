@@ -1,4 +1,6 @@
-//! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast and
+//! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast, kept
+//! where a silhouette or a crease crosses them (the depth buffer and the G-buffer's
+//! normals, [`crate::antialiasing::depth_bend`] and [`crate::antialiasing::creased`]), and
 //! blended across, in two steps: the HDR image is copied with its perceptual luma
 //! ([`super::prepare`]), and `fxaa.wgsl` filters it and writes the result into the HDR
 //! target. It runs after depth of field, on the image tone mapping will show.
@@ -9,7 +11,7 @@ use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::graph::slots::{DEPTH, HDR};
+use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{PerFormat, draw_fullscreen_with};
 use crate::render::targets::RenderTargets;
@@ -25,7 +27,7 @@ impl PassId {
 
 impl FramePass for FxaaPass {
     const ID: PassId = PassId::Fxaa;
-    const READS: &'static [Slot] = &[HDR, DEPTH];
+    const READS: &'static [Slot] = &[HDR, DEPTH, GBUFFER_NORMAL];
     const WRITES: &'static [Slot] = &[HDR];
     type Variant = wgpu::TextureFormat;
 
@@ -44,7 +46,10 @@ impl FramePass for FxaaPass {
                 false,
                 "the accumulation of jittered renders already filters every pixel".into(),
             ),
-            AaMethod::Fxaa => (true, "blends luma edges across (--aa fxaa)".into()),
+            AaMethod::Fxaa => (
+                true,
+                "blends luma edges across on silhouettes and creases (--aa fxaa)".into(),
+            ),
         };
         PassDecision::new(runs, reason, quality.hdr_precision.format())
     }
@@ -66,6 +71,7 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("prepared", Binding::Sampled(wgpu::TextureViewDimension::D2)),
         ("linear_sampler", Binding::Sampler),
         ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
     ],
 };
 
@@ -123,10 +129,10 @@ pub fn prepare_fxaa(
         errors.0.push(e);
         return;
     }
-    let Some((t, hdr, depth)) = targets
+    let Some((t, hdr, [depth, normal])) = targets
         .current
         .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?, t.view(DEPTH)?)))
+        .and_then(|t| Some((t, t.view(HDR)?, t.views([DEPTH, GBUFFER_NORMAL])?)))
     else {
         return;
     };
@@ -145,6 +151,7 @@ pub fn prepare_fxaa(
                 wgpu::BindingResource::TextureView(&image.target.view),
                 wgpu::BindingResource::Sampler(&pass.sampler),
                 wgpu::BindingResource::TextureView(depth),
+                wgpu::BindingResource::TextureView(normal),
             ],
         )?;
         Ok(Prepared {
