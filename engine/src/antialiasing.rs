@@ -309,28 +309,24 @@ mod tests {
 
     #[test]
     fn depth_bends_only_where_one_surface_ends_in_front_of_another() {
+        // The bend at pixel (0, 0) of a depth image given as a function of the pixel.
+        let bend_of = |d: &dyn Fn(f32, f32) -> f32| {
+            depth_bend(
+                d(0.0, 0.0),
+                d(0.0, -1.0),
+                d(0.0, 1.0),
+                d(-1.0, 0.0),
+                d(1.0, 0.0),
+            )
+        };
         // A plane seen at an angle: reversed-Z depth 1/z steps evenly across the screen.
-        let plane = |x: f32, y: f32| 0.4 + 0.03 * x - 0.02 * y;
-        let flat = depth_bend(
-            plane(0.0, 0.0),
-            plane(0.0, -1.0),
-            plane(0.0, 1.0),
-            plane(-1.0, 0.0),
-            plane(1.0, 0.0),
-        );
+        let flat = bend_of(&|x, y| 0.4 + 0.03 * x - 0.02 * y);
         assert!(flat < 1e-6, "{flat}");
         // A sphere of 50 pixels' radius, 3 m away, half-way to its rim: 1/z of its surface.
-        let sphere = |x: f32, y: f32| {
+        let curved = bend_of(&|x, y| {
             let (dx, dy) = (x / 50.0, y / 50.0);
             1.0 / (3.0 - (1.0 - (0.5 + dx).powi(2) - dy * dy).sqrt())
-        };
-        let curved = depth_bend(
-            sphere(0.0, 0.0),
-            sphere(0.0, -1.0),
-            sphere(0.0, 1.0),
-            sphere(-1.0, 0.0),
-            sphere(1.0, 0.0),
-        );
+        });
         assert!(curved < 0.2 * SILHOUETTE_BEND, "{curved}");
         // The rim of an object 2 m away in front of a wall 3 m away, and in front of sky.
         let (near, far) = (1.0 / 2.0, 1.0 / 3.0);
