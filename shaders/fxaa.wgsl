@@ -1,13 +1,14 @@
 // Fast approximate anti-aliasing (Lottes 2009, "FXAA", the quality variant's steps),
 // on the image aa_prepare.wgsl wrote (linear colour, perceptual luma in a), back into the
 // HDR target:
-// 1. the local contrast of the centre and its four neighbours, and a geometric edge
-//    (a silhouette in the depth buffer, depth_bend, or a crease between the G-buffer's
-//    normals, creased), decide whether the pixel is on an edge at all: edges of texture
-//    and shading inside a surface are left as they are, since a blur there softens
-//    detail the frame had right;
+// 1. the local contrast of the centre and its four neighbours decides whether the pixel
+//    is on an edge at all;
 // 2. second differences over the 3×3 neighbourhood decide whether the edge runs
 //    horizontally or vertically, and the steeper neighbour across it which side it is on;
+//    then a geometric edge across it (a silhouette in the depth buffer, depth_bend, or a
+//    crease between the G-buffer's normals, creased) decides whether it is blended at
+//    all: edges of texture and shading inside a surface are left as they are, since a
+//    blur there softens detail the frame had right;
 // 3. a search along the edge, half a pixel across it, finds both of its ends (where the
 //    luma leaves the edge's average by a quarter of its gradient);
 // 4. the pixel's distance to the nearer end gives how far across the edge to sample: the
@@ -86,8 +87,8 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let lo = min(m, min(min(n, s), min(w, e)));
     let hi = max(m, max(max(n, s), max(w, e)));
     let range = hi - lo;
-    // Off every edge, or inside a surface: the HDR target keeps its own value (the pass
-    // loads it), not the f16 copy's.
+    // Off every edge (here) or inside a surface (below): the HDR target keeps its own
+    // value (the pass loads it), not the f16 copy's.
     if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
         discard;
     }

@@ -246,48 +246,77 @@ fn aliasing_display(method: AaMethod, accumulate: u32) -> (image::RgbaImage, ima
     )
 }
 
-#[test]
-fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
-    use lumen::antialiasing as aa;
-    let frame = |method| {
-        let app = aliasing_rendered(method, 1);
-        (
-            app.read_hdr_image().expect("hdr"),
-            app.read_target(FrameTarget::Depth).expect("depth"),
-        )
-    };
-    let (none, depth) = frame(AaMethod::None);
-    let (fxaa, _) = frame(AaMethod::Fxaa);
-    let normals = aliasing_rendered(AaMethod::None, 1)
-        .read_target(FrameTarget::GBuffer1)
-        .expect("normals");
-    let (w, h) = none.dimensions();
-    let at = |x: i64, y: i64| {
+/// What FXAA's geometric-edge test reads from a rendered frame: its depth and its
+/// G-buffer's normals, with coordinates clamped to the frame as the shader clamps them.
+struct EdgeTargets {
+    depth: image::Rgba32FImage,
+    normals: image::Rgba32FImage,
+}
+
+impl EdgeTargets {
+    fn read(app: &App) -> Self {
+        EdgeTargets {
+            depth: app.read_target(FrameTarget::Depth).expect("depth"),
+            normals: app.read_target(FrameTarget::GBuffer1).expect("normals"),
+        }
+    }
+
+    fn clamped(&self, x: i64, y: i64) -> (u32, u32) {
+        let (w, h) = self.depth.dimensions();
         (
             x.clamp(0, i64::from(w) - 1) as u32,
             y.clamp(0, i64::from(h) - 1) as u32,
         )
-    };
-    let d = |x: i64, y: i64| {
-        let (x, y) = at(x, y);
-        depth.get_pixel(x, y).0[0]
-    };
+    }
+
+    fn depth(&self, x: i64, y: i64) -> f32 {
+        let (x, y) = self.clamped(x, y);
+        self.depth.get_pixel(x, y).0[0]
+    }
+
+    fn normal(&self, x: i64, y: i64) -> Vec3 {
+        let (x, y) = self.clamped(x, y);
+        let p = self.normals.get_pixel(x, y).0;
+        lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
+    }
+
+    /// `depth_bend` at pixel (x, y) over its four neighbours.
+    fn bend(&self, x: i64, y: i64) -> f32 {
+        let d = |dx: i64, dy: i64| self.depth(x + dx, y + dy);
+        lumen::antialiasing::depth_bend(d(0, 0), d(0, -1), d(0, 1), d(-1, 0), d(1, 0))
+    }
+
+    /// The smallest cosine between pixel (x, y)'s normal and a neighbour's.
+    fn crease_cosine(&self, x: i64, y: i64) -> f32 {
+        let n = self.normal(x, y);
+        [(0, -1), (0, 1), (-1, 0), (1, 0)]
+            .map(|(dx, dy)| n.dot(self.normal(x + dx, y + dy)))
+            .into_iter()
+            .fold(1.0f32, f32::min)
+    }
+}
+
+#[test]
+fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
+    use lumen::antialiasing as aa;
+    let unfiltered = aliasing_rendered(AaMethod::None, 1);
+    let none = unfiltered.read_hdr_image().expect("hdr");
+    let edges = EdgeTargets::read(&unfiltered);
+    let fxaa = aliasing_rendered(AaMethod::Fxaa, 1)
+        .read_hdr_image()
+        .expect("hdr");
+    let (w, h) = none.dimensions();
     // The luma the filter compares (aa_prepare.wgsl).
     let luma = |x: i64, y: i64| {
-        let (x, y) = at(x, y);
+        let (x, y) = edges.clamped(x, y);
         let p = none.get_pixel(x, y).0;
         aa::perceptual_luma(aa::compress_hdr(Vec3::new(p[0], p[1], p[2])))
-    };
-    let normal = |x: i64, y: i64| {
-        let (x, y) = at(x, y);
-        let p = normals.get_pixel(x, y).0;
-        lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
     };
     let (mut texture_edges, mut changed_inside, mut changed_on_silhouettes) = (0, 0, 0);
     for y in 0..i64::from(h) {
         for x in 0..i64::from(w) {
-            let bend = aa::depth_bend(d(x, y), d(x, y - 1), d(x, y + 1), d(x - 1, y), d(x + 1, y));
-            let (px, py) = at(x, y);
+            let bend = edges.bend(x, y);
+            let (px, py) = edges.clamped(x, y);
             let changed = none.get_pixel(px, py) != fxaa.get_pixel(px, py);
             let around = [
                 luma(x, y),
@@ -298,12 +327,7 @@ fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
             ];
             let hi = around.iter().copied().fold(0.0f32, f32::max);
             let lo = around.iter().copied().fold(f32::MAX, f32::min);
-            // The smallest cosine between the pixel's normal and a neighbour's.
-            let n = normal(x, y);
-            let crease = [(0, -1), (0, 1), (-1, 0), (1, 0)]
-                .map(|(dx, dy)| n.dot(normal(x + dx, y + dy)))
-                .into_iter()
-                .fold(1.0f32, f32::min);
+            let crease = edges.crease_cosine(x, y);
             // Away from the thresholds, where the GPU's rounding could decide either way.
             if bend < 0.5 * aa::SILHOUETTE_BEND && crease > aa::CREASE_COSINE + 0.1 {
                 // FXAA's own contrast test (fxaa.wgsl) passes: a texture or shading edge.
@@ -362,34 +386,20 @@ fn fxaa_blends_the_crease_between_two_faces() {
             Transform::from_translation(Vec3::new(0.0, 0.0, 4.2)).looking_at(Vec3::ZERO, Vec3::Y),
         ));
         app.render_headless((64, 64)).expect("frame");
-        (
-            app.read_hdr_image().expect("hdr"),
-            app.read_target(FrameTarget::Depth).expect("depth"),
-            app.read_target(FrameTarget::GBuffer1).expect("normals"),
-        )
+        app
     };
-    let (none, depth, normals) = frame(AaMethod::None);
-    let (fxaa, _, _) = frame(AaMethod::Fxaa);
+    let unfiltered = frame(AaMethod::None);
+    let none = unfiltered.read_hdr_image().expect("hdr");
+    let edges = EdgeTargets::read(&unfiltered);
+    let fxaa = frame(AaMethod::Fxaa).read_hdr_image().expect("hdr");
     let (w, h) = none.dimensions();
     let (mut crease, mut changed) = (0, 0);
     for y in 1..h - 1 {
         for x in 1..w - 1 {
-            let at = |dx: i32, dy: i32| (x.wrapping_add_signed(dx), y.wrapping_add_signed(dy));
-            let d = |dx: i32, dy: i32| {
-                let (x, y) = at(dx, dy);
-                depth.get_pixel(x, y).0[0]
-            };
-            let n = |dx: i32, dy: i32| {
-                let (x, y) = at(dx, dy);
-                let p = normals.get_pixel(x, y).0;
-                lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
-            };
-            let bend = aa::depth_bend(d(0, 0), d(0, -1), d(0, 1), d(-1, 0), d(1, 0));
-            let across = [(0, -1), (0, 1), (-1, 0), (1, 0)]
-                .map(|(dx, dy)| n(0, 0).dot(n(dx, dy)))
-                .into_iter()
-                .fold(1.0f32, f32::min);
-            if across < aa::CREASE_COSINE - 0.1 && bend < 0.5 * aa::SILHOUETTE_BEND {
+            let (i, j) = (i64::from(x), i64::from(y));
+            if edges.crease_cosine(i, j) < aa::CREASE_COSINE - 0.1
+                && edges.bend(i, j) < 0.5 * aa::SILHOUETTE_BEND
+            {
                 crease += 1;
                 changed += usize::from(none.get_pixel(x, y) != fxaa.get_pixel(x, y));
             }
