@@ -221,7 +221,19 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
     let file = fox.to_str().expect("utf-8");
     let render = |out: &str, shard: Option<&str>| {
         let mut args = vec![
-            "render", file, "--size", "32x24", "--frames", "0..4", "--fps", "10", "--out", out,
+            "render",
+            file,
+            "--size",
+            "32x24",
+            "--frames",
+            "0..4",
+            "--fps",
+            "10",
+            "--out",
+            out,
+            // Each posed frame captures its probes again; 2 along the longest side are enough.
+            "--gi-density",
+            "2",
         ];
         if let Some(s) = shard {
             args.extend(["--shard", s]);
@@ -335,8 +347,18 @@ fn tradeoff_shards_join_into_the_rows_of_the_whole() {
     let d = dir.path();
     let args = |extra: &[&'static str]| -> Vec<&'static str> {
         let mut v = vec![
-            "tradeoff", "spheres", "--size", "32x18", "--spp", "4", "--frames", "1", "--only",
+            "tradeoff",
+            "spheres",
+            "--size",
+            "32x18",
+            "--spp",
+            "4",
+            "--frames",
+            "1",
+            "--only",
             "preset",
+            "--gi-density",
+            "2",
         ];
         v.extend(extra);
         v
