@@ -10,6 +10,7 @@
 #import bindings
 #import fullscreen
 #import surface_light
+#import shadow_kernel
 
 // Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
@@ -19,8 +20,41 @@
 // Depth bound as an unfilterable float texture: GLSL backends cannot textureLoad a
 // depth texture.
 @group(0) @binding(4) var depth_buffer: texture_2d<f32>;
+// The shadow-mask pass's output (shadow_mask.wgsl), read where SHADOW_MASK_SCALE > 0.
+@group(0) @binding(5) var shadow_mask: texture_2d<f32>;
 
 const F16_MAX: f32 = 65504.0;
+
+// The visibility of shadowed directional lights 0 to 2 at `pixel`, whose view depth is
+// `depth` (m), from the shadow mask: at full resolution its texel; at half resolution the
+// 2 × 2 texels around the pixel centre, each weighted by shadow_mask_weight (bilinear ×
+// depth), or, where all four lie across a depth edge, the texel nearest in depth.
+fn shadow_mask_visibility(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
+    if SHADOW_MASK_SCALE == 1u {
+        return textureLoad(shadow_mask, pixel, 0).rgb;
+    }
+    // Texel (x, y) was shaded at pixel (2x, 2y): the pixel lies at pixel / 2 in texels.
+    let t = vec2<f32>(pixel) * 0.5;
+    let base = vec2<i32>(floor(t));
+    let f = t - floor(t);
+    let last = (vec2<i32>(view.viewport.xy) + vec2<i32>(1)) / 2 - vec2<i32>(1);
+    var sum = vec3<f32>(0.0);
+    var total = 0.0;
+    var nearest = vec3<f32>(1.0);
+    var nearest_gap = 3.0e38;
+    for (var k = 0; k < 4; k++) {
+        let o = vec2<i32>(k & 1, k >> 1u);
+        let texel = textureLoad(shadow_mask, min(base + o, last), 0);
+        let bilinear = select(1.0 - f.x, f.x, o.x == 1) * select(1.0 - f.y, f.y, o.y == 1);
+        let w = shadow_mask_weight(bilinear, texel.a, depth);
+        sum += w * texel.rgb;
+        total += w;
+        let gap = abs(texel.a - depth);
+        nearest = select(nearest, texel.rgb, gap < nearest_gap);
+        nearest_gap = min(gap, nearest_gap);
+    }
+    return select(nearest, sum / max(total, 1e-6), total > 1e-3);
+}
 
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -60,6 +94,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     point.frag = frag.xy;
     point.occlusion = unpack_occlusion(g0.a);
     point.receives = unpack_receives_shadows(g0.a);
+    if SHADOW_MASK_SCALE > 0u {
+        let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
+        point.directional_lit = shadow_mask_visibility(pixel, view_depth);
+    }
     var color = g2.rgb + surface_light(point, surface);
     // Keep the value finite in the f16 target (docs/src/formulas.md#numerical-guards); NaN becomes 0.
     color = select(color, vec3<f32>(0.0), color != color);

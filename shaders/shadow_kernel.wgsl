@@ -32,3 +32,17 @@ fn blended_shadow_threshold(texel: vec2<u32>) -> f32 {
     let index = 4u * bayer2(x & 1u, y & 1u) + bayer2(x >> 1u, y >> 1u);
     return (f32(index) + 0.5) / 16.0;
 }
+
+// Relative depth difference (of the pixel's view depth) at which a shadow-mask texel stops
+// counting in the depth-aware upsample (shadow_mask.wgsl): 5 %.
+const SHADOW_MASK_DEPTH_TOLERANCE: f32 = 0.05;
+
+// The weight of one shadow-mask texel in a pixel's depth-aware upsample: its bilinear
+// weight `bilinear`, times a tent in depth that falls from 1 where the texel's view depth
+// `texel_depth` (m) equals the pixel's `depth` (m) to 0 at SHADOW_MASK_DEPTH_TOLERANCE ×
+// depth, so a shadow is not carried across a depth edge (the joint bilateral upsample of
+// Kopf et al. 2007 with a tent range kernel).
+fn shadow_mask_weight(bilinear: f32, texel_depth: f32, depth: f32) -> f32 {
+    let range = SHADOW_MASK_DEPTH_TOLERANCE * max(depth, 1e-6);
+    return bilinear * max(0.0, 1.0 - abs(texel_depth - depth) / range);
+}

@@ -40,6 +40,10 @@
 // environment's and the probes' irradiance from behind is added in the transmission's
 // colour.
 //
+// SHADOW_MASK_SCALE: 0, or the shadowed directional lights' visibility comes from the
+// shadow-mask pass (shadow_mask.wgsl) through ShadingPoint.directional_lit, which the
+// lighting pass reads from the mask at that scale (1 or 2 pixels per texel).
+//
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
 // whole range in the same loop (no branch).
@@ -49,6 +53,7 @@
 #import color
 #import ibl
 #import bindings
+#import lights
 #import shadows
 #import light_tiles
 #import ambient_occlusion
@@ -64,35 +69,6 @@
 @group(2) @binding(2) var env_sampler: sampler;
 @group(2) @binding(3) var brdf_lut: texture_2d<f32>;
 @group(2) @binding(4) var screen_ao: texture_2d<f32>;
-
-// Group 1, the lights and their shadows (LIGHTS_AND_SHADOWS); the shadow bindings,
-// 4 to 8, are declared in shadows.wgsl, which uses them.
-@group(1) @binding(0) var<storage, read> lights: array<Light>;
-@group(1) @binding(3) var<storage, read> light_tiles: array<u32>;
-
-// The first UNIFORM_LIGHT_CAPACITY lights again, compact, in a uniform buffer: the
-// unshadowed loops read from here when every light fits (UNIFORM_LIGHTS), because uniform
-// loads in the loops cost a third of storage loads on lavapipe. Shadowed lights, few and
-// each far costlier, read the full `lights` entry.
-struct UniformLights {
-    items: array<PunctualLight, UNIFORM_LIGHT_CAPACITY>,
-}
-@group(1) @binding(1) var<uniform> uniform_lights: UniformLights;
-
-// The shadowed lights again, whole and packed (directional, point, spot): read from here
-// when UNIFORM_LIGHTS.
-struct ShadowedLights {
-    items: array<Light, SHADOWED_LIGHT_CAPACITY>,
-}
-@group(1) @binding(2) var<uniform> shadowed_lights: ShadowedLights;
-
-// Shadowed light i of `lights`, the `slot`-th shadowed light overall.
-fn shadowed_light(i: u32, slot: u32) -> Light {
-    if UNIFORM_LIGHTS {
-        return shadowed_lights.items[min(slot, SHADOWED_LIGHT_CAPACITY - 1u)];
-    }
-    return lights[i];
-}
 
 fn punctual_at(i: u32) -> PunctualLight {
     if UNIFORM_LIGHTS {
@@ -217,6 +193,9 @@ struct ShadingPoint {
     occlusion: f32,
     // 1 where shadows are received, 0 where not.
     receives: f32,
+    // With SHADOW_MASK_SCALE > 0: the visibility (0..1) of shadowed directional lights 0 to
+    // 2 from the shadow mask, which already holds `receives`.
+    directional_lit: vec3<f32>,
 }
 
 // The world position (m) of a forward pass's fragment at `clip` (its @builtin(position):
@@ -330,7 +309,12 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
             for (var i = 0u; i < shadowed.x; i++) {
                 let light = shadowed_light(i, i);
                 let l = light.direction.xyz;
-                let lit = mix(1.0, directional_shadow(light, world, light_side(n, l), p.frag, view_depth), receives);
+                var lit: f32;
+                if SHADOW_MASK_SCALE > 0u {
+                    lit = p.directional_lit[min(i, 2u)];
+                } else {
+                    lit = mix(1.0, directional_shadow(light, world, light_side(n, l), p.frag, view_depth), receives);
+                }
                 color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
             }
         }

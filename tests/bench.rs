@@ -113,6 +113,7 @@ fn bench_writes_a_complete_consistent_report() {
     for k in [
         "visibility",
         "shadow_filter",
+        "shadow_mask",
         "ibl_samples",
         "hdr_precision",
         "max_cascades",

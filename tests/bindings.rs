@@ -80,6 +80,7 @@ fn every_bind_group_list_matches_its_shader() {
         light_culling: true,
         uniform_lights: true,
         uniform_shadow_views: true,
+        shadow_mask: 2,
     };
     check(
         "lighting.wgsl",
@@ -128,6 +129,22 @@ fn every_bind_group_list_matches_its_shader() {
             ],
         );
     }
+    check(
+        "shadow_mask.wgsl",
+        &shadow::mask::ShadowMaskPass::defs(
+            shadow::mask::MaskVariant {
+                scale: 2,
+                filter: ShadowFilter::Pcss,
+                uniform_lights: true,
+                uniform_shadow_views: true,
+            },
+            8,
+        ),
+        &[
+            (0, shadow::mask::VIEW_AND_GBUFFER),
+            (1, lighting::LIGHTS_AND_SHADOWS),
+        ],
+    );
     check(
         "transparent_resolve.wgsl",
         &[],

@@ -473,26 +473,60 @@ fn shadow_flags() {
             .as_str()
             .is_some_and(|r| r.contains("--no-shadows"))
     );
+    // Direct light only: the probes' captures would take most of each render.
+    let render_shadows = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "shadows",
+            "--size",
+            "32x32",
+            "--out",
+            "s.png",
+            "--gi",
+            "off",
+            "--reflection-probes",
+            "off",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let out = lumen(&args, dir.path());
+        assert!(out.status.success(), "{extra:?}: {}", text(&out.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        report
+    };
     for filter in ["hardware", "tent", "pcf", "pcss"] {
-        let out = lumen(
-            &[
-                "render",
-                "--scene",
-                "shadows",
-                "--size",
-                "32x32",
-                "--out",
-                "s.png",
-                "--shadow-filter",
-                filter,
-            ],
-            dir.path(),
+        render_shadows(&["--shadow-filter", filter]);
+    }
+    // The mask pass runs at the resolution asked for, and not at all when off.
+    let mask = |setting: &str| {
+        let report = render_shadows(&["--shadow-mask", setting]);
+        report["plan"]["passes"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .find(|p| p["name"] == "shadow mask")
+            .cloned()
+            .unwrap_or_default()
+    };
+    assert_eq!(mask("off")["runs"], false);
+    for setting in ["half", "full"] {
+        let pass = mask(setting);
+        assert_eq!(pass["runs"], true, "{pass}");
+        assert!(
+            pass["reason"]
+                .as_str()
+                .is_some_and(|r| r.contains(&format!("{setting} resolution"))),
+            "{pass}"
         );
-        assert!(out.status.success(), "{filter}: {}", text(&out.stderr));
     }
     assert_clean_failure(
         &lumen(&["render", "--shadow-filter", "vsm"], dir.path()),
         "vsm",
+    );
+    assert_clean_failure(
+        &lumen(&["render", "--shadow-mask", "quarter"], dir.path()),
+        "quarter",
     );
 }
 

@@ -399,9 +399,18 @@ fn passes_follow_the_scene() {
     assert!(report.plan.runs(PassId::GBuffer));
     let names: Vec<_> = report.passes.iter().map(|p| p.name).collect();
     // The probes' captures drew the sun's atlas with the same view: the frame keeps it.
+    // The sun's shadow is resolved in the mask pass (its depth copy, then the lookups).
     assert_eq!(
         names,
-        ["gbuffer", "depth pyramid", "lighting", "ssr", "tonemap"]
+        [
+            "gbuffer",
+            "depth pyramid",
+            "shadow mask depth",
+            "shadow mask",
+            "lighting",
+            "ssr",
+            "tonemap"
+        ]
     );
     let shadow = report
         .plan

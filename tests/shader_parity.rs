@@ -317,8 +317,8 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
         Vec4::new(
             shadow_kernel::blended_shadow_threshold(i as u32, i as u32 / 7),
             shadow_kernel::bayer2(i as u32 & 1, (i as u32 >> 1) & 1) as f32,
-            0.0,
-            0.0,
+            shadow_kernel::shadow_mask_weight(k, 8.0 + x, 8.0 + n_dot_h),
+            shadow_kernel::shadow_mask_weight(r, -1.0, 0.5 + x * 20.0),
         ),
         Vec4::new(
             transparency::oit_weight(x * 400.0 - 5.0, k),
@@ -481,7 +481,7 @@ const NAMES: [&str; OUTPUTS] = [
     "cas_weight | cas_apply",
     "shadow_tent_weights | shadow_tent_offsets",
     "premultiplied",
-    "blended_shadow_threshold | bayer2",
+    "blended_shadow_threshold | bayer2 | shadow_mask_weight",
     "oit_weight",
     "oit_resolve",
     "refracted_direction | refraction_path_m",

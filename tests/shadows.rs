@@ -146,6 +146,9 @@ fn shadows_scene(filter: ShadowFilter) -> App {
     let mut app = common::app_with("shadows");
     let mut quality = app.world_mut().resource_mut::<Quality>();
     quality.shadow_filter = filter;
+    // The lookups themselves, in the light loop: the shadow mask's half-resolution
+    // upsample is tested against them (the_shadow_mask_matches_the_light_loops_lookups).
+    quality.shadow_mask = ShadowMask::Off;
     // Direct light alone: the probes' bounce light would lift the umbrae these tests
     // measure as black.
     quality.gi.enabled = false;
@@ -189,6 +192,9 @@ fn lit_surface_scene(kind: Kind, with_sphere: bool, filter: ShadowFilter) -> App
     {
         let mut quality = app.world_mut().resource_mut::<Quality>();
         quality.shadow_filter = filter;
+        // The lookups' own bias, in the light loop (the half-resolution mask blurs the
+        // terminator by a pixel; the_shadow_mask_matches_the_light_loops_lookups).
+        quality.shadow_mask = ShadowMask::Off;
         // Direct light only: the ratio is a shadow's, not the probes' (whose captures
         // would also take most of each of the 48 renders).
         quality.gi.enabled = false;
@@ -476,7 +482,12 @@ fn every_filter_renders_finite() {
             let mut app = common::app_with(scene);
             {
                 let world = app.world_mut();
-                world.resource_mut::<Quality>().shadow_filter = filter;
+                let mut quality = world.resource_mut::<Quality>();
+                quality.shadow_filter = filter;
+                // The filters' output, not the probes' captures (which took most of
+                // this test's time): no irradiance volume, no reflection probes.
+                quality.gi.enabled = false;
+                quality.reflection_probes.enabled = false;
                 for mut l in world.query::<&mut DirectionalLight>().iter_mut(world) {
                     l.cast_shadows = true;
                 }
@@ -782,6 +793,97 @@ fn a_masked_caster_casts_the_shape_of_its_mask() {
         assert!(
             clear < 0.1 * open && opaque < 0.1 * open,
             "{judge}: {clear} {opaque} {open}"
+        );
+    }
+}
+
+/// The sun's visibility per pixel (0 shadowed .. 1 lit): `shadowed` over `lit`, where `lit`
+/// is lit at all.
+fn visibility(shadowed: &image::Rgba32FImage, lit: &image::Rgba32FImage) -> Vec<Option<f32>> {
+    shadowed
+        .pixels()
+        .zip(lit.pixels())
+        .map(|(s, l)| (lum(l) > 1e-4).then(|| (lum(s) / lum(l)).clamp(0.0, 1.5)))
+        .collect()
+}
+
+/// The shadow mask (`--shadow-mask`) against the light loop's own lookups, on `shadows`
+/// lit by its sun alone, for a filter without noise and one with: at full resolution the
+/// same visibility (to the f16 mask's rounding); at half resolution the same wherever the
+/// lookups' visibility is uniform over the 5 × 5 pixels around (the upsample only
+/// reads texels within 2 pixels), and a bounded difference along shadow edges.
+#[test]
+fn the_shadow_mask_matches_the_light_loops_lookups() {
+    for filter in [ShadowFilter::Tent, ShadowFilter::Pcf] {
+        let mut app = shadows_scene(filter);
+        configure(&mut app, &[Kind::Directional], &[Kind::Point, Kind::Spot]);
+        let image = |app: &mut App, mask: ShadowMask| {
+            app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
+            let report = app.render_headless(SIZE).expect("frame");
+            assert_eq!(
+                report.plan.runs(PassId::ShadowMask),
+                mask != ShadowMask::Off,
+                "{mask:?}"
+            );
+            app.read_hdr_image().expect("readback")
+        };
+        let off = image(&mut app, ShadowMask::Off);
+        let full = image(&mut app, ShadowMask::Full);
+        let half = image(&mut app, ShadowMask::Half);
+        app.world_mut().resource_mut::<Quality>().shadows = false;
+        let lit = render(&mut app);
+        let [off, full, half] = [&off, &full, &half].map(|s| visibility(s, &lit));
+        let (w, h) = (SIZE.0 as i64, SIZE.1 as i64);
+        let at = |v: &[Option<f32>], x: i64, y: i64| {
+            (x >= 0 && y >= 0 && x < w && y < h)
+                .then(|| v[(y * w + x) as usize])
+                .flatten()
+        };
+        let (mut worst_full, mut worst_flat, mut flat, mut edge) = (0.0f32, 0.0f32, 0, 0);
+        let mut edge_sum = 0.0f32;
+        for y in 0..h {
+            for x in 0..w {
+                let (Some(o), Some(f), Some(hv)) =
+                    (at(&off, x, y), at(&full, x, y), at(&half, x, y))
+                else {
+                    continue;
+                };
+                worst_full = worst_full.max((f - o).abs());
+                let around: Vec<Option<f32>> = (-2..=2)
+                    .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
+                    .map(|(dx, dy)| at(&off, x + dx, y + dy))
+                    .collect();
+                let uniform = around
+                    .iter()
+                    .all(|a| a.is_some_and(|a| (a - o).abs() < 1e-3));
+                if uniform {
+                    flat += 1;
+                    worst_flat = worst_flat.max((hv - o).abs());
+                } else {
+                    edge += 1;
+                    edge_sum += (hv - o).abs();
+                }
+            }
+        }
+        let edge_mean = edge_sum / edge.max(1) as f32;
+        eprintln!(
+            "{filter:?}: full vs light loop worst {worst_full:.5}; half: {flat} uniform pixels worst {worst_flat:.5}, {edge} edge pixels mean {edge_mean:.4}"
+        );
+        assert!(
+            flat > 10_000 && edge > 100,
+            "{filter:?}: {flat} uniform, {edge} edge pixels"
+        );
+        assert!(
+            worst_full <= 2e-3,
+            "{filter:?}: full mask off by {worst_full}"
+        );
+        assert!(
+            worst_flat <= 2e-3,
+            "{filter:?}: half mask off by {worst_flat} away from edges"
+        );
+        assert!(
+            edge_mean <= 0.05,
+            "{filter:?}: half mask off by {edge_mean} on average along edges"
         );
     }
 }

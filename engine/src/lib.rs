@@ -68,7 +68,7 @@ pub mod prelude {
     pub use crate::brdf::VisibilityModel;
     pub use crate::color::Tonemapper;
     pub use crate::input::{InputEvent, KeyCode, Keys, Mouse, MouseButton, MouseButtons};
-    pub use crate::quality::{Quality, ShadowFilter};
+    pub use crate::quality::{Quality, ShadowFilter, ShadowMask};
     pub use crate::render::debug_view::DebugView;
     pub use crate::scene::{
         AnimationPlayer, Background, Camera, Cascades, DirectionalLight, Environment,

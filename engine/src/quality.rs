@@ -52,6 +52,50 @@ impl ShadowFilter {
     }
 }
 
+/// Where the shadowed directional lights' visibility is resolved (README, "Shadows", for
+/// the measured cost and error of each; [`crate::render::shadow::mask`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ShadowMask {
+    /// No mask pass: the lighting pass's light loop filters the shadow map per pixel.
+    Off,
+    /// One filtered lookup per 2×2 pixels in the mask pass, upsampled by the lighting
+    /// pass with depth-aware weights ([`crate::shadow_kernel::shadow_mask_weight`]).
+    #[default]
+    Half,
+    /// One filtered lookup per pixel in the mask pass: the same visibility as `off`.
+    Full,
+}
+
+impl ShadowMask {
+    /// Every setting.
+    pub const ALL: [ShadowMask; 3] = [ShadowMask::Off, ShadowMask::Half, ShadowMask::Full];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowMask::Off => "off",
+            ShadowMask::Half => "half",
+            ShadowMask::Full => "full",
+        }
+    }
+
+    /// Parses a command-line name.
+    pub fn from_name(name: &str) -> Option<ShadowMask> {
+        ShadowMask::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(name))
+    }
+
+    /// Pixels per mask texel along each axis (0 when off).
+    pub fn scale(self) -> u32 {
+        match self {
+            ShadowMask::Off => 0,
+            ShadowMask::Half => 2,
+            ShadowMask::Full => 1,
+        }
+    }
+}
+
 /// Where screen-space ambient occlusion is computed (README, "Indirect light", for the
 /// measured cost of each).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -177,6 +221,8 @@ pub struct Quality {
     pub shadows: bool,
     /// Shadow filtering.
     pub shadow_filter: ShadowFilter,
+    /// Where the shadowed directional lights' visibility is resolved (`--shadow-mask`).
+    pub shadow_mask: ShadowMask,
     /// Every light casts shadows, whatever its own `cast_shadows` says
     /// (`--light-shadows all`): the frame then has the physical visibility the path
     /// tracer has. Each point light adds six shadow views (one cube) and each spot light
@@ -558,13 +604,14 @@ pub enum QualityPreset {
     /// Hardware 2×2 shadow filtering at half resolution with one cascade, no energy
     /// compensation, 16-sample IBL prefiltering, one DoF ring, no ambient occlusion.
     Low,
-    /// 16-tap PCF at full resolution with two cascades, energy compensation, 32 IBL
+    /// The `tent` filter (half-resolution mask) with two cascades, energy compensation, 32 IBL
     /// samples, two DoF rings, half-resolution AO of 2 slices × 4 steps.
     Medium,
-    /// The defaults: 16-tap PCF, up to four cascades, 64 IBL samples, the camera's rings,
-    /// half-resolution AO of 3 slices × 6 steps.
+    /// The defaults: the `tent` filter, resolved for the sun in a half-resolution shadow
+    /// mask, up to four cascades, 64 IBL samples, the camera's rings, half-resolution AO
+    /// of 3 slices × 6 steps.
     High,
-    /// PCSS at twice the resolution, height-correlated Smith visibility, 256 IBL samples, a 128² BRDF table of 1024 samples, five DoF rings, an
+    /// PCSS at twice the resolution in the light loop (no shadow mask), height-correlated Smith visibility, 256 IBL samples, a 128² BRDF table of 1024 samples, five DoF rings, an
     /// f32 HDR target, full-resolution AO of 4 slices × 8 steps and temporal
     /// anti-aliasing.
     Ultra,
@@ -660,6 +707,7 @@ impl QualityPreset {
             QualityPreset::Ultra => Quality {
                 visibility: VisibilityModel::SmithGgxCorrelated,
                 shadow_filter: ShadowFilter::Pcss,
+                shadow_mask: ShadowMask::Off,
                 shadow_resolution_scale: 2.0,
                 ibl_samples: 256,
                 brdf_lut_size: 128,
@@ -707,6 +755,7 @@ impl Default for Quality {
             visibility: VisibilityModel::default(),
             shadows: true,
             shadow_filter: ShadowFilter::default(),
+            shadow_mask: ShadowMask::default(),
             all_lights_cast_shadows: false,
             energy_compensation: true,
             ibl_samples: 64,

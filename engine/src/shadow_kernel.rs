@@ -44,6 +44,21 @@ pub fn blended_shadow_threshold(x: u32, y: u32) -> f32 {
     (index as f32 + 0.5) / 16.0
 }
 
+/// Relative depth difference (of the pixel's view depth) at which a shadow-mask texel
+/// stops counting in the depth-aware upsample: 5 %.
+pub const SHADOW_MASK_DEPTH_TOLERANCE: f32 = 0.05;
+
+/// The weight (dimensionless) of one shadow-mask texel in a pixel's depth-aware upsample
+/// ([`crate::render::shadow::mask`]): its bilinear weight `bilinear`, times a tent in depth
+/// that falls from 1 where the texel's view depth `texel_depth` (m) equals the pixel's
+/// `depth` (m) to 0 at [`SHADOW_MASK_DEPTH_TOLERANCE`] × `depth`, so that a shadow is not
+/// carried across a depth edge (the joint bilateral upsample of Kopf et al. 2007, "Joint
+/// Bilateral Upsampling", with a tent range kernel).
+pub fn shadow_mask_weight(bilinear: f32, texel_depth: f32, depth: f32) -> f32 {
+    let range = SHADOW_MASK_DEPTH_TOLERANCE * depth.max(1e-6);
+    bilinear * (1.0 - (texel_depth - depth).abs() / range).max(0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -107,5 +122,18 @@ mod tests {
             .map(|x| blended_shadow_threshold(x, 0) * 16.0 - 0.5)
             .collect();
         assert_eq!(row, [0.0, 8.0, 2.0, 10.0]);
+    }
+
+    #[test]
+    fn a_mask_texel_across_a_depth_edge_gets_no_weight() {
+        // Same depth: the bilinear weight alone.
+        assert_eq!(shadow_mask_weight(0.25, 10.0, 10.0), 0.25);
+        // Half the tolerance away: half the weight, on either side.
+        assert!((shadow_mask_weight(1.0, 10.25, 10.0) - 0.5).abs() < 1e-6);
+        assert!((shadow_mask_weight(1.0, 9.75, 10.0) - 0.5).abs() < 1e-6);
+        // At or past the tolerance, and on the background (depth −1): none.
+        assert_eq!(shadow_mask_weight(1.0, 10.5, 10.0), 0.0);
+        assert_eq!(shadow_mask_weight(1.0, 20.0, 10.0), 0.0);
+        assert_eq!(shadow_mask_weight(1.0, -1.0, 10.0), 0.0);
     }
 }

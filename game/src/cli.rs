@@ -238,6 +238,11 @@ pub struct SceneArgs {
     /// taps), pcss (soft, from the light's size).
     #[arg(long, value_name = "NAME", value_parser = parse_shadow_filter)]
     pub shadow_filter: Option<lumen::quality::ShadowFilter>,
+    /// Where the shadowed directional lights' shadows are filtered: half (a mask pass at
+    /// half resolution, upsampled by depth; default), full (a mask pass per pixel), off
+    /// (in the lighting pass's light loop).
+    #[arg(long, value_name = "RES", value_parser = parse_shadow_mask)]
+    pub shadow_mask: Option<lumen::quality::ShadowMask>,
     /// Environment image (OpenEXR or Radiance .hdr, equirectangular) lighting the scene.
     #[arg(long, value_name = "FILE", conflicts_with = "env_color")]
     pub env: Option<std::path::PathBuf>,
@@ -846,6 +851,19 @@ fn parse_light_shadows(s: &str) -> Result<bool, String> {
         "scene" => Ok(false),
         _ => Err(format!("unknown light-shadow set '{s}' (use scene, all)")),
     }
+}
+
+fn parse_shadow_mask(s: &str) -> Result<lumen::quality::ShadowMask, String> {
+    lumen::quality::ShadowMask::from_name(s).ok_or_else(|| {
+        format!(
+            "unknown shadow mask '{s}' (use {})",
+            lumen::quality::ShadowMask::ALL
+                .iter()
+                .map(|m| m.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
 }
 
 fn parse_shadow_filter(s: &str) -> Result<lumen::quality::ShadowFilter, String> {

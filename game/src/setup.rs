@@ -106,6 +106,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(f) = args.shadow_filter {
         quality.shadow_filter = f;
     }
+    if let Some(m) = args.shadow_mask {
+        quality.shadow_mask = m;
+    }
     if let Some(all) = args.light_shadows {
         quality.all_lights_cast_shadows = all;
     }
@@ -338,6 +341,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
         "visibility": q.visibility.name(),
         "shadows": q.shadows,
         "shadow_filter": q.shadow_filter.name(),
+        "shadow_mask": q.shadow_mask.name(),
         "light_shadows": if q.all_lights_cast_shadows { "all" } else { "scene" },
         "shadow_resolution_scale": q.shadow_resolution_scale,
         "max_cascades": q.max_cascades,

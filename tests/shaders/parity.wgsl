@@ -134,7 +134,8 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let tent_o = shadow_tent_offsets(tent_s);
     results[o + 36u] = vec4<f32>(tent_w.x, tent_w.z, tent_o.x, tent_o.z + tent_o.y);
     results[o + 37u] = premultiplied(c.base_metallic.rgb * (k * 1e5), x);
-    results[o + 38u] = vec4<f32>(blended_shadow_threshold(vec2<u32>(i, i / 7u)), f32(bayer2(i & 1u, (i >> 1u) & 1u)), 0.0, 0.0);
+    results[o + 38u] = vec4<f32>(blended_shadow_threshold(vec2<u32>(i, i / 7u)), f32(bayer2(i & 1u, (i >> 1u) & 1u)),
+                                 shadow_mask_weight(k, 8.0 + x, 8.0 + n_dot_h), shadow_mask_weight(r, -1.0, 0.5 + x * 20.0));
     results[o + 39u] = vec4<f32>(oit_weight(x * 400.0 - 5.0, k), oit_weight(r * 3.0, 1.0), 0.0, 0.0);
     results[o + 40u] = oit_resolve(vec4<f32>(c.base_metallic.rgb * 50.0, k * 100.0), x);
     results[o + 41u] = vec4<f32>(refracted_direction(c.n.xyz, c.v.xyz, 1.0 + x * 3.0),

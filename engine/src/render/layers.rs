@@ -193,6 +193,12 @@ impl FramePass for LayersPass {
                 ),
             )
         };
+        // Layers are drawn over the lit base without the lighting pass's group 0: their
+        // lights filter the shadow map themselves.
+        let lighting = lighting.map(|l| LightingVariant {
+            shadow_mask: 0,
+            ..l
+        });
         PassDecision::new(runs, reason, lighting.filter(|_| runs))
     }
 

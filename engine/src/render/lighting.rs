@@ -23,6 +23,7 @@ use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{Composed, ShaderDef};
+use crate::render::shadow::mask::{SHADOW_MASK, ShadowMaskPass};
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
@@ -72,6 +73,9 @@ pub struct LightingVariant {
     pub uniform_lights: bool,
     /// Every shadow view fits the uniform copy of the view array.
     pub uniform_shadow_views: bool,
+    /// Pixels per texel of the shadow mask the shadowed directional lights' visibility
+    /// is read from (1 or 2), or 0 where the light loop filters the shadow map itself.
+    pub shadow_mask: u32,
 }
 
 impl FramePass for LightingPass {
@@ -83,6 +87,7 @@ impl FramePass for LightingPass {
         GBUFFER_EMISSIVE,
         DEPTH,
         SHADOW_ATLAS,
+        SHADOW_MASK,
         LIGHT_TILES,
         AMBIENT_OCCLUSION,
     ];
@@ -123,13 +128,20 @@ impl FramePass for LightingPass {
         let point = kind("point lights", counts.point);
         let spot = kind("spot lights", counts.spot);
         let visibility = Decision::new("visibility term", true, quality.visibility.name());
+        let shadow_mask = plan
+            .variant::<ShadowMaskPass>()
+            .filter(|_| plan.runs(PassId::ShadowMask))
+            .map_or(0, |v| v.scale);
         let shadow_lookups = Decision::new(
             "shadow lookups",
             views > 0 && instances > 0,
-            if views > 0 {
-                format!("{} filter", quality.shadow_filter.name())
-            } else {
-                "no shadow pass".into()
+            match (views, shadow_mask) {
+                (0, _) => "no shadow pass".into(),
+                (_, 0) => format!("{} filter", quality.shadow_filter.name()),
+                (_, scale) => format!(
+                    "{} filter; directional lights from the shadow mask (1 texel per {scale}×{scale} pixels)",
+                    quality.shadow_filter.name()
+                ),
             },
         );
         let env = frame.environment.as_ref();
@@ -216,6 +228,7 @@ impl FramePass for LightingPass {
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views
                 <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
+            shadow_mask,
         };
         PassDecision {
             runs: true,
@@ -276,6 +289,7 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
         ("gbuffer1", Binding::TextureLoad),
         ("gbuffer2", Binding::TextureLoad),
         ("depth_buffer", Binding::TextureLoad),
+        ("shadow_mask", Binding::TextureLoad),
     ],
 };
 
@@ -373,6 +387,7 @@ impl LightingPass {
             ShaderDef::Bool("RELIT_BASE", false),
             ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
             ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
+            ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
             ShaderDef::U32(
                 "UNIFORM_SHADOW_VIEW_CAPACITY",
                 crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
@@ -428,6 +443,27 @@ impl LightingPass {
     }
 }
 
+/// The resources of group 1 ([`LIGHTS_AND_SHADOWS`]), in its order: the lighting pass
+/// and the shadow-mask pass bind the same.
+pub fn lights_and_shadows<'a>(
+    buffers: &'a SceneBuffers,
+    shadows: &'a ShadowPass,
+    culling: &'a LightCullingPass,
+) -> Vec<wgpu::BindingResource<'a>> {
+    use wgpu::BindingResource::{Sampler, TextureView};
+    vec![
+        buffers.lights.buffer.as_entire_binding(),
+        buffers.lights_uniform.as_entire_binding(),
+        buffers.shadowed_lights_uniform.as_entire_binding(),
+        culling.tiles.as_entire_binding(),
+        shadows.gpu_views.buffer.as_entire_binding(),
+        TextureView(&shadows.atlas.view),
+        Sampler(&shadows.sampler),
+        TextureView(&shadows.atlas.view),
+        shadows.views_uniform.as_entire_binding(),
+    ]
+}
+
 /// Everything the lighting pass binds.
 #[derive(SystemParam)]
 pub struct LightingInputs<'w> {
@@ -438,6 +474,7 @@ pub struct LightingInputs<'w> {
     culling: Res<'w, LightCullingPass>,
     volume: Res<'w, IrradianceVolumeGpu>,
     reflections: Res<'w, ReflectionProbesGpu>,
+    mask: Res<'w, ShadowMaskPass>,
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group when targets,
@@ -457,6 +494,7 @@ pub fn prepare_lighting(
         culling,
         volume,
         reflections,
+        mask,
     } = inputs;
     let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
     else {
@@ -476,7 +514,7 @@ pub fn prepare_lighting(
         return;
     }
     let keys: [BindingGenerations; 4] = [
-        [t.generation, buffers.generation, 0],
+        [t.generation, buffers.generation, mask.generation],
         [buffers.generation, shadows.generation, culling.generation],
         [ibl.generation, t.generation, 0],
         {
@@ -493,18 +531,9 @@ pub fn prepare_lighting(
                 TextureView(normal),
                 TextureView(emissive),
                 TextureView(depth),
+                TextureView(mask.view()),
             ],
-            1 => vec![
-                buffers.lights.buffer.as_entire_binding(),
-                buffers.lights_uniform.as_entire_binding(),
-                buffers.shadowed_lights_uniform.as_entire_binding(),
-                culling.tiles.as_entire_binding(),
-                shadows.gpu_views.buffer.as_entire_binding(),
-                TextureView(&shadows.atlas.view),
-                Sampler(&shadows.sampler),
-                TextureView(&shadows.atlas.view),
-                shadows.views_uniform.as_entire_binding(),
-            ],
+            1 => lights_and_shadows(&buffers, &shadows, &culling),
             2 => vec![
                 ibl.uniform.as_entire_binding(),
                 TextureView(ibl.cube_view()),

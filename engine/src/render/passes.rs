@@ -19,6 +19,7 @@ use crate::render::indirect::reflections::SsrPass;
 use crate::render::layers::LayersPass;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
+use crate::render::shadow::mask::ShadowMaskPass;
 use crate::render::shadow::pass::ShadowPass;
 use crate::render::sky::SkyPass;
 use crate::render::tonemap::TonemapPass;
@@ -35,6 +36,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<AoPass>()
         .with::<DepthPyramidPass>()
         .with::<LightCullingPass>()
+        .with::<ShadowMaskPass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<LayersPass>()

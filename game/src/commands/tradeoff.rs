@@ -10,7 +10,7 @@ use lumen::App;
 use lumen::brdf::VisibilityModel;
 use lumen::color::Tonemapper;
 use lumen::quality::{
-    AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter, SpecularAaForm,
+    AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter, ShadowMask, SpecularAaForm,
 };
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
@@ -77,6 +77,14 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     {
         knob("--shadow-filter", f.name().into(), &|a| {
             a.shadow_filter = Some(f)
+        });
+    }
+    for m in ShadowMask::ALL
+        .into_iter()
+        .filter(|m| *m != QualityPreset::High.quality().shadow_mask)
+    {
+        knob("--shadow-mask", m.name().into(), &|a| {
+            a.shadow_mask = Some(m)
         });
     }
     knob("--light-shadows", "all".into(), &|a| {

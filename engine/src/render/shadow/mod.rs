@@ -3,4 +3,5 @@
 //! ([`crate::render::shadow_views`]).
 
 pub mod atlas;
+pub mod mask;
 pub mod pass;

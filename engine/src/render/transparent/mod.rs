@@ -94,6 +94,7 @@ impl TransparentVariant {
                 screen_ao: false,
                 ao_multi_bounce: false,
                 light_culling: false,
+                shadow_mask: 0,
                 ..lighting
             },
             weighted: transparency == Transparency::WeightedBlended,

@@ -327,6 +327,13 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
         &lumen::quality::ShadowFilter::ALL,
         |f| f.name(),
     );
+    combo(
+        ui,
+        "shadow mask",
+        &mut v.shadow_mask,
+        &lumen::quality::ShadowMask::ALL,
+        |m| m.name(),
+    );
     ui.add(
         egui::Slider::new(&mut v.shadow_resolution_scale, 0.125..=4.0)
             .logarithmic(true)

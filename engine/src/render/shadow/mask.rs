@@ -1,0 +1,423 @@
+//! Screen-space shadow mask (`shaders/shadow_mask.wgsl`): the visibility of each shadowed
+//! directional light, filtered from the shadow atlas once per mask texel in its own pass,
+//! at full resolution or at half (one texel per 2 × 2 pixels). The lighting pass then
+//! reads one value per light instead of running the shadow filter in its light loop; at
+//! half resolution it upsamples with depth-aware weights
+//! ([`crate::shadow_kernel::shadow_mask_weight`]).
+//!
+//! It runs when [`crate::quality::Quality::shadow_mask`] is not `off`, the frame has a
+//! shadowed directional light, no more of them than the mask has channels
+//! ([`MASK_LIGHTS`]), and something is drawn. Point and spot lights keep their lookups in
+//! the light loop, as do the transparent and layer passes, and probe captures.
+
+use crate::error::Result;
+use crate::quality::{Quality, ShadowMask};
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::light_culling::LightCullingPass;
+use crate::render::lighting::{LIGHTS_AND_SHADOWS, LightingPass, lights_and_shadows};
+use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
+use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
+use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+use std::collections::HashMap;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// The shadowed directional lights' visibility, once per mask texel.
+    pub const ShadowMask: PassId = PassId::new("shadow mask");
+}
+
+/// The shadowed directional lights one mask holds, one per colour channel (`a` holds the
+/// view depth).
+pub const MASK_LIGHTS: u32 = 3;
+
+/// Format of the mask: visibility (0..1) of shadowed directional lights 0 to 2, and the
+/// view depth (m) of the pixel each texel was shaded at (16-bit floats: 0.05 % of the
+/// depth, well inside the upsample's 5 % tolerance).
+pub const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The shadow mask, one texel per `scale` × `scale` pixels (⌈width/scale⌉ ×
+/// ⌈height/scale⌉), owned by the pass ([`ShadowMaskPass::view`]).
+pub const SHADOW_MASK: Slot = Slot::owned("shadow mask");
+
+/// Group 0: the view, depth and the G-buffer channels the lookups need (the normal, and
+/// whether the surface receives shadows); group 1 is the lighting pass's
+/// [`LIGHTS_AND_SHADOWS`].
+pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
+    label: "shadow mask: view and G-buffer",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer0", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+    ],
+};
+
+/// Why the mask pass does not run this frame, if it does not.
+pub fn skip_reason(mask: ShadowMask, frame: &ExtractedFrame) -> Option<String> {
+    let directional = frame.shadowed_counts[0];
+    if mask == ShadowMask::Off {
+        Some("off (--shadow-mask off): the light loop filters the shadow map".into())
+    } else if frame.instances.is_empty() {
+        Some("nothing is drawn".into())
+    } else if frame.shadow_views.is_empty() || directional == 0 {
+        Some("no shadowed directional light".into())
+    } else if directional > MASK_LIGHTS {
+        Some(format!(
+            "{directional} shadowed directional lights, more than the mask's {MASK_LIGHTS}: the light loop filters them"
+        ))
+    } else {
+        None
+    }
+}
+
+/// The mask pass's variant: the lighting pass's (its shadow filter and light copies) and
+/// the mask's scale.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MaskVariant {
+    /// Pixels per mask texel along each axis (1 or 2).
+    pub scale: u32,
+    /// The shadow filter.
+    pub filter: crate::quality::ShadowFilter,
+    /// Every light fits the uniform copy of the light array.
+    pub uniform_lights: bool,
+    /// Every shadow view fits the uniform copy of the view array.
+    pub uniform_shadow_views: bool,
+}
+
+impl FramePass for ShadowMaskPass {
+    const ID: PassId = PassId::ShadowMask;
+    const READS: &'static [Slot] = &[DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL, SHADOW_ATLAS];
+    const WRITES: &'static [Slot] = &[SHADOW_MASK];
+    type Variant = MaskVariant;
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(ShadowMaskPass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<MaskVariant> {
+        let quality = world.resource::<Quality>();
+        let frame = world.resource::<ExtractedFrame>();
+        let buffers = world.resource::<SceneBuffers>();
+        let variant = MaskVariant {
+            scale: quality.shadow_mask.scale().max(1),
+            filter: quality.shadow_filter,
+            uniform_lights: buffers.lights_fit_uniform(frame),
+            uniform_shadow_views: frame.shadow_views.len()
+                <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
+        };
+        let skip = skip_reason(quality.shadow_mask, frame);
+        let reason = skip.clone().unwrap_or_else(|| {
+            format!(
+                "{} shadowed directional light(s) at {} resolution, {} filter",
+                frame.shadowed_counts[0],
+                quality.shadow_mask.name(),
+                quality.shadow_filter.name()
+            )
+        });
+        PassDecision::new(skip.is_none(), reason, variant)
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_shadow_mask.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        shadow_mask_pass.into_configs()
+    }
+}
+
+/// The depth test that keeps the lookups off the background: the mask's texels are
+/// shaded only where the depth at their pixel holds geometry (reversed Z: the full-screen
+/// triangle at depth 0 passes `Less` where the stored depth is above 0).
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(false),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
+/// The mask pass's pipelines per variant: the depth copy at mask resolution, and the
+/// mask itself.
+struct MaskPipelines {
+    depth: wgpu::RenderPipeline,
+    mask: wgpu::RenderPipeline,
+}
+
+/// The mask pass's pipelines (one pair per variant), its depth at mask resolution and its
+/// bind groups.
+#[derive(Resource)]
+pub struct ShadowMaskPass {
+    layout: wgpu::BindGroupLayout,
+    pipelines: HashMap<MaskVariant, MaskPipelines>,
+    /// The mask (a 1 × 1 texel until the pass first runs, so that the lighting pass always
+    /// has one to bind).
+    mask: Target,
+    /// The depth of each texel's pixel, at mask resolution, that the mask is depth-tested
+    /// against (software rasterizers shade a masked-off lane as dearly as a live one: the
+    /// depth test is what spares the background), with the mask's size.
+    depth: Option<((u32, u32), Target)>,
+    /// Bumped whenever the mask texture is made anew, so the lighting pass rebuilds its
+    /// bind group.
+    pub generation: u64,
+    /// Group 0 and group 1, with the generations they were built from.
+    bind_groups: Option<([u64; 4], [wgpu::BindGroup; 2])>,
+}
+
+impl ShadowMaskPass {
+    /// Creates the group-0 layout; pipelines compile per variant on first use.
+    pub fn new(gpu: &Gpu) -> Self {
+        ShadowMaskPass {
+            layout: VIEW_AND_GBUFFER.layout(gpu),
+            pipelines: HashMap::new(),
+            mask: Target::new(gpu, "shadow mask", (1, 1), MASK_FORMAT),
+            depth: None,
+            generation: 0,
+            bind_groups: None,
+        }
+    }
+
+    /// The mask's view, for the lighting pass to bind.
+    pub fn view(&self) -> &wgpu::TextureView {
+        &self.mask.view
+    }
+
+    /// The shader defs of `variant`, for a uniform light copy of `uniform_capacity` lights.
+    pub fn defs(variant: MaskVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale),
+            ShaderDef::U32("SHADOW_FILTER", variant.filter as u32),
+            ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
+            ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
+            ShaderDef::U32(
+                "UNIFORM_SHADOW_VIEW_CAPACITY",
+                crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
+            ),
+            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
+            ShaderDef::U32(
+                "SHADOWED_LIGHT_CAPACITY",
+                crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
+            ),
+        ]
+    }
+
+    fn pipeline(
+        &mut self,
+        gpu: &Gpu,
+        lights_layout: &wgpu::BindGroupLayout,
+        variant: MaskVariant,
+        uniform_capacity: u32,
+    ) -> Result<()> {
+        if self.pipelines.contains_key(&variant) {
+            return Ok(());
+        }
+        let layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow mask"),
+                bind_group_layouts: &[Some(&self.layout), Some(lights_layout)],
+                immediate_size: 0,
+            });
+        let module = create_module(
+            gpu,
+            "shadow mask",
+            &gpu.shaders.compose(
+                "shadow_mask.wgsl",
+                &ShadowMaskPass::defs(variant, uniform_capacity),
+            )?,
+        )?;
+        let depth = fullscreen_pipeline(
+            gpu,
+            "shadow mask depth",
+            Some(&layout),
+            &module,
+            ("vs_fullscreen", "fs_depth"),
+            &[],
+            Some(wgpu::DepthStencilState {
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                ..depth_test()
+            }),
+        )?;
+        let mask = fullscreen_pipeline(
+            gpu,
+            "shadow mask",
+            Some(&layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            &[MASK_FORMAT],
+            Some(depth_test()),
+        )?;
+        self.pipelines
+            .insert(variant, MaskPipelines { depth, mask });
+        Ok(())
+    }
+}
+
+/// Compiles the variant and builds the bind groups when the targets, buffers, the shadow
+/// atlas or the light tiles changed.
+#[allow(clippy::too_many_arguments)]
+pub fn prepare_shadow_mask(
+    gpu: Res<Gpu>,
+    plan: Res<FramePlan>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    shadows: Res<ShadowPass>,
+    culling: Res<LightCullingPass>,
+    lighting: Res<LightingPass>,
+    mut pass: ResMut<ShadowMaskPass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let (Some(&variant), Some(t)) = (plan.variant::<ShadowMaskPass>(), targets.current.as_ref())
+    else {
+        return;
+    };
+    let lights_layout = &lighting.layouts()[1];
+    if let Err(e) = pass.pipeline(&gpu, lights_layout, variant, buffers.uniform_light_capacity) {
+        errors.0.push(e);
+        return;
+    }
+    let size = (
+        t.size.0.div_ceil(variant.scale),
+        t.size.1.div_ceil(variant.scale),
+    );
+    if pass.depth.as_ref().is_none_or(|(s, _)| *s != size) {
+        pass.depth = Some((
+            size,
+            Target::new(&gpu, "shadow mask depth", size, DEPTH_FORMAT),
+        ));
+        pass.mask = Target::new(&gpu, "shadow mask", size, MASK_FORMAT);
+        pass.generation += 1;
+    }
+    let key = [
+        t.generation,
+        buffers.generation,
+        shadows.generation,
+        culling.generation,
+    ];
+    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let Some([depth, base_color, normal]) = t.views([DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL])
+    else {
+        return;
+    };
+    use wgpu::BindingResource::TextureView;
+    let groups = VIEW_AND_GBUFFER
+        .group(
+            &gpu,
+            &pass.layout,
+            vec![
+                buffers.view.as_entire_binding(),
+                TextureView(depth),
+                TextureView(base_color),
+                TextureView(normal),
+            ],
+        )
+        .and_then(|g0| {
+            let g1 = LIGHTS_AND_SHADOWS.group(
+                &gpu,
+                lights_layout,
+                lights_and_shadows(&buffers, &shadows, &culling),
+            )?;
+            Ok([g0, g1])
+        });
+    match groups {
+        Ok(groups) => pass.bind_groups = Some((key, groups)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the mask: the depth of each texel's pixel, then the lookups, depth-tested
+/// against it.
+pub fn shadow_mask_pass(
+    plan: Res<FramePlan>,
+    pass: Res<ShadowMaskPass>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some((_, [g0, g1])), Some(variant), Some((_, depth))) = (
+        encoder.as_mut(),
+        pass.bind_groups.as_ref(),
+        plan.variant::<ShadowMaskPass>(),
+        pass.depth.as_ref(),
+    ) else {
+        return;
+    };
+    let Some(pipelines) = pass.pipelines.get(variant) else {
+        return;
+    };
+    let scope = timer.begin_step("shadow mask depth");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow mask depth"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(&pipelines.depth);
+        rp.set_bind_group(0, g0, &[]);
+        rp.set_bind_group(1, g1, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+    let scope = timer.begin_step("shadow mask");
+    {
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("shadow mask"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &pass.mask.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    // What the depth test leaves: the background's (1, 1, 1, −1).
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 1.0,
+                        g: 1.0,
+                        b: 1.0,
+                        a: -1.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth.view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: timer.render_writes(&scope),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        rp.set_pipeline(&pipelines.mask);
+        rp.set_bind_group(0, g0, &[]);
+        rp.set_bind_group(1, g1, &[]);
+        rp.draw(0..3, 0..1);
+    }
+    timer.end_pass(scope);
+}
