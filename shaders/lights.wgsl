@@ -1,6 +1,6 @@
 // The lighting pass's group 1, its lights (LIGHTS_AND_SHADOWS in
-// engine/src/render/lighting.rs): bindings 0 to 3 are declared here, the shadow bindings, 4
-// to 8, in shadows.wgsl. Imported by surface_light.wgsl and by the shadow-mask pass
+// engine/src/render/shadow/lookups.rs): bindings 0 to 3 are declared here, the shadow
+// bindings, 4 to 8, in shadows.wgsl. Imported by surface_light.wgsl and by the shadow-mask pass
 // (shadow_mask.wgsl), which binds the same group. The entry module declares the header
 // constants UNIFORM_LIGHTS, UNIFORM_LIGHT_CAPACITY and SHADOWED_LIGHT_CAPACITY.
 #import bindings

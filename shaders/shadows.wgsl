@@ -5,7 +5,7 @@
 #import bindings
 #import shadow_kernel
 
-// The lighting pass's group 1 (engine/src/render/lighting.rs, LIGHTS_AND_SHADOWS).
+// The lighting pass's group 1 (LIGHTS_AND_SHADOWS in engine/src/render/shadow/lookups.rs).
 @group(1) @binding(4) var<storage, read> shadow_views: array<ShadowView>;
 @group(1) @binding(5) var shadow_atlas: texture_depth_2d;
 @group(1) @binding(6) var shadow_sampler: sampler_comparison;

@@ -72,10 +72,19 @@ fn render_png_with_json_report() {
     let passes = report["passes"].as_array().cloned().unwrap_or_default();
     let names: Vec<_> = passes.iter().filter_map(|p| p["name"].as_str()).collect();
     // The probes' captures drew the sun's atlas with the same view and casters: the frame
-    // keeps it.
+    // keeps it. The sun's shadow is resolved in the mask pass (its depth copy, then the
+    // lookups).
     assert_eq!(
         names,
-        ["gbuffer", "depth pyramid", "lighting", "ssr", "tonemap"]
+        [
+            "gbuffer",
+            "depth pyramid",
+            "shadow mask depth",
+            "shadow mask",
+            "lighting",
+            "ssr",
+            "tonemap"
+        ]
     );
     let planned = |name: &str| {
         report["plan"]["passes"]

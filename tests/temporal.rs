@@ -352,7 +352,7 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
         debug_view::DebugViewPass, dof::DofPass, exposure::ExposurePass, gbuffer::GBufferPass,
         indirect::ambient_occlusion::AoPass, indirect::depth_pyramid::DepthPyramidPass,
         indirect::reflections::SsrPass, light_culling::LightCullingPass, lighting::LightingPass,
-        shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
+        shadow::mask::ShadowMaskPass, shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
     };
     // The built-in frame with the poison between the sky and TAA.
     let registry = Registry::new()
@@ -362,6 +362,7 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
         .with::<AoPass>()
         .with::<DepthPyramidPass>()
         .with::<LightCullingPass>()
+        .with::<ShadowMaskPass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<SkyPass>()

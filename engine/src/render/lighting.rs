@@ -293,22 +293,9 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// Group 1: the lights, their tile lists and their shadows.
-pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
-    label: "lighting: lights and shadows",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("lights", Binding::Storage),
-        ("uniform_lights", Binding::Uniform),
-        ("shadowed_lights", Binding::Uniform),
-        ("light_tiles", Binding::Storage),
-        ("shadow_views", Binding::Storage),
-        ("shadow_atlas", Binding::Depth),
-        ("shadow_sampler", Binding::ComparisonSampler),
-        ("shadow_atlas_depth", Binding::TextureLoad),
-        ("uniform_shadow_views", Binding::Uniform),
-    ],
-};
+/// Group 1: the lights, their tile lists and their shadows (defined beside the shadow
+/// lookups, and shared with the shadow-mask pass).
+pub use crate::render::shadow::lookups::{LIGHTS_AND_SHADOWS, lights_and_shadows};
 
 /// Group 2: indirect light (defined beside the environment it binds, and shared with the
 /// reflection pass).
@@ -441,27 +428,6 @@ impl LightingPass {
         self.pipelines.insert((variant, format), pipeline);
         Ok(())
     }
-}
-
-/// The resources of group 1 ([`LIGHTS_AND_SHADOWS`]), in its order: the lighting pass
-/// and the shadow-mask pass bind the same.
-pub fn lights_and_shadows<'a>(
-    buffers: &'a SceneBuffers,
-    shadows: &'a ShadowPass,
-    culling: &'a LightCullingPass,
-) -> Vec<wgpu::BindingResource<'a>> {
-    use wgpu::BindingResource::{Sampler, TextureView};
-    vec![
-        buffers.lights.buffer.as_entire_binding(),
-        buffers.lights_uniform.as_entire_binding(),
-        buffers.shadowed_lights_uniform.as_entire_binding(),
-        culling.tiles.as_entire_binding(),
-        shadows.gpu_views.buffer.as_entire_binding(),
-        TextureView(&shadows.atlas.view),
-        Sampler(&shadows.sampler),
-        TextureView(&shadows.atlas.view),
-        shadows.views_uniform.as_entire_binding(),
-    ]
 }
 
 /// Everything the lighting pass binds.

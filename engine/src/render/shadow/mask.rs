@@ -19,10 +19,10 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::light_culling::LightCullingPass;
-use crate::render::lighting::{LIGHTS_AND_SHADOWS, LightingPass, lights_and_shadows};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
+use crate::render::shadow::lookups::{LIGHTS_AND_SHADOWS, lights_and_shadows};
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
 use bevy_ecs::prelude::*;
@@ -161,7 +161,9 @@ struct MaskPipelines {
 /// bind groups.
 #[derive(Resource)]
 pub struct ShadowMaskPass {
-    layout: wgpu::BindGroupLayout,
+    /// The layouts of group 0 and group 1.
+    layouts: [wgpu::BindGroupLayout; 2],
+    pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<MaskVariant, MaskPipelines>,
     /// The mask (a 1 × 1 texel until the pass first runs, so that the lighting pass always
     /// has one to bind).
@@ -180,8 +182,17 @@ pub struct ShadowMaskPass {
 impl ShadowMaskPass {
     /// Creates the group-0 layout; pipelines compile per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
+        let layouts = [VIEW_AND_GBUFFER.layout(gpu), LIGHTS_AND_SHADOWS.layout(gpu)];
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("shadow mask"),
+                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1])],
+                immediate_size: 0,
+            });
         ShadowMaskPass {
-            layout: VIEW_AND_GBUFFER.layout(gpu),
+            layouts,
+            pipeline_layout,
             pipelines: HashMap::new(),
             mask: Target::new(gpu, "shadow mask", (1, 1), MASK_FORMAT),
             depth: None,
@@ -214,23 +225,10 @@ impl ShadowMaskPass {
         ]
     }
 
-    fn pipeline(
-        &mut self,
-        gpu: &Gpu,
-        lights_layout: &wgpu::BindGroupLayout,
-        variant: MaskVariant,
-        uniform_capacity: u32,
-    ) -> Result<()> {
+    fn pipeline(&mut self, gpu: &Gpu, variant: MaskVariant, uniform_capacity: u32) -> Result<()> {
         if self.pipelines.contains_key(&variant) {
             return Ok(());
         }
-        let layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow mask"),
-                bind_group_layouts: &[Some(&self.layout), Some(lights_layout)],
-                immediate_size: 0,
-            });
         let module = create_module(
             gpu,
             "shadow mask",
@@ -242,7 +240,7 @@ impl ShadowMaskPass {
         let depth = fullscreen_pipeline(
             gpu,
             "shadow mask depth",
-            Some(&layout),
+            Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_depth"),
             &[],
@@ -255,7 +253,7 @@ impl ShadowMaskPass {
         let mask = fullscreen_pipeline(
             gpu,
             "shadow mask",
-            Some(&layout),
+            Some(&self.pipeline_layout),
             &module,
             ("vs_fullscreen", "fs_main"),
             &[MASK_FORMAT],
@@ -277,7 +275,6 @@ pub fn prepare_shadow_mask(
     targets: Res<RenderTargets>,
     shadows: Res<ShadowPass>,
     culling: Res<LightCullingPass>,
-    lighting: Res<LightingPass>,
     mut pass: ResMut<ShadowMaskPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -285,8 +282,7 @@ pub fn prepare_shadow_mask(
     else {
         return;
     };
-    let lights_layout = &lighting.layouts()[1];
-    if let Err(e) = pass.pipeline(&gpu, lights_layout, variant, buffers.uniform_light_capacity) {
+    if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity) {
         errors.0.push(e);
         return;
     }
@@ -319,7 +315,7 @@ pub fn prepare_shadow_mask(
     let groups = VIEW_AND_GBUFFER
         .group(
             &gpu,
-            &pass.layout,
+            &pass.layouts[0],
             vec![
                 buffers.view.as_entire_binding(),
                 TextureView(depth),
@@ -330,7 +326,7 @@ pub fn prepare_shadow_mask(
         .and_then(|g0| {
             let g1 = LIGHTS_AND_SHADOWS.group(
                 &gpu,
-                lights_layout,
+                &pass.layouts[1],
                 lights_and_shadows(&buffers, &shadows, &culling),
             )?;
             Ok([g0, g1])
@@ -349,75 +345,77 @@ pub fn shadow_mask_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, [g0, g1])), Some(variant), Some((_, depth))) = (
+    let (Some(encoder), Some((_, [g0, g1])), Some((_, depth))) = (
         encoder.as_mut(),
         pass.bind_groups.as_ref(),
-        plan.variant::<ShadowMaskPass>(),
         pass.depth.as_ref(),
     ) else {
         return;
     };
-    let Some(pipelines) = pass.pipelines.get(variant) else {
+    let Some(pipelines) = plan
+        .variant::<ShadowMaskPass>()
+        .and_then(|v| pass.pipelines.get(v))
+    else {
         return;
     };
-    let scope = timer.begin_step("shadow mask depth");
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow mask depth"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth.view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timer.render_writes(&scope),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        rp.set_pipeline(&pipelines.depth);
-        rp.set_bind_group(0, g0, &[]);
-        rp.set_bind_group(1, g1, &[]);
-        rp.draw(0..3, 0..1);
-    }
-    timer.end_pass(scope);
-    let scope = timer.begin_step("shadow mask");
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("shadow mask"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &pass.mask.view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    // What the depth test leaves: the background's (1, 1, 1, −1).
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 1.0,
-                        g: 1.0,
-                        b: 1.0,
-                        a: -1.0,
+    let draws = [
+        (
+            "shadow mask depth",
+            None,
+            wgpu::LoadOp::Clear(0.0),
+            &pipelines.depth,
+        ),
+        // The background keeps the clear value (1, 1, 1, −1): lit, no depth.
+        (
+            "shadow mask",
+            Some(&pass.mask.view),
+            wgpu::LoadOp::Load,
+            &pipelines.mask,
+        ),
+    ];
+    for (name, colour, depth_load, pipeline) in draws {
+        let scope = timer.begin_step(name);
+        {
+            // The depth copy has no colour target; the lookups have the mask.
+            let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = colour
+                .into_iter()
+                .map(|view| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: 1.0,
+                                g: 1.0,
+                                b: 1.0,
+                                a: -1.0,
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })
+                })
+                .collect();
+            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(name),
+                color_attachments: &attachments,
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth.view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: depth_load,
+                        store: wgpu::StoreOp::Store,
                     }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth.view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
+                    stencil_ops: None,
                 }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: timer.render_writes(&scope),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        rp.set_pipeline(&pipelines.mask);
-        rp.set_bind_group(0, g0, &[]);
-        rp.set_bind_group(1, g1, &[]);
-        rp.draw(0..3, 0..1);
+                timestamp_writes: timer.render_writes(&scope),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            rp.set_pipeline(pipeline);
+            rp.set_bind_group(0, g0, &[]);
+            rp.set_bind_group(1, g1, &[]);
+            rp.draw(0..3, 0..1);
+        }
+        timer.end_pass(scope);
     }
-    timer.end_pass(scope);
 }

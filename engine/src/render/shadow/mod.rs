@@ -3,5 +3,6 @@
 //! ([`crate::render::shadow_views`]).
 
 pub mod atlas;
+pub mod lookups;
 pub mod mask;
 pub mod pass;
