@@ -887,3 +887,43 @@ fn the_shadow_mask_matches_the_light_loops_lookups() {
         );
     }
 }
+
+/// With more shadowed directional lights than the mask has channels (3), the mask pass
+/// does not run and says why, and the light loop filters every one of them: the image is
+/// the one `--shadow-mask off` draws, to the bit.
+#[test]
+fn more_suns_than_the_mask_holds_fall_back_to_the_light_loop() {
+    let mut app = shadows_scene(ShadowFilter::Tent);
+    configure(&mut app, &[Kind::Directional], &[Kind::Point, Kind::Spot]);
+    for (i, azimuth) in [40f32, 160.0, 280.0].into_iter().enumerate() {
+        let a = azimuth.to_radians();
+        app.world_mut().spawn((
+            DirectionalLight {
+                illuminance_lux: 2000.0 * (i + 1) as f32,
+                cast_shadows: true,
+                ..DirectionalLight::default()
+            },
+            Transform::from_xyz(6.0 * a.cos(), 8.0, 6.0 * a.sin()).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+    }
+    let mut image = |mask: ShadowMask| {
+        app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
+        let report = app.render_headless(SIZE).expect("frame");
+        let decision = report
+            .plan
+            .decision(PassId::ShadowMask)
+            .expect("a shadow-mask decision")
+            .clone();
+        (app.read_hdr_image().expect("readback"), decision)
+    };
+    let (half, decision) = image(ShadowMask::Half);
+    assert!(!decision.enabled, "{}", decision.reason);
+    assert!(
+        decision.reason.contains("4 shadowed directional lights"),
+        "{}",
+        decision.reason
+    );
+    let (off, _) = image(ShadowMask::Off);
+    assert!(half.pixels().any(|p| lum(p) > 0.0));
+    assert_eq!(half.as_raw(), off.as_raw());
+}
