@@ -226,8 +226,7 @@ impl FramePass for LightingPass {
             reflection_probes: reflection_probes.enabled,
             light_culling: plan.runs(PassId::LightCulling),
             uniform_lights: buffers.lights_fit_uniform(frame),
-            uniform_shadow_views: views
-                <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
+            uniform_shadow_views: views_fit_uniform(frame),
             shadow_mask,
         };
         PassDecision {
@@ -296,6 +295,7 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
 /// Group 1: the lights, their tile lists and their shadows (defined beside the shadow
 /// lookups, and shared with the shadow-mask pass).
 pub use crate::render::shadow::lookups::{LIGHTS_AND_SHADOWS, lights_and_shadows};
+use crate::render::shadow::lookups::{lookup_defs, views_fit_uniform};
 
 /// Group 2: indirect light (defined beside the environment it binds, and shared with the
 /// reflection pass).
@@ -353,7 +353,7 @@ impl LightingPass {
     /// The shader defs of one variant, for a uniform light copy of `uniform_capacity`
     /// lights.
     pub fn defs(variant: LightingVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
-        vec![
+        let mut defs = vec![
             ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
             ShaderDef::Bool("HAS_POINT", variant.point),
             ShaderDef::Bool("HAS_SPOT", variant.spot),
@@ -361,7 +361,6 @@ impl LightingPass {
             ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
             ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
             ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
-            ShaderDef::U32("SHADOW_FILTER", variant.shadow_filter as u32),
             ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
@@ -372,19 +371,15 @@ impl LightingPass {
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("SHEEN_LOBE", false),
             ShaderDef::Bool("RELIT_BASE", false),
-            ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
-            ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
             ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
-            ShaderDef::U32(
-                "UNIFORM_SHADOW_VIEW_CAPACITY",
-                crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
-            ),
-            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
-            ShaderDef::U32(
-                "SHADOWED_LIGHT_CAPACITY",
-                crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
-            ),
-        ]
+        ];
+        defs.extend(lookup_defs(
+            variant.shadow_filter,
+            variant.uniform_lights,
+            variant.uniform_shadow_views,
+            uniform_capacity,
+        ));
+        defs
     }
 
     /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.

@@ -3,10 +3,13 @@
 //! transparent and layer passes bind as it is and the shadow-mask pass
 //! ([`crate::render::shadow::mask`]) builds for itself.
 
+use crate::quality::ShadowFilter;
 use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::extract::ExtractedFrame;
 use crate::render::light_culling::LightCullingPass;
-use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shadow::pass::ShadowPass;
+use crate::render::scene_buffers::{SHADOWED_LIGHT_CAPACITY, SceneBuffers};
+use crate::render::shaders::ShaderDef;
+use crate::render::shadow::pass::{ShadowPass, UNIFORM_SHADOW_VIEWS};
 
 /// Group 1: the lights, their tile lists and their shadows.
 pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
@@ -43,5 +46,31 @@ pub fn lights_and_shadows<'a>(
         Sampler(&shadows.sampler),
         TextureView(&shadows.atlas.view),
         shadows.views_uniform.as_entire_binding(),
+    ]
+}
+
+/// Whether every shadow view of `frame` fits the uniform copy of the view array (read
+/// from it, not from the storage buffer: cheaper on lavapipe).
+pub fn views_fit_uniform(frame: &ExtractedFrame) -> bool {
+    frame.shadow_views.len() <= UNIFORM_SHADOW_VIEWS as usize
+}
+
+/// The header constants `lights.wgsl` and `shadows.wgsl` read: the shadow filter, whether
+/// the lights and the shadow views are read from their uniform copies, and those copies'
+/// capacities (`uniform_capacity` lights), for every pass that binds
+/// [`LIGHTS_AND_SHADOWS`].
+pub fn lookup_defs(
+    filter: ShadowFilter,
+    uniform_lights: bool,
+    uniform_shadow_views: bool,
+    uniform_capacity: u32,
+) -> Vec<ShaderDef> {
+    vec![
+        ShaderDef::U32("SHADOW_FILTER", filter as u32),
+        ShaderDef::Bool("UNIFORM_LIGHTS", uniform_lights),
+        ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", uniform_shadow_views),
+        ShaderDef::U32("UNIFORM_SHADOW_VIEW_CAPACITY", UNIFORM_SHADOW_VIEWS),
+        ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
+        ShaderDef::U32("SHADOWED_LIGHT_CAPACITY", SHADOWED_LIGHT_CAPACITY),
     ]
 }

@@ -22,7 +22,9 @@ use crate::render::light_culling::LightCullingPass;
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::shadow::lookups::{LIGHTS_AND_SHADOWS, lights_and_shadows};
+use crate::render::shadow::lookups::{
+    LIGHTS_AND_SHADOWS, lights_and_shadows, lookup_defs, views_fit_uniform,
+};
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
 use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
 use bevy_ecs::prelude::*;
@@ -113,8 +115,7 @@ impl FramePass for ShadowMaskPass {
             scale: quality.shadow_mask.scale().max(1),
             filter: quality.shadow_filter,
             uniform_lights: buffers.lights_fit_uniform(frame),
-            uniform_shadow_views: frame.shadow_views.len()
-                <= crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS as usize,
+            uniform_shadow_views: views_fit_uniform(frame),
         };
         let skip = skip_reason(quality.shadow_mask, frame);
         let reason = skip.clone().unwrap_or_else(|| {
@@ -208,21 +209,14 @@ impl ShadowMaskPass {
 
     /// The shader defs of `variant`, for a uniform light copy of `uniform_capacity` lights.
     pub fn defs(variant: MaskVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
-        vec![
-            ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale),
-            ShaderDef::U32("SHADOW_FILTER", variant.filter as u32),
-            ShaderDef::Bool("UNIFORM_LIGHTS", variant.uniform_lights),
-            ShaderDef::Bool("UNIFORM_SHADOW_VIEWS", variant.uniform_shadow_views),
-            ShaderDef::U32(
-                "UNIFORM_SHADOW_VIEW_CAPACITY",
-                crate::render::shadow::pass::UNIFORM_SHADOW_VIEWS,
-            ),
-            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
-            ShaderDef::U32(
-                "SHADOWED_LIGHT_CAPACITY",
-                crate::render::scene_buffers::SHADOWED_LIGHT_CAPACITY,
-            ),
-        ]
+        let mut defs = vec![ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale)];
+        defs.extend(lookup_defs(
+            variant.filter,
+            variant.uniform_lights,
+            variant.uniform_shadow_views,
+            uniform_capacity,
+        ));
+        defs
     }
 
     fn pipeline(&mut self, gpu: &Gpu, variant: MaskVariant, uniform_capacity: u32) -> Result<()> {
