@@ -20,40 +20,57 @@
 // Depth bound as an unfilterable float texture: GLSL backends cannot textureLoad a
 // depth texture.
 @group(0) @binding(4) var depth_buffer: texture_2d<f32>;
-// The shadow-mask pass's output (shadow_mask.wgsl), read where SHADOW_MASK_SCALE > 0.
+// The shadow-mask pass's output (shadow_mask.wgsl), read where SHADOW_MASK_SCALE > 0, and a
+// sampler that clamps to its edge (for textureGather; it does not filter).
 @group(0) @binding(5) var shadow_mask: texture_2d<f32>;
+@group(0) @binding(6) var shadow_mask_sampler: sampler;
 
 const F16_MAX: f32 = 65504.0;
 
-// The visibility of shadowed directional lights 0 to 2 at `pixel`, whose view depth is
-// `depth` (m), from the shadow mask: at full resolution its texel; at half resolution the
-// 2 × 2 texels around the pixel centre, each weighted by shadow_mask_weight (bilinear ×
-// depth), or, where all four lie across a depth edge, the texel nearest in depth.
+// The visibility of shadowed directional lights 0 to SHADOW_MASK_LIGHTS − 1 at `pixel`,
+// whose view depth is `depth` (m), from the shadow mask: at full resolution its texel; at
+// half resolution the 2 × 2 texels around the pixel centre, each weighted by
+// shadow_mask_weight (bilinear × depth), or, where all four lie across a depth edge, the
+// texel nearest in depth. The four texels come in one textureGather per channel (depth
+// and each light), x y z w = (0, 1) (1, 1) (1, 0) (0, 0) from the footprint's top-left
+// texel; the sampler clamps at the mask's edge.
 fn shadow_mask_visibility(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
     if SHADOW_MASK_SCALE == 1u {
         return textureLoad(shadow_mask, pixel, 0).rgb;
     }
     // Texel (x, y) was shaded at pixel (2x, 2y): the pixel lies at pixel / 2 in texels.
     let t = vec2<f32>(pixel) * 0.5;
-    let base = vec2<i32>(floor(t));
-    let f = t - floor(t);
-    let last = (vec2<i32>(view.viewport.xy) + vec2<i32>(1)) / 2 - vec2<i32>(1);
-    var sum = vec3<f32>(0.0);
-    var total = 0.0;
-    var nearest = vec3<f32>(1.0);
-    var nearest_gap = 3.0e38;
-    for (var k = 0; k < 4; k++) {
-        let o = vec2<i32>(k & 1, k >> 1u);
-        let texel = textureLoad(shadow_mask, min(base + o, last), 0);
-        let bilinear = select(1.0 - f.x, f.x, o.x == 1) * select(1.0 - f.y, f.y, o.y == 1);
-        let w = shadow_mask_weight(bilinear, texel.a, depth);
-        sum += w * texel.rgb;
-        total += w;
-        let gap = abs(texel.a - depth);
-        nearest = select(nearest, texel.rgb, gap < nearest_gap);
-        nearest_gap = min(gap, nearest_gap);
+    let base = floor(t);
+    let f = t - base;
+    // The corner shared by texels base and base + 1: the gather's footprint, unambiguous.
+    let uv = (base + 1.0) / vec2<f32>(textureDimensions(shadow_mask));
+    let g = vec2<f32>(1.0) - f;
+    let bilinear = vec4<f32>(g.x * f.y, f.x * f.y, f.x * g.y, g.x * g.y);
+    let texel_depth = textureGather(3, shadow_mask, shadow_mask_sampler, uv);
+    let w = vec4<f32>(
+        shadow_mask_weight(bilinear.x, texel_depth.x, depth),
+        shadow_mask_weight(bilinear.y, texel_depth.y, depth),
+        shadow_mask_weight(bilinear.z, texel_depth.z, depth),
+        shadow_mask_weight(bilinear.w, texel_depth.w, depth),
+    );
+    let total = dot(w, vec4<f32>(1.0));
+    // The texel nearest in depth, first of (0, 0) (1, 0) (0, 1) (1, 1) on a tie.
+    let gap = abs(texel_depth - depth);
+    let least = min(min(gap.x, gap.y), min(gap.z, gap.w));
+    var nearest = vec4<f32>(0.0, 1.0, 0.0, 0.0);
+    nearest = select(nearest, vec4<f32>(1.0, 0.0, 0.0, 0.0), gap.x == least);
+    nearest = select(nearest, vec4<f32>(0.0, 0.0, 1.0, 0.0), gap.z == least);
+    nearest = select(nearest, vec4<f32>(0.0, 0.0, 0.0, 1.0), gap.w == least);
+    let weights = select(nearest, w / max(total, 1e-6), total > 1e-3);
+    var lit = vec3<f32>(1.0);
+    lit.x = dot(weights, textureGather(0, shadow_mask, shadow_mask_sampler, uv));
+    if SHADOW_MASK_LIGHTS > 1u {
+        lit.y = dot(weights, textureGather(1, shadow_mask, shadow_mask_sampler, uv));
     }
-    return select(nearest, sum / max(total, 1e-6), total > 1e-3);
+    if SHADOW_MASK_LIGHTS > 2u {
+        lit.z = dot(weights, textureGather(2, shadow_mask, shadow_mask_sampler, uv));
+    }
+    return lit;
 }
 
 @fragment

@@ -13,17 +13,16 @@
 // in m); the background keeps the pass's clear value (1, 1, 1, −1). A pixel whose
 // material does not receive shadows gets 1.
 //
-// Header constants: SHADOW_MASK_SCALE (pixels per texel along each axis, 1 or 2), and
-// those of lights.wgsl and shadows.wgsl.
+// Header constants: SHADOW_MASK_SCALE (pixels per texel along each axis, 1 or 2),
+// SHADOW_MASK_LIGHTS (the shadowed directional lights it holds, 1 to 3, one per colour
+// channel: a constant, so the loop over them unrolls), and those of lights.wgsl and
+// shadows.wgsl.
 #import common
 #import encoding
 #import bindings
 #import fullscreen
 #import lights
 #import shadows
-
-// The shadowed directional lights one mask holds (one per colour channel).
-const SHADOW_MASK_LIGHTS: u32 = 3u;
 
 // Group 0 (VIEW_AND_GBUFFER in mask.rs); group 1 is the lighting pass's lights and shadows.
 @group(0) @binding(0) var<uniform> view: View;
@@ -50,8 +49,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let world = world_h.xyz / world_h.w;
     let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
     var lit = vec3<f32>(1.0);
-    let count = min(view.shadowed_counts.x, SHADOW_MASK_LIGHTS);
-    for (var i = 0u; i < count; i++) {
+    for (var i = 0u; i < SHADOW_MASK_LIGHTS; i++) {
         lit[i] = mix(1.0, directional_shadow(shadowed_light(i, i), world, n, centre, view_depth), receives);
     }
     return vec4<f32>(lit, view_depth);

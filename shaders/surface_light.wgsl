@@ -305,22 +305,25 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     if HAS_DIRECTIONAL {
         var first = 0u;
         if DIRECTIONAL_SHADOWS {
-            first = shadowed.x;
-            for (var i = 0u; i < shadowed.x; i++) {
-                let light = shadowed_light(i, i);
-                let l = light.direction.xyz;
-                var lit: f32;
-                if SHADOW_MASK_SCALE > 0u {
-                    lit = p.directional_lit[min(i, 2u)];
-                } else {
-                    lit = mix(1.0, directional_shadow(light, world, light_side(n, l), p.frag, view_depth), receives);
+            if SHADOW_MASK_SCALE == 0u {
+                first = shadowed.x;
+                for (var i = 0u; i < shadowed.x; i++) {
+                    let light = shadowed_light(i, i);
+                    let l = light.direction.xyz;
+                    let lit = mix(1.0, directional_shadow(light, world, light_side(n, l), p.frag, view_depth), receives);
+                    color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
                 }
-                color += shade(n, v, l, surface, light.color_inv_range2.rgb * lit);
             }
         }
+        // With the mask, the shadowed suns join this loop: their visibility is one value
+        // of directional_lit (the mask holds at most 3, the first of the kind).
         for (var i = first; i < counts.x; i++) {
             let light = punctual_at(i);
-            color += shade(n, v, light.direction_spot_offset.xyz, surface, light.color_spot_scale.rgb);
+            var lit = 1.0;
+            if DIRECTIONAL_SHADOWS && SHADOW_MASK_SCALE > 0u {
+                lit = select(1.0, p.directional_lit[min(i, 2u)], i < shadowed.x);
+            }
+            color += shade(n, v, light.direction_spot_offset.xyz, surface, light.color_spot_scale.rgb * lit);
         }
     }
     if HAS_POINT {

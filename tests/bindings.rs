@@ -81,6 +81,7 @@ fn every_bind_group_list_matches_its_shader() {
         uniform_lights: true,
         uniform_shadow_views: true,
         shadow_mask: 2,
+        shadow_mask_lights: 3,
     };
     check(
         "lighting.wgsl",
@@ -134,6 +135,7 @@ fn every_bind_group_list_matches_its_shader() {
         &shadow::mask::ShadowMaskPass::defs(
             shadow::mask::MaskVariant {
                 scale: 2,
+                lights: 3,
                 filter: ShadowFilter::Pcss,
                 uniform_lights: true,
                 uniform_shadow_views: true,

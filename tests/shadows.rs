@@ -888,6 +888,104 @@ fn the_shadow_mask_matches_the_light_loops_lookups() {
     }
 }
 
+/// Three shadowed suns, as many as the mask has channels, each of one primary colour, so
+/// that each channel of the image holds one light's visibility: each light must read its
+/// own channel of the mask (the lighting pass gathers channels 1 and 2 only when the mask
+/// holds that many lights). At full resolution the image is the light loop's to the f16
+/// mask's rounding; at half resolution too wherever the light loop's image is uniform
+/// (within 1 %) over the 5 × 5 pixels around, all the upsample reads. A light that read
+/// another's channel would show that light's shadow, with no trace of it in the light
+/// loop's image.
+#[test]
+fn three_suns_read_their_own_channels_of_the_mask() {
+    let mut app = shadows_scene(ShadowFilter::Tent);
+    configure(&mut app, &[Kind::Directional], &[Kind::Point, Kind::Spot]);
+    let sun_lux = app.world().resource::<Originals>().sun_lux;
+    let world = app.world_mut();
+    for mut sun in world.query::<&mut DirectionalLight>().iter_mut(world) {
+        sun.color = LightColor::LinearRgb(Vec3::X);
+    }
+    for (colour, azimuth) in [(Vec3::Y, 280f32), (Vec3::Z, 160.0)] {
+        let a = azimuth.to_radians();
+        app.world_mut().spawn((
+            DirectionalLight {
+                illuminance_lux: sun_lux,
+                color: LightColor::LinearRgb(colour),
+                cast_shadows: true,
+                ..DirectionalLight::default()
+            },
+            Transform::from_xyz(6.0 * a.cos(), 8.0, 6.0 * a.sin()).looking_at(Vec3::ZERO, Vec3::Y),
+        ));
+    }
+    let mut image = |mask: ShadowMask| {
+        app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
+        let report = app.render_headless(SIZE).expect("frame");
+        let decision = report
+            .plan
+            .decision(PassId::ShadowMask)
+            .expect("a shadow-mask decision")
+            .clone();
+        assert_eq!(
+            decision.enabled,
+            mask != ShadowMask::Off,
+            "{}",
+            decision.reason
+        );
+        app.read_hdr_image().expect("readback")
+    };
+    let off = image(ShadowMask::Off);
+    let full = image(ShadowMask::Full);
+    let half = image(ShadowMask::Half);
+    let (w, h) = (SIZE.0 as i64, SIZE.1 as i64);
+    for c in 0..3 {
+        let at = |img: &image::Rgba32FImage, x: i64, y: i64| {
+            (x >= 0 && y >= 0 && x < w && y < h).then(|| img.get_pixel(x as u32, y as u32)[c])
+        };
+        let (mut lit, mut uniform, mut worst_full, mut worst_half) = (0, 0, 0.0f32, 0.0f32);
+        let (mut lit_min, mut lit_max) = (f32::MAX, 0.0f32);
+        for y in 0..h {
+            for x in 0..w {
+                let (Some(o), Some(f), Some(hv)) =
+                    (at(&off, x, y), at(&full, x, y), at(&half, x, y))
+                else {
+                    continue;
+                };
+                if o <= 1e-3 {
+                    continue;
+                }
+                lit += 1;
+                worst_full = worst_full.max((f - o).abs() / o);
+                let flat = (-2..=2)
+                    .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
+                    .all(|(dx, dy)| {
+                        at(&off, x + dx, y + dy).is_some_and(|a| (a - o).abs() <= 0.01 * o)
+                    });
+                if flat {
+                    uniform += 1;
+                    worst_half = worst_half.max((hv - o).abs() / o);
+                    lit_min = lit_min.min(o);
+                    lit_max = lit_max.max(o);
+                }
+            }
+        }
+        eprintln!(
+            "channel {c}: {lit} lit pixels, full worst {worst_full:.5}; {uniform} uniform ({lit_min:.3}..{lit_max:.3}), half worst {worst_half:.5}"
+        );
+        assert!(
+            lit > 10_000 && uniform > 5_000,
+            "channel {c}: {lit} lit, {uniform} uniform pixels"
+        );
+        assert!(
+            worst_full <= 4e-3,
+            "channel {c}: full mask off by {worst_full}"
+        );
+        assert!(
+            worst_half <= 0.02,
+            "channel {c}: half mask off by {worst_half} away from edges"
+        );
+    }
+}
+
 /// With more shadowed directional lights than the mask has channels (3), the mask pass
 /// does not run and says why, and the light loop filters every one of them: the image is
 /// the one `--shadow-mask off` draws, to the bit.

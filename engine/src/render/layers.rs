@@ -197,6 +197,7 @@ impl FramePass for LayersPass {
         // lights filter the shadow map themselves.
         let lighting = lighting.map(|l| LightingVariant {
             shadow_mask: 0,
+            shadow_mask_lights: 0,
             ..l
         });
         PassDecision::new(runs, reason, lighting.filter(|_| runs))

@@ -76,6 +76,8 @@ pub struct LightingVariant {
     /// Pixels per texel of the shadow mask the shadowed directional lights' visibility
     /// is read from (1 or 2), or 0 where the light loop filters the shadow map itself.
     pub shadow_mask: u32,
+    /// The shadowed directional lights the mask holds (1 to 3; 0 without a mask).
+    pub shadow_mask_lights: u32,
 }
 
 impl FramePass for LightingPass {
@@ -128,10 +130,10 @@ impl FramePass for LightingPass {
         let point = kind("point lights", counts.point);
         let spot = kind("spot lights", counts.spot);
         let visibility = Decision::new("visibility term", true, quality.visibility.name());
-        let shadow_mask = plan
+        let (shadow_mask, shadow_mask_lights) = plan
             .variant::<ShadowMaskPass>()
             .filter(|_| plan.runs(PassId::ShadowMask))
-            .map_or(0, |v| v.scale);
+            .map_or((0, 0), |v| (v.scale, v.lights));
         let shadow_lookups = Decision::new(
             "shadow lookups",
             views > 0 && instances > 0,
@@ -228,6 +230,7 @@ impl FramePass for LightingPass {
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views_fit_uniform(frame),
             shadow_mask,
+            shadow_mask_lights,
         };
         PassDecision {
             runs: true,
@@ -288,7 +291,11 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
         ("gbuffer1", Binding::TextureLoad),
         ("gbuffer2", Binding::TextureLoad),
         ("depth_buffer", Binding::TextureLoad),
-        ("shadow_mask", Binding::TextureLoad),
+        (
+            "shadow_mask",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
+        ("shadow_mask_sampler", Binding::Sampler),
     ],
 };
 
@@ -372,6 +379,7 @@ impl LightingPass {
             ShaderDef::Bool("SHEEN_LOBE", false),
             ShaderDef::Bool("RELIT_BASE", false),
             ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
+            ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.shadow_mask_lights),
         ];
         defs.extend(lookup_defs(
             variant.shadow_filter,
@@ -493,6 +501,7 @@ pub fn prepare_lighting(
                 TextureView(emissive),
                 TextureView(depth),
                 TextureView(mask.view()),
+                Sampler(mask.sampler()),
             ],
             1 => lights_and_shadows(&buffers, &shadows, &culling),
             2 => vec![

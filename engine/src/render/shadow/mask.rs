@@ -89,6 +89,9 @@ pub fn skip_reason(mask: ShadowMask, frame: &ExtractedFrame) -> Option<String> {
 pub struct MaskVariant {
     /// Pixels per mask texel along each axis (1 or 2).
     pub scale: u32,
+    /// The shadowed directional lights it holds (1 to [`MASK_LIGHTS`]): a shader
+    /// constant, so the loop over them unrolls.
+    pub lights: u32,
     /// The shadow filter.
     pub filter: crate::quality::ShadowFilter,
     /// Every light fits the uniform copy of the light array.
@@ -113,6 +116,7 @@ impl FramePass for ShadowMaskPass {
         let buffers = world.resource::<SceneBuffers>();
         let variant = MaskVariant {
             scale: quality.shadow_mask.scale().max(1),
+            lights: frame.shadowed_counts[0].clamp(1, MASK_LIGHTS),
             filter: quality.shadow_filter,
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views_fit_uniform(frame),
@@ -169,6 +173,9 @@ pub struct ShadowMaskPass {
     /// The mask (a 1 × 1 texel until the pass first runs, so that the lighting pass always
     /// has one to bind).
     mask: Target,
+    /// What the lighting pass gathers the mask with: clamped to its edge, so a pixel on
+    /// the last row or column reads the last texel twice.
+    sampler: wgpu::Sampler,
     /// The depth of each texel's pixel, at mask resolution, that the mask is depth-tested
     /// against (software rasterizers shade a masked-off lane as dearly as a live one: the
     /// depth test is what spares the background), with the mask's size.
@@ -196,6 +203,10 @@ impl ShadowMaskPass {
             pipeline_layout,
             pipelines: HashMap::new(),
             mask: Target::new(gpu, "shadow mask", (1, 1), MASK_FORMAT),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow mask"),
+                ..Default::default()
+            }),
             depth: None,
             generation: 0,
             bind_groups: None,
@@ -207,9 +218,17 @@ impl ShadowMaskPass {
         &self.mask.view
     }
 
+    /// The sampler the lighting pass gathers the mask with.
+    pub fn sampler(&self) -> &wgpu::Sampler {
+        &self.sampler
+    }
+
     /// The shader defs of `variant`, for a uniform light copy of `uniform_capacity` lights.
     pub fn defs(variant: MaskVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
-        let mut defs = vec![ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale)];
+        let mut defs = vec![
+            ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale),
+            ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.lights),
+        ];
         defs.extend(lookup_defs(
             variant.filter,
             variant.uniform_lights,

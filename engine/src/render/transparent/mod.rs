@@ -95,6 +95,7 @@ impl TransparentVariant {
                 ao_multi_bounce: false,
                 light_culling: false,
                 shadow_mask: 0,
+                shadow_mask_lights: 0,
                 ..lighting
             },
             weighted: transparency == Transparency::WeightedBlended,
