@@ -8,7 +8,7 @@ use glam::Vec3;
 use lumen::App;
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::render::graph::PassId;
+use lumen::render::graph::{Decision, PassId};
 use lumen_game::scenes::{
     SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,
     SHADOWS_SPOT, SHADOWS_SUN_FROM,
@@ -807,6 +807,18 @@ fn visibility(shadowed: &image::Rgba32FImage, lit: &image::Rgba32FImage) -> Vec<
         .collect()
 }
 
+/// Whether every pixel of the 5 × 5 around `(x, y)` (all the half-resolution mask's
+/// upsample reads) exists and satisfies `close`.
+fn flat_around(
+    at: impl Fn(i64, i64) -> Option<f32>,
+    (x, y): (i64, i64),
+    close: impl Fn(f32) -> bool,
+) -> bool {
+    (-2..=2)
+        .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
+        .all(|(dx, dy)| at(x + dx, y + dy).is_some_and(&close))
+}
+
 /// The shadow mask (`--shadow-mask`) against the light loop's own lookups, on `shadows`
 /// lit by its sun alone, for a filter without noise and one with: at full resolution the
 /// same visibility (to the f16 mask's rounding); at half resolution the same wherever the
@@ -849,13 +861,7 @@ fn the_shadow_mask_matches_the_light_loops_lookups() {
                     continue;
                 };
                 worst_full = worst_full.max((f - o).abs());
-                let around: Vec<Option<f32>> = (-2..=2)
-                    .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
-                    .map(|(dx, dy)| at(&off, x + dx, y + dy))
-                    .collect();
-                let uniform = around
-                    .iter()
-                    .all(|a| a.is_some_and(|a| (a - o).abs() < 1e-3));
+                let uniform = flat_around(|x, y| at(&off, x, y), (x, y), |a| (a - o).abs() < 1e-3);
                 if uniform {
                     flat += 1;
                     worst_flat = worst_flat.max((hv - o).abs());
@@ -888,6 +894,33 @@ fn the_shadow_mask_matches_the_light_loops_lookups() {
     }
 }
 
+/// Adds a shadowed sun of `lux` and colour `colour` shining from azimuth `azimuth_deg`
+/// (degrees about +Y) and 53° above the horizon, towards the origin.
+fn spawn_sun(app: &mut App, azimuth_deg: f32, lux: f32, colour: Vec3) {
+    let a = azimuth_deg.to_radians();
+    app.world_mut().spawn((
+        DirectionalLight {
+            illuminance_lux: lux,
+            color: LightColor::LinearRgb(colour),
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(6.0 * a.cos(), 8.0, 6.0 * a.sin()).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+}
+
+/// The HDR image with `--shadow-mask mask`, and the mask pass's decision.
+fn render_with_mask(app: &mut App, mask: ShadowMask) -> (image::Rgba32FImage, Decision) {
+    app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
+    let report = app.render_headless(SIZE).expect("frame");
+    let decision = report
+        .plan
+        .decision(PassId::ShadowMask)
+        .expect("a shadow-mask decision")
+        .clone();
+    (app.read_hdr_image().expect("readback"), decision)
+}
+
 /// Three shadowed suns, as many as the mask has channels, each of one primary colour, so
 /// that each channel of the image holds one light's visibility: each light must read its
 /// own channel of the mask (the lighting pass gathers channels 1 and 2 only when the mask
@@ -905,33 +938,17 @@ fn three_suns_read_their_own_channels_of_the_mask() {
     for mut sun in world.query::<&mut DirectionalLight>().iter_mut(world) {
         sun.color = LightColor::LinearRgb(Vec3::X);
     }
-    for (colour, azimuth) in [(Vec3::Y, 280f32), (Vec3::Z, 160.0)] {
-        let a = azimuth.to_radians();
-        app.world_mut().spawn((
-            DirectionalLight {
-                illuminance_lux: sun_lux,
-                color: LightColor::LinearRgb(colour),
-                cast_shadows: true,
-                ..DirectionalLight::default()
-            },
-            Transform::from_xyz(6.0 * a.cos(), 8.0, 6.0 * a.sin()).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
-    }
+    spawn_sun(&mut app, 280.0, sun_lux, Vec3::Y);
+    spawn_sun(&mut app, 160.0, sun_lux, Vec3::Z);
     let mut image = |mask: ShadowMask| {
-        app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
-        let report = app.render_headless(SIZE).expect("frame");
-        let decision = report
-            .plan
-            .decision(PassId::ShadowMask)
-            .expect("a shadow-mask decision")
-            .clone();
+        let (image, decision) = render_with_mask(&mut app, mask);
         assert_eq!(
             decision.enabled,
             mask != ShadowMask::Off,
             "{}",
             decision.reason
         );
-        app.read_hdr_image().expect("readback")
+        image
     };
     let off = image(ShadowMask::Off);
     let full = image(ShadowMask::Full);
@@ -942,7 +959,6 @@ fn three_suns_read_their_own_channels_of_the_mask() {
             (x >= 0 && y >= 0 && x < w && y < h).then(|| img.get_pixel(x as u32, y as u32)[c])
         };
         let (mut lit, mut uniform, mut worst_full, mut worst_half) = (0, 0, 0.0f32, 0.0f32);
-        let (mut lit_min, mut lit_max) = (f32::MAX, 0.0f32);
         for y in 0..h {
             for x in 0..w {
                 let (Some(o), Some(f), Some(hv)) =
@@ -955,21 +971,16 @@ fn three_suns_read_their_own_channels_of_the_mask() {
                 }
                 lit += 1;
                 worst_full = worst_full.max((f - o).abs() / o);
-                let flat = (-2..=2)
-                    .flat_map(|dy| (-2..=2).map(move |dx| (dx, dy)))
-                    .all(|(dx, dy)| {
-                        at(&off, x + dx, y + dy).is_some_and(|a| (a - o).abs() <= 0.01 * o)
-                    });
+                let flat =
+                    flat_around(|x, y| at(&off, x, y), (x, y), |a| (a - o).abs() <= 0.01 * o);
                 if flat {
                     uniform += 1;
                     worst_half = worst_half.max((hv - o).abs() / o);
-                    lit_min = lit_min.min(o);
-                    lit_max = lit_max.max(o);
                 }
             }
         }
         eprintln!(
-            "channel {c}: {lit} lit pixels, full worst {worst_full:.5}; {uniform} uniform ({lit_min:.3}..{lit_max:.3}), half worst {worst_half:.5}"
+            "channel {c}: {lit} lit pixels, full worst {worst_full:.5}; {uniform} uniform, half worst {worst_half:.5}"
         );
         assert!(
             lit > 10_000 && uniform > 5_000,
@@ -994,26 +1005,9 @@ fn more_suns_than_the_mask_holds_fall_back_to_the_light_loop() {
     let mut app = shadows_scene(ShadowFilter::Tent);
     configure(&mut app, &[Kind::Directional], &[Kind::Point, Kind::Spot]);
     for (i, azimuth) in [40f32, 160.0, 280.0].into_iter().enumerate() {
-        let a = azimuth.to_radians();
-        app.world_mut().spawn((
-            DirectionalLight {
-                illuminance_lux: 2000.0 * (i + 1) as f32,
-                cast_shadows: true,
-                ..DirectionalLight::default()
-            },
-            Transform::from_xyz(6.0 * a.cos(), 8.0, 6.0 * a.sin()).looking_at(Vec3::ZERO, Vec3::Y),
-        ));
+        spawn_sun(&mut app, azimuth, 2000.0 * (i + 1) as f32, Vec3::ONE);
     }
-    let mut image = |mask: ShadowMask| {
-        app.world_mut().resource_mut::<Quality>().shadow_mask = mask;
-        let report = app.render_headless(SIZE).expect("frame");
-        let decision = report
-            .plan
-            .decision(PassId::ShadowMask)
-            .expect("a shadow-mask decision")
-            .clone();
-        (app.read_hdr_image().expect("readback"), decision)
-    };
+    let mut image = |mask: ShadowMask| render_with_mask(&mut app, mask);
     let (half, decision) = image(ShadowMask::Half);
     assert!(!decision.enabled, "{}", decision.reason);
     assert!(
