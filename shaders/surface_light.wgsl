@@ -7,7 +7,8 @@
 //
 // Header constants: HAS_DIRECTIONAL, HAS_POINT, HAS_SPOT (light kinds present in the
 // scene; absent kinds compile to nothing), VISIBILITY_MODEL, DIRECTIONAL_SHADOWS,
-// POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights), SHADOW_FILTER,
+// POINT_SHADOWS, SPOT_SHADOWS (kinds with shadowed lights), DIRECTIONAL_SHADOWED,
+// POINT_SHADOWED, SPOT_SHADOWED (their counts, see shadowed_count), SHADOW_FILTER,
 // HAS_ENVIRONMENT and ENV_MAP (image-based lighting from an image or a uniform colour),
 // ENERGY_COMPENSATION (multiple-scattering compensation of the specular lobe),
 // SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
@@ -198,6 +199,19 @@ struct ShadingPoint {
     directional_lit: vec3<f32>,
 }
 
+// The number of shadowed lights of one kind: the header constant `constant`
+// (DIRECTIONAL_SHADOWED, POINT_SHADOWED or SPOT_SHADOWED), or, where it is
+// SHADOWED_AT_RUN_TIME, the view's count `run_time`. A constant count unrolls the kind's
+// shadowed loop and gives its reads constant indices (lighting.rs,
+// UNROLLED_SHADOWED_LIGHTS).
+const SHADOWED_AT_RUN_TIME: u32 = 0xffffffffu;
+fn shadowed_count(constant: u32, run_time: u32) -> u32 {
+    if constant == SHADOWED_AT_RUN_TIME {
+        return run_time;
+    }
+    return constant;
+}
+
 // The world position (m) of a forward pass's fragment at `clip` (its @builtin(position):
 // pixel centre and depth), as the deferred pass finds it from the depth buffer.
 fn fragment_world(clip: vec4<f32>) -> vec3<f32> {
@@ -294,7 +308,11 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
             * (surface.base_color * irradiance * diffuse_ao * diffuse_weight + transmitted) * fd_lambert();
         color += diffuse + prefiltered * e_spec * specular_occlusion(n_dot_v, ao, r);
     }
-    let shadowed = view.shadowed_counts;
+    let shadowed = vec3<u32>(
+        shadowed_count(DIRECTIONAL_SHADOWED, view.shadowed_counts.x),
+        shadowed_count(POINT_SHADOWED, view.shadowed_counts.y),
+        shadowed_count(SPOT_SHADOWED, view.shadowed_counts.z),
+    );
     let receives = p.receives;
     let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
     var tile = 0u;

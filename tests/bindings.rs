@@ -69,6 +69,7 @@ fn every_bind_group_list_matches_its_shader() {
         spot: true,
         visibility: VisibilityModel::default(),
         shadows: [true; 3],
+        shadowed_counts: [2, 1, 1],
         shadow_filter: ShadowFilter::Pcss,
         environment: true,
         env_map: true,

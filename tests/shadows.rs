@@ -8,6 +8,7 @@ use glam::Vec3;
 use lumen::App;
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
+use lumen::render::extract::ExtractedFrame;
 use lumen::render::graph::{Decision, PassId};
 use lumen_game::scenes::{
     SHADOWS_CAMERA, SHADOWS_CUBE, SHADOWS_FOV_DEG, SHADOWS_PILLAR, SHADOWS_POINT, SHADOWS_SPHERE,
@@ -995,6 +996,45 @@ fn three_suns_read_their_own_channels_of_the_mask() {
             "channel {c}: half mask off by {worst_half} away from edges"
         );
     }
+}
+
+/// Up to `UNROLLED_SHADOWED_LIGHTS` (4) shadowed lights of a kind, the light loop's count
+/// is a shader constant (the goldens cover it); beyond it, the view's count is read at
+/// run time. Six shadowed suns take that path: where nothing occludes them (most of the
+/// floor) the image is the one the same six suns draw without shadows, so every one of
+/// them is lit, and their shadows darken the rest.
+#[test]
+fn six_shadowed_suns_are_counted_at_run_time_and_all_lit() {
+    let mut app = shadows_scene(ShadowFilter::Tent);
+    configure(&mut app, &[Kind::Directional], &[Kind::Point, Kind::Spot]);
+    app.world_mut().resource_mut::<Quality>().shadow_mask = ShadowMask::Off;
+    for (i, azimuth) in [40f32, 100.0, 160.0, 220.0, 280.0].into_iter().enumerate() {
+        spawn_sun(&mut app, azimuth, 1000.0 * (i + 1) as f32, Vec3::ONE);
+    }
+    let shadowed = render(&mut app);
+    assert_eq!(
+        app.world().resource::<ExtractedFrame>().shadowed_counts[0],
+        6,
+        "six shadowed suns"
+    );
+    let world = app.world_mut();
+    for mut sun in world.query::<&mut DirectionalLight>().iter_mut(world) {
+        sun.cast_shadows = false;
+    }
+    let open = render(&mut app);
+    let mut ratios: Vec<f32> = shadowed
+        .pixels()
+        .zip(open.pixels())
+        .filter(|(_, o)| lum(o) > 1e-3)
+        .map(|(s, o)| lum(s) / lum(o))
+        .collect();
+    assert!(ratios.len() > 10_000, "{} lit pixels", ratios.len());
+    ratios.sort_by(f32::total_cmp);
+    let median = ratios[ratios.len() / 2];
+    let darkened = ratios.iter().filter(|&&r| r < 0.9).count() as f32 / ratios.len() as f32;
+    eprintln!("median shadowed ÷ open {median:.5}, {darkened:.4} of the pixels below 0.9");
+    assert!((median - 1.0).abs() <= 1e-3, "median ratio {median}");
+    assert!(darkened > 0.01, "only {darkened} of the pixels in shadow");
 }
 
 /// With more shadowed directional lights than the mask has channels (3), the mask pass

@@ -37,6 +37,28 @@ impl PassId {
     pub const Lighting: PassId = PassId::new("lighting");
 }
 
+/// The most shadowed lights of one kind whose count is a shader constant: their loop
+/// unrolls and every read of a light or a shadow view in it has a constant index, which
+/// on lavapipe makes the sun's lookups in the light loop about half as costly
+/// (`docs/src/measured.md`, "Constant shadowed-light counts"). More are counted at run time,
+/// so that a scene with many shadowed lights does not compile one copy of the lookup per
+/// light.
+pub const UNROLLED_SHADOWED_LIGHTS: u32 = 4;
+
+/// The shader constant that stands for "read the count from `view.shadowed_counts`".
+pub const SHADOWED_AT_RUN_TIME: u32 = u32::MAX;
+
+/// The shader constant of a kind's shadowed-light count: the count where its lookups are
+/// compiled in and it is at most [`UNROLLED_SHADOWED_LIGHTS`], else
+/// [`SHADOWED_AT_RUN_TIME`].
+pub fn shadowed_count_constant(compiled: bool, count: u32) -> u32 {
+    if compiled && count <= UNROLLED_SHADOWED_LIGHTS {
+        count
+    } else {
+        SHADOWED_AT_RUN_TIME
+    }
+}
+
 /// The shader variant of the lighting pass: which light kinds it loops over.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct LightingVariant {
@@ -50,6 +72,9 @@ pub struct LightingVariant {
     pub visibility: VisibilityModel,
     /// Shadow lookups compiled in for directional, point and spot lights.
     pub shadows: [bool; 3],
+    /// The shadowed lights of each kind as shader constants (`DIRECTIONAL_SHADOWED`,
+    /// `POINT_SHADOWED`, `SPOT_SHADOWED`; [`shadowed_count_constant`]).
+    pub shadowed_counts: [u32; 3],
     /// Shadow filter.
     pub shadow_filter: ShadowFilter,
     /// Image-based lighting compiled in.
@@ -218,6 +243,12 @@ impl FramePass for LightingPass {
             spot: spot.enabled,
             visibility: quality.visibility,
             shadows: [0, 1, 2].map(|k| shadow_lookups.enabled && frame.shadowed_counts[k] > 0),
+            shadowed_counts: [0, 1, 2].map(|k| {
+                shadowed_count_constant(
+                    shadow_lookups.enabled && frame.shadowed_counts[k] > 0,
+                    frame.shadowed_counts[k],
+                )
+            }),
             shadow_filter: quality.shadow_filter,
             environment: environment.enabled,
             env_map: environment.enabled && env.is_some_and(|e| e.image.is_some()),
@@ -368,6 +399,9 @@ impl LightingPass {
             ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
             ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
             ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
+            ShaderDef::U32("DIRECTIONAL_SHADOWED", variant.shadowed_counts[0]),
+            ShaderDef::U32("POINT_SHADOWED", variant.shadowed_counts[1]),
+            ShaderDef::U32("SPOT_SHADOWED", variant.shadowed_counts[2]),
             ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
@@ -590,4 +624,27 @@ pub fn lighting_pass(
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadowed_counts_are_constants_up_to_the_unrolled_limit() {
+        for count in 0..=UNROLLED_SHADOWED_LIGHTS {
+            assert_eq!(shadowed_count_constant(true, count), count);
+        }
+        assert_eq!(
+            shadowed_count_constant(true, UNROLLED_SHADOWED_LIGHTS + 1),
+            SHADOWED_AT_RUN_TIME
+        );
+        // A kind whose lookups are not compiled keeps the view's count, which the slots
+        // of the kinds after it are offset by.
+        assert_eq!(shadowed_count_constant(false, 2), SHADOWED_AT_RUN_TIME);
+        // The shader's sentinel is the same number.
+        let source = crate::render::shaders::builtin("surface_light.wgsl").expect("source");
+        assert!(source.contains("const SHADOWED_AT_RUN_TIME: u32 = 0xffffffffu;"));
+        assert_eq!(SHADOWED_AT_RUN_TIME, 0xffff_ffff);
+    }
 }
