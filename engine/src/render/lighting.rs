@@ -237,18 +237,15 @@ impl FramePass for LightingPass {
                 "no AO pass: materials' occlusion only"
             },
         );
+        let shadows = [0, 1, 2].map(|k| shadow_lookups.enabled && frame.shadowed_counts[k] > 0);
         let variant = LightingVariant {
             directional: directional.enabled,
             point: point.enabled,
             spot: spot.enabled,
             visibility: quality.visibility,
-            shadows: [0, 1, 2].map(|k| shadow_lookups.enabled && frame.shadowed_counts[k] > 0),
-            shadowed_counts: [0, 1, 2].map(|k| {
-                shadowed_count_constant(
-                    shadow_lookups.enabled && frame.shadowed_counts[k] > 0,
-                    frame.shadowed_counts[k],
-                )
-            }),
+            shadows,
+            shadowed_counts: [0, 1, 2]
+                .map(|k| shadowed_count_constant(shadows[k], frame.shadowed_counts[k])),
             shadow_filter: quality.shadow_filter,
             environment: environment.enabled,
             env_map: environment.enabled && env.is_some_and(|e| e.image.is_some()),

@@ -145,9 +145,46 @@ pub fn draw_fullscreen_with(
     bind_group: &wgpu::BindGroup,
     load: wgpu::LoadOp<wgpu::Color>,
 ) {
-    let scope = timer.begin_step(name);
+    draw_fullscreen_pass(
+        encoder,
+        timer,
+        &FullscreenDraw {
+            name,
+            targets,
+            load,
+            depth: None,
+            pipeline,
+            groups: &[bind_group],
+        },
+    );
+}
+
+/// One full-screen draw in a timed pass of its own, in full.
+pub struct FullscreenDraw<'a> {
+    /// The pass's name (or one of its steps), its label and timer scope.
+    pub name: &'static str,
+    /// The colour targets, each loaded with `load` and stored.
+    pub targets: &'a [&'a wgpu::TextureView],
+    /// How the colour targets are loaded.
+    pub load: wgpu::LoadOp<wgpu::Color>,
+    /// A depth attachment and how it is loaded (stored either way), if any.
+    pub depth: Option<(&'a wgpu::TextureView, wgpu::LoadOp<f32>)>,
+    /// The pipeline.
+    pub pipeline: &'a wgpu::RenderPipeline,
+    /// Bind groups 0, 1, … in order.
+    pub groups: &'a [&'a wgpu::BindGroup],
+}
+
+/// Records `draw`: the full-screen triangle in a timed render pass of its own.
+pub fn draw_fullscreen_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    timer: &mut GpuTimer,
+    draw: &FullscreenDraw,
+) {
+    let scope = timer.begin_step(draw.name);
     {
-        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
+        let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = draw
+            .targets
             .iter()
             .map(|view| {
                 Some(wgpu::RenderPassColorAttachment {
@@ -155,22 +192,34 @@ pub fn draw_fullscreen_with(
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
-                        load,
+                        load: draw.load,
                         store: wgpu::StoreOp::Store,
                     },
                 })
             })
             .collect();
+        let depth_stencil_attachment =
+            draw.depth
+                .map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load,
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                });
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(name),
+            label: Some(draw.name),
             color_attachments: &attachments,
-            depth_stencil_attachment: None,
+            depth_stencil_attachment,
             timestamp_writes: timer.render_writes(&scope),
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, bind_group, &[]);
+        rp.set_pipeline(draw.pipeline);
+        for (i, group) in draw.groups.iter().enumerate() {
+            rp.set_bind_group(i as u32, *group, &[]);
+        }
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);

@@ -19,7 +19,9 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::light_culling::LightCullingPass;
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::pipelines::{
+    FullscreenDraw, create_module, draw_fullscreen_pass, fullscreen_pipeline,
+};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::lookups::{
@@ -371,64 +373,34 @@ pub fn shadow_mask_pass(
     else {
         return;
     };
+    let groups = [g0, g1];
+    // The depth copy has no colour target; the lookups' mask is cleared to (1, 1, 1, −1),
+    // which the background keeps: lit, no depth.
+    let background = wgpu::Color {
+        r: 1.0,
+        g: 1.0,
+        b: 1.0,
+        a: -1.0,
+    };
     let draws = [
-        (
-            "shadow mask depth",
-            None,
-            wgpu::LoadOp::Clear(0.0),
-            &pipelines.depth,
-        ),
-        // The background keeps the clear value (1, 1, 1, −1): lit, no depth.
-        (
-            "shadow mask",
-            Some(&pass.mask.view),
-            wgpu::LoadOp::Load,
-            &pipelines.mask,
-        ),
+        FullscreenDraw {
+            name: "shadow mask depth",
+            targets: &[],
+            load: wgpu::LoadOp::Clear(background),
+            depth: Some((&depth.view, wgpu::LoadOp::Clear(0.0))),
+            pipeline: &pipelines.depth,
+            groups: &groups,
+        },
+        FullscreenDraw {
+            name: "shadow mask",
+            targets: &[&pass.mask.view],
+            load: wgpu::LoadOp::Clear(background),
+            depth: Some((&depth.view, wgpu::LoadOp::Load)),
+            pipeline: &pipelines.mask,
+            groups: &groups,
+        },
     ];
-    for (name, colour, depth_load, pipeline) in draws {
-        let scope = timer.begin_step(name);
-        {
-            // The depth copy has no colour target; the lookups have the mask.
-            let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = colour
-                .into_iter()
-                .map(|view| {
-                    Some(wgpu::RenderPassColorAttachment {
-                        view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: 1.0,
-                                g: 1.0,
-                                b: 1.0,
-                                a: -1.0,
-                            }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })
-                })
-                .collect();
-            let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some(name),
-                color_attachments: &attachments,
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth.view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: depth_load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: timer.render_writes(&scope),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            rp.set_pipeline(pipeline);
-            rp.set_bind_group(0, g0, &[]);
-            rp.set_bind_group(1, g1, &[]);
-            rp.draw(0..3, 0..1);
-        }
-        timer.end_pass(scope);
+    for draw in &draws {
+        draw_fullscreen_pass(encoder, timer, draw);
     }
 }
