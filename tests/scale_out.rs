@@ -28,6 +28,7 @@ fn lumen(dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Output {
         "SLURM_ARRAY_TASK_ID",
         "SLURM_ARRAY_TASK_COUNT",
         "SLURM_ARRAY_TASK_MIN",
+        "SLURM_ARRAY_TASK_STEP",
         "JOB_COMPLETION_INDEX",
         "AWS_BATCH_JOB_ARRAY_INDEX",
         "AWS_BATCH_JOB_ARRAY_SIZE",
@@ -148,10 +149,31 @@ fn four_shards_merge_into_the_single_render_and_bad_parts_are_named() {
     ];
     ok(&lumen(d, &args, &[]));
     refuse(merge(d, &mixed), "a part of scene 'furnace'");
+    // A part stamped by another build (version and git revision) is refused.
+    let sidecar = d.join("ref.shard-2-of-4.exr.json");
+    let text = std::fs::read_to_string(&sidecar).expect("sidecar");
+    let mut stamped: serde_json::Value = serde_json::from_str(&text).expect("json");
+    stamped["lumen_version"] = "0.0.0 (another build)".into();
+    std::fs::write(&sidecar, stamped.to_string()).expect("sidecar");
+    refuse(merge(d, &parts), "written by lumen 0.0.0 (another build)");
+    std::fs::write(&sidecar, text).expect("sidecar");
 
-    // Resuming: a part that exists is skipped; a truncated one is found, then redone.
+    // Resuming: a part that exists is skipped, left as it was (bytes and time); a
+    // truncated one is found, then redone.
+    let stamp = |p: &std::path::Path| {
+        let meta = std::fs::metadata(p).expect("part");
+        (
+            std::fs::read(p).expect("part"),
+            meta.modified().expect("time"),
+        )
+    };
+    let before = stamp(&parts[1]);
     let again = ok(&reference(d, &["--shard", "1/4", "--out", "ref.exr"], &[]));
     assert!(again.contains("skipped"), "{again}");
+    assert!(
+        stamp(&parts[1]) == before,
+        "a skipped part was written again"
+    );
     let bytes = std::fs::read(&parts[1]).expect("part");
     std::fs::write(&parts[1], &bytes[..bytes.len() / 2]).expect("truncate");
     refuse(merge(d, &parts), "truncated or corrupt");
@@ -308,6 +330,15 @@ fn a_sequence_split_three_ways_holds_the_frames_of_the_whole() {
     std::fs::write(&frame, &bytes[..bytes.len() / 2]).expect("truncate");
     common::assert_clean_failure(&merge(&manifests), "frame 2 (");
     // Run again, the shard that holds it renders that frame again, and only that one.
+    let text = render("split/f-##.png", Some("1/3"));
+    assert!(
+        text.contains("frame 1:") && !text.contains("frame 2:") && text.contains("f-02.png"),
+        "{text}"
+    );
+    ok(&merge(&manifests));
+    // A frame replaced by another whole image decodes, but its checksum is not the one
+    // the manifest recorded: it is rendered again too.
+    std::fs::copy(d.join("split/f-01.png"), &frame).expect("copy");
     let text = render("split/f-##.png", Some("1/3"));
     assert!(
         text.contains("frame 1:") && !text.contains("frame 2:") && text.contains("f-02.png"),

@@ -352,12 +352,25 @@ fn extreme_transmissions_stay_finite() {
         let scene = trace_scene(&mut app, (32, 32)).expect("trace scene");
         let options = options((32, 32), 2, 8, 1);
         let result = render(&scene, &options, &|_| {});
+        // The tracer leaves non-finite paths out of the mean and counts them, so its
+        // image is finite whatever happens: the count is what can fail.
+        assert_eq!(
+            result.dropped_samples, 0,
+            "ior {ior}, thickness {thickness}, distance {distance}: non-finite paths"
+        );
+        // No interface adds light, but Russian roulette (from the fourth bounce, survival
+        // at most 0.95) divides a surviving path by its survival: one path may carry up to
+        // 0.95^−5 of the emitter's light after 8 bounces, though the mean cannot (IOR 10,
+        // whose total internal reflection keeps paths bouncing, measured 1.11).
+        let roulette = 0.95f32.powi(-(options.max_bounces as i32 - 3));
+        let brightest = result
+            .image
+            .pixels()
+            .map(|p| Vec3::from_slice(&p.0[..3]).max_element())
+            .fold(0.0, f32::max);
         assert!(
-            result
-                .image
-                .pixels()
-                .all(|p| p.0.iter().all(|v| v.is_finite())),
-            "ior {ior}, thickness {thickness}, distance {distance}: the reference is not finite"
+            brightest <= 1.01 * roulette,
+            "ior {ior}, thickness {thickness}, distance {distance}: traced {brightest}"
         );
     }
 }

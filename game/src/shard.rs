@@ -44,26 +44,50 @@ pub fn parse_shard(s: &str) -> std::result::Result<(u32, u32), String> {
     Ok((i, n))
 }
 
-/// The environment variables that batch engines set for an array job's task, in the order
-/// they are tried: (index variable, count variable or `None` when the count comes from
-/// `--shards`, the variable of the first index when it may not be 0).
-const ENGINES: [(&str, Option<&str>, Option<&str>); 4] = [
-    (
-        "SLURM_ARRAY_TASK_ID",
-        Some("SLURM_ARRAY_TASK_COUNT"),
-        Some("SLURM_ARRAY_TASK_MIN"),
-    ),
-    ("JOB_COMPLETION_INDEX", None, None),
-    (
-        "AWS_BATCH_JOB_ARRAY_INDEX",
-        Some("AWS_BATCH_JOB_ARRAY_SIZE"),
-        None,
-    ),
-    ("HQ_TASK_ID", None, None),
+/// The environment variables a batch engine sets for an array job's task.
+struct Engine {
+    /// The task's index.
+    index: &'static str,
+    /// The number of tasks; `None` when it comes from `--shards`.
+    count: Option<&'static str>,
+    /// The first index, where it may not be 0.
+    min: Option<&'static str>,
+    /// The step between indices, where it may not be 1 (`--array=0-15:4`).
+    step: Option<&'static str>,
+}
+
+/// The batch engines, in the order they are tried.
+const ENGINES: [Engine; 4] = [
+    Engine {
+        index: "SLURM_ARRAY_TASK_ID",
+        count: Some("SLURM_ARRAY_TASK_COUNT"),
+        min: Some("SLURM_ARRAY_TASK_MIN"),
+        step: Some("SLURM_ARRAY_TASK_STEP"),
+    },
+    Engine {
+        index: "JOB_COMPLETION_INDEX",
+        count: None,
+        min: None,
+        step: None,
+    },
+    Engine {
+        index: "AWS_BATCH_JOB_ARRAY_INDEX",
+        count: Some("AWS_BATCH_JOB_ARRAY_SIZE"),
+        min: None,
+        step: None,
+    },
+    Engine {
+        index: "HQ_TASK_ID",
+        count: None,
+        min: None,
+        step: None,
+    },
 ];
 
 /// This process's shard: `--shard` (`flag`) wins; otherwise the first batch engine's
-/// index found through `env` (Slurm's task ID less its minimum, with its task count;
+/// index found through `env` (Slurm's task ID less its minimum, over its step, with its
+/// task count; an ID between two steps, as an irregular list like `--array=1,2,5` gives,
+/// is an error;
 /// Kubernetes' `JOB_COMPLETION_INDEX` and HyperQueue's `HQ_TASK_ID` with `--shards`
 /// for the count; AWS Batch's array index and size). `None`: not sharded. An index that
 /// is not a number, no count, or an index past the count is an error naming the variable.
@@ -79,7 +103,8 @@ pub fn resolve(
             source: "--shard",
         }));
     }
-    for (variable, count_variable, min_variable) in ENGINES {
+    for engine in ENGINES {
+        let variable = engine.index;
         let Some(raw) = env(variable) else {
             continue;
         };
@@ -89,15 +114,24 @@ pub fn resolve(
                 .with_context(|| format!("{name}={v:?} is not a whole number"))
         };
         let mut index = number(variable, &raw)?;
-        if let Some(min) = min_variable.and_then(|m| env(m).map(|v| (m, v))) {
-            let min = number(min.0, &min.1)?;
+        if let Some((name, v)) = engine.min.and_then(|m| env(m).map(|v| (m, v))) {
+            let min = number(name, &v)?;
             index = index
                 .checked_sub(min)
-                .with_context(|| format!("{variable}={raw} is below SLURM_ARRAY_TASK_MIN={min}"))?;
+                .with_context(|| format!("{variable}={raw} is below {name}={min}"))?;
         }
-        let count = match (count_variable.and_then(env), shards) {
+        if let Some((name, v)) = engine.step.and_then(|m| env(m).map(|v| (m, v))) {
+            let step = number(name, &v)?.max(1);
+            if index % step != 0 {
+                bail!(
+                    "{variable}={raw} is not on a step of {name}={step} from the first index: give --shard I/N"
+                );
+            }
+            index /= step;
+        }
+        let count = match (engine.count.and_then(env), shards) {
             (_, Some(n)) => n,
-            (Some(c), None) => number(count_variable.unwrap_or(variable), &c)?,
+            (Some(c), None) => number(engine.count.unwrap_or(variable), &c)?,
             (None, None) => bail!(
                 "{variable}={raw} names this task, but not how many there are: give --shards N"
             ),
@@ -127,6 +161,15 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
         (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
     })
 }
+
+/// The version a part is stamped with: the package version and the git revision the
+/// binary was built from, so that parts of two builds of one version do not merge.
+pub const LUMEN_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (",
+    env!("LUMEN_GIT_REVISION"),
+    ")"
+);
 
 /// What a shard writes beside its part (`<part>.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -193,7 +236,12 @@ pub enum PartState {
 /// again.
 pub fn part_state(part: &Path, settings: &str, scene_hash: &str, count: u32) -> PartState {
     match check_part(part) {
-        Ok(s) if s.settings == settings && s.scene_hash == scene_hash && s.count == count => {
+        Ok(s)
+            if s.settings == settings
+                && s.scene_hash == scene_hash
+                && s.count == count
+                && s.lumen_version == LUMEN_VERSION =>
+        {
             PartState::Done(Box::new(s))
         }
         Ok(_) => {
@@ -225,7 +273,7 @@ pub fn write_sidecar(
     let sidecar = Sidecar {
         schema: SIDECAR_SCHEMA.into(),
         kind: kind.into(),
-        lumen_version: env!("CARGO_PKG_VERSION").into(),
+        lumen_version: LUMEN_VERSION.into(),
         scene,
         settings,
         scene_hash,
@@ -434,6 +482,30 @@ mod tests {
             (got.index, got.count, got.source),
             (2, 4, "SLURM_ARRAY_TASK_ID")
         );
+        // `--array=0-15:4`: IDs 0, 4, 8, 12 are shards 0..4; an ID between steps (an
+        // irregular list) is refused.
+        let stepped = env(&[
+            ("SLURM_ARRAY_TASK_ID", "8"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_STEP", "4"),
+        ]);
+        assert_eq!(resolve(None, None, &stepped).unwrap().unwrap().index, 2);
+        let listed = env(&[
+            ("SLURM_ARRAY_TASK_ID", "5"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ]);
+        assert_eq!(resolve(None, None, &listed).unwrap().unwrap().index, 2);
+        let between = env(&[
+            ("SLURM_ARRAY_TASK_ID", "2"),
+            ("SLURM_ARRAY_TASK_COUNT", "3"),
+            ("SLURM_ARRAY_TASK_MIN", "1"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ]);
+        let e = resolve(None, None, &between).unwrap_err().to_string();
+        assert!(e.contains("SLURM_ARRAY_TASK_STEP=2"), "{e}");
         let k8s = env(&[("JOB_COMPLETION_INDEX", "3")]);
         let got = resolve(None, Some(5), &k8s).unwrap().unwrap();
         assert_eq!(

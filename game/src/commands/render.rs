@@ -80,6 +80,20 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
         }
     }
     let keep_frames = !matches!(state, crate::shard::PartState::OtherSettings);
+    // A frame the manifest lists is kept only with the checksum it recorded (a damaged
+    // file may still decode); without a manifest, a frame that decodes is kept (frames
+    // are written whole, by a rename).
+    let recorded: std::collections::HashMap<u32, String> =
+        match (&state, sequence::read(&manifest_path)) {
+            (crate::shard::PartState::Done(_), Ok(m)) => {
+                m.frames.into_iter().map(|e| (e.frame, e.hash)).collect()
+            }
+            _ => std::collections::HashMap::new(),
+        };
+    let whole = |path: &std::path::Path, k: u32| match recorded.get(&k) {
+        Some(hash) => sequence::FrameEntry::of(path, k).is_ok_and(|e| e.hash == *hash),
+        None => image::open(path).is_ok(),
+    };
     crate::output::print(&format!(
         "shard {}/{} (index from {}): {}\n",
         spec.index,
@@ -91,7 +105,7 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     for k in frames.clone() {
         let path = frame_path(&pattern, k);
         // A shard re-run after a failure redoes only the frames that are not whole.
-        if keep_frames && image::open(&path).is_ok() {
+        if keep_frames && whole(&path, k) {
             crate::output::print(&format!("frame {k}: {} exists: skipped\n", path.display()));
         } else {
             render_sequence_frame(args, &pattern, k)?;

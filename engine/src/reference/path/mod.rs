@@ -339,7 +339,14 @@ mod tests {
         let merged = merge_parts(&[&a, &b, &none]).expect("same sizes");
         assert_eq!(merged.image.get_pixel(0, 0).0, [2.0, 2.0, 2.0, 1.0]);
         assert_eq!(merged.paths, [4.0, 4.0]);
-        assert!(merged.standard_error[0] > 0.0);
+        // Luminances 1 (3 paths) and 5 (1 path) about the mean 2, over two parts that
+        // have paths: √((3·1² + 1·3²) / (4 · 1)) = √3; the part without paths counts
+        // for nothing.
+        for e in &merged.standard_error {
+            assert!((e - 3f64.sqrt()).abs() < 1e-9, "standard error {e}");
+        }
+        let alone = merge_parts(&[&a, &none]).expect("same sizes");
+        assert_eq!(alone.standard_error, [0.0, 0.0]);
         let huge = part(1e6, 1.0);
         assert_eq!(
             merge_parts(&[&huge]).expect("one").image.get_pixel(0, 0).0[0],
