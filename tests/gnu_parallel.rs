@@ -11,17 +11,6 @@
 use std::path::Path;
 use std::process::Command;
 
-/// The shell block that follows `heading` in `markdown`.
-fn block_after<'a>(markdown: &'a str, heading: &str) -> &'a str {
-    let from = markdown
-        .find(heading)
-        .unwrap_or_else(|| panic!("the docs have no '{heading}'"));
-    let rest = &markdown[from..];
-    let start = rest.find("```sh\n").expect("a sh block") + "```sh\n".len();
-    let end = rest[start..].find("```").expect("the block's end");
-    &rest[start..start + end]
-}
-
 fn load(path: &Path) -> image::Rgba32FImage {
     lumen::assets::image_io::load_rgba32f(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -40,7 +29,7 @@ fn the_documented_gnu_parallel_recipe_merges_into_the_single_render() {
     }
     let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/scale-out.md");
     let markdown = std::fs::read_to_string(&docs).expect("scale-out.md");
-    let recipe = block_after(&markdown, "**GNU parallel across hosts**");
+    let recipe = super::common::sh_block_after(&markdown, "**GNU parallel across hosts**", 0);
     let dir = tempfile::tempdir().expect("temp dir");
     let shared = dir.path().display().to_string();
     let small = "spheres --size 32x18 --spp 12 --max-bounces 2";

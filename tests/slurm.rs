@@ -1,7 +1,9 @@
 //! A real batch engine: a one-node Slurm cluster on localhost (munged, slurmctld, slurmd,
-//! in a temporary folder, on ports 16817–16818) runs `sbatch --array=0-3` of a sharded
-//! reference; `lumen merge` of its parts equals the single-process render. Every daemon
-//! is stopped when the test ends, passed or failed.
+//! in a temporary folder, on ports 16817–16818) runs the Slurm recipe of
+//! `docs/src/scale-out.md` as written (its `#SBATCH --array=0-3` script through `sbatch
+//! --wait`, then its `lumen merge` line), but for a small `spheres` render in place of the
+//! scene and the temporary folder in place of `/shared`; the merge equals the
+//! single-process render. Every daemon is stopped when the test ends, passed or failed.
 //!
 //! Needs Debian's `slurm-wlm` and `munge` and root (the daemons run as root). `.ci/run`
 //! installs them and sets `LUMEN_REQUIRE_SLURM=1`, which makes their absence a failure;
@@ -172,24 +174,47 @@ fn a_slurm_array_job_renders_the_shards_that_merge_into_the_single_render() {
     let daemons = start_cluster(d);
     let work: PathBuf = d.join("work");
     std::fs::create_dir_all(&work).expect("work dir");
-    let reference = format!(
-        "{} reference spheres --size 48x32 --spp 8 --max-bounces 2 --seed 5",
-        lumen()
+    // The recipe of docs/src/scale-out.md as written, but for what only a real site has:
+    // a small `spheres` render for the scene, and the temporary folder for `/shared`.
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/src/scale-out.md");
+    let markdown = std::fs::read_to_string(&docs).expect("scale-out.md");
+    let small = "spheres --size 48x32 --spp 8 --max-bounces 2 --seed 5";
+    let shared = work.display().to_string();
+    let recipe = |index: usize| {
+        let block = super::common::sh_block_after(&markdown, "**Slurm**", index);
+        let mut script = block.to_string();
+        for (what, with) in [
+            ("scene.glb --size 1920x1080 --spp 4096", small),
+            ("/shared", shared.as_str()),
+        ] {
+            if block.contains(what) {
+                script = script.replace(what, with);
+            }
+        }
+        assert!(
+            !script.contains("/shared") && !script.contains("scene.glb"),
+            "the recipe changed:\n{block}"
+        );
+        script
+    };
+    let batch = recipe(0);
+    assert!(batch.contains("#SBATCH --array=0-3"), "{batch}");
+    std::fs::write(work.join("reference.sh"), &batch).expect("script");
+    // sbatch passes its environment on: `lumen` is found on the PATH.
+    let path = format!(
+        "{}:{}",
+        Path::new(lumen()).parent().expect("bin dir").display(),
+        std::env::var("PATH").unwrap_or_default()
     );
     let start = Instant::now();
     let submitted = Command::new("timeout")
         .arg("300")
         .arg("sbatch")
-        .args(["--wait", "--array=0-3", "--chdir"])
+        .args(["--wait", "--chdir"])
         .arg(&work)
-        .arg("--output")
-        .arg(work.join("slurm-%A_%a.out"))
-        .arg("--wrap")
-        .arg(format!(
-            "{reference} --out {}",
-            work.join("ref.exr").display()
-        ))
+        .arg(work.join("reference.sh"))
         .env("SLURM_CONF", d.join("slurm.conf"))
+        .env("PATH", &path)
         .output()
         .expect("sbatch runs");
     let logs = || {
@@ -229,36 +254,27 @@ fn a_slurm_array_job_renders_the_shards_that_merge_into_the_single_render() {
         assert_eq!(sidecar["index_source"], "SLURM_ARRAY_TASK_ID");
     }
     drop(daemons);
-    let parts: Vec<String> = (0..4)
-        .map(|i| {
-            work.join(format!("ref.shard-{i}-of-4.exr"))
-                .display()
-                .to_string()
-        })
-        .collect();
-    let merged = Command::new(lumen())
-        .arg("merge")
-        .args(&parts)
-        .arg("--out")
-        .arg(work.join("merged.exr"))
+    let merge = recipe(1);
+    let merged = Command::new("bash")
+        .args(["-euo", "pipefail", "-c", &merge])
+        .current_dir(&work)
+        .env("PATH", &path)
         .output()
-        .expect("merge runs");
+        .expect("bash runs");
     assert!(
         merged.status.success(),
-        "{}",
+        "{merge}\n{}",
         String::from_utf8_lossy(&merged.stderr)
     );
     let single = Command::new(lumen())
-        .args(reference.split(' ').skip(1))
+        .arg("reference")
+        .args(small.split(' '))
         .arg("--out")
         .arg(work.join("single.exr"))
         .output()
         .expect("lumen runs");
     assert!(single.status.success());
-    let (a, b) = (
-        load(&work.join("single.exr")),
-        load(&work.join("merged.exr")),
-    );
+    let (a, b) = (load(&work.join("single.exr")), load(&work.join("ref.exr")));
     let worst = a
         .pixels()
         .zip(b.pixels())

@@ -350,3 +350,20 @@ pub fn meshopt_quad(bin: &[u8], corrupt: bool) -> (Vec<u8>, Vec<serde_json::Valu
     }
     (packed, views)
 }
+
+/// The `index`th (from 0) `sh` code block after `heading` in `markdown`: a recipe of the
+/// docs, for a test to run as written.
+pub fn sh_block_after<'a>(markdown: &'a str, heading: &str, index: usize) -> &'a str {
+    let from = markdown
+        .find(heading)
+        .unwrap_or_else(|| panic!("the docs have no '{heading}'"));
+    let mut rest = &markdown[from..];
+    for _ in 0..index {
+        let start = rest.find("```sh\n").expect("a sh block") + "```sh\n".len();
+        let end = rest[start..].find("```").expect("the block's end");
+        rest = &rest[start + end + 3..];
+    }
+    let start = rest.find("```sh\n").expect("a sh block") + "```sh\n".len();
+    let end = rest[start..].find("```").expect("the block's end");
+    &rest[start..start + end]
+}
