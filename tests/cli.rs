@@ -362,6 +362,71 @@ fn view_presents_frames_in_a_window() {
 }
 
 #[test]
+fn view_plays_a_files_first_clip_and_lists_its_clips() {
+    // Fox.glb (CC BY 4.0, assets/README.md) has three clips; the viewer plays the first
+    // in real time. Still knobs (no progressive probes, no AO noise) so that only the
+    // animation can change the picture: held at 0 s (`--time 0`), frames 2 and 40 are
+    // the same; playing, they are not.
+    let x = Xvfb::start();
+    let dir = tmp();
+    let fox = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models/Fox.glb");
+    let fox = fox.display().to_string();
+    let shot = |frames: &str, name: &str, time: Option<&str>| {
+        let mut args = vec![
+            fox.as_str(),
+            "--size",
+            "96x64",
+            "--gi",
+            "off",
+            "--reflection-probes",
+            "off",
+            "--ao",
+            "off",
+            "--frames",
+            frames,
+            "--screenshot",
+            name,
+        ];
+        if let Some(t) = time {
+            args.extend(["--time", t]);
+        }
+        let (ok, err) = run_view(&x, dir.path(), "vulkan", &args);
+        assert!(ok, "{err}");
+        let image = image::open(dir.path().join(name))
+            .expect("screenshot")
+            .to_rgba8();
+        (image, err)
+    };
+    let changed = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 8))
+            .count()
+    };
+    let (early, err) = shot("2", "early.png", None);
+    assert!(
+        err.contains("animation 'Survey' plays (clips: Survey (")
+            && err.contains("Walk (")
+            && err.contains("Run ("),
+        "{err}"
+    );
+    let (late, _) = shot("40", "late.png", None);
+    let (held_early, err) = shot("2", "held-early.png", Some("0"));
+    assert!(
+        err.contains("animation 'Survey' is held at 0.00 s"),
+        "{err}"
+    );
+    let (held_late, _) = shot("40", "held-late.png", Some("0"));
+    let (moved, still) = (changed(&early, &late), changed(&held_early, &held_late));
+    println!("pixels changed between frames 2 and 40: playing {moved}, held {still}");
+    assert_eq!(still, 0, "nothing moves while the clip is held");
+    assert!(
+        moved > 20,
+        "the fox moves while its clip plays ({moved} pixels)"
+    );
+}
+
+#[test]
 fn view_recovers_from_a_lost_device() {
     let x = Xvfb::start();
     let dir = tmp();

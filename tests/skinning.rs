@@ -1,6 +1,7 @@
 //! Skinning and morph targets on the GPU: a two-bone bar bent 90° puts its tip where the
 //! joint matrices say (in the G-buffer and in the sun's shadow), a morph weight of 0.5
-//! moves a glTF quad halfway, and the Fox in its Walk pose stays inside its bounds.
+//! moves a glTF quad halfway and turns a quad's normals halfway, and the Fox in its Walk
+//! pose stays inside its bounds.
 
 use crate::common;
 
@@ -387,6 +388,67 @@ fn morph_quad_moves_halfway(quantized: bool) {
         "{r1} vs {}",
         at(1.0)
     );
+}
+
+#[test]
+fn a_morphed_normal_turns_the_shading_normal() {
+    // A 2 m quad facing the camera (+z) whose one morph target moves every normal by
+    // (1, 0, −1): at weight w the normal is (w, 0, 1 − w), normalised in the shader. The
+    // G-buffer's normal at the centre, at weights 0, 0.5 and 1.
+    let corner = |x: f32, y: f32| {
+        Vertex::new(
+            [x, y, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5 + x / 2.0, 0.5 - y / 2.0],
+            [1.0, 0.0, 0.0, 1.0],
+        )
+    };
+    let mesh = MeshData {
+        vertices: vec![
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    let target = lumen::scene::MorphTarget {
+        normals: vec![[1.0, 0.0, -1.0]; 4],
+        ..Default::default()
+    };
+    let mut app = App::headless().expect("a GPU adapter");
+    let handle = app
+        .add_deformable_mesh(mesh, Vec::new(), Vec::new(), vec![target])
+        .expect("quad");
+    let world = app.world_mut();
+    let quad = world
+        .spawn((
+            Mesh3d(handle),
+            Material::new(Vec3::splat(0.5), 0.0, 0.5),
+            Transform::IDENTITY,
+            MorphWeights(vec![0.0]),
+        ))
+        .id();
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    let size = (32, 32);
+    for w in [0.0f32, 0.5, 1.0] {
+        app.world_mut()
+            .entity_mut(quad)
+            .insert(MorphWeights(vec![w]));
+        app.render_headless(size).expect("frame");
+        let g1 = app.read_target(FrameTarget::GBuffer1).expect("gbuffer1");
+        let p = g1.get_pixel(size.0 / 2, size.1 / 2).0;
+        let normal = lumen::encoding::oct_decode(Vec2::new(p[0], p[1]));
+        let expected = Vec3::new(w, 0.0, 1.0 - w).normalize();
+        println!("morph weight {w}: normal {normal}, expected {expected}");
+        assert!(
+            (normal - expected).length() < 0.01,
+            "weight {w}: {normal} against {expected}"
+        );
+    }
 }
 
 #[test]

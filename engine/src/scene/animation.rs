@@ -451,6 +451,50 @@ mod tests {
     }
 
     #[test]
+    fn speed_scales_the_clock_and_a_negative_one_plays_backwards() {
+        use bevy_ecs::system::RunSystemOnce;
+        let clip = AnimationClip {
+            name: "c".into(),
+            duration_s: 2.0,
+            channels: Vec::new(),
+        };
+        let mut world = World::new();
+        let mut time = Time::default();
+        time.advance(0.25);
+        world.insert_resource(time);
+        let mut player = AnimationPlayer::new(vec![Arc::new(clip)]);
+        player.set_speed(2.0);
+        let entity = world.spawn(player).id();
+        let step = |world: &mut World| {
+            world.run_system_once(animate).expect("animate runs");
+            world
+                .get::<AnimationPlayer>(entity)
+                .expect("player")
+                .time_s()
+        };
+        // Two 0.25 s frames at twice real time: 1 s of the clip.
+        assert_eq!(step(&mut world), 0.5);
+        assert_eq!(step(&mut world), 1.0);
+        let mut player = world.get_mut::<AnimationPlayer>(entity).expect("player");
+        player.set_speed(-1.0);
+        player.set_speed(f32::INFINITY);
+        assert_eq!(player.speed(), -1.0);
+        // Backwards, wrapping past 0 to the clip's end when looping.
+        assert_eq!(step(&mut world), 0.75);
+        assert_eq!(step(&mut world), 0.5);
+        world
+            .get_mut::<AnimationPlayer>(entity)
+            .expect("player")
+            .seek(0.1);
+        assert!((step(&mut world) - 1.85).abs() < 1e-6);
+        // Not looping, it stops at 0.
+        let mut player = world.get_mut::<AnimationPlayer>(entity).expect("player");
+        player.set_looping(false);
+        player.seek(0.1);
+        assert_eq!(step(&mut world), 0.0);
+    }
+
+    #[test]
     fn a_player_wraps_when_looping_and_clamps_otherwise() {
         let clip = AnimationClip {
             name: "c".into(),

@@ -373,6 +373,27 @@ mod tests {
     }
 
     #[test]
+    fn morph_targets_move_normals_and_tangents_by_their_weights() {
+        let mesh = strip();
+        let target = MorphTarget {
+            normals: vec![[1.0, 0.0, -1.0]; 3],
+            tangents: vec![[-1.0, 1.0, 0.0]; 3],
+            ..MorphTarget::default()
+        };
+        let d = Deformation::new(&mesh, Vec::new(), Vec::new(), vec![target]).unwrap();
+        let v = morph_vertex(&mesh, &d, 1, &[0.5]);
+        assert_eq!(v.normal, [0.5, 0.0, 0.5]);
+        // The tangent's xyz moves; its handedness does not.
+        assert_eq!(v.tangent, [0.5, 0.5, 0.0, 1.0]);
+        assert_eq!(v.position, [0.0, 1.0, 0.0]);
+        // A non-finite weight counts as 0.
+        assert_eq!(
+            morph_vertex(&mesh, &d, 1, &[f32::NAN]).normal,
+            [0.0, 0.0, 1.0]
+        );
+    }
+
+    #[test]
     fn weights_are_normalised_and_bad_inputs_named() {
         let mesh = strip();
         let d = Deformation::new(

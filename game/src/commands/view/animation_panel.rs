@@ -11,15 +11,38 @@ pub fn animation_ui(ui: &mut egui::Ui, world: &mut World) {
     }
 }
 
+/// A clip as the panel lists it: its name and duration.
+fn clip_label(clip: &lumen::scene::AnimationClip) -> String {
+    format!("{} ({:.2} s)", clip.name, clip.duration_s)
+}
+
+/// One line per [`AnimationPlayer`] in `world`, printed when the viewer opens a scene:
+/// the clip it plays (or holds) and every clip the panel lists.
+pub fn animation_lines(world: &mut World) -> Vec<String> {
+    let mut players = world.query::<&AnimationPlayer>();
+    players
+        .iter(world)
+        .filter_map(|player| {
+            let current = player.clips().get(player.current()?)?;
+            let state = if player.is_paused() {
+                format!("is held at {:.2} s", player.time_s())
+            } else {
+                "plays".to_string()
+            };
+            let clips: Vec<String> = player.clips().iter().map(|c| clip_label(c)).collect();
+            Some(format!(
+                "animation '{}' {state} (clips: {})",
+                current.name,
+                clips.join(", ")
+            ))
+        })
+        .collect()
+}
+
 fn player_ui(ui: &mut egui::Ui, player: &mut AnimationPlayer) {
-    let clips: Vec<(String, f32)> = player
-        .clips()
-        .iter()
-        .map(|c| (c.name.clone(), c.duration_s))
-        .collect();
+    let clips: Vec<String> = player.clips().iter().map(|c| clip_label(c)).collect();
     let mut chosen = None;
-    for (i, (name, duration)) in clips.iter().enumerate() {
-        let label = format!("{name} ({duration:.2} s)");
+    for (i, label) in clips.into_iter().enumerate() {
         if ui
             .selectable_label(player.current() == Some(i), label)
             .clicked()
@@ -42,8 +65,8 @@ fn player_ui(ui: &mut egui::Ui, player: &mut AnimationPlayer) {
         }
         let duration = player
             .current()
-            .and_then(|i| clips.get(i))
-            .map_or(0.0, |c| c.1);
+            .and_then(|i| player.clips().get(i))
+            .map_or(0.0, |c| c.duration_s);
         let mut t = player.time_s();
         if ui
             .add(egui::Slider::new(&mut t, 0.0..=duration.max(1e-3)).suffix(" s"))

@@ -277,6 +277,9 @@ impl Viewer {
                 Err(e) => panel.set_error(format!("{e:#}")),
             }
         }
+        for line in super::animation_panel::animation_lines(app.world_mut()) {
+            eprintln!("lumen view: {line}");
+        }
         let (camera, controls) = find_camera(&mut app)?;
         let watcher = self
             .options
@@ -667,5 +670,99 @@ impl ApplicationHandler for Viewer {
                 Err(e) => self.error = Some(e),
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use winit::dpi::PhysicalPosition;
+    use winit::event::{DeviceId, TouchPhase};
+
+    const DEVICE: DeviceId = DeviceId::dummy();
+
+    fn button(state: ElementState) -> WindowEvent {
+        WindowEvent::MouseInput {
+            device_id: DEVICE,
+            state,
+            button: MouseButton::Left,
+        }
+    }
+
+    fn wheel(delta: MouseScrollDelta) -> WindowEvent {
+        WindowEvent::MouseWheel {
+            device_id: DEVICE,
+            delta,
+            phase: TouchPhase::Moved,
+        }
+    }
+
+    #[test]
+    fn window_events_become_the_apps_input_unless_the_panel_took_them() {
+        let press = button(ElementState::Pressed);
+        let release = button(ElementState::Released);
+        let down = InputEvent::MouseButton {
+            button: MouseButton::Left,
+            pressed: true,
+        };
+        let up = InputEvent::MouseButton {
+            button: MouseButton::Left,
+            pressed: false,
+        };
+        assert_eq!(input_event(&press, false), Some(down));
+        // A press on the panel is the panel's; its release still reaches the app, so
+        // nothing stays held.
+        assert_eq!(input_event(&press, true), None);
+        assert_eq!(input_event(&release, true), Some(up));
+        let lines = wheel(MouseScrollDelta::LineDelta(0.0, 2.0));
+        assert_eq!(
+            input_event(&lines, false),
+            Some(InputEvent::Wheel(Vec2::new(0.0, 2.0)))
+        );
+        assert_eq!(input_event(&lines, true), None);
+        // Pixels of a touchpad count 40 to a line.
+        let pixels = wheel(MouseScrollDelta::PixelDelta(PhysicalPosition::new(
+            20.0, -80.0,
+        )));
+        assert_eq!(
+            input_event(&pixels, false),
+            Some(InputEvent::Wheel(Vec2::new(0.5, -2.0)))
+        );
+        let moved = WindowEvent::CursorMoved {
+            device_id: DEVICE,
+            position: PhysicalPosition::new(12.5, 30.0),
+        };
+        // The cursor's position is followed over the panel too.
+        assert_eq!(
+            input_event(&moved, true),
+            Some(InputEvent::CursorMoved(Vec2::new(12.5, 30.0)))
+        );
+        assert_eq!(
+            input_event(&WindowEvent::CursorLeft { device_id: DEVICE }, false),
+            Some(InputEvent::CursorLeft)
+        );
+        assert_eq!(
+            input_event(&WindowEvent::Focused(false), false),
+            Some(InputEvent::FocusLost)
+        );
+        assert_eq!(input_event(&WindowEvent::Focused(true), false), None);
+        assert_eq!(input_event(&WindowEvent::RedrawRequested, false), None);
+    }
+
+    #[test]
+    fn the_viewer_acts_on_keys_buttons_the_cursor_and_the_wheel_only() {
+        assert!(viewer_input(&button(ElementState::Pressed)));
+        assert!(viewer_input(&wheel(MouseScrollDelta::LineDelta(0.0, 1.0))));
+        assert!(viewer_input(&WindowEvent::CursorMoved {
+            device_id: DEVICE,
+            position: PhysicalPosition::new(1.0, 1.0),
+        }));
+        assert!(!viewer_input(&WindowEvent::Focused(false)));
+        assert!(!viewer_input(&WindowEvent::CursorLeft {
+            device_id: DEVICE
+        }));
+        assert!(!viewer_input(&WindowEvent::Resized(PhysicalSize::new(
+            8, 8
+        ))));
     }
 }
