@@ -340,3 +340,80 @@ fn three_panes_composite_in_order_from_both_sides() {
         );
     }
 }
+
+/// A blended pane (α 0.5, facing the camera, nothing behind it) under a shadow-casting sun,
+/// with or without a small opaque plate 1 m towards the sun from the pane's point
+/// (−0.4, 0, 0): the pane's pixels at that point and at (0.4, 0, 0).
+fn shadowed_pane(with_blocker: bool) -> (Vec4, Vec4) {
+    let mut app = App::headless().expect("a GPU adapter");
+    common::indirect_off(&mut app);
+    let pane = app
+        .add_mesh(lumen::assets::procedural::plane(1.6, 1.6))
+        .expect("pane");
+    let plate = app
+        .add_mesh(lumen::assets::procedural::plane(0.3, 0.3))
+        .expect("plate");
+    let facing_camera = Quat::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let sun_from = Vec3::new(1.0, 2.0, 4.0).normalize();
+    let world = app.world_mut();
+    let mut material = Material::new(Vec3::splat(0.8), 0.0, 0.6);
+    material.base_color.w = 0.5;
+    material.blend = true;
+    world.spawn((
+        Mesh3d(pane),
+        material,
+        Transform::IDENTITY.with_rotation(facing_camera),
+    ));
+    let shaded = Vec3::new(-0.4, 0.0, 0.0);
+    if with_blocker {
+        world.spawn((
+            Mesh3d(plate),
+            Material {
+                double_sided: true,
+                ..Material::new(Vec3::splat(0.5), 0.0, 0.8)
+            },
+            Transform::from_translation(shaded + sun_from)
+                .with_rotation(Quat::from_rotation_arc(Vec3::Y, sun_from)),
+        ));
+    }
+    world.spawn((
+        DirectionalLight {
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        ShadowSettings::directional(),
+        Transform::from_translation(sun_from * 4.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera::default(),
+        Transform::from_xyz(0.0, 0.0, 5.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    app.render_headless(SIZE).expect("frame");
+    let image = app.read_hdr_image().expect("readback");
+    let pixel = |p: Vec3| {
+        let q = common::image_point(&app, p, SIZE);
+        at(&image, (q.x as u32, q.y as u32))
+    };
+    (pixel(shaded), pixel(Vec3::new(0.4, 0.0, 0.0)))
+}
+
+#[test]
+fn blended_surfaces_receive_shadows() {
+    // Nothing is behind the pane, so its pixels are its own lit colour × α: the plate's
+    // shadow takes the sun's light away from the shaded point only.
+    let (open, open_other) = shadowed_pane(false);
+    let (shaded, other) = shadowed_pane(true);
+    println!(
+        "pane luminance: shaded {shaded} against {open} unshaded; elsewhere {other} against {open_other}"
+    );
+    let y = |c: Vec4| lumen::color::luminance(c.truncate());
+    assert!(y(open) > 0.05, "the pane is lit: {open}");
+    assert!(
+        y(shaded) < 0.1 * y(open),
+        "the plate's shadow falls on the pane: {shaded} against {open}"
+    );
+    assert!(
+        relative(other, open_other) < 0.01,
+        "{other} against {open_other}"
+    );
+}
