@@ -468,7 +468,8 @@ fn the_materials_scene_draws_each_feature() {
     // Five transmissive objects and one blended pane, all drawn by the transparent pass,
     // a clearcoated, a sheen, an anisotropic, a tinted and an iridescent sphere and a
     // translucent leaf; finite; the clear sphere is not the opaque one: light passes
-    // through it; and the leaf, seen from the side the sun does not reach, is lit through.
+    // through it; the leaf, seen from the side the sun does not reach, is lit through; the
+    // unlit and the glowing sphere in front show their colour and their emission.
     let mut app = common::app_with("materials");
     common::indirect_off(&mut app);
     let report = app.render_headless((256, 144)).expect("frame");
@@ -514,6 +515,26 @@ fn the_materials_scene_draws_each_feature() {
     let opaque_leaf = block(&app, &app.read_hdr_image().expect("readback"), leaf_centre);
     println!("leaf {leaf}, without its transmission {opaque_leaf}");
     assert!(leaf.y > 2.5 * opaque_leaf.y, "{leaf} vs {opaque_leaf}");
+    // In front: the unlit sphere shows its base colour as it is (pre-exposed), and the
+    // glowing one at least its emission × the exposure (EV100 10), with light on top.
+    use lumen_game::scenes::materials::{EMISSION, FRONT_ROW, UNLIT_COLOR};
+    let pixel = |p: Vec3| {
+        let q = common::image_point(&app, p, (256, 144));
+        Vec3::from_slice(&image.get_pixel(q.x as u32, q.y as u32).0[..3])
+    };
+    let (unlit, glowing) = (pixel(FRONT_ROW[0]), pixel(FRONT_ROW[1]));
+    let emitted = EMISSION * lumen::scene::camera::exposure_from_ev100(10.0);
+    println!(
+        "unlit sphere {unlit} (base colour {UNLIT_COLOR}), glowing {glowing} (emission {emitted})"
+    );
+    assert!(
+        (unlit - UNLIT_COLOR).abs().max_element() < 0.01,
+        "{unlit} against {UNLIT_COLOR}"
+    );
+    assert!(
+        (glowing - emitted * 0.99).min_element() > 0.0 && glowing.x < 1.2 * emitted.x,
+        "{glowing} against {emitted}"
+    );
 }
 
 #[test]

@@ -29,6 +29,11 @@
 //!     yellow-green (`KHR_materials_diffuse_transmission`, colour (0.7, 0.9, 0.2)),
 //!     turned so that the camera sees the side the sun does not reach: it is lit through.
 //!
+//! In front of the row, two smaller spheres: an unlit orange one (`KHR_materials_unlit`:
+//! its base colour as it is, whatever the light) on the left, and a glowing one on the
+//! right whose emission (`KHR_materials_emissive_strength`: colour (1, 0.6, 0.25) ×
+//! strength 2000, in cd/m²) is brighter than any lit surface.
+//!
 //! docs/src/materials.md describes each.
 
 use lumen::assets::procedural::{cuboid, plane, uv_sphere};
@@ -43,6 +48,18 @@ pub const MATERIALS_X: [f32; 13] = [
 pub const LEAF_NORMAL: Vec3 = Vec3::new(-0.9363292, -0.2808988, 0.2106741);
 /// Radius of the spheres (m).
 pub const MATERIALS_RADIUS: f32 = 0.32;
+/// The centres of the unlit (left) and emissive (right) spheres in front of the row (m).
+pub const FRONT_ROW: [Vec3; 2] = [
+    Vec3::new(-1.65, FRONT_RADIUS, 0.9),
+    Vec3::new(1.65, FRONT_RADIUS, 0.9),
+];
+/// Radius of the two spheres in front of the row (m).
+pub const FRONT_RADIUS: f32 = 0.2;
+/// The unlit sphere's base colour (linear).
+pub const UNLIT_COLOR: Vec3 = Vec3::new(0.9, 0.45, 0.1);
+/// The glowing sphere's emitted luminance (cd/m²): glTF's emissive factor (1, 0.6,
+/// 0.25) × `KHR_materials_emissive_strength` 2000.
+pub const EMISSION: Vec3 = Vec3::new(2000.0, 1200.0, 500.0);
 
 fn glass(tint: Vec3, distance_m: f32, roughness: f32, thickness_m: f32) -> Material {
     Material {
@@ -185,6 +202,24 @@ pub(super) fn build(app: &mut App) -> lumen::Result<()> {
         },
         Transform::from_xyz(MATERIALS_X[12], 0.4, 0.0)
             .with_rotation(Quat::from_rotation_arc(Vec3::Y, LEAF_NORMAL)),
+    ));
+    let small = app.add_mesh(uv_sphere(FRONT_RADIUS, 32, 16))?;
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(small),
+        Material {
+            unlit: true,
+            ..Material::new(UNLIT_COLOR, 0.0, 0.5)
+        },
+        Transform::from_translation(FRONT_ROW[0]),
+    ));
+    world.spawn((
+        Mesh3d(small),
+        Material {
+            emissive: EMISSION,
+            ..Material::new(Vec3::splat(0.05), 0.0, 0.5)
+        },
+        Transform::from_translation(FRONT_ROW[1]),
     ));
     world.spawn(Environment::uniform(Vec3::new(400.0, 500.0, 700.0)));
     world.spawn((
