@@ -538,6 +538,57 @@ fn the_materials_scene_draws_each_feature() {
 }
 
 #[test]
+fn rough_glass_blurs_what_it_refracts() {
+    // The emissive stripe behind the 0.2 m slab of IOR 1.5: through smooth glass it stays
+    // a sharp bright band; through glass of roughness 0.35 the refracted frame is read
+    // from a blurrier level of its mip chain, so the band is dimmer at its peak and wider
+    // (the luminance-weighted standard deviation of its columns, in the middle row).
+    let band = |roughness: f32| {
+        let mut app = stripe_scene(0.2);
+        let world = app.world_mut();
+        let mut materials = world.query::<&mut Material>();
+        for mut m in materials.iter_mut(world) {
+            if m.transmission.is_some() {
+                m.perceptual_roughness = roughness;
+            }
+        }
+        app.render_headless(SIZE).expect("frame");
+        let image = app.read_hdr_image().expect("readback");
+        let y = SIZE.1 / 2;
+        let lum: Vec<f32> = (0..SIZE.0)
+            .map(|x| common::lum(image.get_pixel(x, y)))
+            .collect();
+        let total: f32 = lum.iter().sum();
+        let mean = lum
+            .iter()
+            .enumerate()
+            .map(|(x, l)| x as f32 * l)
+            .sum::<f32>()
+            / total;
+        let var = lum
+            .iter()
+            .enumerate()
+            .map(|(x, l)| (x as f32 - mean).powi(2) * l)
+            .sum::<f32>()
+            / total;
+        (lum.iter().copied().fold(0.0, f32::max), var.sqrt())
+    };
+    let (sharp_peak, sharp_width) = band(0.0);
+    let (rough_peak, rough_width) = band(0.35);
+    println!(
+        "stripe through the slab: smooth peak {sharp_peak:.3}, width {sharp_width:.2} px; rough peak {rough_peak:.3}, width {rough_width:.2} px"
+    );
+    assert!(
+        rough_peak < 0.6 * sharp_peak,
+        "{rough_peak} against {sharp_peak}"
+    );
+    assert!(
+        rough_width > 1.5 * sharp_width,
+        "{rough_width} against {sharp_width}"
+    );
+}
+
+#[test]
 fn transmission_and_thickness_textures_scale_their_factors() {
     // Three 0.6 m slabs of the absorbing glass, each with one linear texel whose red
     // scales the transmission (transmissionTexture) and whose green the volume's thickness
