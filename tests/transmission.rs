@@ -211,6 +211,42 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     assert!(expected_px.abs() > 3.0, "{expected_px}");
 }
 
+#[test]
+fn a_thin_walled_slab_leaves_the_stripe_where_it_is() {
+    // The same 0.4 m slab turned 45°, its material thin-walled (thickness 0, glTF's
+    // default without KHR_materials_volume): light crosses one infinitely thin wall, so
+    // the stripe is seen where it stands, within a pixel, in the rasterizer and the path
+    // tracer (against a Snell shift of more than 3 px for the volume).
+    let mut app = stripe_scene(0.4);
+    let world = app.world_mut();
+    let mut materials = world.query::<&mut Material>();
+    for mut m in materials.iter_mut(world) {
+        if let Some(t) = m.transmission.as_mut() {
+            t.thickness_m = 0.0;
+        }
+    }
+    app.render_headless(SIZE).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let through = SIZE.1 / 2;
+    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
+    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
+    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
+    let traced = render(&scene, &options(SIZE, 8, 6, 3), &|_| {}).image;
+    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
+        let (seen, n_through) = stripe_centre(image, through);
+        let (direct, n_above) = stripe_centre(image, above);
+        println!("{name}: stripe at {direct:.2} px, through the thin wall at {seen:.2} px");
+        assert!(
+            n_through >= 3 && n_above >= 3,
+            "{name}: the stripe is seen ({n_through}, {n_above} px)"
+        );
+        assert!(
+            (seen - direct).abs() < 1.0,
+            "{name}: {seen} px vs {direct} px"
+        );
+    }
+}
+
 /// Three glass slabs facing the camera, 0.5 m wide and `thicknesses` deep, side by side
 /// in front of an emissive wall, absorbing to `colour` over `distance` metres.
 fn absorbing_slabs(thicknesses: [f32; 3], colour: Vec3, distance: f32) -> App {
