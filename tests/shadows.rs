@@ -798,6 +798,151 @@ fn a_masked_caster_casts_the_shape_of_its_mask() {
     }
 }
 
+/// Side of the leaf mask in texels.
+const LEAF_TEXELS: usize = 32;
+
+/// Whether texel centre (u, v) (0..1) of the leaf mask is inside the leaf: a blade with
+/// pointed tips along u (half-width 0.42 (1 − s²) at s = 2u − 1 across v), bent by a
+/// curve so that it has no mirror symmetry across u.
+fn in_leaf(u: f32, v: f32) -> bool {
+    let s = 2.0 * u - 1.0;
+    let t = 2.0 * v - 1.0 - 0.25 * s * s * s;
+    t.abs() < 0.42 * (1.0 - s * s)
+}
+
+#[test]
+fn a_masked_leaf_texture_casts_a_leaf_shaped_shadow() {
+    // A 2 m square 1 m above the floor whose base colour alpha is a leaf (32 × 32 nearest
+    // texels, alpha 1 inside, 0 outside), with a cutoff of 0.5, under the sun from
+    // (2, 1, 0): its shadow falls 2 m beside it. Floor points over the shadow's square on
+    // a 40 × 40 grid, each mapped back through the plane's texture coordinates to the mask
+    // (points within two texels of the leaf's edge, where the shadow filter blends, are
+    // left out): shadowed where the mask is opaque, lit where it is clear, in the
+    // rasterizer and in the path tracer.
+    use lumen::scene::{ColorSpace, MaterialMaps, TextureData};
+    let mut rgba8 = Vec::with_capacity(LEAF_TEXELS * LEAF_TEXELS * 4);
+    for y in 0..LEAF_TEXELS {
+        for x in 0..LEAF_TEXELS {
+            let centre = |i: usize| (i as f32 + 0.5) / LEAF_TEXELS as f32;
+            let alpha = if in_leaf(centre(x), centre(y)) {
+                255
+            } else {
+                0
+            };
+            rgba8.extend([60, 140, 40, alpha]);
+        }
+    }
+    let mut app = App::headless().expect("GPU");
+    common::indirect_off(&mut app);
+    let ground = app.add_mesh(plane(40.0, 40.0)).expect("mesh");
+    let square_mesh = plane(2.0, 2.0);
+    // The texture coordinates as an affine function of the square's (x, z), from three
+    // of its corners.
+    let corners: Vec<(Vec3, [f32; 2])> = square_mesh
+        .vertices
+        .iter()
+        .map(|v| (Vec3::from(v.position), v.uv))
+        .collect();
+    let square = app.add_mesh(square_mesh).expect("mesh");
+    let leaf = app
+        .add_texture(TextureData {
+            width: LEAF_TEXELS as u32,
+            height: LEAF_TEXELS as u32,
+            rgba8,
+            color_space: ColorSpace::Srgb,
+        })
+        .expect("texture");
+    let world = app.world_mut();
+    world.spawn((Mesh3d(ground), Material::default(), Transform::IDENTITY));
+    world.spawn((
+        Mesh3d(square),
+        Material {
+            double_sided: true,
+            ..Material::default()
+        },
+        MaterialMaps {
+            base_color: Some(common::nearest_slot(leaf)),
+            alpha_cutoff: Some(0.5),
+            ..MaterialMaps::default()
+        },
+        Transform::from_xyz(0.0, 1.0, 0.0),
+    ));
+    world.spawn((
+        DirectionalLight {
+            cast_shadows: true,
+            ..DirectionalLight::default()
+        },
+        Transform::from_translation(Vec3::new(2.0, 1.0, 0.0) * 8.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    world.spawn((
+        Camera {
+            exposure: Exposure::Ev100(12.0),
+            ..Camera::default()
+        },
+        Transform::from_xyz(-2.0, 6.0, 5.0).looking_at(Vec3::new(-2.0, 0.0, 0.0), Vec3::Y),
+    ));
+    let size = (192, 192);
+    app.render_headless(size).expect("frame");
+    let raster = app.read_hdr_image().expect("readback");
+    let scene = lumen::trace_input::trace_scene(&mut app, size).expect("trace scene");
+    let options = lumen::reference::path::ReferenceOptions {
+        size,
+        samples_per_pixel: 16,
+        max_bounces: 1,
+        seed: 1,
+    };
+    let traced = lumen::reference::path::render(&scene, &options, &|_| {}).image;
+    let (a, b, c) = (corners[0], corners[1], corners[2]);
+    let uv_of = |x: f32, z: f32| {
+        // Solve p = a + s (b − a) + t (c − a) in (x, z), then interpolate the uvs.
+        let (e1, e2) = (b.0 - a.0, c.0 - a.0);
+        let det = e1.x * e2.z - e1.z * e2.x;
+        let (dx, dz) = (x - a.0.x, z - a.0.z);
+        let s = (dx * e2.z - dz * e2.x) / det;
+        let t = (e1.x * dz - e1.z * dx) / det;
+        [0, 1].map(|k| a.1[k] + s * (b.1[k] - a.1[k]) + t * (c.1[k] - a.1[k]))
+    };
+    let texel = 1.0 / LEAF_TEXELS as f32;
+    for (judge, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
+        let open = lum(image
+            .get_pixel_checked(
+                common::pixel_of(&app, Vec3::new(-2.0, 0.0, 3.0), size).0,
+                common::pixel_of(&app, Vec3::new(-2.0, 0.0, 3.0), size).1,
+            )
+            .expect("on screen"));
+        let (mut agree, mut shadowed, mut lit, mut total) = (0, 0, 0, 0);
+        for i in 0..40 {
+            for j in 0..40 {
+                let (x, z) = (
+                    -1.0 + (i as f32 + 0.5) / 20.0,
+                    -1.0 + (j as f32 + 0.5) / 20.0,
+                );
+                let [u, v] = uv_of(x, z);
+                let inside = in_leaf(u, v);
+                let near_edge = [(-2.0, 0.0), (2.0, 0.0), (0.0, -2.0), (0.0, 2.0)]
+                    .iter()
+                    .any(|(du, dv)| in_leaf(u + du * texel, v + dv * texel) != inside);
+                if near_edge {
+                    continue;
+                }
+                let (px, py) = common::pixel_of(&app, Vec3::new(x - 2.0, 0.0, z), size);
+                let l = lum(image.get_pixel_checked(px, py).expect("on screen"));
+                let dark = l < 0.5 * open;
+                total += 1;
+                agree += usize::from(dark == inside);
+                shadowed += usize::from(inside);
+                lit += usize::from(!inside);
+            }
+        }
+        let share = agree as f32 / total as f32;
+        eprintln!(
+            "{judge}: {agree} of {total} floor points agree with the leaf ({shadowed} under it, {lit} beside it; open floor {open})"
+        );
+        assert!(shadowed > 150 && lit > 150, "{judge}: {shadowed} {lit}");
+        assert!(share > 0.98, "{judge}: {share}");
+    }
+}
+
 /// The sun's visibility per pixel (0 shadowed .. 1 lit): `shadowed` over `lit`, where `lit`
 /// is lit at all.
 fn visibility(shadowed: &image::Rgba32FImage, lit: &image::Rgba32FImage) -> Vec<Option<f32>> {
