@@ -238,8 +238,8 @@ fn weighted_oit_is_exact_for_one_layer_and_order_independent() {
         at(&sorted, overlap)
     );
     assert!(single < 8e-3, "one layer: {single}");
-    // The overlap's colour differs (measured 0.10 here), but stays between the panes.
-    assert!(both > 0.01 && both < 0.3, "overlap: {both}");
+    // The overlap's colour differs (measured 0.098 here): within 15 % of sorting.
+    assert!(both > 0.01 && both < 0.15, "overlap: {both}");
     let order = relative(at(&swapped, overlap), at(&weighted, overlap));
     assert!(
         order < 2e-3,
