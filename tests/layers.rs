@@ -30,11 +30,19 @@ const FURNACE_SIZE: (u32, u32) = (256, 96);
 /// reflections), every sphere's material passed through `layer` with its column's
 /// roughness i/10, rendered with energy compensation; the app and the HDR image.
 fn layered_furnace(layer: impl Fn(&mut Material, f32)) -> (App, image::Rgba32FImage) {
+    layered_furnace_with(true, layer)
+}
+
+/// [`layered_furnace`] with energy compensation on or off.
+fn layered_furnace_with(
+    compensation: bool,
+    layer: impl Fn(&mut Material, f32),
+) -> (App, image::Rgba32FImage) {
     let mut app = common::app_with("furnace");
     common::indirect_off(&mut app);
     app.world_mut()
         .resource_mut::<Quality>()
-        .energy_compensation = true;
+        .energy_compensation = compensation;
     let world = app.world_mut();
     let mut query = world.query::<(&mut Material, &Transform)>();
     for (mut m, t) in query.iter_mut(world) {
@@ -241,6 +249,48 @@ fn a_white_furnace_under_a_sheen_and_a_coat_returns_the_light_it_receives() {
     });
     let worst = worst_from_one(&image);
     assert!(worst <= 0.01, "a sphere pixel is {worst} from 1");
+}
+
+#[test]
+fn without_compensation_no_layer_returns_more_than_it_receives() {
+    // Single scattering only: each layer (a coat, a sheen under a coat, anisotropy, a
+    // diffuse transmission, an iridescent film) over white metals and white dielectrics
+    // may lose light to the lobes' missing multiple scattering, never add any: every
+    // sphere pixel ≤ 1 (to f16 rounding, 1/1024).
+    type Layer = fn(&mut Material, f32);
+    let layers: [(&str, Layer); 5] = [
+        ("coat", |m, r| {
+            m.clearcoat = Some(Clearcoat {
+                factor: 1.0,
+                perceptual_roughness: r,
+            })
+        }),
+        ("sheen and coat", |m, r| {
+            m.sheen = Some(Sheen {
+                color: Vec3::ONE,
+                perceptual_roughness: r,
+            });
+            m.clearcoat = Some(Clearcoat {
+                factor: 1.0,
+                perceptual_roughness: 1.0 - r,
+            });
+        }),
+        ("anisotropy", |m, _| m.anisotropy = anisotropy(1.0, 0.3)),
+        ("diffuse transmission", |m, r| {
+            m.diffuse_transmission = translucent(r, Vec3::ONE)
+        }),
+        ("iridescence", |m, _| m.iridescence = Some(Iridescence::default())),
+    ];
+    for (name, layer) in layers {
+        let (_, image) = layered_furnace_with(false, layer);
+        let brightest = image
+            .pixels()
+            .filter(|p| p.0[3] > 0.5)
+            .map(|p| p.0[0].max(p.0[1]).max(p.0[2]))
+            .fold(0.0f32, f32::max);
+        println!("{name}, no compensation: brightest sphere pixel {brightest:.4}");
+        assert!(brightest <= 1.0 + 1.0 / 1024.0, "{name}: {brightest}");
+    }
 }
 
 /// The dark red, rough base of the layered spheres.
