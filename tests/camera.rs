@@ -250,6 +250,36 @@ fn auto_exposure_converges_on_a_dark_and_a_bright_scene() {
 }
 
 #[test]
+fn auto_exposure_adapts_by_the_time_step() {
+    // The exposure closes 1 − exp(−Δt · rate) of its distance to the target each frame,
+    // Δt from `Time`: at 1/60 s and 1/10 s steps (rate 3/s), 4.9 % and 25.9 %.
+    let rate = AutoExposure::default().rate_per_s;
+    for step in [1.0f32 / 60.0, 0.1] {
+        let mut app = metered_scene(100_000.0);
+        app.set_fixed_delta(Some(step));
+        let size = (64, 36);
+        let mut metered = Vec::new();
+        for _ in 0..6 {
+            let report = app.render_headless(size).expect("frame");
+            metered.push((
+                report.metered.ev100.expect("an adapted EV100"),
+                report.metered.target_ev100.expect("a target"),
+            ));
+        }
+        let expected = 1.0 - (-step * rate).exp();
+        for w in metered[2..].windows(2) {
+            let ((before, target), (after, _)) = (w[0], w[1]);
+            let closed = (after - before) / (target - before);
+            println!("step {step} s: closed {closed:.4} of the distance, expected {expected:.4}");
+            assert!(
+                (closed - expected).abs() < 0.01 * expected,
+                "step {step} s: {closed} against {expected}"
+            );
+        }
+    }
+}
+
+#[test]
 fn auto_exposure_ignores_black_and_keeps_its_state_on_an_all_black_frame() {
     // No light at all: every pixel is black, nothing is metered, the camera keeps its
     // initial EV100 instead of running off to the dark end.

@@ -279,7 +279,9 @@ fn without_compensation_no_layer_returns_more_than_it_receives() {
         ("diffuse transmission", |m, r| {
             m.diffuse_transmission = translucent(r, Vec3::ONE)
         }),
-        ("iridescence", |m, _| m.iridescence = Some(Iridescence::default())),
+        ("iridescence", |m, _| {
+            m.iridescence = Some(Iridescence::default())
+        }),
     ];
     for (name, layer) in layers {
         let (_, image) = layered_furnace_with(false, layer);
