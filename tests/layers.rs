@@ -223,30 +223,33 @@ fn a_coated_white_furnace_returns_the_light_it_receives() {
     // environment light and its alpha are the same E_coat by construction, so this checks
     // the composition (the blend state, the alpha, the base left beneath); the values of
     // E_coat are checked over a black base above.
-    let (_, image) = layered_furnace(|m, r| {
-        m.clearcoat = Some(Clearcoat {
-            factor: 1.0,
-            perceptual_roughness: r,
-        });
-    });
+    let (_, image) = layered_furnace(whole_coat);
     let worst = worst_from_one(&image);
     assert!(worst <= 0.01, "a coated sphere pixel is {worst} from 1");
+}
+
+/// A whole coat of roughness `r`.
+fn whole_coat(m: &mut Material, r: f32) {
+    m.clearcoat = Some(Clearcoat {
+        factor: 1.0,
+        perceptual_roughness: r,
+    });
+}
+
+/// A white sheen of roughness `r` under a whole coat of roughness 1 − r.
+fn sheen_under_coat(m: &mut Material, r: f32) {
+    m.sheen = Some(Sheen {
+        color: Vec3::ONE,
+        perceptual_roughness: r,
+    });
+    whole_coat(m, 1.0 - r);
 }
 
 #[test]
 fn a_white_furnace_under_a_sheen_and_a_coat_returns_the_light_it_receives() {
     // The same with a white sheen of the column's roughness under a whole coat: the two
     // layers compose over the base, each leaving what it does not reflect.
-    let (_, image) = layered_furnace(|m, r| {
-        m.sheen = Some(Sheen {
-            color: Vec3::ONE,
-            perceptual_roughness: r,
-        });
-        m.clearcoat = Some(Clearcoat {
-            factor: 1.0,
-            perceptual_roughness: 1.0 - r,
-        });
-    });
+    let (_, image) = layered_furnace(sheen_under_coat);
     let worst = worst_from_one(&image);
     assert!(worst <= 0.01, "a sphere pixel is {worst} from 1");
 }
@@ -259,22 +262,8 @@ fn without_compensation_no_layer_returns_more_than_it_receives() {
     // sphere pixel ≤ 1 (to f16 rounding, 1/1024).
     type Layer = fn(&mut Material, f32);
     let layers: [(&str, Layer); 5] = [
-        ("coat", |m, r| {
-            m.clearcoat = Some(Clearcoat {
-                factor: 1.0,
-                perceptual_roughness: r,
-            })
-        }),
-        ("sheen and coat", |m, r| {
-            m.sheen = Some(Sheen {
-                color: Vec3::ONE,
-                perceptual_roughness: r,
-            });
-            m.clearcoat = Some(Clearcoat {
-                factor: 1.0,
-                perceptual_roughness: 1.0 - r,
-            });
-        }),
+        ("coat", whole_coat),
+        ("sheen and coat", sheen_under_coat),
         ("anisotropy", |m, _| m.anisotropy = anisotropy(1.0, 0.3)),
         ("diffuse transmission", |m, r| {
             m.diffuse_transmission = translucent(r, Vec3::ONE)

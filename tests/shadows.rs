@@ -688,26 +688,21 @@ fn casters_outside_every_shadow_view_are_not_drawn() {
     assert!(near > far, "a caster in the scene was not drawn ({near})");
 }
 
-/// Floor luminance in the sun's shadow of a 2 m square held 1 m above the floor, whose
-/// base colour texture is transparent on one half and opaque on the other (alpha 0 and 1,
-/// nearest texels), with `alpha_cutoff`: under the transparent half's shadow, under the
-/// opaque half's, and on open floor; from the rasterizer, then from the path tracer
-/// (direct light, 16 paths per pixel). The sun comes from (2, 1, 0), so the shadow falls
-/// 2 m beside the square, from x = −3 to x = −1, where the camera sees the floor.
-fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
-    use lumen::scene::{ColorSpace, MaterialMaps, TextureData};
+/// A 2 m square 1 m above a 40 m floor, its base colour `texture` (nearest texels) cut
+/// at `alpha_cutoff`, under a shadow-casting sun from (2, 1, 0), seen from (−2, 6, 5):
+/// the app and its frame at `size`, rasterized and path-traced (direct light, 16 paths
+/// per pixel).
+fn masked_square(
+    texture: lumen::scene::TextureData,
+    alpha_cutoff: Option<f32>,
+    size: (u32, u32),
+) -> (App, [image::Rgba32FImage; 2]) {
+    use lumen::scene::MaterialMaps;
     let mut app = App::headless().expect("GPU");
     common::indirect_off(&mut app);
     let ground = app.add_mesh(plane(40.0, 40.0)).expect("mesh");
     let square = app.add_mesh(plane(2.0, 2.0)).expect("mesh");
-    let half_clear = app
-        .add_texture(TextureData {
-            width: 2,
-            height: 1,
-            rgba8: vec![255, 255, 255, 0, 255, 255, 255, 255],
-            color_space: ColorSpace::Srgb,
-        })
-        .expect("texture");
+    let texture = app.add_texture(texture).expect("texture");
     let world = app.world_mut();
     world.spawn((Mesh3d(ground), Material::default(), Transform::IDENTITY));
     world.spawn((
@@ -717,7 +712,7 @@ fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
             ..Material::default()
         },
         MaterialMaps {
-            base_color: Some(common::nearest_slot(half_clear)),
+            base_color: Some(common::nearest_slot(texture)),
             alpha_cutoff,
             ..MaterialMaps::default()
         },
@@ -737,7 +732,6 @@ fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
         },
         Transform::from_xyz(-2.0, 6.0, 5.0).looking_at(Vec3::new(-2.0, 0.0, 0.0), Vec3::Y),
     ));
-    let size = (128, 128);
     app.render_headless(size).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
     let scene = lumen::trace_input::trace_scene(&mut app, size).expect("trace scene");
@@ -748,6 +742,24 @@ fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
         seed: 1,
     };
     let reference = lumen::reference::path::render(&scene, &options, &|_| {}).image;
+    (app, [raster, reference])
+}
+
+/// Floor luminance in the sun's shadow of a 2 m square held 1 m above the floor, whose
+/// base colour texture is transparent on one half and opaque on the other (alpha 0 and 1,
+/// nearest texels), with `alpha_cutoff`: under the transparent half's shadow, under the
+/// opaque half's, and on open floor; from the rasterizer, then from the path tracer
+/// (direct light, 16 paths per pixel). The sun comes from (2, 1, 0), so the shadow falls
+/// 2 m beside the square, from x = −3 to x = −1, where the camera sees the floor.
+fn masked_shadow(alpha_cutoff: Option<f32>) -> [[f32; 3]; 2] {
+    let half_clear = lumen::scene::TextureData {
+        width: 2,
+        height: 1,
+        rgba8: vec![255, 255, 255, 0, 255, 255, 255, 255],
+        color_space: lumen::scene::ColorSpace::Srgb,
+    };
+    let size = (128, 128);
+    let (app, [raster, reference]) = masked_square(half_clear, alpha_cutoff, size);
     let pixels = [
         Vec3::new(-2.5, 0.0, 0.0),
         Vec3::new(-1.5, 0.0, 0.0),
@@ -819,7 +831,6 @@ fn a_masked_leaf_texture_casts_a_leaf_shaped_shadow() {
     // (points within two texels of the leaf's edge, where the shadow filter blends, are
     // left out): shadowed where the mask is opaque, lit where it is clear, in the
     // rasterizer and in the path tracer.
-    use lumen::scene::{ColorSpace, MaterialMaps, TextureData};
     let mut rgba8 = Vec::with_capacity(LEAF_TEXELS * LEAF_TEXELS * 4);
     for y in 0..LEAF_TEXELS {
         for x in 0..LEAF_TEXELS {
@@ -832,66 +843,21 @@ fn a_masked_leaf_texture_casts_a_leaf_shaped_shadow() {
             rgba8.extend([60, 140, 40, alpha]);
         }
     }
-    let mut app = App::headless().expect("GPU");
-    common::indirect_off(&mut app);
-    let ground = app.add_mesh(plane(40.0, 40.0)).expect("mesh");
-    let square_mesh = plane(2.0, 2.0);
     // The texture coordinates as an affine function of the square's (x, z), from three
     // of its corners.
-    let corners: Vec<(Vec3, [f32; 2])> = square_mesh
+    let corners: Vec<(Vec3, [f32; 2])> = plane(2.0, 2.0)
         .vertices
         .iter()
         .map(|v| (Vec3::from(v.position), v.uv))
         .collect();
-    let square = app.add_mesh(square_mesh).expect("mesh");
-    let leaf = app
-        .add_texture(TextureData {
-            width: LEAF_TEXELS as u32,
-            height: LEAF_TEXELS as u32,
-            rgba8,
-            color_space: ColorSpace::Srgb,
-        })
-        .expect("texture");
-    let world = app.world_mut();
-    world.spawn((Mesh3d(ground), Material::default(), Transform::IDENTITY));
-    world.spawn((
-        Mesh3d(square),
-        Material {
-            double_sided: true,
-            ..Material::default()
-        },
-        MaterialMaps {
-            base_color: Some(common::nearest_slot(leaf)),
-            alpha_cutoff: Some(0.5),
-            ..MaterialMaps::default()
-        },
-        Transform::from_xyz(0.0, 1.0, 0.0),
-    ));
-    world.spawn((
-        DirectionalLight {
-            cast_shadows: true,
-            ..DirectionalLight::default()
-        },
-        Transform::from_translation(Vec3::new(2.0, 1.0, 0.0) * 8.0).looking_at(Vec3::ZERO, Vec3::Y),
-    ));
-    world.spawn((
-        Camera {
-            exposure: Exposure::Ev100(12.0),
-            ..Camera::default()
-        },
-        Transform::from_xyz(-2.0, 6.0, 5.0).looking_at(Vec3::new(-2.0, 0.0, 0.0), Vec3::Y),
-    ));
-    let size = (192, 192);
-    app.render_headless(size).expect("frame");
-    let raster = app.read_hdr_image().expect("readback");
-    let scene = lumen::trace_input::trace_scene(&mut app, size).expect("trace scene");
-    let options = lumen::reference::path::ReferenceOptions {
-        size,
-        samples_per_pixel: 16,
-        max_bounces: 1,
-        seed: 1,
+    let leaf = lumen::scene::TextureData {
+        width: LEAF_TEXELS as u32,
+        height: LEAF_TEXELS as u32,
+        rgba8,
+        color_space: lumen::scene::ColorSpace::Srgb,
     };
-    let traced = lumen::reference::path::render(&scene, &options, &|_| {}).image;
+    let size = (192, 192);
+    let (app, [raster, traced]) = masked_square(leaf, Some(0.5), size);
     let (a, b, c) = (corners[0], corners[1], corners[2]);
     let uv_of = |x: f32, z: f32| {
         // Solve p = a + s (b − a) + t (c − a) in (x, z), then interpolate the uvs.

@@ -115,6 +115,17 @@ fn stripe_scene(thickness: f32) -> App {
     app
 }
 
+/// Applies `change` to every transmissive material of `app`.
+fn change_glass(app: &mut App, change: impl Fn(&mut Material)) {
+    let world = app.world_mut();
+    let mut materials = world.query::<&mut Material>();
+    for mut m in materials.iter_mut(world) {
+        if m.transmission.is_some() {
+            change(&mut m);
+        }
+    }
+}
+
 /// Path-tracing options: `size`, `spp` samples per pixel, `bounces`, `seed`.
 fn options(size: (u32, u32), spp: u32, bounces: u32, seed: u64) -> ReferenceOptions {
     ReferenceOptions {
@@ -218,13 +229,11 @@ fn a_thin_walled_slab_leaves_the_stripe_where_it_is() {
     // the stripe is seen where it stands, within a pixel, in the rasterizer and the path
     // tracer (against a Snell shift of more than 3 px for the volume).
     let mut app = stripe_scene(0.4);
-    let world = app.world_mut();
-    let mut materials = world.query::<&mut Material>();
-    for mut m in materials.iter_mut(world) {
+    change_glass(&mut app, |m| {
         if let Some(t) = m.transmission.as_mut() {
             t.thickness_m = 0.0;
         }
-    }
+    });
     app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
     let through = SIZE.1 / 2;
@@ -444,15 +453,11 @@ fn dispersion_shifts_red_and_blue_by_their_own_indices() {
     // from the undispersed offset, so a renderer that ignored dispersion would fail.
     let thickness = 0.4;
     let mut app = stripe_scene(thickness);
-    {
-        let world = app.world_mut();
-        let mut materials = world.query::<&mut Material>();
-        for mut m in materials.iter_mut(world) {
-            if let Some(t) = m.transmission.as_mut() {
-                t.dispersion = 20.0;
-            }
+    change_glass(&mut app, |m| {
+        if let Some(t) = m.transmission.as_mut() {
+            t.dispersion = 20.0;
         }
-    }
+    });
     app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
     let iors = lumen::transmission::dispersion_iors(1.5, 20.0);
@@ -581,13 +586,7 @@ fn rough_glass_blurs_what_it_refracts() {
     // (the luminance-weighted standard deviation of its columns, in the middle row).
     let band = |roughness: f32| {
         let mut app = stripe_scene(0.2);
-        let world = app.world_mut();
-        let mut materials = world.query::<&mut Material>();
-        for mut m in materials.iter_mut(world) {
-            if m.transmission.is_some() {
-                m.perceptual_roughness = roughness;
-            }
-        }
+        change_glass(&mut app, |m| m.perceptual_roughness = roughness);
         app.render_headless(SIZE).expect("frame");
         let image = app.read_hdr_image().expect("readback");
         let y = SIZE.1 / 2;
