@@ -195,23 +195,10 @@ fn a_slab_shifts_a_stripe_by_the_snell_offset() {
     let shift_m = snell_shift(thickness, 1.5);
     let expected_px = image_x(&app, Vec3::new(STRIPE_X - shift_m, 0.0, 0.0))
         - image_x(&app, Vec3::new(STRIPE_X, 0.0, 0.0));
-    // Rows through the slab's middle and above it (it is 1 m tall, the view 2.5 m).
-    let through = SIZE.1 / 2;
-    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
-    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
-    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
-    let options = options(SIZE, 8, 6, 3);
-    let traced = render(&scene, &options, &|_| {}).image;
-    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
-        let (seen, n_through) = stripe_centre(image, through);
-        let (direct, n_above) = stripe_centre(image, above);
+    for (name, direct, seen) in stripe_through_and_above(&mut app, raster) {
         let shift = seen - direct;
         println!(
             "{name}: stripe at {direct:.2} px, through the slab at {seen:.2} px: shift {shift:.2} px, Snell {expected_px:.2} px"
-        );
-        assert!(
-            n_through >= 3 && n_above >= 3,
-            "{name}: the stripe is seen ({n_through}, {n_above} px)"
         );
         assert!(
             (shift - expected_px).abs() < 1.0,
@@ -236,24 +223,37 @@ fn a_thin_walled_slab_leaves_the_stripe_where_it_is() {
     });
     app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
-    let through = SIZE.1 / 2;
-    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
-    let mut scene = trace_scene(&mut app, SIZE).expect("trace scene");
-    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
-    let traced = render(&scene, &options(SIZE, 8, 6, 3), &|_| {}).image;
-    for (name, image) in [("rasterizer", &raster), ("path tracer", &traced)] {
-        let (seen, n_through) = stripe_centre(image, through);
-        let (direct, n_above) = stripe_centre(image, above);
+    for (name, direct, seen) in stripe_through_and_above(&mut app, raster) {
         println!("{name}: stripe at {direct:.2} px, through the thin wall at {seen:.2} px");
-        assert!(
-            n_through >= 3 && n_above >= 3,
-            "{name}: the stripe is seen ({n_through}, {n_above} px)"
-        );
         assert!(
             (seen - direct).abs() < 1.0,
             "{name}: {seen} px vs {direct} px"
         );
     }
+}
+
+/// The stripe of [`stripe_scene`] in the rasterizer's `raster` and in the path tracer's
+/// image of the same scene (8 paths per pixel, the frame's light visibility): per judge,
+/// its centre column in a row above the slab (seen directly) and in the row through the
+/// slab's middle (the slab is 1 m tall, the view 2.5 m), each at least 3 px wide.
+fn stripe_through_and_above(
+    app: &mut App,
+    raster: image::Rgba32FImage,
+) -> [(&'static str, f32, f32); 2] {
+    let through = SIZE.1 / 2;
+    let above = (SIZE.1 as f32 * 0.5 - 0.9 / 2.5 * SIZE.1 as f32) as u32;
+    let mut scene = trace_scene(app, SIZE).expect("trace scene");
+    scene.light_visibility = lumen::reference::path::LightVisibility::AsFrame;
+    let traced = render(&scene, &options(SIZE, 8, 6, 3), &|_| {}).image;
+    [("rasterizer", raster), ("path tracer", traced)].map(|(name, image)| {
+        let (seen, n_through) = stripe_centre(&image, through);
+        let (direct, n_above) = stripe_centre(&image, above);
+        assert!(
+            n_through >= 3 && n_above >= 3,
+            "{name}: the stripe is seen ({n_through}, {n_above} px)"
+        );
+        (name, direct, seen)
+    })
 }
 
 /// Three glass slabs facing the camera, 0.5 m wide and `thicknesses` deep, side by side
