@@ -207,16 +207,30 @@ pub struct Sidecar {
     pub part_hash: String,
 }
 
-/// The hash parts must share to merge: FNV-1a of `settings` and of the bytes of the
-/// scene's file (`None` or a folder for a built-in scene), in hex. An unreadable file is
-/// an error naming it.
+/// The hash parts must share to merge: FNV-1a of `settings`, of the bytes of the scene's
+/// file (`None` or a folder for a built-in scene), and of a `.gltf` file's buffers and
+/// images beside it (`lumen::assets::gltf::external_files`), so that parts rendered from
+/// different `.bin` or texture files do not merge; in hex. An unreadable file is an error
+/// naming it.
 pub fn scene_hash(settings: &str, scene_file: Option<&Path>) -> Result<String> {
-    let file = match scene_file.filter(|f| f.is_file()) {
-        Some(f) => std::fs::read(f).with_context(|| format!("{}", f.display()))?,
-        None => Vec::new(),
-    };
+    let read = |f: &Path| std::fs::read(f).with_context(|| format!("{}", f.display()));
     let mut bytes = settings.as_bytes().to_vec();
-    bytes.extend(fnv1a64(&file).to_le_bytes());
+    if let Some(f) = scene_file.filter(|f| f.is_file()) {
+        let file = read(f)?;
+        bytes.extend(fnv1a64(&file).to_le_bytes());
+        let base = f.parent().unwrap_or(Path::new("."));
+        let external = f
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gltf"))
+            .then(|| lumen::assets::gltf::external_files(&file, base))
+            .flatten()
+            .unwrap_or_default();
+        for path in external {
+            bytes.extend(fnv1a64(&read(&path)?).to_le_bytes());
+        }
+    } else {
+        bytes.extend(fnv1a64(&[]).to_le_bytes());
+    }
     Ok(format!("{:016x}", fnv1a64(&bytes)))
 }
 
@@ -543,6 +557,40 @@ mod tests {
                 .unwrap_err()
                 .to_string()
                 .contains("HQ_TASK_ID")
+        );
+    }
+
+    #[test]
+    fn a_gltf_files_buffers_and_images_are_in_the_scene_hash() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let gltf = dir.path().join("scene.gltf");
+        std::fs::write(
+            &gltf,
+            r#"{"asset": {"version": "2.0"},
+                "buffers": [{"uri": "mesh.bin", "byteLength": 4},
+                            {"uri": "data:application/octet-stream;base64,AAAAAA==", "byteLength": 4}],
+                "images": [{"uri": "leaf%20colour.png"}]}"#,
+        )
+        .expect("gltf");
+        let bin = dir.path().join("mesh.bin");
+        let png = dir.path().join("leaf colour.png");
+        std::fs::write(&bin, [1, 2, 3, 4]).expect("bin");
+        std::fs::write(&png, b"first").expect("png");
+        let hash = || scene_hash("settings", Some(&gltf));
+        let first = hash().expect("hash");
+        assert_eq!(hash().expect("hash"), first, "the same files hash the same");
+        std::fs::write(&bin, [1, 2, 3, 5]).expect("bin");
+        let other_bin = hash().expect("hash");
+        assert_ne!(other_bin, first, "another buffer");
+        std::fs::write(&png, b"second").expect("png");
+        assert_ne!(hash().expect("hash"), other_bin, "another image");
+        std::fs::remove_file(&bin).expect("remove");
+        let e = hash().unwrap_err().to_string();
+        assert!(e.contains("mesh.bin"), "{e}");
+        // A built-in scene hashes its settings alone.
+        assert_ne!(
+            scene_hash("settings", None).expect("hash"),
+            scene_hash("other", None).expect("hash")
         );
     }
 

@@ -23,6 +23,7 @@
 //! [`files::read`] (regular files only, capped by kind); indices are checked before the
 //! `gltf` crate uses them ([`gltf_checks`]) and its panics become errors.
 
+pub use super::gltf_buffers::external_files;
 use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};
 use super::gltf_checks;
 use super::gltf_material::{self, TextureLoader};

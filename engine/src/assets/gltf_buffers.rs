@@ -74,6 +74,31 @@ pub(super) fn load_buffers(
         .collect()
 }
 
+/// The files a glTF document (its JSON, `json`) in folder `base` reads beside itself:
+/// its buffers' and images' relative URIs, percent-decoded, in the document's order
+/// (`data:` URIs and the GLB binary chunk are inside the file). `None` when `json` is
+/// not a glTF document.
+pub fn external_files(json: &[u8], base: &Path) -> Option<Vec<std::path::PathBuf>> {
+    let document = gltf::Gltf::from_slice_without_validation(json)
+        .ok()?
+        .document;
+    let buffers = document.buffers().filter_map(|b| match b.source() {
+        gltf::buffer::Source::Uri(uri) => Some(uri.to_string()),
+        gltf::buffer::Source::Bin => None,
+    });
+    let images = document.images().filter_map(|i| match i.source() {
+        gltf::image::Source::Uri { uri, .. } => Some(uri.to_string()),
+        gltf::image::Source::View { .. } => None,
+    });
+    Some(
+        buffers
+            .chain(images)
+            .filter(|uri| !uri.contains(':'))
+            .map(|uri| base.join(percent_decoded(&uri)))
+            .collect(),
+    )
+}
+
 /// A URI's `%XX` escapes decoded (glTF URIs are percent-encoded); malformed escapes stay.
 pub(super) fn percent_decoded(uri: &str) -> String {
     let bytes = uri.as_bytes();
