@@ -1738,10 +1738,10 @@ fn the_showcase_holds_the_helmet_centred_lit_and_well_exposed() {
     assert!((0.13..0.8).contains(&lit), "helmet mean luma {lit}");
 }
 
-/// A glTF of four nodes animated by one clip: node 0 (a 1 m quad) translation LINEAR, node 1
+/// A glTF of five nodes animated by one clip: node 0 (a 1 m quad) translation LINEAR, node 1
 /// the same keys STEP, node 2 translation CUBICSPLINE, node 3 rotation LINEAR from the
 /// identity to a negated quaternion (the same rotation as +1 rad about Y, on the far
-/// hemisphere).
+/// hemisphere), node 4 scale LINEAR from (1, 1, 1) to (3, 1, 0.5) over 1 s.
 fn write_animated(dir: &Path) -> PathBuf {
     let floats: Vec<f32> = [
         vec![0.0, 1.0, 3.0],
@@ -1763,6 +1763,12 @@ fn write_animated(dir: &Path) -> PathBuf {
     .concat();
     let mut bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
     bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    // Node 4's scale keys, after the indices (byte 228).
+    bin.extend(
+        [1.0f32, 1.0, 1.0, 3.0, 1.0, 0.5]
+            .iter()
+            .flat_map(|f| f.to_le_bytes()),
+    );
     std::fs::write(dir.join("animated.bin"), &bin).expect("bin");
     // (offset in floats, count, type) of each accessor.
     let parts = [
@@ -1784,6 +1790,7 @@ fn write_animated(dir: &Path) -> PathBuf {
         .map(|(o, n, t)| json!({"buffer": 0, "byteOffset": o * 4, "byteLength": n * width(t) * 4}))
         .collect();
     views.push(json!({"buffer": 0, "byteOffset": 54 * 4, "byteLength": 12}));
+    views.push(json!({"buffer": 0, "byteOffset": 54 * 4 + 12, "byteLength": 24}));
     let accessors: Vec<_> = parts
         .iter()
         .enumerate()
@@ -1805,13 +1812,16 @@ fn write_animated(dir: &Path) -> PathBuf {
             }
             a
         })
-        .chain([json!({"bufferView": 7, "componentType": 5123, "count": 6, "type": "SCALAR"})])
+        .chain([
+            json!({"bufferView": 7, "componentType": 5123, "count": 6, "type": "SCALAR"}),
+            json!({"bufferView": 8, "componentType": 5126, "count": 2, "type": "VEC3"}),
+        ])
         .collect();
     let doc = json!({
         "asset": {"version": "2.0"},
         "scene": 0,
-        "scenes": [{"nodes": [0, 1, 2, 3]}],
-        "nodes": [{"mesh": 0}, {}, {}, {}],
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+        "nodes": [{"mesh": 0}, {}, {}, {}, {}],
         "meshes": [{"primitives": [{"attributes": {"POSITION": 6}, "indices": 7}]}],
         "animations": [{
             "name": "move",
@@ -1819,13 +1829,15 @@ fn write_animated(dir: &Path) -> PathBuf {
                 {"input": 0, "output": 1, "interpolation": "LINEAR"},
                 {"input": 0, "output": 1, "interpolation": "STEP"},
                 {"input": 2, "output": 3, "interpolation": "CUBICSPLINE"},
-                {"input": 4, "output": 5, "interpolation": "LINEAR"}
+                {"input": 4, "output": 5, "interpolation": "LINEAR"},
+                {"input": 4, "output": 8, "interpolation": "LINEAR"}
             ],
             "channels": [
                 {"sampler": 0, "target": {"node": 0, "path": "translation"}},
                 {"sampler": 1, "target": {"node": 1, "path": "translation"}},
                 {"sampler": 2, "target": {"node": 2, "path": "translation"}},
-                {"sampler": 3, "target": {"node": 3, "path": "rotation"}}
+                {"sampler": 3, "target": {"node": 3, "path": "rotation"}},
+                {"sampler": 4, "target": {"node": 4, "path": "scale"}}
             ]
         }],
         "buffers": [{"byteLength": bin.len(), "uri": "animated.bin"}],
@@ -1914,6 +1926,25 @@ fn gltf_animation_samples_step_linear_and_cubic_spline_as_the_spec_says() {
     );
     let n = posed(&mut app, 0.75);
     assert!(n[3].rotation.angle_between(Quat::from_rotation_y(0.75)) < 1e-4);
+    // Scale, LINEAR per component: a quarter of the way at 0.25 s, held after the last
+    // key.
+    assert!(
+        close(n[4].scale, Vec3::new(2.5, 1.0, 0.625)),
+        "{}",
+        n[4].scale
+    );
+    let n = posed(&mut app, 0.25);
+    assert!(
+        close(n[4].scale, Vec3::new(1.5, 1.0, 0.875)),
+        "{}",
+        n[4].scale
+    );
+    let n = posed(&mut app, 2.0);
+    assert!(
+        close(n[4].scale, Vec3::new(3.0, 1.0, 0.5)),
+        "{}",
+        n[4].scale
+    );
 }
 
 #[test]
