@@ -61,10 +61,18 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     // Frames on disk are kept only when they can be from these settings: the manifest is
     // this render's, or there is none yet (a shard stopped before writing it).
     let state = crate::shard::part_state(&manifest_path, &settings, &scene_hash, spec.count);
-    if let crate::shard::PartState::Done(_) = state {
-        let whole =
-            sequence::read(&manifest_path).and_then(|m| sequence::check_frames(&manifest_path, &m));
-        match whole {
+    let manifest = match state {
+        crate::shard::PartState::Done(_) => match sequence::read(&manifest_path) {
+            Ok(m) => Some(m),
+            Err(e) => {
+                log::warn!("{e:#}");
+                None
+            }
+        },
+        _ => None,
+    };
+    if let Some(m) = &manifest {
+        match sequence::check_frames(&manifest_path, m) {
             Ok(()) => {
                 crate::output::print(&format!(
                     "shard {}/{} ({}): {} are already done ({}): skipped\n",
@@ -83,13 +91,11 @@ pub fn run(args: &RenderArgs) -> Result<PathBuf> {
     // A frame the manifest lists is kept only with the checksum it recorded (a damaged
     // file may still decode); without a manifest, a frame that decodes is kept (frames
     // are written whole, by a rename).
-    let recorded: std::collections::HashMap<u32, String> =
-        match (&state, sequence::read(&manifest_path)) {
-            (crate::shard::PartState::Done(_), Ok(m)) => {
-                m.frames.into_iter().map(|e| (e.frame, e.hash)).collect()
-            }
-            _ => std::collections::HashMap::new(),
-        };
+    let recorded: std::collections::HashMap<u32, String> = manifest
+        .into_iter()
+        .flat_map(|m| m.frames)
+        .map(|e| (e.frame, e.hash))
+        .collect();
     let whole = |path: &std::path::Path, k: u32| match recorded.get(&k) {
         Some(hash) => sequence::FrameEntry::of(path, k).is_ok_and(|e| e.hash == *hash),
         None => image::open(path).is_ok(),
