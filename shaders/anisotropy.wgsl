@@ -23,6 +23,14 @@ fn anisotropic_alphas(alpha: f32, strength: f32) -> vec2<f32> {
     return vec2<f32>(alpha + (1.0 - alpha) * s * s, alpha);
 }
 
+// The view's azimuth (rad, 0..π/2) from t towards b, folded: atan2(|b·v|, |t·v|); 0
+// along n.
+fn view_azimuth(t: vec3<f32>, b: vec3<f32>, v: vec3<f32>) -> f32 {
+    let x = abs(dot(t, v));
+    let y = abs(dot(b, v));
+    return select(0.0, atan2(y, x), x + y > 0.0);
+}
+
 // D (1/sr) for h = (t·h, b·h, n·h) in the lobe's frame.
 fn d_ggx_anisotropic(alphas: vec2<f32>, h: vec3<f32>) -> f32 {
     let a2 = alphas.x * alphas.y;

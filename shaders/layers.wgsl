@@ -25,6 +25,7 @@
 #import clearcoat
 #import sheen
 #import anisotropy
+#import anisotropic_dfg
 
 @group(0) @binding(0) var<uniform> view: View;
 
@@ -182,6 +183,14 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     // front's.
     let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
     anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, anisotropy.yz);
+    // An anisotropic material's split sum and energy compensation read its own table
+    // (also where its texture takes the strength to 0: the lobe keeps its Smith term).
+    if maps.anisotropy.x > 0.0 {
+        let n = fragment.point.n;
+        let v = fragment.point.v;
+        relit_dfg = anisotropic_dfg(max(dot(n, v), MIN_N_DOT_V), view_azimuth(anisotropy_t, cross(n, anisotropy_t), v),
+                                    clamp_perceptual_roughness(fragment.surface.perceptual_roughness), anisotropy.x);
+    }
     relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb * extension_texel(ext, PROPERTY_SPECULAR_COLOR).rgb, film);
     translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
                              maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);

@@ -124,6 +124,9 @@ var<private> layer_albedo: f32 = 0.0;
 // film), set by the layers pass before surface_light.
 var<private> anisotropy_t: vec3<f32> = vec3<f32>(1.0, 0.0, 0.0);
 var<private> relit_lobe: RelitLobe = RelitLobe(0.0, vec3<f32>(1.0), vec3<f32>(0.0));
+// A relit base's split-sum (A, B) from the anisotropic table, which the layers pass sets
+// for an anisotropic lobe (anisotropic_dfg.wgsl); negative: the isotropic table's.
+var<private> relit_dfg: vec2<f32> = vec2<f32>(-1.0);
 // With RELIT_BASE: the diffuse transmission (rgb: colour, w: factor, 0: none), set by
 // the layers pass; it also sets `diffuse_weight` to 1 − factor.
 var<private> translucency: vec4<f32> = vec4<f32>(0.0);
@@ -240,6 +243,9 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     var dfg = vec2<f32>(1.0, 0.0);
     if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
         dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
+        if RELIT_BASE && relit_dfg.x >= 0.0 {
+            dfg = relit_dfg;
+        }
     }
     if ENERGY_COMPENSATION {
         specular_energy = energy_compensation(f0, dfg);

@@ -543,11 +543,11 @@ const ANGLES: [usize; 2] = [19, 20];
 const FILM: [usize; 7] = [50, 54, 55, 56, 58, 59, 60];
 
 /// Runs `module`'s `main` (workgroups of 64) over `cases` (binding 0) and returns
-/// `outputs` vec4s per case (binding 1).
+/// `outputs` vec4s per case (binding 1); `table`, where given, is binding 2.
 fn run_kernel(
     gpu: &lumen::render::device::Gpu,
     module: &wgpu::ShaderModule,
-    cases: &[u8],
+    (cases, table): (&[u8], Option<&[u8]>),
     count: usize,
     outputs: usize,
 ) -> Vec<[f32; 4]> {
@@ -574,19 +574,34 @@ fn run_kernel(
             compilation_options: Default::default(),
             cache: None,
         });
+    let table = table.map(|contents| {
+        gpu.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("table"),
+                contents,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+    });
+    let mut entries = vec![
+        wgpu::BindGroupEntry {
+            binding: 0,
+            resource: input.as_entire_binding(),
+        },
+        wgpu::BindGroupEntry {
+            binding: 1,
+            resource: output.as_entire_binding(),
+        },
+    ];
+    if let Some(table) = &table {
+        entries.push(wgpu::BindGroupEntry {
+            binding: 2,
+            resource: table.as_entire_binding(),
+        });
+    }
     let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
+        entries: &entries,
     });
     common::run_compute(
         gpu,
@@ -609,7 +624,7 @@ fn wgsl_functions_match_their_rust_twins() {
     let results = run_kernel(
         &gpu,
         &module,
-        bytemuck::cast_slice(&cases),
+        (bytemuck::cast_slice(&cases), None),
         cases.len(),
         OUTPUTS,
     );
@@ -711,7 +726,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             rng.next() * 0.999 + (rng.next() > 0.5) as u8 as f32,
         ]);
     }
-    let results = run_kernel(&gpu, &module, bytemuck::cast_slice(&cases), cases.len(), 1);
+    let results = run_kernel(
+        &gpu,
+        &module,
+        (bytemuck::cast_slice(&cases), None),
+        cases.len(),
+        1,
+    );
     let mut rounding = 0;
     for (i, (c, r)) in cases.iter().zip(&results).enumerate() {
         let base = Vec3::new(c[0], c[1], c[2]);
@@ -732,4 +753,78 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         assert_eq!(gpu_verdict, verdict, "case {i}: {c:?}");
     }
     assert!(rounding < 20, "{rounding} half-code roundings");
+}
+
+#[test]
+fn the_anisotropic_split_sum_table_reads_the_same_in_wgsl_and_rust() {
+    // `anisotropic_dfg` (shaders/anisotropic_dfg.wgsl) over the table the layers pass
+    // uploads, against `lumen::anisotropy::anisotropic_dfg`, on and between the entries,
+    // out of range and NaN; and `view_azimuth` on random views.
+    let gpu = common::gpu();
+    let kernel = r#"#import anisotropy
+#import anisotropic_dfg
+@group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&cases) {
+        return;
+    }
+    let c = cases[i];
+    let v = vec3<f32>(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z);
+    let azimuth = view_azimuth(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), v);
+    results[i] = vec4<f32>(anisotropic_dfg(c.x, c.y, c.z, c.w), azimuth, 0.0);
+}
+"#;
+    let source = ShaderLibrary::default()
+        .compose_source("anisotropic dfg parity", kernel, &[])
+        .expect("the kernel's imports resolve");
+    let module = create_module(&gpu, "anisotropic dfg parity", &source).expect("compiles");
+    let mut rng = Rng(11);
+    let mut cases: Vec<[f32; 4]> = (0..4096)
+        .map(|_| {
+            let mut c = [0.0f32; 4];
+            for x in &mut c {
+                *x = rng.next() * 1.2 - 0.1;
+            }
+            c[1] *= std::f32::consts::FRAC_PI_2;
+            c
+        })
+        .collect();
+    cases.extend([
+        [1.0, std::f32::consts::FRAC_PI_2, 1.0, 1.0],
+        [0.0, 0.0, 0.0, 0.0],
+        [f32::NAN, f32::NAN, f32::NAN, f32::NAN],
+        [0.5, 10.0, -3.0, 2.0],
+    ]);
+    let table = an::dfg_table();
+    let results = run_kernel(
+        &gpu,
+        &module,
+        (
+            bytemuck::cast_slice(&cases),
+            Some(bytemuck::cast_slice(table)),
+        ),
+        cases.len(),
+        1,
+    );
+    let mut worst = 0.0f32;
+    for (c, r) in cases.iter().zip(&results) {
+        let want = an::anisotropic_dfg(table, c[0], c[1], c[2], c[3]);
+        let got = Vec2::new(r[0], r[1]);
+        let err = (got - want).abs().max_element();
+        worst = worst.max(err);
+        assert!(err < 1e-5, "{c:?}: GPU {got} vs CPU {want}");
+        let v = Vec3::new(c[0] * 2.0 - 1.0, c[1] * 2.0 - 1.0, c[2]);
+        if c.iter().all(|x| x.is_finite()) {
+            let azimuth = an::view_azimuth(Vec3::X, Vec3::Y, v);
+            assert!(
+                (r[2] - azimuth).abs() < 1e-5,
+                "{c:?}: GPU {} vs CPU {azimuth}",
+                r[2]
+            );
+        }
+    }
+    eprintln!("anisotropic_dfg worst absolute difference {worst:.2e}");
 }

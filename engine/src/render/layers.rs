@@ -64,13 +64,15 @@ impl PassId {
     pub const Layers: PassId = PassId::new("layers");
 }
 
-/// Group 0: the view and the sheen's albedo table.
+/// Group 0: the view, the sheen's albedo table and the anisotropic lobe's split-sum
+/// table (`shaders/anisotropic_dfg.wgsl`).
 pub const VIEW: BindGroupSpec = BindGroupSpec {
     label: "layers",
     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
     bindings: &[
         ("view", Binding::Uniform),
         ("sheen_table", Binding::Uniform),
+        ("anisotropic_dfg_table", Binding::Storage),
     ],
 };
 
@@ -221,6 +223,11 @@ pub struct LayersPass {
     sheen_table: wgpu::Buffer,
     /// Whether `sheen_table` holds the table.
     sheen_table_written: bool,
+    /// The anisotropic lobe's split-sum table ([`crate::anisotropy::dfg_table`]): zeros
+    /// until the first frame with an anisotropic surface computes and writes it.
+    anisotropic_dfg_table: wgpu::Buffer,
+    /// Whether `anisotropic_dfg_table` holds the table.
+    anisotropic_dfg_written: bool,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
@@ -229,7 +236,8 @@ pub struct LayersPass {
 
 impl LayersPass {
     /// The layouts: the view, the lighting pass's groups 1 to 3 (`lighting`), and the
-    /// material maps' (`maps`); and the sheen table's buffer, filled on first use.
+    /// material maps' (`maps`); and the buffers of the sheen's and the anisotropic lobe's
+    /// tables, filled on first use.
     pub fn new(
         gpu: &Gpu,
         lighting: &[wgpu::BindGroupLayout; 4],
@@ -242,10 +250,19 @@ impl LayersPass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let entries: usize = crate::anisotropy::DFG_TABLE_DIMS.iter().product();
+        let anisotropic_dfg_table = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("anisotropic split-sum table"),
+            size: (entries * std::mem::size_of::<glam::Vec2>()) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         LayersPass {
             pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, &maps.layout),
             sheen_table,
             sheen_table_written: false,
+            anisotropic_dfg_table,
+            anisotropic_dfg_written: false,
             view_group: None,
             units: maps.units,
         }
@@ -355,6 +372,21 @@ pub fn prepare_layers(
         );
         pass.sheen_table_written = true;
     }
+    // So is the anisotropic lobe's split-sum table, for a frame with an anisotropic base.
+    if !pass.anisotropic_dfg_written
+        && frame.relit_batches().any(|b| {
+            b.maps
+                .and_then(|i| frame.material_maps.get(i as usize))
+                .is_some_and(|m| m.anisotropy.is_some())
+        })
+    {
+        gpu.queue.write_buffer(
+            &pass.anisotropic_dfg_table,
+            0,
+            bytemuck::cast_slice(crate::anisotropy::dfg_table()),
+        );
+        pass.anisotropic_dfg_written = true;
+    }
     for layer in Layer::ORDER {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
@@ -382,6 +414,7 @@ pub fn prepare_layers(
         vec![
             buffers.view.as_entire_binding(),
             pass.sheen_table.as_entire_binding(),
+            pass.anisotropic_dfg_table.as_entire_binding(),
         ],
     ) {
         Ok(group) => pass.view_group = Some((buffers.generation, group)),

@@ -204,12 +204,16 @@ impl Bsdf {
 
     /// The same base with its specular lobe made anisotropic (`anisotropy`, clamped):
     /// stretched along the direction it makes with the interpolated tangent `tangent`
-    /// (xyz, handedness in w), in the tangent plane of the shading normal. Call before
-    /// the layers.
+    /// (xyz, handedness in w), in the tangent plane of the shading normal, seen from `v`.
+    /// With `compensated`, the energy compensation divides by the anisotropic lobe's
+    /// albedo at v's cosine and azimuth ([`crate::anisotropy::anisotropic_dfg`]), as the
+    /// rasterizer's relit base does. Call before the layers.
     pub(super) fn with_anisotropy(
         mut self,
         tangent: Vec4,
         anisotropy: crate::scene::Anisotropy,
+        v: Vec3,
+        compensated: bool,
     ) -> Bsdf {
         let n = self.n();
         let (sin, cos) = anisotropy.rotation_rad.sin_cos();
@@ -223,6 +227,21 @@ impl Bsdf {
         self.alphas = anisotropic_alphas(self.alphas.y, anisotropy.strength);
         self.lobe.strength = anisotropy.strength;
         self.relit = true;
+        if compensated {
+            let n_dot_v = n.dot(v).clamp(0.0, 1.0);
+            let s = &self.surface;
+            let f0 =
+                crate::brdf::tinted_f0(s.base_color, s.metallic, s.specular_level, self.lobe.tint);
+            let f0 = crate::iridescence::film_f0(f0, n_dot_v, self.lobe.film);
+            let dfg = crate::anisotropy::anisotropic_dfg(
+                crate::anisotropy::dfg_table(),
+                n_dot_v.max(crate::brdf::MIN_N_DOT_V),
+                crate::anisotropy::view_azimuth(t, n.cross(t), v),
+                s.perceptual_roughness,
+                anisotropy.strength,
+            );
+            self.specular_scale = crate::ibl::energy_compensation(f0, dfg);
+        }
         self
     }
 
@@ -500,7 +519,7 @@ mod tests {
             };
             let bsdf = Bsdf::new(n, v, &m, VisibilityModel::default(), None);
             let bsdf = match anisotropy {
-                Some(a) => bsdf.with_anisotropy(tangent, a),
+                Some(a) => bsdf.with_anisotropy(tangent, a, v, false),
                 None => bsdf,
             };
             let bsdf = match sheen {

@@ -550,7 +550,7 @@ impl TraceScene {
         let tangent =
             surface.tangent * Vec4::new(1.0, 1.0, 1.0, if turned_over { -1.0 } else { 1.0 });
         let base = match material.anisotropy {
-            Some(a) => base.with_anisotropy(tangent, a),
+            Some(a) => base.with_anisotropy(tangent, a, v, self.energy_compensation.is_some()),
             None => base,
         };
         let n_sheen = turned(surface.layer_normal, facing);
