@@ -25,7 +25,7 @@
 #import clearcoat
 #import sheen
 #import anisotropy
-#import anisotropic_dfg
+#import relit_base
 
 @group(0) @binding(0) var<uniform> view: View;
 
@@ -153,9 +153,8 @@ fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(
     return vec4<f32>(finite_layer(light * factor), 1.0 - clearcoat_base_weight(factor, albedo));
 }
 
-// A relit base (maps.anisotropy: strength, cos and sin of the direction's angle;
-// maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film;
-// maps.translucency: the diffuse transmission; each scaled by its extension texture): the
+// A relit base (its lobe from relit_base.wgsl; maps.translucency: the diffuse
+// transmission, scaled by its extension textures): the
 // whole surface (emission, diffuse and the relit specular lobe, every light and the
 // indirect terms) from its material (forward_surface.wgsl), with alpha 1: it replaces
 // the deferred pass's light.
@@ -166,32 +165,7 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
     if masked_out(fragment.alpha) {
         discard;
     }
-    // The extension textures scale their factors (anisotropyTexture also turns the
-    // direction; iridescenceThicknessTexture picks the film's thickness).
-    var anisotropy = vec3<f32>(maps.anisotropy.x, maps.anisotropy.yz);
-    if extension_unit(PROPERTY_ANISOTROPY) < EXTENSION_UNITS {
-        anisotropy = textured_anisotropy(maps.anisotropy.x, maps.anisotropy.yz,
-                                         extension_texel(ext, PROPERTY_ANISOTROPY).rgb);
-    }
-    var film = maps.film.xyz;
-    film.x *= extension_texel(ext, PROPERTY_IRIDESCENCE).r;
-    if extension_unit(PROPERTY_IRIDESCENCE_THICKNESS) < EXTENSION_UNITS {
-        film.z = film_thickness(maps.extension_params.x, maps.film.z,
-                                extension_texel(ext, PROPERTY_IRIDESCENCE_THICKNESS).g);
-    }
-    // On a back face the normal is turned, so the handedness turns too: the grain is the
-    // front's.
-    let handedness = in.world_tangent.w * select(-1.0, 1.0, front);
-    anisotropy_t = anisotropy_direction(fragment.point.n, in.world_tangent.xyz, handedness, anisotropy.yz);
-    // An anisotropic material's split sum and energy compensation read its own table
-    // (also where its texture takes the strength to 0: the lobe keeps its Smith term).
-    if maps.anisotropy.x > 0.0 {
-        let n = fragment.point.n;
-        let v = fragment.point.v;
-        relit_dfg = anisotropic_dfg(max(dot(n, v), MIN_N_DOT_V), view_azimuth(anisotropy_t, cross(n, anisotropy_t), v),
-                                    clamp_perceptual_roughness(fragment.surface.perceptual_roughness), anisotropy.x);
-    }
-    relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb * extension_texel(ext, PROPERTY_SPECULAR_COLOR).rgb, film);
+    relight_base(ext, in.world_tangent, front, fragment.point, fragment.surface.perceptual_roughness);
     translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
                              maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);
     diffuse_weight = 1.0 - translucency.w;

@@ -8,9 +8,11 @@
 // instead. A transmissive fragment (TRANSMISSION, and a transmission factor in its maps)
 // covers what is behind it and passes on the opaque frame seen along its refracted ray
 // (transmission.wgsl): its diffuse lobe is scaled by 1 − transmission, as glTF mixes
-// them. Header constants: those of surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING
-// off (the AO pass's occlusion and the light tiles belong to the opaque surface behind),
-// and TRANSMISSION.
+// them. A blended surface with an anisotropy, a specular tint or an iridescent film is
+// drawn by a variant compiled with RELIT_BASE, its lobe set by relit_base.wgsl as the
+// layers pass sets an opaque one's. Header constants: those of surface_light.wgsl, with
+// SCREEN_AO and LIGHT_CULLING off (the AO pass's occlusion and the light tiles belong to
+// the opaque surface behind), TRANSMISSION and RELIT_BASE.
 #import common
 #import brdf
 #import color
@@ -23,11 +25,13 @@
 #import forward_surface
 #import transparency
 #import transmission
+#import relit_base
 
 @group(0) @binding(0) var<uniform> view: View;
 // The opaque frame and its mip chain (a 1 × 1 texture without TRANSMISSION).
 @group(0) @binding(1) var opaque_frame: texture_2d<f32>;
-@group(0) @binding(2) var opaque_sampler: sampler;
+// Binding 2: the anisotropic lobe's split-sum table (anisotropic_dfg.wgsl).
+@group(0) @binding(3) var opaque_sampler: sampler;
 
 @vertex
 fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
@@ -85,8 +89,13 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     transmission_here = maps.transmission * vec4<f32>(extension_texel(ext, PROPERTY_TRANSMISSION).r, 1.0,
                                                       extension_texel(ext, PROPERTY_THICKNESS).g, 1.0);
     let fragment = forward_surface(in, front);
-    let surface = fragment.surface;
+    var surface = fragment.surface;
     let point = fragment.point;
+    // A blended surface's own lobe: anisotropic, tinted or iridescent (relit_base.wgsl).
+    if RELIT_BASE {
+        relight_base(ext, in.world_tangent, front, point, surface.perceptual_roughness);
+        surface.specular_level *= extension_texel(ext, PROPERTY_SPECULAR).a;
+    }
     let world = point.world;
     // Coverage: the base alpha where blended, else whole.
     var alpha = select(1.0, fragment.alpha, maps.params.w > 0.5);

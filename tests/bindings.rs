@@ -103,9 +103,12 @@ fn every_bind_group_list_matches_its_shader() {
         check(
             "transparent.wgsl",
             &TransparentPass::defs(
-                TransparentVariant::of(
-                    everything,
-                    lumen::quality::Transparency::WeightedBlended,
+                (
+                    TransparentVariant::of(
+                        everything,
+                        lumen::quality::Transparency::WeightedBlended,
+                        true,
+                    ),
                     true,
                 ),
                 8,

@@ -442,13 +442,30 @@ fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
         "{}",
         m.specular_level
     );
-    // On a blended material the tint is not drawn, and a warning says so.
-    let material = json!({
+    // On a blended material the tint is drawn (by the transparent pass), without a
+    // warning; on a transmissive one it is not, and a warning says so.
+    let blended = json!({
         "alphaMode": "BLEND",
         "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 0.5], "metallicFactor": 0.0},
         "extensions": {ext: colour}
     });
-    let path = write_quad(dir.path(), material, &[ext]);
+    let path = write_quad(dir.path(), blended, &[ext]);
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    assert!(
+        summary.warnings.iter().all(|w| !w.contains("untinted")),
+        "{:?}",
+        summary.warnings
+    );
+    let transmissive = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {ext: colour, "KHR_materials_transmission": {"transmissionFactor": 1.0}}
+    });
+    let path = write_quad(
+        dir.path(),
+        transmissive,
+        &[ext, "KHR_materials_transmission"],
+    );
     let mut app = App::headless().expect("a GPU adapter");
     let summary = load_gltf(&mut app, &path).expect("loads");
     warned(&summary.warnings, "drawn untinted");

@@ -679,6 +679,26 @@ fn wgsl_functions_match_their_rust_twins() {
     }
 }
 
+/// A compute kernel over `vec4` cases (binding 0) into `vec4` results (binding 1): the
+/// module's `imports`, then `body`, run for case `i` (`c`, the case) in workgroups of 64.
+fn vec4_kernel(imports: &str, body: &str) -> String {
+    format!(
+        "{imports}
+@group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {{
+    let i = id.x;
+    if i >= arrayLength(&cases) {{
+        return;
+    }}
+    let c = cases[i];
+{body}
+}}
+"
+    )
+}
+
 /// `metal_rough_verdict` and `brightness_code` of `shaders/validate.wgsl` against
 /// `lumen::validate`: every grey code under every metallic class, both floors, and
 /// coloured texels.
@@ -686,24 +706,16 @@ fn wgsl_functions_match_their_rust_twins() {
 fn the_validator_rules_match_in_wgsl_and_rust() {
     use lumen::validate::{brightness_code, metal_rough_verdict};
     let gpu = common::gpu();
-    let kernel = r#"#import validate
-@group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&cases) {
-        return;
-    }
-    let c = cases[i];
-    let base = vec3<f32>(c.x, c.y, c.z);
+    let kernel = vec4_kernel(
+        "#import validate",
+        r#"    let base = vec3<f32>(c.x, c.y, c.z);
     let metallic = fract(c.w);
     let strict = c.w >= 1.0;
     results[i] = vec4<f32>(f32(metal_rough_verdict(base, metallic, strict)), f32(brightness_code(base)), 0.0, 0.0);
-}
-"#;
+"#,
+    );
     let source = ShaderLibrary::default()
-        .compose_source("validate parity", kernel, &[])
+        .compose_source("validate parity", &kernel, &[])
         .expect("the kernel's imports resolve");
     let module = create_module(&gpu, "validate parity", &source).expect("compiles");
     // w: metallic in [0, 1) plus 1 for strict.
@@ -761,24 +773,15 @@ fn the_anisotropic_split_sum_table_reads_the_same_in_wgsl_and_rust() {
     // uploads, against `lumen::anisotropy::anisotropic_dfg`, on and between the entries,
     // out of range and NaN; and `view_azimuth` on random views.
     let gpu = common::gpu();
-    let kernel = r#"#import anisotropy
-#import anisotropic_dfg
-@group(0) @binding(0) var<storage, read> cases: array<vec4<f32>>;
-@group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
-@compute @workgroup_size(64)
-fn main(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
-    if i >= arrayLength(&cases) {
-        return;
-    }
-    let c = cases[i];
-    let v = vec3<f32>(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z);
+    let kernel = vec4_kernel(
+        "#import anisotropy\n#import anisotropic_dfg",
+        r#"    let v = vec3<f32>(c.x * 2.0 - 1.0, c.y * 2.0 - 1.0, c.z);
     let azimuth = view_azimuth(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), v);
     results[i] = vec4<f32>(anisotropic_dfg(c.x, c.y, c.z, c.w), azimuth, 0.0);
-}
-"#;
+"#,
+    );
     let source = ShaderLibrary::default()
-        .compose_source("anisotropic dfg parity", kernel, &[])
+        .compose_source("anisotropic dfg parity", &kernel, &[])
         .expect("the kernel's imports resolve");
     let module = create_module(&gpu, "anisotropic dfg parity", &source).expect("compiles");
     let mut rng = Rng(11);

@@ -624,10 +624,12 @@ pub fn extract_frame(
             .filter(|_| !transmissive);
         let iridescence = material.iridescent().filter(|_| !transmissive);
         let diffuse_transmission = material.translucent().filter(|_| !transmissive);
-        let relit = anisotropy.is_some()
-            || specular_tint.is_some()
-            || iridescence.is_some()
-            || diffuse_transmission.is_some();
+        // A blended surface's anisotropy, tint and film are the transparent pass's.
+        let relit = !blend
+            && (anisotropy.is_some()
+                || specular_tint.is_some()
+                || iridescence.is_some()
+                || diffuse_transmission.is_some());
         let textured = maps.is_some();
         let forward = blend || transmissive || coated || sheened || relit;
         let maps = maps.or(forward.then_some(&neutral_maps)).map(|m| {

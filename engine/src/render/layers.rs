@@ -35,6 +35,7 @@
 //! (lighting variant, layer, double-sided, HDR format).
 
 use crate::error::Result;
+use crate::render::anisotropic_dfg::AnisotropicDfgBuffer;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
@@ -223,11 +224,8 @@ pub struct LayersPass {
     sheen_table: wgpu::Buffer,
     /// Whether `sheen_table` holds the table.
     sheen_table_written: bool,
-    /// The anisotropic lobe's split-sum table ([`crate::anisotropy::dfg_table`]): zeros
-    /// until the first frame with an anisotropic surface computes and writes it.
-    anisotropic_dfg_table: wgpu::Buffer,
-    /// Whether `anisotropic_dfg_table` holds the table.
-    anisotropic_dfg_written: bool,
+    /// The anisotropic lobe's split-sum table.
+    dfg_table: AnisotropicDfgBuffer,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
@@ -250,19 +248,11 @@ impl LayersPass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let entries: usize = crate::anisotropy::DFG_TABLE_DIMS.iter().product();
-        let anisotropic_dfg_table = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("anisotropic split-sum table"),
-            size: (entries * std::mem::size_of::<glam::Vec2>()) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         LayersPass {
             pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, &maps.layout),
             sheen_table,
             sheen_table_written: false,
-            anisotropic_dfg_table,
-            anisotropic_dfg_written: false,
+            dfg_table: AnisotropicDfgBuffer::new(gpu),
             view_group: None,
             units: maps.units,
         }
@@ -373,20 +363,7 @@ pub fn prepare_layers(
         pass.sheen_table_written = true;
     }
     // So is the anisotropic lobe's split-sum table, for a frame with an anisotropic base.
-    if !pass.anisotropic_dfg_written
-        && frame.relit_batches().any(|b| {
-            b.maps
-                .and_then(|i| frame.material_maps.get(i as usize))
-                .is_some_and(|m| m.anisotropy.is_some())
-        })
-    {
-        gpu.queue.write_buffer(
-            &pass.anisotropic_dfg_table,
-            0,
-            bytemuck::cast_slice(crate::anisotropy::dfg_table()),
-        );
-        pass.anisotropic_dfg_written = true;
-    }
+    pass.dfg_table.write_for(&gpu, &frame);
     for layer in Layer::ORDER {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
@@ -414,7 +391,7 @@ pub fn prepare_layers(
         vec![
             buffers.view.as_entire_binding(),
             pass.sheen_table.as_entire_binding(),
-            pass.anisotropic_dfg_table.as_entire_binding(),
+            pass.dfg_table.buffer.as_entire_binding(),
         ],
     ) {
         Ok(group) => pass.view_group = Some((buffers.generation, group)),

@@ -9,6 +9,7 @@
 //! (or a debug view) — each recording into the frame's command encoder with its own
 //! timing. The built-in passes are listed in [`passes`].
 
+pub mod anisotropic_dfg;
 pub mod antialiasing;
 pub mod bindings;
 pub mod capture;

@@ -58,21 +58,21 @@ pub struct Material {
     pub sheen: Option<Sheen>,
     /// A specular lobe stretched along a direction in the surface (glTF's
     /// `KHR_materials_anisotropy`): brushed metal, satin, hair. `None`: isotropic. Drawn
-    /// on opaque, lit surfaces only ([`Material::anisotropic`]): the layers pass lights the
-    /// base again with the anisotropic lobe, in place of the deferred pass's isotropic one
+    /// on lit, non-transmissive surfaces ([`Material::anisotropic`]): on an opaque one the
+    /// layers pass lights the base again with the anisotropic lobe, in place of the
+    /// deferred pass's isotropic one; a blended one is lit with it by the transparent pass
     /// (docs/src/materials.md#anisotropy).
     pub anisotropy: Option<Anisotropy>,
     /// The colour of the dielectric specular reflection (glTF's `KHR_materials_specular`
     /// `specularColorFactor`), linear RGB, each channel 0..1 (clamped): the dielectric
     /// F0 is `0.08 · specular_level · tint` ([`crate::brdf::tinted_f0`]). White (the
-    /// default) is untinted. A tint is drawn on opaque, lit surfaces only
-    /// ([`Material::tint`]), by the layers pass, like the anisotropy
-    /// (docs/src/materials.md#specular-colour).
+    /// default) is untinted. A tint is drawn where the anisotropy is
+    /// ([`Material::tint`]): by the layers pass on opaque surfaces, by the transparent pass
+    /// on blended ones (docs/src/materials.md#specular-colour).
     pub specular_tint: Vec3,
     /// A thin iridescent film over the surface (glTF's `KHR_materials_iridescence`): soap
-    /// bubbles, oil slicks, heat-tinted metal. `None`: no film. Drawn on opaque, lit
-    /// surfaces only ([`Material::iridescent`]), by the layers pass, like the anisotropy
-    /// (docs/src/materials.md#iridescence).
+    /// bubbles, oil slicks, heat-tinted metal. `None`: no film. Drawn where the anisotropy
+    /// is ([`Material::iridescent`]) (docs/src/materials.md#iridescence).
     pub iridescence: Option<Iridescence>,
     /// Light passing diffusely through a thin surface (glTF's
     /// `KHR_materials_diffuse_transmission`): leaves, paper, lampshades, thin fabric.
@@ -351,17 +351,18 @@ impl Material {
     }
 
     /// The anisotropy that is drawn (clamped): [`Material::anisotropy`] where its
-    /// strength is above 0 and the surface is opaque and lit, as for [`Material::coat`].
+    /// strength is above 0 and the surface is lit and not transmissive (opaque or
+    /// blended).
     pub fn anisotropic(&self) -> Option<Anisotropy> {
         self.anisotropy
             .map(Anisotropy::clamped)
             .filter(|a| a.strength > 0.0)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
     /// The specular tint that is drawn: [`Material::specular_tint`] with each channel
-    /// clamped to 0..1 (NaN: 1), where it is not white and the surface is opaque and lit
-    /// and not wholly metal (a metal's F0 is its base colour).
+    /// clamped to 0..1 (NaN: 1), where it is not white and the surface is lit, not
+    /// transmissive and not wholly metal (a metal's F0 is its base colour).
     pub fn tint(&self) -> Option<Vec3> {
         self.relit_tint(false)
     }
@@ -369,22 +370,23 @@ impl Material {
     /// The specular tint a relit base is drawn with: [`Material::tint`], or, where
     /// `textured` (a specular texture scales the level or the tint per texel,
     /// [`crate::scene::ExtensionMaps::specular_textured`]), the clamped tint even when
-    /// it is white, on every opaque, lit surface: whatever the metallic factor, since a
-    /// metallic-roughness texture may make any texel a dielectric.
+    /// it is white, on every lit, non-transmissive surface: whatever the metallic factor,
+    /// since a metallic-roughness texture may make any texel a dielectric.
     pub fn relit_tint(&self, textured: bool) -> Option<Vec3> {
         let tint = crate::brdf::clamp_tint(self.specular_tint);
         ((tint.min_element() < 1.0 && self.metallic < 1.0) || textured)
             .then_some(tint)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
     /// The iridescent film that is drawn (clamped): [`Material::iridescence`] where its
-    /// factor is above 0 and the surface is opaque and lit, as for [`Material::coat`].
+    /// factor is above 0 and the surface is lit and not transmissive, as for
+    /// [`Material::anisotropic`].
     pub fn iridescent(&self) -> Option<Iridescence> {
         self.iridescence
             .map(Iridescence::clamped)
             .filter(|f| f.factor > 0.0)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
     /// The diffuse transmission that is drawn (clamped):
@@ -399,7 +401,14 @@ impl Material {
 
     /// Neither blended, transmissive nor unlit: what a layer can be drawn over.
     fn opaque_and_lit(&self) -> bool {
-        !self.blend && !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
+        !self.blend && self.relit_base()
+    }
+
+    /// Neither transmissive nor unlit: a surface whose own lobe can be anisotropic, tinted
+    /// or iridescent (opaque, relit by the layers pass, or blended, lit by the
+    /// transparent pass with the same lobe).
+    fn relit_base(&self) -> bool {
+        !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }
 
     /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).
@@ -417,7 +426,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn specular_textures_relight_every_opaque_lit_surface() {
+    fn specular_textures_relight_every_lit_surface_that_does_not_transmit() {
         let metal = Material::new(Vec3::ONE, 1.0, 0.5);
         // A metal's constant tint is not drawn; its specular textures are (a
         // metallic-roughness texture may make any texel a dielectric).
@@ -427,11 +436,19 @@ mod tests {
         };
         assert_eq!(tinted.tint(), None);
         assert_eq!(metal.relit_tint(true), Some(Vec3::ONE));
+        // A blended surface's are drawn too (by the transparent pass); a transmissive or
+        // unlit one's are not.
         let blended = Material {
             blend: true,
             ..Material::new(Vec3::ONE, 0.0, 0.5)
         };
-        assert_eq!(blended.relit_tint(true), None);
+        assert_eq!(blended.relit_tint(true), Some(Vec3::ONE));
+        let transmissive = Material {
+            transmission: Some(Transmission::default()),
+            ..Material::new(Vec3::ONE, 0.0, 0.5)
+        };
+        assert_eq!(transmissive.relit_tint(true), None);
+        assert_eq!(Material::unlit(Vec3::ONE).relit_tint(true), None);
         let dielectric = Material::new(Vec3::ONE, 0.0, 0.5);
         assert_eq!(dielectric.relit_tint(false), None);
         assert_eq!(tinted.relit_tint(true), Some(Vec3::new(1.0, 0.5, 0.5)));

@@ -23,9 +23,10 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
+use crate::render::anisotropic_dfg::AnisotropicDfgBuffer;
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
+use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::forward::{
     ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
 };
@@ -55,7 +56,9 @@ impl PassId {
     pub const Transparent: PassId = PassId::new("transparent");
 }
 
-/// Group 0: the view, and the opaque frame's mip chain with its sampler.
+/// Group 0: the view, the opaque frame's mip chain, the anisotropic lobe's split-sum
+/// table (binding 2, as in the layers pass: `shaders/anisotropic_dfg.wgsl`) and the
+/// chain's sampler.
 pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings::BindGroupSpec {
     label: "transparent",
     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -65,9 +68,25 @@ pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings
             "opaque_frame",
             crate::render::bindings::Binding::Sampled(wgpu::TextureViewDimension::D2),
         ),
+        (
+            "anisotropic_dfg_table",
+            crate::render::bindings::Binding::Storage,
+        ),
         ("opaque_sampler", crate::render::bindings::Binding::Sampler),
     ],
 };
+
+/// Whether `batch` (blended) has a lobe of its own, an anisotropy, a specular tint or an
+/// iridescent film in its maps entry: the pass draws it with the variant compiled with
+/// `RELIT_BASE`.
+fn relit(frame: &ExtractedFrame, batch: &Batch) -> bool {
+    batch
+        .maps
+        .and_then(|i| frame.material_maps.get(i as usize))
+        .is_some_and(|m| {
+            m.anisotropy.is_some() || m.specular_tint.is_some() || m.iridescence.is_some()
+        })
+}
 
 /// The pass's shader variant: the lighting pass's variant without its screen-space
 /// inputs, and the compositing mode.
@@ -204,10 +223,11 @@ impl FramePass for TransparentPass {
     }
 }
 
-/// The transparent pass's pipelines and its view group.
+/// The transparent pass's pipelines (per variant and whether `RELIT_BASE` is compiled in)
+/// and its view group.
 #[derive(Resource)]
 pub struct TransparentPass {
-    pipelines: ForwardPipelines<TransparentVariant>,
+    pipelines: ForwardPipelines<(TransparentVariant, bool)>,
     /// The view group and what it was built from: the scene buffers' generation and the
     /// chain's (`None`: the black stand-in).
     view_group: Option<((u64, Option<u64>), wgpu::BindGroup)>,
@@ -216,6 +236,8 @@ pub struct TransparentPass {
     resolve: WeightedResolve,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
     units: bool,
+    /// The anisotropic lobe's split-sum table, for blended anisotropic surfaces.
+    dfg_table: AnisotropicDfgBuffer,
 }
 
 impl TransparentPass {
@@ -249,17 +271,26 @@ impl TransparentPass {
             no_frame,
             resolve: WeightedResolve::new(gpu),
             units: maps.units,
+            dfg_table: AnisotropicDfgBuffer::new(gpu),
         }
     }
 
     /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights, the
-    /// maps' layout with the extension units where `units`.
+    /// maps' layout with the extension units where `units`; with `RELIT_BASE` where
+    /// `relit`.
     pub fn defs(
-        variant: TransparentVariant,
+        (variant, relit): (TransparentVariant, bool),
         uniform_capacity: u32,
         units: bool,
     ) -> Vec<crate::render::shaders::ShaderDef> {
-        let mut defs = LightingPass::defs(variant.lighting, uniform_capacity);
+        use crate::render::shaders::ShaderDef;
+        let mut defs: Vec<ShaderDef> = LightingPass::defs(variant.lighting, uniform_capacity)
+            .into_iter()
+            .map(|d| match d {
+                ShaderDef::Bool("RELIT_BASE", _) => ShaderDef::Bool("RELIT_BASE", relit),
+                other => other,
+            })
+            .collect();
         defs.extend(unit_defs(MAPS_GROUP, units));
         defs.push(crate::render::shaders::ShaderDef::Bool(
             "TRANSMISSION",
@@ -330,18 +361,23 @@ pub fn prepare_transparent(
     };
     let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
-    if let Err(e) = pass.pipelines.ensure(
-        &gpu,
-        (variant, t.hdr_format),
-        frame.transparent_batches(),
-        ("transparent.wgsl", &|| {
-            TransparentPass::defs(variant, capacity, units)
-        }),
-        &|format| transparent_shape(variant, format),
-    ) {
-        errors.0.push(e);
-        return;
+    for lobe in [false, true] {
+        if let Err(e) = pass.pipelines.ensure(
+            &gpu,
+            ((variant, lobe), t.hdr_format),
+            frame
+                .transparent_batches()
+                .filter(|b| relit(&frame, b) == lobe),
+            ("transparent.wgsl", &|| {
+                TransparentPass::defs((variant, lobe), capacity, units)
+            }),
+            &|format| transparent_shape(variant, format),
+        ) {
+            errors.0.push(e);
+            return;
+        }
     }
+    pass.dfg_table.write_for(&gpu, &frame);
     if variant.weighted {
         let Some([accum, reveal]) = t.views([OIT_ACCUM, OIT_REVEAL]) else {
             return;
@@ -369,6 +405,7 @@ pub fn prepare_transparent(
         vec![
             buffers.view.as_entire_binding(),
             wgpu::BindingResource::TextureView(frame_view),
+            pass.dfg_table.buffer.as_entire_binding(),
             wgpu::BindingResource::Sampler(source.sampler()),
         ],
     ) {
@@ -454,8 +491,11 @@ pub fn transparent_pass(
             MAPS_GROUP,
             inputs.frame.transparent_batches(),
             |batch| {
-                pass.pipelines
-                    .get(variant, batch.double_sided, t.hdr_format)
+                pass.pipelines.get(
+                    (variant, relit(&inputs.frame, batch)),
+                    batch.double_sided,
+                    t.hdr_format,
+                )
             },
         );
     }
