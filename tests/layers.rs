@@ -776,6 +776,20 @@ fn an_anisotropic_white_furnace_returns_the_light_it_receives() {
     );
 }
 
+/// The mean luminance in `image` of the furnace's top-row sphere `column` over its pixels
+/// ([`sphere_pixels`]) with n·v at least `min_n_dot_v`.
+fn top_sphere_mean(app: &App, image: &image::Rgba32FImage, column: u32, min_n_dot_v: f32) -> f32 {
+    let pixels: Vec<_> = sphere_pixels(app, column, 0)
+        .into_iter()
+        .filter(|(_, n_dot_v)| *n_dot_v >= min_n_dot_v)
+        .collect();
+    let sum: f32 = pixels
+        .iter()
+        .map(|((x, y), _)| common::lum(image.get_pixel(*x, *y)))
+        .sum();
+    sum / pixels.len() as f32
+}
+
 #[test]
 fn the_path_tracer_returns_the_light_an_anisotropic_white_metal_receives() {
     // The furnace's white metals (F0 = 1), anisotropy 1 along their tangents, path-traced
@@ -803,14 +817,7 @@ fn the_path_tracer_returns_the_light_an_anisotropic_white_metal_receives() {
         };
         let image = render(&scene, &options, &|_| {}).image;
         (1..FURNACE_COLUMNS)
-            .map(|column| {
-                let pixels = sphere_pixels(&app, column, 0);
-                let sum: f32 = pixels
-                    .iter()
-                    .map(|((x, y), _)| common::lum(image.get_pixel(*x, *y)))
-                    .sum();
-                sum / pixels.len() as f32
-            })
+            .map(|column| top_sphere_mean(&app, &image, column, 0.0))
             .collect::<Vec<f32>>()
     };
     let compensated = traced(true);
@@ -874,17 +881,7 @@ fn the_rasterizer_and_the_path_tracer_agree_on_grey_anisotropic_metals_in_the_fu
     let traced = render(&scene, &options, &|_| {}).image;
     // Pixels well inside the silhouette: the path tracer's pixels average their whole
     // area, and those on the rim take in the brighter background.
-    let mean = |image: &image::Rgba32FImage, column: u32| {
-        let pixels: Vec<_> = sphere_pixels(&app, column, 0)
-            .into_iter()
-            .filter(|(_, n_dot_v)| *n_dot_v >= 0.3)
-            .collect();
-        let sum: f32 = pixels
-            .iter()
-            .map(|((x, y), _)| common::lum(image.get_pixel(*x, *y)))
-            .sum();
-        sum / pixels.len() as f32
-    };
+    let mean = |image: &image::Rgba32FImage, column: u32| top_sphere_mean(&app, image, column, 0.3);
     let means: Vec<(f32, f32)> = columns
         .iter()
         .map(|&c| (mean(&image, c), mean(&traced, c)))

@@ -49,6 +49,19 @@ fn sample_reflection(frame: Mat3, alphas: Vec2, v: Vec3, rng: &mut Rng) -> Optio
     (local_l.z > 0.0).then(|| (frame * local_l).normalize())
 }
 
+/// The F0 the energy compensation sees for a base of `surface` with the relit `lobe`,
+/// seen at cosine `n_dot_v`: the tinted F0 whose Schlick Fresnel is the film's, as the
+/// rasterizer's split sum uses it.
+fn compensated_f0(surface: &Surface, lobe: &RelitLobe, n_dot_v: f32) -> Vec3 {
+    let f0 = crate::brdf::tinted_f0(
+        surface.base_color,
+        surface.metallic,
+        surface.specular_level,
+        lobe.tint,
+    );
+    crate::iridescence::film_f0(f0, n_dot_v, lobe.film)
+}
+
 /// A clearcoat's specular lobe (F0 0.04) about its own normal.
 struct CoatLobe {
     frame: Mat3,
@@ -175,8 +188,7 @@ impl Bsdf {
         } else {
             0.0
         };
-        // The compensation sees the film's F0, as the rasterizer's split sum does.
-        let compensated = crate::iridescence::film_f0(f0, n.dot(v).clamp(0.0, 1.0), lobe.film);
+        let compensated = compensated_f0(&surface, &lobe, n.dot(v).clamp(0.0, 1.0));
         let specular_scale = compensation.map_or(Vec3::ONE, |table| {
             table.compensation(compensated, n.dot(v), m.roughness)
         });
@@ -229,17 +241,14 @@ impl Bsdf {
         self.relit = true;
         if compensated {
             let n_dot_v = n.dot(v).clamp(0.0, 1.0);
-            let s = &self.surface;
-            let f0 =
-                crate::brdf::tinted_f0(s.base_color, s.metallic, s.specular_level, self.lobe.tint);
-            let f0 = crate::iridescence::film_f0(f0, n_dot_v, self.lobe.film);
             let dfg = crate::anisotropy::anisotropic_dfg(
                 crate::anisotropy::dfg_table(),
                 n_dot_v.max(crate::brdf::MIN_N_DOT_V),
                 crate::anisotropy::view_azimuth(t, n.cross(t), v),
-                s.perceptual_roughness,
+                self.surface.perceptual_roughness,
                 anisotropy.strength,
             );
+            let f0 = compensated_f0(&self.surface, &self.lobe, n_dot_v);
             self.specular_scale = crate::ibl::energy_compensation(f0, dfg);
         }
         self
