@@ -16,6 +16,9 @@ struct ForwardSurface {
     alpha: f32,
     // Pre-exposed emitted luminance (cd/m² × exposure).
     emissive: vec3<f32>,
+    // The mesh's interpolated normal (unit, facing the viewer), without the normal map:
+    // the normal a layer over the surface is lit on (layer_light.wgsl).
+    layer_n: vec3<f32>,
 }
 
 // The surface of fragment `in`; back faces (double-sided materials only) are lit from
@@ -38,5 +41,6 @@ fn forward_surface(in: TexturedOutput, front: bool) -> ForwardSurface {
     out.point.receives = select(0.0, 1.0, in.params.w > 0.5);
     out.alpha = base.a;
     out.emissive = mapped.emissive;
+    out.layer_n = ng;
     return out;
 }

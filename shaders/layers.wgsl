@@ -22,76 +22,26 @@
 #import extension_units
 #import surface_light
 #import forward_surface
-#import clearcoat
-#import sheen
-#import anisotropy
+#import layer_light
 #import relit_base
 
 @group(0) @binding(0) var<uniform> view: View;
-
-// The sheen lobe's directional albedo E(n·v, r) (engine/src/sheen.rs, `albedo_table`):
-// 32 × 32 entries, n·v along a row, packed four to a vec4.
-struct SheenTable {
-    entries: array<vec4<f32>, 256>,
-}
+// The sheen lobe's directional albedo table (sheen_table.wgsl).
 @group(0) @binding(1) var<uniform> sheen_table: SheenTable;
 
-const SHEEN_TABLE_SIZE: u32 = 32u;
-
-fn sheen_table_at(i: u32, j: u32) -> f32 {
-    let k = min(j, SHEEN_TABLE_SIZE - 1u) * SHEEN_TABLE_SIZE + min(i, SHEEN_TABLE_SIZE - 1u);
-    return sheen_table.entries[k / 4u][k % 4u];
-}
-
-// Bilinear lookup of the table at (n·v, r), both clamped to 0..1, NaN: 1
-// (engine/src/sheen.rs, `sheen_albedo`).
-fn sheen_albedo(n_dot_v: f32, perceptual_roughness: f32) -> f32 {
-    let scale = f32(SHEEN_TABLE_SIZE - 1u);
-    var nv = clamp(n_dot_v, 0.0, 1.0);
-    if !(n_dot_v == n_dot_v) {
-        nv = 1.0;
-    }
-    let x = nv * scale;
-    var r = clamp(perceptual_roughness, 0.0, 1.0);
-    if !(perceptual_roughness == perceptual_roughness) {
-        r = 1.0;
-    }
-    let y = r * scale;
-    let x0 = u32(x);
-    let y0 = u32(y);
-    let fx = x - f32(x0);
-    let fy = y - f32(y0);
-    let row0 = mix(sheen_table_at(x0, y0), sheen_table_at(x0 + 1u, y0), fx);
-    let row1 = mix(sheen_table_at(x0, y0 + 1u), sheen_table_at(x0 + 1u, y0 + 1u), fx);
-    return mix(row0, row1, fy);
-}
-
-// The layer's shading point at fragment `in`: on the mesh's interpolated normal, facing
-// the viewer, with the material's occlusion; or None (a masked texel: no base, no layer).
+// The point a layer of fragment `in` is lit at: on the mesh's interpolated normal, facing
+// the viewer, with the material's occlusion; `kept` is false where a masked material
+// drops the texel (no base, no layer).
 struct LayerPoint {
     point: ShadingPoint,
     kept: bool,
 }
 
 fn layer_point(in: TexturedOutput, front: bool) -> LayerPoint {
-    var out: LayerPoint;
-    // Texels a masked material drops have no base, so no layer.
-    let base = in.base_color * base_color_texel(in.uv0, in.uv1);
-    out.kept = !masked_out(base.a);
-    // Back faces reach here only for double-sided materials: lit from the side the
-    // viewer sees.
-    let n = safe_normalize(in.world_normal * select(-1.0, 1.0, front), vec3<f32>(0.0, 0.0, 1.0));
-    let mapped = mapped_material(in.uv0, in.uv1, n, in.world_tangent, in.params, in.emissive_occlusion);
-    let world = fragment_world(in.clip);
-    out.point.world = world;
-    out.point.n = n;
-    out.point.v = safe_normalize(view.position_exposure.xyz - world, n);
-    out.point.frag = in.clip.xy;
-    out.point.occlusion = mapped.occlusion;
-    out.point.receives = select(0.0, 1.0, in.params.w > 0.5);
-    // No diffuse lobe: a layer only reflects.
-    diffuse_weight = 0.0;
-    return out;
+    let fragment = forward_surface(in, front);
+    var point = fragment.point;
+    point.n = fragment.layer_n;
+    return LayerPoint(point, !masked_out(fragment.alpha));
 }
 
 @vertex
@@ -105,52 +55,29 @@ fn finite_layer(color: vec3<f32>) -> vec3<f32> {
     return min(select(color, vec3<f32>(0.0), color != color), vec3<f32>(HALF_MAX));
 }
 
-// The sheen: L_sheen over the base, which keeps 1 − max(colour) · E_sheen(n·v, r).
+// A layer over the lit base: (L_layer, 1 − w), composited as dst ← src + dst · (1 − α).
+fn composited(layer: LayerLight) -> vec4<f32> {
+    return vec4<f32>(finite_layer(layer.light), 1.0 - layer.through);
+}
+
+// The sheen (SHEEN_LOBE).
 @fragment
 fn fs_sheen(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let ext = extension_texels(in.uv0, in.uv1);
     let lp = layer_point(in, front);
     if !lp.kept {
         discard;
     }
-    var sheen: Surface;
-    let color = maps.sheen.rgb * extension_texel(ext, PROPERTY_SHEEN_COLOR).rgb;
-    sheen.base_color = clamp(color, vec3<f32>(0.0), vec3<f32>(1.0));
-    sheen.metallic = 0.0;
-    sheen.specular_level = 0.0;
-    sheen.perceptual_roughness = clamp_sheen_roughness(maps.sheen.w * extension_texel(ext, PROPERTY_SHEEN_ROUGHNESS).a);
-    let n_dot_v = max(dot(lp.point.n, lp.point.v), MIN_N_DOT_V);
-    layer_albedo = sheen_albedo(n_dot_v, sheen.perceptual_roughness);
-    let light = surface_light(lp.point, sheen);
-    return vec4<f32>(finite_layer(light), 1.0 - sheen_base_weight(sheen.base_color, layer_albedo));
+    return composited(sheen_layer(extension_texels(in.uv0, in.uv1), lp.point));
 }
 
-// The coat: factor · L_coat over the base, which keeps 1 − factor · E_coat(n·v, r_c).
+// The coat.
 @fragment
 fn fs_coat(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let ext = extension_texels(in.uv0, in.uv1);
-    var lp = layer_point(in, front);
+    let lp = layer_point(in, front);
     if !lp.kept {
         discard;
     }
-    // clearcoatNormalTexture bends the coat's normal as the base's normal map bends its.
-    if extension_unit(PROPERTY_CLEARCOAT_NORMAL) < EXTENSION_UNITS {
-        lp.point.n = normal_from_map(lp.point.n, in.world_tangent,
-                                     extension_texel(ext, PROPERTY_CLEARCOAT_NORMAL).rgb, maps.extension_params.z);
-    }
-    var coat: Surface;
-    coat.base_color = vec3<f32>(0.0);
-    coat.metallic = 0.0;
-    coat.specular_level = CLEARCOAT_SPECULAR_LEVEL;
-    coat.perceptual_roughness = maps.clearcoat.y * extension_texel(ext, PROPERTY_CLEARCOAT_ROUGHNESS).g;
-    let light = surface_light(lp.point, coat);
-    // surface_light left the coat lobe's energy compensation in `specular_energy`.
-    let n_dot_v = max(dot(lp.point.n, lp.point.v), MIN_N_DOT_V);
-    let r = clamp_perceptual_roughness(coat.perceptual_roughness);
-    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
-    let factor = maps.clearcoat.x * extension_texel(ext, PROPERTY_CLEARCOAT).r;
-    let albedo = clearcoat_albedo(dfg, specular_energy.x);
-    return vec4<f32>(finite_layer(light * factor), 1.0 - clearcoat_base_weight(factor, albedo));
+    return composited(coat_layer(extension_texels(in.uv0, in.uv1), lp.point, in.world_tangent));
 }
 
 // A relit base (its lobe from relit_base.wgsl; maps.translucency: the diffuse
@@ -166,9 +93,6 @@ fn fs_relit(in: TexturedOutput, @builtin(front_facing) front: bool) -> @location
         discard;
     }
     relight_base(ext, in.world_tangent, front, fragment.point, fragment.surface.perceptual_roughness);
-    translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
-                             maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);
-    diffuse_weight = 1.0 - translucency.w;
     var surface = fragment.surface;
     surface.specular_level *= extension_texel(ext, PROPERTY_SPECULAR).a;
     let light = fragment.emissive + surface_light(fragment.point, surface);

@@ -1,7 +1,8 @@
 // A relit base's lobe from its material (engine/src/render/layers.rs and
 // engine/src/render/transparent/mod.rs): what surface_light.wgsl reads with RELIT_BASE,
 // set from the material maps (maps.anisotropy: strength, cos and sin of the direction's
-// angle; maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film),
+// angle; maps.specular_tint: the dielectric F0's tint; maps.film: the iridescent film;
+// maps.translucency: the diffuse transmission),
 // each scaled by its extension texture (anisotropyTexture also turns the direction;
 // iridescenceThicknessTexture picks the film's thickness). Shared by the layers pass's
 // relit base (an opaque surface) and the transparent pass (a blended one). The entry
@@ -14,7 +15,7 @@
 #import iridescence
 #import anisotropic_dfg
 
-// Sets anisotropy_t, relit_lobe and relit_dfg for the fragment at `point` whose
+// Sets anisotropy_t, relit_lobe, relit_dfg, translucency and diffuse_weight for the fragment at `point` whose
 // interpolated tangent is `tangent` (handedness in w), on a front or back face, of
 // perceptual roughness `perceptual_roughness`, with the extension texels `ext`.
 fn relight_base(ext: ExtensionTexels, tangent: vec4<f32>, front: bool, point: ShadingPoint, perceptual_roughness: f32) {
@@ -41,4 +42,8 @@ fn relight_base(ext: ExtensionTexels, tangent: vec4<f32>, front: bool, point: Sh
                                     clamp_perceptual_roughness(perceptual_roughness), anisotropy.x);
     }
     relit_lobe = RelitLobe(anisotropy.x, maps.specular_tint.rgb * extension_texel(ext, PROPERTY_SPECULAR_COLOR).rgb, film);
+    // The diffuse lobe's transmitted share, scaled by its textures.
+    translucency = vec4<f32>(maps.translucency.rgb * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION_COLOR).rgb,
+                             maps.translucency.w * extension_texel(ext, PROPERTY_DIFFUSE_TRANSMISSION).a);
+    diffuse_weight = 1.0 - translucency.w;
 }

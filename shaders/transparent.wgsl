@@ -10,9 +10,11 @@
 // (transmission.wgsl): its diffuse lobe is scaled by 1 − transmission, as glTF mixes
 // them. A blended surface with an anisotropy, a specular tint or an iridescent film is
 // drawn by a variant compiled with RELIT_BASE, its lobe set by relit_base.wgsl as the
-// layers pass sets an opaque one's. Header constants: those of surface_light.wgsl, with
-// SCREEN_AO and LIGHT_CULLING off (the AO pass's occlusion and the light tiles belong to
-// the opaque surface behind), TRANSMISSION and RELIT_BASE.
+// layers pass sets an opaque one's; one with a diffuse transmission too. One with a
+// sheen or a clearcoat is drawn by a variant whose over_layers (blended_layers.wgsl)
+// lights them over the base in the same fragment. Header constants: those of
+// surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING off (the AO pass's occlusion and
+// the light tiles belong to the opaque surface behind), TRANSMISSION and RELIT_BASE.
 #import common
 #import brdf
 #import color
@@ -26,12 +28,16 @@
 #import transparency
 #import transmission
 #import relit_base
+#import sheen_table
+#import blended_layers
 
 @group(0) @binding(0) var<uniform> view: View;
 // The opaque frame and its mip chain (a 1 × 1 texture without TRANSMISSION).
 @group(0) @binding(1) var opaque_frame: texture_2d<f32>;
 // Binding 2: the anisotropic lobe's split-sum table (anisotropic_dfg.wgsl).
 @group(0) @binding(3) var opaque_sampler: sampler;
+// The sheen lobe's directional albedo table (sheen_table.wgsl), for layered surfaces.
+@group(0) @binding(4) var<uniform> sheen_table: SheenTable;
 
 @vertex
 fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
@@ -91,7 +97,8 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
     let fragment = forward_surface(in, front);
     var surface = fragment.surface;
     let point = fragment.point;
-    // A blended surface's own lobe: anisotropic, tinted or iridescent (relit_base.wgsl).
+    // A blended surface's own lobe: anisotropic, tinted, iridescent or translucent
+    // (relit_base.wgsl).
     if RELIT_BASE {
         relight_base(ext, in.world_tangent, front, point, surface.perceptual_roughness);
         surface.specular_level *= extension_texel(ext, PROPERTY_SPECULAR).a;
@@ -108,8 +115,9 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
         transmitted = transmitted_light(point, surface);
     }
     // An unlit surface (KHR_materials_unlit) shows its base colour as it is, pre-exposed.
-    let lit = select(fragment.emissive + surface_light(point, surface) + transmitted, surface.base_color,
-                     is_unlit(in.params.z));
+    // A sheen and a clearcoat lie over the rest (blended_layers.wgsl).
+    let layered = over_layers(ext, in, point, fragment.layer_n, fragment.emissive + surface_light(point, surface) + transmitted);
+    let lit = select(layered, surface.base_color, is_unlit(in.params.z));
     let color = premultiplied(lit, alpha);
     return BlendedFragment(color, dot(world - view.position_exposure.xyz, view.forward.xyz));
 }

@@ -1,7 +1,8 @@
 //! Every bind group list (`BindGroupSpec`) against the WGSL of the shader it binds: each
 //! listed name is declared at its group and index, and nothing else is bound in those
 //! groups. The list is the one source both the layout and the group are built from, so
-//! this is what keeps Rust and WGSL in step.
+//! this is what keeps Rust and WGSL in step. Each variant checked also passes naga's
+//! validation.
 
 use lumen::brdf::VisibilityModel;
 use lumen::quality::ShadowFilter;
@@ -27,6 +28,8 @@ fn declared(entry: &str, defs: &[ShaderDef], groups: &[u32]) -> Vec<(u32, u32, S
         .unwrap_or_else(|e| panic!("{entry}: {e}"));
     let module = naga::front::wgsl::parse_str(&composed.source)
         .unwrap_or_else(|e| panic!("{entry}: {}", e.emit_to_string(&composed.source)));
+    // The variant validates too (types, uniformity, every switch it turns).
+    assert_eq!(composed.first_error(), None, "{entry}");
     let mut out: Vec<(u32, u32, String)> = module
         .global_variables
         .iter()
@@ -100,28 +103,32 @@ fn every_bind_group_list_matches_its_shader() {
         (true, material_maps::BINDINGS),
         (false, material_maps::CORE_BINDINGS),
     ] {
-        check(
-            "transparent.wgsl",
-            &TransparentPass::defs(
-                (
-                    TransparentVariant::of(
-                        everything,
-                        lumen::quality::Transparency::WeightedBlended,
-                        true,
+        // Every variant of the blended lobes: the layered ones turn switches, the others
+        // read constants.
+        for lobes in transparent::BlendedLobes::ALL {
+            check(
+                "transparent.wgsl",
+                &TransparentPass::defs(
+                    (
+                        TransparentVariant::of(
+                            everything,
+                            lumen::quality::Transparency::WeightedBlended,
+                            true,
+                        ),
+                        lobes,
                     ),
-                    true,
+                    8,
+                    units,
                 ),
-                8,
-                units,
-            ),
-            &[
-                (0, transparent::VIEW),
-                (1, lighting::LIGHTS_AND_SHADOWS),
-                (2, lighting::ENVIRONMENT),
-                (3, lighting::PROBES),
-                (4, maps),
-            ],
-        );
+                &[
+                    (0, transparent::VIEW),
+                    (1, lighting::LIGHTS_AND_SHADOWS),
+                    (2, lighting::ENVIRONMENT),
+                    (3, lighting::PROBES),
+                    (4, maps),
+                ],
+            );
+        }
         check(
             "layers.wgsl",
             &LayersPass::defs(everything, Layer::Sheen, 8, units),

@@ -697,6 +697,85 @@ fn blended_surfaces_are_drawn_with_their_anisotropy_tint_and_film() {
     );
 }
 
+/// Blended dark red spheres (alpha 1) under a coat, under a sheen and a coat, and a
+/// blended leaf green transmitting part of its diffuse lobe; and the same blended spheres
+/// without them.
+fn blended_layered_spheres() -> ([Material; 3], [Material; 3]) {
+    let blended = |m: Material| Material { blend: true, ..m };
+    let bare = [
+        blended(dark_red()),
+        blended(dark_red()),
+        blended(Material::new(Vec3::new(0.1, 0.35, 0.05), 0.0, 0.6)),
+    ];
+    let mut materials = bare;
+    materials[0].clearcoat = Some(Clearcoat {
+        factor: 1.0,
+        perceptual_roughness: 0.25,
+    });
+    materials[1].sheen = Some(Sheen {
+        color: Vec3::new(0.9, 0.6, 0.6),
+        perceptual_roughness: 0.3,
+    });
+    materials[1].clearcoat = Some(Clearcoat {
+        factor: 0.5,
+        perceptual_roughness: 0.5,
+    });
+    materials[2].diffuse_transmission = translucent(0.6, Vec3::new(0.6, 0.9, 0.2));
+    (materials, bare)
+}
+
+#[test]
+fn blended_surfaces_are_drawn_with_their_coat_sheen_and_diffuse_transmission() {
+    // The transparent pass lights a blended surface's sheen and coat over its base in the
+    // same fragment (blended_layers.wgsl), under a sun from behind and a point light in
+    // front; against the path tracer, and against the same blended spheres without them.
+    // Measured: 0.29 %, 0.20 % and 0.02 %; the layers change the spheres by 31.8 %,
+    // 45.1 % and 434 %. Before the BRDF table was built for blended coats (it was for
+    // opaque ones only), the coated sphere was 2.9 % off: its coat dimmed nothing.
+    let (materials, bare) = blended_layered_spheres();
+    raster_against_path_tracer_in(
+        PassId::Transparent,
+        materials,
+        bare,
+        ("3 blended", "3 blended"),
+        (0.01, 0.06),
+        back_and_front_lights,
+    );
+}
+
+#[test]
+fn a_blended_surface_s_layers_are_scaled_by_its_coverage() {
+    // The layers lie over the base inside the coverage: at alpha 0.5 over the black
+    // background every sphere pixel is half the pixel at alpha 1 (premultiplied), which
+    // holds only if the layers are composited with the base before the coverage applies
+    // (a coat drawn over the composited pixel would keep its whole light, and dim the
+    // background's share too). Measured: 10 984 covered pixels, worst 0.0003 of the alpha-1
+    // pixel's luminance.
+    let (opaque_cover, _) = blended_layered_spheres();
+    let half = opaque_cover.map(|mut m| {
+        m.base_color.w = 0.5;
+        m
+    });
+    let render = |materials: [Material; 3]| {
+        let mut app = spheres_under(materials, back_and_front_lights);
+        app.render_headless((240, 80)).expect("frame");
+        app.read_hdr_image().expect("readback")
+    };
+    let (whole, half) = (render(opaque_cover), render(half));
+    let mut worst = 0.0f32;
+    let mut covered = 0;
+    for (a, b) in whole.pixels().zip(half.pixels()) {
+        if a.0[3] > 0.99 {
+            covered += 1;
+            worst =
+                worst.max((common::lum(b) - 0.5 * common::lum(a)).abs() / common::lum(a).max(1e-4));
+        }
+    }
+    println!("{covered} covered pixels, worst {worst:.5} of the alpha-1 luminance");
+    assert!(covered > 1000, "{covered} covered pixels");
+    assert!(worst < 0.002, "worst {worst}");
+}
+
 /// The spread of sphere `i`'s highlight in `image`: the second moments (px²) along x and
 /// y of the luminance above a quarter of the sphere's brightest pixel, about its
 /// centroid.

@@ -81,11 +81,12 @@ pub struct Batch {
     /// the transparent pass over a copy of the opaque frame; its maps entry holds the
     /// transmission.
     pub transmissive: bool,
-    /// Clearcoated ([`crate::scene::Material::coat`]): opaque, drawn by the G-buffer and
-    /// then again by the layers pass; its maps entry holds the coat.
+    /// Clearcoated ([`crate::scene::Material::coat`]) and opaque: drawn by the G-buffer
+    /// and then again by the layers pass; its maps entry holds the coat (so does a
+    /// blended batch's, whose coat the transparent pass draws).
     pub coated: bool,
-    /// With a sheen ([`crate::scene::Material::layer_sheen`]): drawn again by the layers
-    /// pass, under the coat; its maps entry holds the sheen.
+    /// With a sheen ([`crate::scene::Material::layer_sheen`]) and opaque: drawn again by
+    /// the layers pass, under the coat; its maps entry holds the sheen.
     pub sheened: bool,
     /// A relit base: anisotropic ([`crate::scene::Material::anisotropic`]), with a
     /// tinted specular colour ([`crate::scene::Material::tint`]), iridescent
@@ -612,11 +613,11 @@ pub fn extract_frame(
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
         // The layers pass, too, draws through the maps' bind group, which holds the coat
-        // and the sheen.
+        // and the sheen; a blended surface's layers are the transparent pass's.
         let clearcoat = material.coat().filter(|_| !transmissive);
-        let coated = clearcoat.is_some();
+        let coated = !blend && clearcoat.is_some();
         let sheen = material.layer_sheen().filter(|_| !transmissive);
-        let sheened = sheen.is_some();
+        let sheened = !blend && sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
         let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
         let specular_tint = material
@@ -624,7 +625,8 @@ pub fn extract_frame(
             .filter(|_| !transmissive);
         let iridescence = material.iridescent().filter(|_| !transmissive);
         let diffuse_transmission = material.translucent().filter(|_| !transmissive);
-        // A blended surface's anisotropy, tint and film are the transparent pass's.
+        // A blended surface's anisotropy, tint, film and diffuse transmission are the
+        // transparent pass's.
         let relit = !blend
             && (anisotropy.is_some()
                 || specular_tint.is_some()

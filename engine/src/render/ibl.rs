@@ -678,7 +678,9 @@ impl Ibl {
 }
 
 /// Prefilters the frame's environment (first use only), builds the BRDF table when
-/// anything needs it, and writes the pre-exposed environment uniform.
+/// anything needs it (the environment, energy compensation, the probes, or a clearcoat,
+/// opaque or blended, whose albedo reads it), and writes the pre-exposed environment
+/// uniform.
 pub fn prepare_ibl(
     gpu: Res<Gpu>,
     frame: Res<ExtractedFrame>,
@@ -693,7 +695,7 @@ pub fn prepare_ibl(
         || quality.energy_compensation
         || quality.gi.enabled
         || quality.reflection_probes.enabled
-        || frame.coated_batches().next().is_some()
+        || frame.material_maps.iter().any(|m| m.clearcoat.is_some())
     {
         match ibl.ensure_lut(&gpu, quality.brdf_lut_size, quality.brdf_lut_samples) {
             Ok(Some(ms)) => ibl.last_steps.push(("brdf lut".into(), ms)),

@@ -35,7 +35,6 @@
 //! (lighting variant, layer, double-sided, HDR format).
 
 use crate::error::Result;
-use crate::render::anisotropic_dfg::AnisotropicDfgBuffer;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
@@ -49,6 +48,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::lobe_tables::LobeTables;
 use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -215,17 +215,12 @@ impl FramePass for LayersPass {
     }
 }
 
-/// The layers pass's pipelines, its view group and the sheen's albedo table.
+/// The layers pass's pipelines, its view group and its lobe tables.
 #[derive(Resource)]
 pub struct LayersPass {
     pipelines: ForwardPipelines<(LightingVariant, Layer)>,
-    /// The sheen's albedo table ([`crate::sheen::albedo_table`]), packed in vec4s: zeros
-    /// until the first frame with a sheen computes and writes it.
-    sheen_table: wgpu::Buffer,
-    /// Whether `sheen_table` holds the table.
-    sheen_table_written: bool,
-    /// The anisotropic lobe's split-sum table.
-    dfg_table: AnisotropicDfgBuffer,
+    /// The sheen's albedo table and the anisotropic lobe's split-sum table.
+    tables: LobeTables,
     /// The view group and the scene buffers' generation it was built from.
     view_group: Option<(u64, wgpu::BindGroup)>,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
@@ -234,25 +229,15 @@ pub struct LayersPass {
 
 impl LayersPass {
     /// The layouts: the view, the lighting pass's groups 1 to 3 (`lighting`), and the
-    /// material maps' (`maps`); and the buffers of the sheen's and the anisotropic lobe's
-    /// tables, filled on first use.
+    /// material maps' (`maps`); and the lobe tables, filled on first use.
     pub fn new(
         gpu: &Gpu,
         lighting: &[wgpu::BindGroupLayout; 4],
         maps: &GpuMaterialMaps,
     ) -> LayersPass {
-        let size = crate::sheen::ALBEDO_TABLE_SIZE * crate::sheen::ALBEDO_TABLE_SIZE;
-        let sheen_table = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sheen albedo table"),
-            size: (size * std::mem::size_of::<f32>()) as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         LayersPass {
             pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, &maps.layout),
-            sheen_table,
-            sheen_table_written: false,
-            dfg_table: AnisotropicDfgBuffer::new(gpu),
+            tables: LobeTables::new(gpu),
             view_group: None,
             units: maps.units,
         }
@@ -353,17 +338,8 @@ pub fn prepare_layers(
     };
     let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
-    // The sheen's table is computed (once per process) only for a frame that draws one.
-    if !pass.sheen_table_written && frame.sheened_batches().next().is_some() {
-        gpu.queue.write_buffer(
-            &pass.sheen_table,
-            0,
-            bytemuck::cast_slice(crate::sheen::albedo_table()),
-        );
-        pass.sheen_table_written = true;
-    }
-    // So is the anisotropic lobe's split-sum table, for a frame with an anisotropic base.
-    pass.dfg_table.write_for(&gpu, &frame);
+    // The sheen's and the anisotropic lobe's tables, for a frame that draws them.
+    pass.tables.write_for(&gpu, &frame);
     for layer in Layer::ORDER {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
@@ -390,8 +366,8 @@ pub fn prepare_layers(
         &pass.pipelines.view_layout,
         vec![
             buffers.view.as_entire_binding(),
-            pass.sheen_table.as_entire_binding(),
-            pass.dfg_table.buffer.as_entire_binding(),
+            pass.tables.sheen_albedo.as_entire_binding(),
+            pass.tables.anisotropic_dfg.as_entire_binding(),
         ],
     ) {
         Ok(group) => pass.view_group = Some((buffers.generation, group)),

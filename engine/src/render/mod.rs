@@ -9,7 +9,6 @@
 //! (or a debug view) — each recording into the frame's command encoder with its own
 //! timing. The built-in passes are listed in [`passes`].
 
-pub mod anisotropic_dfg;
 pub mod antialiasing;
 pub mod bindings;
 pub mod capture;
@@ -31,6 +30,7 @@ pub mod jitter;
 pub mod layers;
 pub mod light_culling;
 pub mod lighting;
+pub mod lobe_tables;
 pub mod material_maps;
 pub mod mesh_vertex;
 pub mod passes;

@@ -165,6 +165,11 @@ pub enum ShaderDef {
     Bool(&'static str, bool),
     /// `const NAME: u32 = value;`
     U32(&'static str, u32),
+    /// `var<private> NAME: bool = value;`: a switch the shader may turn per call where a
+    /// [`ShaderDef::Bool`] of that name is read (the transparent pass's layered surfaces
+    /// light their base, their sheen and their coat, each with its own lobe, in one
+    /// fragment: `shaders/blended_layers.wgsl`).
+    Switch(&'static str, bool),
     /// `#import FROM` reads the module `TO` instead (an alternative implementation of the
     /// same functions, e.g. without bindings the layout lacks).
     Import(&'static str, &'static str),
@@ -190,6 +195,9 @@ impl Composed {
                     source.push_str(&format!("const {name}: bool = {v};\n"))
                 }
                 ShaderDef::U32(name, v) => source.push_str(&format!("const {name}: u32 = {v}u;\n")),
+                ShaderDef::Switch(name, v) => {
+                    source.push_str(&format!("var<private> {name}: bool = {v};\n"))
+                }
                 ShaderDef::Import(..) => {}
             }
         }

@@ -45,15 +45,17 @@ pub struct Material {
     /// (docs/src/materials.md#unlit).
     pub unlit: bool,
     /// A clear dielectric coat over the surface (glTF's `KHR_materials_clearcoat`): car
-    /// paint, varnish, lacquer. `None`: no coat. It is drawn over opaque surfaces only; a
-    /// blended, transmissive or unlit surface ignores it ([`Material::coat`]). The coat
+    /// paint, varnish, lacquer. `None`: no coat. It is drawn over opaque surfaces (by the
+    /// layers pass) and blended ones (by the transparent pass); a transmissive or unlit
+    /// surface ignores it ([`Material::coat`]). The coat
     /// is a second specular lobe of F0 0.04 on the mesh's own normal (not the base's
     /// normal map), and the base's light is dimmed by what it reflects
     /// (docs/src/materials.md#clearcoat).
     pub clearcoat: Option<Clearcoat>,
     /// A sheen over the surface (glTF's `KHR_materials_sheen`): velvet, satin, cloth,
-    /// dust. `None`: no sheen. Like the clearcoat it is drawn over opaque, lit surfaces
-    /// only ([`Material::layer_sheen`]), under the coat if both are set
+    /// dust. `None`: no sheen. Like the clearcoat it is drawn over lit surfaces that do
+    /// not transmit, opaque or blended ([`Material::layer_sheen`]), under the coat if
+    /// both are set
     /// (docs/src/materials.md#sheen).
     pub sheen: Option<Sheen>,
     /// A specular lobe stretched along a direction in the surface (glTF's
@@ -77,9 +79,10 @@ pub struct Material {
     /// Light passing diffusely through a thin surface (glTF's
     /// `KHR_materials_diffuse_transmission`): leaves, paper, lampshades, thin fabric.
     /// `None`: none. Its factor moves that share of the diffuse lobe from reflection to
-    /// transmission, so light from behind shows through in its colour. Drawn on opaque,
-    /// lit surfaces only ([`Material::translucent`]), by the layers pass, like the
-    /// anisotropy (docs/src/materials.md#diffuse-transmission).
+    /// transmission, so light from behind shows through in its colour. Drawn where the
+    /// anisotropy is, on lit surfaces that do not transmit and are not wholly metal
+    /// ([`Material::translucent`]): by the layers pass on opaque surfaces, by the
+    /// transparent pass on blended ones (docs/src/materials.md#diffuse-transmission).
     pub diffuse_transmission: Option<DiffuseTransmission>,
 }
 
@@ -333,21 +336,21 @@ impl Material {
     }
 
     /// The coat that is drawn (clamped): [`Material::clearcoat`] where its factor is above
-    /// 0 and the surface is opaque and lit (not blended, transmissive or unlit).
+    /// 0 and the surface is lit and not transmissive (opaque or blended).
     pub fn coat(&self) -> Option<Clearcoat> {
         self.clearcoat
             .map(Clearcoat::clamped)
             .filter(|c| c.factor > 0.0)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
     /// The sheen that is drawn (clamped): [`Material::sheen`] where its colour is not
-    /// black and the surface is opaque and lit, as for [`Material::coat`].
+    /// black and the surface is lit and not transmissive, as for [`Material::coat`].
     pub fn layer_sheen(&self) -> Option<Sheen> {
         self.sheen
             .map(Sheen::clamped)
             .filter(|s| s.color.max_element() > 0.0)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
     /// The anisotropy that is drawn (clamped): [`Material::anisotropy`] where its
@@ -391,22 +394,18 @@ impl Material {
 
     /// The diffuse transmission that is drawn (clamped):
     /// [`Material::diffuse_transmission`] where its factor is above 0 and the surface is
-    /// opaque and lit and not wholly metal (a metal has no diffuse lobe to transmit).
+    /// lit, not transmissive and not wholly metal (a metal has no diffuse lobe to
+    /// transmit).
     pub fn translucent(&self) -> Option<DiffuseTransmission> {
         self.diffuse_transmission
             .map(DiffuseTransmission::clamped)
             .filter(|d| d.factor > 0.0 && self.metallic < 1.0)
-            .filter(|_| self.opaque_and_lit())
+            .filter(|_| self.relit_base())
     }
 
-    /// Neither blended, transmissive nor unlit: what a layer can be drawn over.
-    fn opaque_and_lit(&self) -> bool {
-        !self.blend && self.relit_base()
-    }
-
-    /// Neither transmissive nor unlit: a surface whose own lobe can be anisotropic, tinted
-    /// or iridescent (opaque, relit by the layers pass, or blended, lit by the
-    /// transparent pass with the same lobe).
+    /// Neither transmissive nor unlit: a surface whose own lobe can be anisotropic, tinted,
+    /// iridescent or translucent, under a sheen and a clearcoat (opaque, relit and layered
+    /// by the layers pass, or blended, lit by the transparent pass with the same lobes).
     fn relit_base(&self) -> bool {
         !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }

@@ -23,7 +23,6 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
-use crate::render::anisotropic_dfg::AnisotropicDfgBuffer;
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
@@ -36,6 +35,7 @@ use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::lobe_tables::LobeTables;
 use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::pipelines::draw_fullscreen_with;
 use crate::render::scene_buffers::SceneBuffers;
@@ -57,8 +57,8 @@ impl PassId {
 }
 
 /// Group 0: the view, the opaque frame's mip chain, the anisotropic lobe's split-sum
-/// table (binding 2, as in the layers pass: `shaders/anisotropic_dfg.wgsl`) and the
-/// chain's sampler.
+/// table (binding 2, as in the layers pass: `shaders/anisotropic_dfg.wgsl`), the
+/// chain's sampler and the sheen's albedo table (`shaders/sheen_table.wgsl`).
 pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings::BindGroupSpec {
     label: "transparent",
     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -73,19 +73,55 @@ pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings
             crate::render::bindings::Binding::Storage,
         ),
         ("opaque_sampler", crate::render::bindings::Binding::Sampler),
+        ("sheen_table", crate::render::bindings::Binding::Uniform),
     ],
 };
 
-/// Whether `batch` (blended) has a lobe of its own, an anisotropy, a specular tint or an
-/// iridescent film in its maps entry: the pass draws it with the variant compiled with
-/// `RELIT_BASE`.
-fn relit(frame: &ExtractedFrame, batch: &Batch) -> bool {
-    batch
-        .maps
-        .and_then(|i| frame.material_maps.get(i as usize))
-        .is_some_and(|m| {
-            m.anisotropy.is_some() || m.specular_tint.is_some() || m.iridescence.is_some()
-        })
+/// What a blended batch draws besides the lit base, from its maps entry: each is a
+/// shader variant of the pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BlendedLobes {
+    /// A lobe of its own (an anisotropy, a specular tint, an iridescent film or a diffuse
+    /// transmission): compiled with `RELIT_BASE`, set by `shaders/relit_base.wgsl`.
+    pub relit: bool,
+    /// A sheen or a clearcoat over the base (`shaders/blended_layers.wgsl`).
+    pub layered: bool,
+}
+
+impl BlendedLobes {
+    /// Every combination, in the order their pipelines are compiled.
+    pub const ALL: [BlendedLobes; 4] = [
+        BlendedLobes {
+            relit: false,
+            layered: false,
+        },
+        BlendedLobes {
+            relit: true,
+            layered: false,
+        },
+        BlendedLobes {
+            relit: false,
+            layered: true,
+        },
+        BlendedLobes {
+            relit: true,
+            layered: true,
+        },
+    ];
+
+    /// The lobes of `batch` in `frame` (none without a maps entry).
+    fn of(frame: &ExtractedFrame, batch: &Batch) -> BlendedLobes {
+        let entry = batch.maps.and_then(|i| frame.material_maps.get(i as usize));
+        BlendedLobes {
+            relit: entry.is_some_and(|m| {
+                m.anisotropy.is_some()
+                    || m.specular_tint.is_some()
+                    || m.iridescence.is_some()
+                    || m.diffuse_transmission.is_some()
+            }),
+            layered: entry.is_some_and(|m| m.clearcoat.is_some() || m.sheen.is_some()),
+        }
+    }
 }
 
 /// The pass's shader variant: the lighting pass's variant without its screen-space
@@ -223,11 +259,11 @@ impl FramePass for TransparentPass {
     }
 }
 
-/// The transparent pass's pipelines (per variant and whether `RELIT_BASE` is compiled in)
-/// and its view group.
+/// The transparent pass's pipelines (per variant and the batch's [`BlendedLobes`]), its
+/// view group and its lobe tables.
 #[derive(Resource)]
 pub struct TransparentPass {
-    pipelines: ForwardPipelines<(TransparentVariant, bool)>,
+    pipelines: ForwardPipelines<(TransparentVariant, BlendedLobes)>,
     /// The view group and what it was built from: the scene buffers' generation and the
     /// chain's (`None`: the black stand-in).
     view_group: Option<((u64, Option<u64>), wgpu::BindGroup)>,
@@ -236,8 +272,9 @@ pub struct TransparentPass {
     resolve: WeightedResolve,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
     units: bool,
-    /// The anisotropic lobe's split-sum table, for blended anisotropic surfaces.
-    dfg_table: AnisotropicDfgBuffer,
+    /// The anisotropic lobe's split-sum table and the sheen's albedo table, for blended
+    /// surfaces with those lobes.
+    tables: LobeTables,
 }
 
 impl TransparentPass {
@@ -271,26 +308,35 @@ impl TransparentPass {
             no_frame,
             resolve: WeightedResolve::new(gpu),
             units: maps.units,
-            dfg_table: AnisotropicDfgBuffer::new(gpu),
+            tables: LobeTables::new(gpu),
         }
     }
 
     /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights, the
     /// maps' layout with the extension units where `units`; with `RELIT_BASE` where
-    /// `relit`.
+    /// `lobes.relit`; where `lobes.layered`, with `RELIT_BASE` and `SHEEN_LOBE` as
+    /// switches that the layers turn, else without the layers' code.
     pub fn defs(
-        (variant, relit): (TransparentVariant, bool),
+        (variant, lobes): (TransparentVariant, BlendedLobes),
         uniform_capacity: u32,
         units: bool,
     ) -> Vec<crate::render::shaders::ShaderDef> {
         use crate::render::shaders::ShaderDef;
+        let switch = |name, on| match lobes.layered {
+            true => ShaderDef::Switch(name, on),
+            false => ShaderDef::Bool(name, on),
+        };
         let mut defs: Vec<ShaderDef> = LightingPass::defs(variant.lighting, uniform_capacity)
             .into_iter()
             .map(|d| match d {
-                ShaderDef::Bool("RELIT_BASE", _) => ShaderDef::Bool("RELIT_BASE", relit),
+                ShaderDef::Bool("RELIT_BASE", _) => switch("RELIT_BASE", lobes.relit),
+                ShaderDef::Bool("SHEEN_LOBE", _) => switch("SHEEN_LOBE", false),
                 other => other,
             })
             .collect();
+        if !lobes.layered {
+            defs.push(ShaderDef::Import("blended_layers", "blended_layers_none"));
+        }
         defs.extend(unit_defs(MAPS_GROUP, units));
         defs.push(crate::render::shaders::ShaderDef::Bool(
             "TRANSMISSION",
@@ -361,15 +407,15 @@ pub fn prepare_transparent(
     };
     let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
-    for lobe in [false, true] {
+    for lobes in BlendedLobes::ALL {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
-            ((variant, lobe), t.hdr_format),
+            ((variant, lobes), t.hdr_format),
             frame
                 .transparent_batches()
-                .filter(|b| relit(&frame, b) == lobe),
+                .filter(|b| BlendedLobes::of(&frame, b) == lobes),
             ("transparent.wgsl", &|| {
-                TransparentPass::defs((variant, lobe), capacity, units)
+                TransparentPass::defs((variant, lobes), capacity, units)
             }),
             &|format| transparent_shape(variant, format),
         ) {
@@ -377,7 +423,7 @@ pub fn prepare_transparent(
             return;
         }
     }
-    pass.dfg_table.write_for(&gpu, &frame);
+    pass.tables.write_for(&gpu, &frame);
     if variant.weighted {
         let Some([accum, reveal]) = t.views([OIT_ACCUM, OIT_REVEAL]) else {
             return;
@@ -405,8 +451,9 @@ pub fn prepare_transparent(
         vec![
             buffers.view.as_entire_binding(),
             wgpu::BindingResource::TextureView(frame_view),
-            pass.dfg_table.buffer.as_entire_binding(),
+            pass.tables.anisotropic_dfg.as_entire_binding(),
             wgpu::BindingResource::Sampler(source.sampler()),
+            pass.tables.sheen_albedo.as_entire_binding(),
         ],
     ) {
         Ok(group) => pass.view_group = Some((key, group)),
@@ -492,7 +539,7 @@ pub fn transparent_pass(
             inputs.frame.transparent_batches(),
             |batch| {
                 pass.pipelines.get(
-                    (variant, relit(&inputs.frame, batch)),
+                    (variant, BlendedLobes::of(&inputs.frame, batch)),
                     batch.double_sided,
                     t.hdr_format,
                 )
