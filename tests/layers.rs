@@ -691,7 +691,10 @@ fn blended_surfaces_are_drawn_with_their_anisotropy_tint_and_film() {
         PassId::Transparent,
         materials,
         bare,
-        ("3 blended", "3 blended"),
+        (
+            "3 blended surface(s) (3 with its own lobe), back to front",
+            "3 blended surface(s), back to front",
+        ),
         (0.01, 0.06),
         front_lights,
     );
@@ -737,7 +740,10 @@ fn blended_surfaces_are_drawn_with_their_coat_sheen_and_diffuse_transmission() {
         PassId::Transparent,
         materials,
         bare,
-        ("3 blended", "3 blended"),
+        (
+            "3 blended surface(s) (1 with its own lobe, 2 with a sheen or a clearcoat), back to front",
+            "3 blended surface(s), back to front",
+        ),
         (0.01, 0.06),
         back_and_front_lights,
     );

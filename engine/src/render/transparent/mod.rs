@@ -188,12 +188,31 @@ impl FramePass for TransparentPass {
             .filter(|b| b.transmissive)
             .count();
         let transmissive = transmitting > 0;
-        // "3 blended surface(s)", or "2 blended and 1 transmissive surface(s)".
+        // "3 blended", or "2 blended and 1 transmissive".
         let count = frame.transparent_batches().count();
         let blended = match (count - transmitting, transmitting) {
             (b, 0) => format!("{b} blended"),
             (0, t) => format!("{t} transmissive"),
             (b, t) => format!("{b} blended and {t} transmissive"),
+        };
+        // "3 blended surface(s) (1 with its own lobe, 2 with a sheen or a clearcoat)".
+        let lobes: Vec<BlendedLobes> = frame
+            .transparent_batches()
+            .map(|b| BlendedLobes::of(frame, b))
+            .collect();
+        let own = lobes.iter().filter(|l| l.relit).count();
+        let layered = lobes.iter().filter(|l| l.layered).count();
+        let drawn_with: Vec<String> = [
+            (own, "with its own lobe"),
+            (layered, "with a sheen or a clearcoat"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect();
+        let surfaces = match drawn_with.is_empty() {
+            true => format!("{blended} surface(s)"),
+            false => format!("{blended} surface(s) ({})", drawn_with.join(", ")),
         };
         let lighting = plan.variant::<LightingPass>().copied();
         let quality = world.resource::<crate::quality::Quality>();
@@ -215,7 +234,7 @@ impl FramePass for TransparentPass {
             (
                 false,
                 format!(
-                    "{blended} surface(s) not drawn: the adapter has {} bind groups, the pass needs 5",
+                    "{surfaces} not drawn: the adapter has {} bind groups, the pass needs 5",
                     gpu.device.limits().max_bind_groups
                 ),
             )
@@ -223,7 +242,7 @@ impl FramePass for TransparentPass {
             (
                 false,
                 format!(
-                    "{blended} surface(s) not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
+                    "{surfaces} not drawn: this adapter cannot blend the f32 HDR target (the f16 target can)"
                 ),
             )
         } else {
@@ -233,11 +252,11 @@ impl FramePass for TransparentPass {
                 true,
                 match mode {
                     Transparency::Sorted => {
-                        format!("{blended} surface(s), back to front, premultiplied alpha{note}")
+                        format!("{surfaces}, back to front, premultiplied alpha{note}")
                     }
-                    Transparency::WeightedBlended => format!(
-                        "{blended} surface(s), weighted blended OIT (any order, one resolve){note}"
-                    ),
+                    Transparency::WeightedBlended => {
+                        format!("{surfaces}, weighted blended OIT (any order, one resolve){note}")
+                    }
                 },
             )
         };
