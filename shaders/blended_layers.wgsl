@@ -1,6 +1,6 @@
-// The layers over a blended surface (engine/src/render/transparent/mod.rs, the variants
-// of batches with a sheen or a clearcoat): its sheen, then its coat, over the base's light
-// in the same fragment (layer_light.wgsl, as the layers pass draws them over an opaque
+// The layers over a blended or transmissive surface (engine/src/render/transparent/mod.rs,
+// the variants of batches with a sheen or a clearcoat): its sheen, then its coat, over
+// the base's light (a transmissive one's transmitted light included) in the same fragment (layer_light.wgsl, as the layers pass draws them over an opaque
 // surface). The header declares SHEEN_LOBE and RELIT_BASE as private switches, not
 // constants: the base is lit with the batch's own lobe, then each layer turns the
 // switches to its own. Without layers the pass imports blended_layers_none.wgsl instead.
@@ -11,7 +11,7 @@
 #import surface_light
 #import layer_light
 
-// The light leaving a blended fragment `in` whose base, lit at `base`, leaves
+// The light leaving a blended or transmissive fragment `in` whose base, lit at `base`, leaves
 // `base_light` (emission included): L_coat + w_coat · (L_sheen + w_sheen · base_light),
 // the layers on the mesh's interpolated normal `layer_n`.
 fn over_layers(ext: ExtensionTexels, in: TexturedOutput, base: ShadingPoint, layer_n: vec3<f32>,

@@ -10,9 +10,10 @@
 // (transmission.wgsl): its diffuse lobe is scaled by 1 − transmission, as glTF mixes
 // them. A blended surface with an anisotropy, a specular tint or an iridescent film is
 // drawn by a variant compiled with RELIT_BASE, its lobe set by relit_base.wgsl as the
-// layers pass sets an opaque one's; one with a diffuse transmission too. One with a
-// sheen or a clearcoat is drawn by a variant whose over_layers (blended_layers.wgsl)
-// lights them over the base in the same fragment. Header constants: those of
+// layers pass sets an opaque one's; one with a diffuse transmission too. A blended or
+// transmissive surface with a sheen or a clearcoat is drawn by a variant whose
+// over_layers (blended_layers.wgsl) lights them over the base, its transmitted light
+// included, in the same fragment. Header constants: those of
 // surface_light.wgsl, with SCREEN_AO and LIGHT_CULLING off (the AO pass's occlusion and
 // the light tiles belong to the opaque surface behind), TRANSMISSION and RELIT_BASE.
 #import common

@@ -714,3 +714,142 @@ fn transmission_and_thickness_textures_scale_their_factors() {
         assert!(change > 0.05, "slab {k}: {change}");
     }
 }
+
+/// Mean rgb of the square of half-width `half_m` (m) about `centre` in `image`.
+fn pane_mean(app: &App, image: &image::Rgba32FImage, centre: Vec3, half_m: f32) -> Vec3 {
+    let size = image.dimensions();
+    let lo = common::image_point(app, centre + Vec3::new(-half_m, half_m, 0.0), size);
+    let hi = common::image_point(app, centre + Vec3::new(half_m, -half_m, 0.0), size);
+    let (mut sum, mut n) = (Vec3::ZERO, 0);
+    for y in lo.y.ceil() as u32..hi.y.floor() as u32 {
+        for x in lo.x.ceil() as u32..hi.x.floor() as u32 {
+            let p = image.get_pixel(x, y).0;
+            sum += Vec3::new(p[0], p[1], p[2]);
+            n += 1;
+        }
+    }
+    sum / n.max(1) as f32
+}
+
+/// Three thin-walled glass panes 0.7 m square at x = −0.8, 0, 0.8 facing the camera,
+/// in front of a wall emitting 0.3 (after exposure) at z = −1, under a sun of 30 klx
+/// from the upper right front; the panes of `materials` (each × its transmission).
+fn panes_before_a_glowing_wall(materials: [Material; 3]) -> App {
+    let mut app = app();
+    let wall = app
+        .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
+        .expect("wall");
+    let pane = app
+        .add_mesh(lumen::assets::procedural::plane(0.7, 0.7))
+        .expect("pane");
+    let world = app.world_mut();
+    world.spawn((
+        Mesh3d(wall),
+        Material {
+            specular_level: 0.0,
+            ..emitter(Vec3::splat(0.3))
+        },
+        Transform::from_xyz(0.0, 0.0, -1.0).with_rotation(FACING_CAMERA),
+    ));
+    for (i, material) in materials.into_iter().enumerate() {
+        world.spawn((
+            Mesh3d(pane),
+            material,
+            Transform::from_xyz(i as f32 * 0.8 - 0.8, 0.0, 0.0).with_rotation(FACING_CAMERA),
+        ));
+    }
+    world.spawn((
+        DirectionalLight {
+            illuminance_lux: 30_000.0,
+            cast_shadows: false,
+            ..DirectionalLight::default()
+        },
+        Transform::from_xyz(0.3, 0.4, 1.0).looking_at(Vec3::ZERO, Vec3::Y),
+    ));
+    camera(world);
+    app
+}
+
+#[test]
+fn layers_over_glass_agree_with_the_path_tracer() {
+    // Thin-walled glass (IOR 1.5, smooth) under a coat (1, 0.3), under a sheen (0.8,
+    // 0.5) and a coat (0.5, 0.2), and under a white sheen of roughness 1 alone: the transparent pass lights
+    // the layers over the glass's reflection and the light it lets through
+    // (blended_layers.wgsl), which they dim by what they reflect; the path tracer
+    // samples a layer's reflection or the interface beneath it. One interface each, so
+    // both renderers see the wall through the same Fresnel. Against the path tracer
+    // (direct light: one bounce, 256 paths per pixel) and against bare glass.
+    // Measured: 0.00 %, 0.14 % and 0.05 % apart (bare glass: 0.00 %, 0.08 %, 0.07 %); the
+    // layers change the panes by 61.7 %, 9.2 % and 235 %. The first pane's coat keeps
+    // about 0.95 of the wall's light: left undimmed, the pane would be 3 % brighter.
+    let clear = glass(1.5, 0.0, Vec3::ONE, f32::INFINITY);
+    let coat = |factor, perceptual_roughness| {
+        Some(lumen::scene::Clearcoat {
+            factor,
+            perceptual_roughness,
+        })
+    };
+    let sheen = Some(lumen::scene::Sheen {
+        color: Vec3::splat(0.8),
+        perceptual_roughness: 0.5,
+    });
+    let materials = [
+        Material {
+            clearcoat: coat(1.0, 0.3),
+            ..clear
+        },
+        Material {
+            clearcoat: coat(0.5, 0.2),
+            sheen,
+            ..clear
+        },
+        Material {
+            sheen: Some(lumen::scene::Sheen {
+                color: Vec3::ONE,
+                perceptual_roughness: 1.0,
+            }),
+            ..clear
+        },
+    ];
+    let centres = [-0.8f32, 0.0, 0.8].map(|x| Vec3::new(x, 0.0, 0.0));
+    let measure = |materials: [Material; 3], planned: &str| {
+        let mut app = panes_before_a_glowing_wall(materials);
+        let report = app.render_headless(SIZE).expect("frame");
+        let transparent = common::decision(&report, PassId::Transparent);
+        assert!(
+            transparent.reason.contains(planned),
+            "{}",
+            transparent.reason
+        );
+        let raster = app.read_hdr_image().expect("readback");
+        let scene = trace_scene(&mut app, SIZE).expect("trace scene");
+        let traced = render(&scene, &options(SIZE, 256, 1, 5), &|_| {}).image;
+        centres.map(|c| {
+            (
+                pane_mean(&app, &raster, c, 0.25),
+                pane_mean(&app, &traced, c, 0.25),
+            )
+        })
+    };
+    let layered = measure(
+        materials,
+        "3 transmissive surface(s) (3 with a sheen or a clearcoat)",
+    );
+    let bare = measure([clear; 3], "3 transmissive surface(s), back to front");
+    for i in 0..3 {
+        let (raster, traced) = layered[i];
+        let error = (raster - traced).length() / traced.length();
+        let change = (raster - bare[i].0).length() / bare[i].0.length();
+        let bare_error = (bare[i].0 - bare[i].1).length() / bare[i].1.length();
+        println!(
+            "pane {i}: raster {raster}, path tracer {traced}, error {:.2} %; bare glass {} against {} ({:.2} %); the layers change it by {:.1} %",
+            error * 100.0,
+            bare[i].0,
+            bare[i].1,
+            bare_error * 100.0,
+            change * 100.0
+        );
+        assert!(error < 0.01, "pane {i}: {raster} vs {traced}");
+        assert!(change > 0.06, "pane {i}: the layers change it by {change}");
+    }
+}

@@ -613,11 +613,12 @@ pub fn extract_frame(
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
         // The layers pass, too, draws through the maps' bind group, which holds the coat
-        // and the sheen; a blended surface's layers are the transparent pass's.
-        let clearcoat = material.coat().filter(|_| !transmissive);
-        let coated = !blend && clearcoat.is_some();
-        let sheen = material.layer_sheen().filter(|_| !transmissive);
-        let sheened = !blend && sheen.is_some();
+        // and the sheen.
+        // A blended or transmissive surface's layers are the transparent pass's.
+        let clearcoat = material.coat();
+        let coated = !blend && !transmissive && clearcoat.is_some();
+        let sheen = material.layer_sheen();
+        let sheened = !blend && !transmissive && sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
         let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
         let specular_tint = material

@@ -46,16 +46,15 @@ pub struct Material {
     pub unlit: bool,
     /// A clear dielectric coat over the surface (glTF's `KHR_materials_clearcoat`): car
     /// paint, varnish, lacquer. `None`: no coat. It is drawn over opaque surfaces (by the
-    /// layers pass) and blended ones (by the transparent pass); a transmissive or unlit
+    /// layers pass), blended and transmissive ones (by the transparent pass); an unlit
     /// surface ignores it ([`Material::coat`]). The coat
     /// is a second specular lobe of F0 0.04 on the mesh's own normal (not the base's
     /// normal map), and the base's light is dimmed by what it reflects
     /// (docs/src/materials.md#clearcoat).
     pub clearcoat: Option<Clearcoat>,
     /// A sheen over the surface (glTF's `KHR_materials_sheen`): velvet, satin, cloth,
-    /// dust. `None`: no sheen. Like the clearcoat it is drawn over lit surfaces that do
-    /// not transmit, opaque or blended ([`Material::layer_sheen`]), under the coat if
-    /// both are set
+    /// dust. `None`: no sheen. Like the clearcoat it is drawn over every lit surface
+    /// ([`Material::layer_sheen`]), under the coat if both are set
     /// (docs/src/materials.md#sheen).
     pub sheen: Option<Sheen>,
     /// A specular lobe stretched along a direction in the surface (glTF's
@@ -336,21 +335,21 @@ impl Material {
     }
 
     /// The coat that is drawn (clamped): [`Material::clearcoat`] where its factor is above
-    /// 0 and the surface is lit and not transmissive (opaque or blended).
+    /// 0 and the surface is lit (opaque, blended or transmissive).
     pub fn coat(&self) -> Option<Clearcoat> {
         self.clearcoat
             .map(Clearcoat::clamped)
             .filter(|c| c.factor > 0.0)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
     /// The sheen that is drawn (clamped): [`Material::sheen`] where its colour is not
-    /// black and the surface is lit and not transmissive, as for [`Material::coat`].
+    /// black and the surface is lit, as for [`Material::coat`].
     pub fn layer_sheen(&self) -> Option<Sheen> {
         self.sheen
             .map(Sheen::clamped)
             .filter(|s| s.color.max_element() > 0.0)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
     /// The anisotropy that is drawn (clamped): [`Material::anisotropy`] where its
@@ -404,8 +403,8 @@ impl Material {
     }
 
     /// Neither transmissive nor unlit: a surface whose own lobe can be anisotropic, tinted,
-    /// iridescent or translucent, under a sheen and a clearcoat (opaque, relit and layered
-    /// by the layers pass, or blended, lit by the transparent pass with the same lobes).
+    /// iridescent or translucent (opaque, relit by the layers pass, or blended, lit by
+    /// the transparent pass with the same lobe).
     fn relit_base(&self) -> bool {
         !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }

@@ -447,7 +447,7 @@ impl Bsdf {
 
 /// The probability of sampling a lobe that reflects `lobe` against the `rest` (both
 /// luminances), kept in 0.1..0.9 so that neither side is starved; 0.5 when both are 0.
-fn lobe_probability(lobe: f32, rest: f32) -> f32 {
+pub(super) fn lobe_probability(lobe: f32, rest: f32) -> f32 {
     if lobe + rest > 0.0 {
         (lobe / (lobe + rest)).clamp(0.1, 0.9)
     } else {

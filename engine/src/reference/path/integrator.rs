@@ -23,7 +23,11 @@
 //!   refracts ([`super::dielectric`]), absorbing by Beer–Lambert inside its volume; its
 //!   lights are sampled through its specular reflection lobe only, and everything it
 //!   refracts is found by following the ray (no light is connected through glass: shadow
-//!   rays stop at it, as the rasterizer's shadow maps do). At the first dispersive
+//!   rays stop at it, as the rasterizer's shadow maps do). A sheen and a clearcoat lie
+//!   on its outside, over the interface: its lights are sampled through the layered
+//!   reflection, and the path follows a layer's reflection with probability
+//!   lobe_probability(1 − w, w), w being what the layers let through, else the interface,
+//!   × w. At the first dispersive
 //!   interface a path picks red, green or blue with probability 1/3 and carries that
 //!   channel alone, × 3, through that channel's index from then on;
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
@@ -31,7 +35,7 @@
 //! `max_bounces = 1` is direct lighting only: what the rasterizer computes, without its
 //! approximations (shadow maps, split-sum IBL, prefiltered environment).
 
-use super::bsdf::Bsdf;
+use super::bsdf::{Bsdf, lobe_probability};
 use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
 use super::scene::{
@@ -668,33 +672,62 @@ impl TraceScene {
                 } else {
                     tr
                 };
-                let mirror = TraceMaterial {
+                let entering = self.geometric_normal(t).dot(v) > 0.0;
+                // Its sheen and clearcoat lie on its outside, over the interface.
+                let layered = TraceMaterial {
                     base_color: Vec3::ZERO,
                     metallic: 0.0,
+                    sheen: material.sheen.filter(|_| entering),
+                    clearcoat: material.clearcoat.filter(|_| entering),
                     ..material
                 };
-                let bsdf = Bsdf::new(
-                    n,
-                    v,
-                    &mirror,
-                    self.visibility,
-                    self.energy_compensation.as_ref(),
-                );
+                let bsdf = self.bsdf(n, facing, &surface, &layered, v);
                 radiance += throughput * self.direct_lights(p, offset, v, &bsdf, arrival, rng);
-                let entering = self.geometric_normal(t).dot(v) > 0.0;
-                let alpha = material.roughness * material.roughness;
-                let Some(scattered) =
-                    super::dielectric::sample(&tr, n, v, alpha, material.base_color, entering, rng)
-                else {
-                    break;
-                };
-                throughput *= scattered.weight;
-                ray_origin = if scattered.transmitted {
-                    p - offset
+                // Under layers, a layer's reflection is sampled with a probability
+                // `layer_p`; else the interface, whose reflected and refracted light
+                // leaves through the layers by `through`.
+                let through = bsdf.through_layers();
+                let layer_p = if through < 1.0 {
+                    lobe_probability(1.0 - through, through)
                 } else {
-                    p + offset
+                    0.0
                 };
-                ray_dir = scattered.l;
+                if layer_p > 0.0 && rng.uniform() < layer_p {
+                    let layers_only = TraceMaterial {
+                        specular_level: 0.0,
+                        ..layered
+                    };
+                    let layers = self.bsdf(n, facing, &surface, &layers_only, v);
+                    let Some((l, weight, _)) = layers.sample(v, rng) else {
+                        break;
+                    };
+                    if l.dot(facing) <= 0.0 {
+                        break;
+                    }
+                    throughput *= weight / layer_p;
+                    ray_origin = p + offset;
+                    ray_dir = l;
+                } else {
+                    let alpha = material.roughness * material.roughness;
+                    let Some(scattered) = super::dielectric::sample(
+                        &tr,
+                        n,
+                        v,
+                        alpha,
+                        material.base_color,
+                        entering,
+                        rng,
+                    ) else {
+                        break;
+                    };
+                    throughput *= scattered.weight * (through / (1.0 - layer_p));
+                    ray_origin = if scattered.transmitted {
+                        p - offset
+                    } else {
+                        p + offset
+                    };
+                    ray_dir = scattered.l;
+                }
                 arrival_pdf = None;
                 match self.trace(ray_origin, ray_dir) {
                     None => {

@@ -84,7 +84,8 @@ pub struct BlendedLobes {
     /// A lobe of its own (an anisotropy, a specular tint, an iridescent film or a diffuse
     /// transmission): compiled with `RELIT_BASE`, set by `shaders/relit_base.wgsl`.
     pub relit: bool,
-    /// A sheen or a clearcoat over the base (`shaders/blended_layers.wgsl`).
+    /// A sheen or a clearcoat over the base, blended or transmissive
+    /// (`shaders/blended_layers.wgsl`).
     pub layered: bool,
 }
 
