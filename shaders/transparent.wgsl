@@ -47,13 +47,22 @@ fn vs_main(in: VertexInput, inst: InstanceInput) -> TexturedOutput {
 
 // Pre-exposed radiance a transmissive fragment passes from the opaque frame behind it:
 // the frame where the refracted ray leaves a slab of the material's thickness, at the
-// mip level of its roughness, × (1 − metallic) × transmission × (1 − F) × the base colour
+// mip level of its roughness, × (1 − metallic) × transmission × (1 − max(F)) × the base
+// colour (F Schlick's at n·v, tinted and filmed with RELIT_BASE; glTF's fresnel_mix)
 // × the volume's Beer–Lambert transmittance over the path (KHR_materials_transmission
 // and _volume; one interface, as the Khronos sample renderer).
 fn transmitted_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     let t = transmission_here;
-    let f0 = compute_f0(surface.base_color, 0.0, surface.specular_level);
-    let fresnel = f_schlick(f0, max(dot(p.n, p.v), MIN_N_DOT_V));
+    let n_dot_v = max(dot(p.n, p.v), MIN_N_DOT_V);
+    // What the interface reflects, of its dielectric F0; with RELIT_BASE tinted and under
+    // its film (relit_fresnel), the light through it keeping 1 − its largest channel.
+    var dielectric = surface;
+    dielectric.metallic = 0.0;
+    var fresnel = f_schlick(compute_f0(surface.base_color, 0.0, surface.specular_level), n_dot_v);
+    if RELIT_BASE {
+        fresnel = relit_fresnel(dielectric, relit_lobe, n_dot_v);
+    }
+    let through = 1.0 - max(fresnel.r, max(fresnel.g, fresnel.b));
     let weight = (1.0 - clamp(surface.metallic, 0.0, 1.0)) * t.x;
     // With dispersion (KHR_materials_dispersion), red, green and blue each refract by
     // their own index and sample the frame where their own ray leaves.
@@ -63,7 +72,7 @@ fn transmitted_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         behind = vec3<f32>(seen_through(p, surface, iors.x, t.z).r, behind.g,
                            seen_through(p, surface, iors.z, t.z).b);
     }
-    return weight * (vec3<f32>(1.0) - fresnel) * surface.base_color * behind;
+    return weight * through * surface.base_color * behind;
 }
 
 // The opaque frame seen through a slab of index `ior` and thickness `thickness_m` (world

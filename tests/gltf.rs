@@ -442,8 +442,8 @@ fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
         "{}",
         m.specular_level
     );
-    // On a blended material the tint is drawn (by the transparent pass), without a
-    // warning; on a transmissive one it is not, and a warning says so.
+    // On a blended or a transmissive material the tint is drawn (by the transparent
+    // pass), without a warning; on an unlit one it is not, and a warning says so.
     let blended = json!({
         "alphaMode": "BLEND",
         "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 0.5], "metallicFactor": 0.0},
@@ -466,6 +466,18 @@ fn a_tinted_specular_colour_becomes_the_level_and_the_tint() {
         transmissive,
         &[ext, "KHR_materials_transmission"],
     );
+    let mut app = App::headless().expect("a GPU adapter");
+    let summary = load_gltf(&mut app, &path).expect("loads");
+    assert!(
+        summary.warnings.iter().all(|w| !w.contains("untinted")),
+        "{:?}",
+        summary.warnings
+    );
+    let unlit = json!({
+        "pbrMetallicRoughness": {"metallicFactor": 0.0},
+        "extensions": {ext: colour, "KHR_materials_unlit": {}}
+    });
+    let path = write_quad(dir.path(), unlit, &[ext, "KHR_materials_unlit"]);
     let mut app = App::headless().expect("a GPU adapter");
     let summary = load_gltf(&mut app, &path).expect("loads");
     warned(&summary.warnings, "drawn untinted");

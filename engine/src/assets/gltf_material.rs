@@ -479,7 +479,7 @@ pub(super) fn material(
     maps.extensions = extension_maps(m, &material, what, loader, store);
     if specular_tint != Vec3::ONE && material.tint().is_none() && material.metallic < 1.0 {
         loader.warnings.push(format!(
-            "{what}: the tinted KHR_materials_specular colour of a transmissive or unlit material is drawn untinted"
+            "{what}: the tinted KHR_materials_specular colour of an unlit material is drawn untinted"
         ));
     }
     let textured =
@@ -677,7 +677,7 @@ fn extension_maps(
         && (ext.get("specularTexture").is_some() || ext.get("specularColorTexture").is_some())
     {
         loader.warnings.push(format!(
-            "{what}: KHR_materials_specular's textures are not drawn on a transmissive or unlit material; its factors apply"
+            "{what}: KHR_materials_specular's textures are not drawn on an unlit material"
         ));
     }
     if out.clearcoat_normal.is_some()

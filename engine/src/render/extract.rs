@@ -621,14 +621,13 @@ pub fn extract_frame(
         let sheened = !blend && !transmissive && sheen.is_some();
         let anisotropy = material.anisotropic().filter(|_| !transmissive);
         let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
-        let specular_tint = material
-            .relit_tint(specular_textured)
-            .filter(|_| !transmissive);
-        let iridescence = material.iridescent().filter(|_| !transmissive);
+        let specular_tint = material.relit_tint(specular_textured);
+        let iridescence = material.iridescent();
         let diffuse_transmission = material.translucent().filter(|_| !transmissive);
         // A blended surface's anisotropy, tint, film and diffuse transmission are the
-        // transparent pass's.
+        // transparent pass's, as a transmissive one's tint and film are.
         let relit = !blend
+            && !transmissive
             && (anisotropy.is_some()
                 || specular_tint.is_some()
                 || iridescence.is_some()

@@ -363,8 +363,8 @@ impl Material {
     }
 
     /// The specular tint that is drawn: [`Material::specular_tint`] with each channel
-    /// clamped to 0..1 (NaN: 1), where it is not white and the surface is lit, not
-    /// transmissive and not wholly metal (a metal's F0 is its base colour).
+    /// clamped to 0..1 (NaN: 1), where it is not white and the surface is lit and not
+    /// wholly metal (a metal's F0 is its base colour).
     pub fn tint(&self) -> Option<Vec3> {
         self.relit_tint(false)
     }
@@ -372,23 +372,24 @@ impl Material {
     /// The specular tint a relit base is drawn with: [`Material::tint`], or, where
     /// `textured` (a specular texture scales the level or the tint per texel,
     /// [`crate::scene::ExtensionMaps::specular_textured`]), the clamped tint even when
-    /// it is white, on every lit, non-transmissive surface: whatever the metallic factor,
-    /// since a metallic-roughness texture may make any texel a dielectric.
+    /// it is white, on every lit surface: whatever the metallic factor, since a
+    /// metallic-roughness texture may make any texel a dielectric. A transmissive
+    /// surface's tint also colours what it lets through (docs/src/materials.md#tinted-and-iridescent-glass).
     pub fn relit_tint(&self, textured: bool) -> Option<Vec3> {
         let tint = crate::brdf::clamp_tint(self.specular_tint);
         ((tint.min_element() < 1.0 && self.metallic < 1.0) || textured)
             .then_some(tint)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
     /// The iridescent film that is drawn (clamped): [`Material::iridescence`] where its
-    /// factor is above 0 and the surface is lit and not transmissive, as for
-    /// [`Material::anisotropic`].
+    /// factor is above 0 and the surface is lit (opaque, blended or transmissive: a soap
+    /// bubble is a thin transmissive wall under a film).
     pub fn iridescent(&self) -> Option<Iridescence> {
         self.iridescence
             .map(Iridescence::clamped)
             .filter(|f| f.factor > 0.0)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
     /// The diffuse transmission that is drawn (clamped):
@@ -402,9 +403,9 @@ impl Material {
             .filter(|_| self.relit_base())
     }
 
-    /// Neither transmissive nor unlit: a surface whose own lobe can be anisotropic, tinted,
-    /// iridescent or translucent (opaque, relit by the layers pass, or blended, lit by
-    /// the transparent pass with the same lobe).
+    /// Neither transmissive nor unlit: a surface whose lobe can be anisotropic or
+    /// translucent (opaque, relit by the layers pass, or blended, lit by the transparent
+    /// pass with the same lobe).
     fn relit_base(&self) -> bool {
         !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }
@@ -424,7 +425,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn specular_textures_relight_every_lit_surface_that_does_not_transmit() {
+    fn specular_textures_relight_every_lit_surface() {
         let metal = Material::new(Vec3::ONE, 1.0, 0.5);
         // A metal's constant tint is not drawn; its specular textures are (a
         // metallic-roughness texture may make any texel a dielectric).
@@ -434,7 +435,7 @@ mod tests {
         };
         assert_eq!(tinted.tint(), None);
         assert_eq!(metal.relit_tint(true), Some(Vec3::ONE));
-        // A blended surface's are drawn too (by the transparent pass); a transmissive or
+        // A blended or transmissive surface's are drawn too (by the transparent pass); an
         // unlit one's are not.
         let blended = Material {
             blend: true,
@@ -445,7 +446,7 @@ mod tests {
             transmission: Some(Transmission::default()),
             ..Material::new(Vec3::ONE, 0.0, 0.5)
         };
-        assert_eq!(transmissive.relit_tint(true), None);
+        assert_eq!(transmissive.relit_tint(true), Some(Vec3::ONE));
         assert_eq!(Material::unlit(Vec3::ONE).relit_tint(true), None);
         let dielectric = Material::new(Vec3::ONE, 0.0, 0.5);
         assert_eq!(dielectric.relit_tint(false), None);

@@ -331,6 +331,18 @@ impl Bsdf {
         self
     }
 
+    /// A tinted or iridescent base's dielectric surface and lobe (its tint and film),
+    /// for a transmissive interface's Fresnel; `None` when untinted and without a film.
+    pub(super) fn tinted_interface(&self) -> Option<(Surface, RelitLobe)> {
+        (self.lobe.tint != Vec3::ONE || self.lobe.film.x > 0.0).then_some((
+            Surface {
+                metallic: 0.0,
+                ..self.surface
+            },
+            self.lobe,
+        ))
+    }
+
     /// The fraction of the light beneath the layers (the base's, its emission included)
     /// that leaves through them towards the viewer: 1 without layers.
     pub(super) fn through_layers(&self) -> f32 {

@@ -9,6 +9,8 @@
 
 use super::microfacet::{basis, g1_ggx};
 use super::rng::Rng;
+use crate::anisotropy::{RelitLobe, relit_fresnel};
+use crate::brdf::Surface;
 use crate::scene::Transmission;
 use glam::Vec3;
 
@@ -39,22 +41,43 @@ pub struct Scattered {
     pub transmitted: bool,
 }
 
+/// The interface a path meets at a transmissive surface, besides its transmission.
+pub struct Interface {
+    /// GGX width (α = perceptual roughness²).
+    pub alpha: f32,
+    /// Base colour, linear RGB 0..1: it tints the light the interface lets through.
+    pub base: Vec3,
+    /// Whether the path arrives from outside the object (where its geometric normal
+    /// points).
+    pub entering: bool,
+    /// A tinted or iridescent interface (`KHR_materials_specular`, `_iridescence`): its
+    /// dielectric surface and lobe, whose Fresnel ([`relit_fresnel`]) it reflects on its
+    /// outside in place of the exact one, letting through 1 − its largest channel (glTF's
+    /// `fresnel_mix`), as the rasterizer's transparent pass does. `None`: untinted.
+    pub lobe: Option<(Surface, RelitLobe)>,
+}
+
 /// Samples the interface of `transmission` at a hit with shading normal `n` (facing the
-/// unit direction `v` towards where the ray came from), GGX width `alpha`, base colour
-/// `base` (which tints transmitted light) and `entering` (whether `v` lies outside the
-/// object, where its geometric normal points). Reflection and refraction are chosen by
-/// their Fresnel reflectance about the sampled microfacet normal, so the weight is
-/// Smith's masking of the outgoing direction (Heitz 2018, §5), × `base` when refracted.
+/// unit direction `v` towards where the ray came from), its `interface`. Reflection and
+/// refraction are chosen by their Fresnel reflectance about the sampled microfacet
+/// normal: the exact one for unpolarised light, or for a tinted or iridescent interface
+/// entered from outside the largest channel of its relit Fresnel. So the weight is
+/// Smith's masking of the outgoing direction (Heitz 2018, §5), × the base colour when
+/// refracted, × the relit Fresnel ÷ its largest channel when a tinted interface reflects.
 /// `None` when the sampled direction falls on the wrong side of the surface.
 pub fn sample(
     transmission: &Transmission,
     n: Vec3,
     v: Vec3,
-    alpha: f32,
-    base: Vec3,
-    entering: bool,
+    interface: &Interface,
     rng: &mut Rng,
 ) -> Option<Scattered> {
+    let Interface {
+        alpha,
+        base,
+        entering,
+        ..
+    } = *interface;
     let frame = basis(n);
     let local_v = frame.transpose() * v;
     if local_v.z <= 0.0 {
@@ -65,7 +88,21 @@ pub fn sample(
     let thin = transmission.thickness_m.is_nan() || transmission.thickness_m <= 0.0;
     let eta = if thin || entering { 1.0 / ior } else { ior };
     let cos_i = v.dot(h);
-    let reflectance = fresnel_dielectric(cos_i, eta);
+    let (reflectance, tint) = match interface.lobe.as_ref().filter(|_| entering) {
+        Some((surface, lobe)) => {
+            let f = relit_fresnel(surface, lobe, cos_i);
+            let largest = f.max_element();
+            (
+                largest,
+                if largest > 0.0 {
+                    f / largest
+                } else {
+                    Vec3::ONE
+                },
+            )
+        }
+        None => (fresnel_dielectric(cos_i, eta), Vec3::ONE),
+    };
     let reflected = 2.0 * cos_i * h - v;
     let (l, transmitted) = if rng.uniform() < reflectance {
         (reflected, false)
@@ -83,11 +120,7 @@ pub fn sample(
         return None;
     }
     let g1 = g1_ggx(n_dot_l.abs(), alpha);
-    let weight = if transmitted {
-        base * g1
-    } else {
-        Vec3::splat(g1)
-    };
+    let weight = if transmitted { base * g1 } else { tint * g1 };
     weight.is_finite().then_some(Scattered {
         l,
         weight,
@@ -112,6 +145,77 @@ mod tests {
         assert_eq!(fresnel_dielectric(0.7, 1.0), 0.0);
     }
 
+    /// A smooth (α 10⁻⁴), white interface entered from outside, with `lobe`.
+    fn smooth(lobe: Option<(Surface, RelitLobe)>) -> Interface {
+        Interface {
+            alpha: 1e-4,
+            base: Vec3::ONE,
+            entering: true,
+            lobe,
+        }
+    }
+
+    #[test]
+    fn a_tinted_interface_reflects_its_fresnel_and_passes_the_rest_of_its_largest_channel() {
+        // Specular level 1, tint (1, 0.5, 0.1), under a 400 nm film, seen at 60°: the
+        // reflection's expected weight per channel is relit_fresnel, and 1 − its largest
+        // channel passes through; from inside, the exact Fresnel of the IOR again.
+        let surface = Surface {
+            base_color: Vec3::ONE,
+            metallic: 0.0,
+            perceptual_roughness: 0.0,
+            specular_level: 1.0,
+        };
+        let lobe = RelitLobe {
+            strength: 0.0,
+            tint: Vec3::new(1.0, 0.5, 0.1),
+            film: Vec3::new(1.0, 1.33, 400.0),
+        };
+        let t = 60f32.to_radians();
+        let v = Vec3::new(t.sin(), 0.0, t.cos());
+        let f = relit_fresnel(&surface, &lobe, t.cos());
+        let thin = Transmission::default();
+        let mut rng = Rng::new(5, 6, 7);
+        let n = 40000;
+        let (mut reflected, mut through) = (Vec3::ZERO, 0);
+        for _ in 0..n {
+            let s = sample(&thin, Vec3::Z, v, &smooth(Some((surface, lobe))), &mut rng)
+                .expect("a smooth interface samples every ray");
+            if s.transmitted {
+                through += 1;
+            } else {
+                reflected += s.weight;
+            }
+        }
+        let reflected = reflected / n as f32;
+        let through = through as f32 / n as f32;
+        assert!(
+            (reflected - f).abs().max_element() < 0.01,
+            "reflected {reflected}, Fresnel {f}"
+        );
+        assert!(
+            (through - (1.0 - f.max_element())).abs() < 0.01,
+            "through {through}, 1 − max F {}",
+            1.0 - f.max_element()
+        );
+        let inside = Interface {
+            entering: false,
+            ..smooth(Some((surface, lobe)))
+        };
+        let volume = Transmission {
+            thickness_m: 0.1,
+            ..Transmission::default()
+        };
+        let reflected_inside = (0..n)
+            .filter_map(|_| sample(&volume, Vec3::Z, v, &inside, &mut rng))
+            .filter(|s| !s.transmitted)
+            .count() as f32
+            / n as f32;
+        // 60° inside glass is beyond the critical angle: every ray is reflected.
+        assert_eq!(fresnel_dielectric(t.cos(), 1.5), 1.0);
+        assert!(reflected_inside > 0.99, "{reflected_inside}");
+    }
+
     #[test]
     fn a_smooth_interface_refracts_by_snell_and_reflects_by_fresnel() {
         let glass = Transmission {
@@ -123,7 +227,7 @@ mod tests {
         let mut rng = Rng::new(7, 1, 2);
         let (mut reflected, mut total, mut off) = (0, 0, 0);
         for _ in 0..20000 {
-            let Some(s) = sample(&glass, Vec3::Z, v, 1e-4, Vec3::ONE, true, &mut rng) else {
+            let Some(s) = sample(&glass, Vec3::Z, v, &smooth(None), &mut rng) else {
                 continue;
             };
             total += 1;
@@ -163,9 +267,7 @@ mod tests {
                     &Transmission::default(),
                     Vec3::Z,
                     v,
-                    1e-4,
-                    Vec3::ONE,
-                    true,
+                    &smooth(None),
                     &mut rng,
                 )
             })

@@ -27,7 +27,8 @@
 //!   on its outside, over the interface: its lights are sampled through the layered
 //!   reflection, and the path follows a layer's reflection with probability
 //!   lobe_probability(1 − w, w), w being what the layers let through, else the interface,
-//!   × w. At the first dispersive
+//!   × w. A tint or an iridescent film on its outside colours what it reflects and lets
+//!   through 1 − the largest channel of that Fresnel. At the first dispersive
 //!   interface a path picks red, green or blue with probability 1/3 and carries that
 //!   channel alone, × 3, through that channel's index from then on;
 //! - paths end at `max_bounces` surface interactions, with Russian roulette after 3.
@@ -673,12 +674,14 @@ impl TraceScene {
                     tr
                 };
                 let entering = self.geometric_normal(t).dot(v) > 0.0;
-                // Its sheen and clearcoat lie on its outside, over the interface.
+                // Its sheen and clearcoat, its tint and film are on its outside.
                 let layered = TraceMaterial {
                     base_color: Vec3::ZERO,
                     metallic: 0.0,
                     sheen: material.sheen.filter(|_| entering),
                     clearcoat: material.clearcoat.filter(|_| entering),
+                    specular_tint: material.specular_tint.filter(|_| entering),
+                    iridescence: material.iridescence.filter(|_| entering),
                     ..material
                 };
                 let bsdf = self.bsdf(n, facing, &surface, &layered, v);
@@ -708,16 +711,14 @@ impl TraceScene {
                     ray_origin = p + offset;
                     ray_dir = l;
                 } else {
-                    let alpha = material.roughness * material.roughness;
-                    let Some(scattered) = super::dielectric::sample(
-                        &tr,
-                        n,
-                        v,
-                        alpha,
-                        material.base_color,
+                    let interface = super::dielectric::Interface {
+                        alpha: material.roughness * material.roughness,
+                        base: material.base_color,
                         entering,
-                        rng,
-                    ) else {
+                        lobe: bsdf.tinted_interface(),
+                    };
+                    let Some(scattered) = super::dielectric::sample(&tr, n, v, &interface, rng)
+                    else {
                         break;
                     };
                     throughput *= scattered.weight * (through / (1.0 - layer_p));
