@@ -112,9 +112,9 @@ fn list_light(list: LightList, k: u32) -> u32 {
 
 // The specular lobe's multiple-scattering compensation for this pixel (1 when off).
 var<private> specular_energy: vec3<f32> = vec3<f32>(1.0);
-// Multiplies every diffuse term: 1 − transmission on a transmissive surface (set by the
-// transparent pass before surface_light), 1 − the diffuse transmission's factor on a
-// relit base (set by fs_relit), 0 for a layer, 1 everywhere else.
+// Multiplies every diffuse term: 1 − the diffuse transmission's factor on a relit base
+// (set by relight_base), × 1 − transmission on a transmissive surface (set by the
+// transparent pass before surface_light), 0 for a layer, 1 everywhere else.
 var<private> diffuse_weight: f32 = 1.0;
 // With SHEEN_LOBE: the sheen lobe's directional albedo at this pixel (colour 1), set by
 // the layers pass before surface_light.

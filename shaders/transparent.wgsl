@@ -121,7 +121,10 @@ fn blended_fragment(in: TexturedOutput, front: bool) -> BlendedFragment {
         if masked_out(fragment.alpha) {
             alpha = 0.0;
         }
-        diffuse_weight = 1.0 - transmission_here.x;
+        // The diffuse share the transmission leaves is split between reflection and a
+        // diffuse transmission (relight_base), as glTF mixes them.
+        diffuse_weight *= 1.0 - transmission_here.x;
+        translucency.w *= 1.0 - transmission_here.x;
         transmitted = transmitted_light(point, surface);
     }
     // An unlit surface (KHR_materials_unlit) shows its base colour as it is, pre-exposed.

@@ -842,8 +842,8 @@ fn iridescence(m: &gltf::Material, what: &str, warnings: &mut Vec<String>) -> Op
 
 /// `KHR_materials_diffuse_transmission`'s factors: `diffuseTransmissionFactor` (default
 /// 0: none) and `diffuseTransmissionColorFactor` (default white); its textures are read
-/// by [`extension_maps`]. A factor of the wrong shape is refused with a warning (none). With `KHR_materials_transmission` the transmission wins, as
-/// the extension specifies ([`Material::translucent`] is then `None`).
+/// by [`extension_maps`]. A factor of the wrong shape is refused with a warning (none). With `KHR_materials_transmission` the two share
+/// the diffuse lobe, as the extension specifies ([`Material::translucent`]).
 fn diffuse_transmission(
     m: &gltf::Material,
     what: &str,

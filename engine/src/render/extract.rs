@@ -623,9 +623,10 @@ pub fn extract_frame(
         let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
         let specular_tint = material.relit_tint(specular_textured);
         let iridescence = material.iridescent();
-        let diffuse_transmission = material.translucent().filter(|_| !transmissive);
+        let diffuse_transmission = material.translucent();
         // A blended surface's anisotropy, tint, film and diffuse transmission are the
-        // transparent pass's, as a transmissive one's tint and film are.
+        // transparent pass's, as a transmissive one's tint, film and diffuse transmission
+        // are.
         let relit = !blend
             && !transmissive
             && (anisotropy.is_some()

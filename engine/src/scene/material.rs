@@ -394,18 +394,19 @@ impl Material {
 
     /// The diffuse transmission that is drawn (clamped):
     /// [`Material::diffuse_transmission`] where its factor is above 0 and the surface is
-    /// lit, not transmissive and not wholly metal (a metal has no diffuse lobe to
-    /// transmit).
+    /// lit and not wholly metal (a metal has no diffuse lobe to transmit). On a
+    /// transmissive surface it splits the diffuse share the transmission leaves, as glTF
+    /// combines the two.
     pub fn translucent(&self) -> Option<DiffuseTransmission> {
         self.diffuse_transmission
             .map(DiffuseTransmission::clamped)
             .filter(|d| d.factor > 0.0 && self.metallic < 1.0)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
-    /// Neither transmissive nor unlit: a surface whose lobe can be anisotropic or
-    /// translucent (opaque, relit by the layers pass, or blended, lit by the transparent
-    /// pass with the same lobe).
+    /// Neither transmissive nor unlit: a surface whose lobe can be anisotropic (opaque,
+    /// relit by the layers pass, or blended, lit by the transparent pass with the same
+    /// lobe).
     fn relit_base(&self) -> bool {
         !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }

@@ -682,6 +682,8 @@ impl TraceScene {
                     clearcoat: material.clearcoat.filter(|_| entering),
                     specular_tint: material.specular_tint.filter(|_| entering),
                     iridescence: material.iridescence.filter(|_| entering),
+                    // A diffuse transmission belongs to the rest of the material.
+                    diffuse_transmission: None,
                     ..material
                 };
                 let bsdf = self.bsdf(n, facing, &surface, &layered, v);
