@@ -619,14 +619,13 @@ pub fn extract_frame(
         let coated = !blend && !transmissive && clearcoat.is_some();
         let sheen = material.layer_sheen();
         let sheened = !blend && !transmissive && sheen.is_some();
-        let anisotropy = material.anisotropic().filter(|_| !transmissive);
+        let anisotropy = material.anisotropic();
         let specular_textured = maps.is_some_and(|m| m.extensions.specular_textured());
         let specular_tint = material.relit_tint(specular_textured);
         let iridescence = material.iridescent();
         let diffuse_transmission = material.translucent();
         // A blended surface's anisotropy, tint, film and diffuse transmission are the
-        // transparent pass's, as a transmissive one's tint, film and diffuse transmission
-        // are.
+        // transparent pass's, as a transmissive one's are.
         let relit = !blend
             && !transmissive
             && (anisotropy.is_some()

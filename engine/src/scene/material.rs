@@ -59,10 +59,10 @@ pub struct Material {
     pub sheen: Option<Sheen>,
     /// A specular lobe stretched along a direction in the surface (glTF's
     /// `KHR_materials_anisotropy`): brushed metal, satin, hair. `None`: isotropic. Drawn
-    /// on lit, non-transmissive surfaces ([`Material::anisotropic`]): on an opaque one the
-    /// layers pass lights the base again with the anisotropic lobe, in place of the
-    /// deferred pass's isotropic one; a blended one is lit with it by the transparent pass
-    /// (docs/src/materials.md#anisotropy).
+    /// on lit surfaces ([`Material::anisotropic`]): on an opaque one the layers pass
+    /// lights the base again with the anisotropic lobe, in place of the deferred pass's
+    /// isotropic one; a blended or transmissive one is lit with it by the transparent
+    /// pass (docs/src/materials.md#anisotropy).
     pub anisotropy: Option<Anisotropy>,
     /// The colour of the dielectric specular reflection (glTF's `KHR_materials_specular`
     /// `specularColorFactor`), linear RGB, each channel 0..1 (clamped): the dielectric
@@ -353,13 +353,13 @@ impl Material {
     }
 
     /// The anisotropy that is drawn (clamped): [`Material::anisotropy`] where its
-    /// strength is above 0 and the surface is lit and not transmissive (opaque or
-    /// blended).
+    /// strength is above 0 and the surface is lit (opaque, blended or transmissive: a
+    /// transmissive one's microfacets refract along the stretched lobe too).
     pub fn anisotropic(&self) -> Option<Anisotropy> {
         self.anisotropy
             .map(Anisotropy::clamped)
             .filter(|a| a.strength > 0.0)
-            .filter(|_| self.relit_base())
+            .filter(|_| !self.unlit)
     }
 
     /// The specular tint that is drawn: [`Material::specular_tint`] with each channel
@@ -402,13 +402,6 @@ impl Material {
             .map(DiffuseTransmission::clamped)
             .filter(|d| d.factor > 0.0 && self.metallic < 1.0)
             .filter(|_| !self.unlit)
-    }
-
-    /// Neither transmissive nor unlit: a surface whose lobe can be anisotropic (opaque,
-    /// relit by the layers pass, or blended, lit by the transparent pass with the same
-    /// lobe).
-    fn relit_base(&self) -> bool {
-        !self.unlit && !self.transmission.is_some_and(|t| t.factor > 0.0)
     }
 
     /// An unlit surface of a linear RGB colour (see [`Material::unlit`]).

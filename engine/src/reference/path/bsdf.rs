@@ -11,7 +11,7 @@
 //! moves part of its diffuse lobe to the other side of the surface, sampled by a cosine
 //! lobe about the turned normal; paths then continue through the surface.
 
-use super::microfacet::{basis, concentric_disk};
+use super::microfacet::{basis, concentric_disk, g1_ggx_anisotropic};
 use super::rng::Rng;
 use super::scene::{AlbedoTable, TraceMaterial};
 use crate::anisotropy::{RelitLobe, anisotropic_alphas, d_ggx_anisotropic, relit_brdf_lobes};
@@ -32,9 +32,7 @@ fn reflection_pdf(frame: Mat3, v: Vec3, l: Vec3, alphas: Vec2) -> f32 {
     }
     let h = (v + l).normalize_or(Vec3::Z);
     let d = d_ggx_anisotropic(alphas, h);
-    // Smith's masking of the (stretched) lobe, exact and separable.
-    let g1 = 2.0 * v.z / (v.z + Vec3::new(alphas.x * v.x, alphas.y * v.y, v.z).length());
-    g1 * d / (4.0 * v.z)
+    g1_ggx_anisotropic(v, alphas) * d / (4.0 * v.z)
 }
 
 /// `v` reflected about a GGX visible normal of widths `alphas` drawn in `frame` (its third
@@ -329,6 +327,12 @@ impl Bsdf {
             factor,
         });
         self
+    }
+
+    /// The base's specular lobe: its frame (tangent, bitangent, normal: the anisotropy's
+    /// direction first) and its GGX widths along the first two axes.
+    pub(super) fn lobe_frame(&self) -> (Mat3, Vec2) {
+        (self.frame, self.alphas)
     }
 
     /// A tinted or iridescent base's dielectric surface and lobe (its tint and film),

@@ -7,12 +7,12 @@
 //! ([`crate::transmission::volume_transmittance`]). A thin-walled surface (thickness 0)
 //! passes light through without bending it.
 
-use super::microfacet::{basis, g1_ggx};
+use super::microfacet::g1_ggx_anisotropic;
 use super::rng::Rng;
 use crate::anisotropy::{RelitLobe, relit_fresnel};
 use crate::brdf::Surface;
 use crate::scene::Transmission;
-use glam::Vec3;
+use glam::{Mat3, Vec2, Vec3};
 
 /// Fresnel reflectance of unpolarised light at a smooth interface, for the cosine
 /// `cos_i` of the incident angle and the ratio `eta` = n_incident / n_transmitted
@@ -43,8 +43,12 @@ pub struct Scattered {
 
 /// The interface a path meets at a transmissive surface, besides its transmission.
 pub struct Interface {
-    /// GGX width (α = perceptual roughness²).
-    pub alpha: f32,
+    /// The microfacets' frame: its third column the shading normal, its first two the
+    /// axes of `alphas` (an anisotropic interface's direction first).
+    pub frame: Mat3,
+    /// GGX widths along the frame's first two axes (α = perceptual roughness², stretched
+    /// by an anisotropy: `crate::anisotropy::anisotropic_alphas`).
+    pub alphas: Vec2,
     /// Base colour, linear RGB 0..1: it tints the light the interface lets through.
     pub base: Vec3,
     /// Whether the path arrives from outside the object (where its geometric normal
@@ -57,8 +61,10 @@ pub struct Interface {
     pub lobe: Option<(Surface, RelitLobe)>,
 }
 
-/// Samples the interface of `transmission` at a hit with shading normal `n` (facing the
-/// unit direction `v` towards where the ray came from), its `interface`. Reflection and
+/// Samples the interface of `transmission` at a hit, seen from the unit direction `v`
+/// towards where the ray came from (on the side of the frame's normal), its `interface`,
+/// whose microfacet normals are drawn from the visible normals of GGX of its widths
+/// (Heitz 2018, stretched along each axis for an anisotropic one). Reflection and
 /// refraction are chosen by their Fresnel reflectance about the sampled microfacet
 /// normal: the exact one for unpolarised light, or for a tinted or iridescent interface
 /// entered from outside the largest channel of its relit Fresnel. So the weight is
@@ -67,23 +73,23 @@ pub struct Interface {
 /// `None` when the sampled direction falls on the wrong side of the surface.
 pub fn sample(
     transmission: &Transmission,
-    n: Vec3,
     v: Vec3,
     interface: &Interface,
     rng: &mut Rng,
 ) -> Option<Scattered> {
     let Interface {
-        alpha,
+        frame,
+        alphas,
         base,
         entering,
         ..
     } = *interface;
-    let frame = basis(n);
+    let n = frame.z_axis;
     let local_v = frame.transpose() * v;
     if local_v.z <= 0.0 {
         return None;
     }
-    let h = frame * crate::ibl::sample_ggx_vndf(local_v, alpha, rng.pair());
+    let h = frame * crate::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
     let ior = crate::transmission::clamp_ior(transmission.ior);
     let thin = transmission.thickness_m.is_nan() || transmission.thickness_m <= 0.0;
     let eta = if thin || entering { 1.0 / ior } else { ior };
@@ -119,7 +125,7 @@ pub fn sample(
     if (transmitted && n_dot_l >= 0.0) || (!transmitted && n_dot_l <= 0.0) {
         return None;
     }
-    let g1 = g1_ggx(n_dot_l.abs(), alpha);
+    let g1 = g1_ggx_anisotropic(frame.transpose() * l, alphas);
     let weight = if transmitted { base * g1 } else { tint * g1 };
     weight.is_finite().then_some(Scattered {
         l,
@@ -145,10 +151,11 @@ mod tests {
         assert_eq!(fresnel_dielectric(0.7, 1.0), 0.0);
     }
 
-    /// A smooth (α 10⁻⁴), white interface entered from outside, with `lobe`.
+    /// A smooth (α 10⁻⁴), white interface facing +z, entered from outside, with `lobe`.
     fn smooth(lobe: Option<(Surface, RelitLobe)>) -> Interface {
         Interface {
-            alpha: 1e-4,
+            frame: Mat3::IDENTITY,
+            alphas: Vec2::splat(1e-4),
             base: Vec3::ONE,
             entering: true,
             lobe,
@@ -179,7 +186,7 @@ mod tests {
         let n = 40000;
         let (mut reflected, mut through) = (Vec3::ZERO, 0);
         for _ in 0..n {
-            let s = sample(&thin, Vec3::Z, v, &smooth(Some((surface, lobe))), &mut rng)
+            let s = sample(&thin, v, &smooth(Some((surface, lobe))), &mut rng)
                 .expect("a smooth interface samples every ray");
             if s.transmitted {
                 through += 1;
@@ -207,7 +214,7 @@ mod tests {
             ..Transmission::default()
         };
         let reflected_inside = (0..n)
-            .filter_map(|_| sample(&volume, Vec3::Z, v, &inside, &mut rng))
+            .filter_map(|_| sample(&volume, v, &inside, &mut rng))
             .filter(|s| !s.transmitted)
             .count() as f32
             / n as f32;
@@ -227,7 +234,7 @@ mod tests {
         let mut rng = Rng::new(7, 1, 2);
         let (mut reflected, mut total, mut off) = (0, 0, 0);
         for _ in 0..20000 {
-            let Some(s) = sample(&glass, Vec3::Z, v, &smooth(None), &mut rng) else {
+            let Some(s) = sample(&glass, v, &smooth(None), &mut rng) else {
                 continue;
             };
             total += 1;
@@ -262,15 +269,7 @@ mod tests {
         let v = Vec3::new(t.sin(), 0.0, t.cos());
         let mut rng = Rng::new(3, 4, 5);
         let through = (0..200)
-            .filter_map(|_| {
-                sample(
-                    &Transmission::default(),
-                    Vec3::Z,
-                    v,
-                    &smooth(None),
-                    &mut rng,
-                )
-            })
+            .filter_map(|_| sample(&Transmission::default(), v, &smooth(None), &mut rng))
             .find(|s| s.transmitted)
             .expect("most rays pass a thin wall");
         assert!((through.l + v).length() < 1e-3, "{}", through.l);

@@ -713,14 +713,15 @@ impl TraceScene {
                     ray_origin = p + offset;
                     ray_dir = l;
                 } else {
+                    let (frame, alphas) = bsdf.lobe_frame();
                     let interface = super::dielectric::Interface {
-                        alpha: material.roughness * material.roughness,
+                        frame,
+                        alphas,
                         base: material.base_color,
                         entering,
                         lobe: bsdf.tinted_interface(),
                     };
-                    let Some(scattered) = super::dielectric::sample(&tr, n, v, &interface, rng)
-                    else {
+                    let Some(scattered) = super::dielectric::sample(&tr, v, &interface, rng) else {
                         break;
                     };
                     throughput *= scattered.weight * (through / (1.0 - layer_p));

@@ -16,10 +16,14 @@ pub fn basis(n: Vec3) -> Mat3 {
     )
 }
 
-/// Smith's masking for GGX (the exact separable form).
-pub fn g1_ggx(n_dot_x: f32, alpha: f32) -> f32 {
-    let a2 = alpha * alpha;
-    2.0 * n_dot_x / (n_dot_x + (a2 + (1.0 - a2) * n_dot_x * n_dot_x).sqrt())
+/// Smith's masking for anisotropic GGX of widths `alphas` along the first two axes of
+/// the local frame, for the local direction `x` (z the normal; either side): the exact
+/// separable form, 2|x_z| / (|x_z| + |(α_x x_x, α_y x_y, x_z)|) (Heitz 2014,
+/// "Understanding the Masking-Shadowing Function"); with α_x = α_y = α,
+/// 2 cos θ / (cos θ + √(α² + (1 − α²) cos² θ)).
+pub fn g1_ggx_anisotropic(x: Vec3, alphas: Vec2) -> f32 {
+    let z = x.z.abs();
+    2.0 * z / (z + Vec3::new(alphas.x * x.x, alphas.y * x.y, x.z).length())
 }
 
 /// Concentric map of the unit square onto the unit disk (Shirley & Chiu 1997).
@@ -34,4 +38,44 @@ pub fn concentric_disk(xi: Vec2) -> Vec2 {
         (p.y, PI / 2.0 - PI / 4.0 * (p.x / p.y))
     };
     Vec2::new(r * theta.cos(), r * theta.sin())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn anisotropic_masking_is_the_isotropic_one_at_the_projected_width() {
+        // Along an azimuth φ the stretched lobe masks as an isotropic one of width
+        // √(cos²φ α_x² + sin²φ α_y²); with α_x = α_y it is the isotropic closed form,
+        // from either side of the surface.
+        let isotropic = |cos: f32, alpha: f32| {
+            let a2 = alpha * alpha;
+            2.0 * cos / (cos + (a2 + (1.0 - a2) * cos * cos).sqrt())
+        };
+        for (alphas, phi) in [
+            (Vec2::splat(0.3), 0.7f32),
+            (Vec2::new(0.7, 0.16), 0.0),
+            (Vec2::new(0.7, 0.16), 1.1),
+        ] {
+            let projected = (phi.cos().powi(2) * alphas.x.powi(2)
+                + phi.sin().powi(2) * alphas.y.powi(2))
+            .sqrt();
+            for theta in [0.1f32, 0.8, 1.4] {
+                let x = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                let expected = isotropic(theta.cos(), projected);
+                for side in [x, Vec3::new(x.x, x.y, -x.z)] {
+                    let g1 = g1_ggx_anisotropic(side, alphas);
+                    assert!(
+                        (g1 - expected).abs() < 1e-5,
+                        "{alphas} {phi} {theta}: {g1} vs {expected}"
+                    );
+                }
+            }
+        }
+    }
 }
