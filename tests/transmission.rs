@@ -346,9 +346,11 @@ fn absorption_follows_beer_lambert_through_known_thicknesses() {
 
 #[test]
 fn extreme_transmissions_stay_finite() {
-    // IOR 1 and 10, zero thickness, attenuation distances 0 and ∞, roughness 0 and 1:
-    // every pixel finite in the rasterizer and the path tracer, and none brighter than
-    // the emitter behind.
+    // IOR 1 and 10, zero thickness, attenuation distances 0 and ∞, roughness 0 and 1,
+    // bare and under every lobe and layer at its extremes (a coat and a sheen of roughness
+    // 0, anisotropy ±1, tints beyond 0..1 and NaN, films 0 and ∞ nm thick, a whole
+    // diffuse transmission): every pixel finite in the rasterizer and the path tracer,
+    // and none brighter than the emitter behind.
     let cases: [(f32, f32, f32, f32); 6] = [
         (1.0, 0.2, 1.0, 0.0),
         (10.0, 0.2, 1.0, 0.0),
@@ -357,7 +359,9 @@ fn extreme_transmissions_stay_finite() {
         (1.5, 0.2, f32::INFINITY, 0.5),
         (1.0, 0.0, 0.0, 1.0),
     ];
-    for (ior, thickness, distance, roughness) in cases {
+    for ((ior, thickness, distance, roughness), lobes) in
+        cases.into_iter().flat_map(|c| [(c, false), (c, true)])
+    {
         let mut app = app();
         let wall = app
             .add_mesh(lumen::assets::procedural::plane(20.0, 20.0))
@@ -377,6 +381,35 @@ fn extreme_transmissions_stay_finite() {
         ));
         let mut material = glass(ior, thickness, Vec3::new(0.2, 0.5, 1.0), distance);
         material.perceptual_roughness = roughness;
+        if lobes {
+            let extreme = ior > 1.5 || thickness == 0.0;
+            material.clearcoat = Some(lumen::scene::Clearcoat {
+                factor: 1.0,
+                perceptual_roughness: 0.0,
+            });
+            material.sheen = Some(lumen::scene::Sheen {
+                color: Vec3::ONE,
+                perceptual_roughness: 0.0,
+            });
+            material.anisotropy = Some(lumen::scene::Anisotropy {
+                strength: if extreme { 1.0 } else { -1.0 },
+                rotation_rad: roughness,
+            });
+            material.specular_tint = if extreme {
+                Vec3::new(f32::NAN, 2.0, -1.0)
+            } else {
+                Vec3::new(0.2, 0.5, 1.0)
+            };
+            material.iridescence = Some(lumen::scene::Iridescence {
+                factor: 1.0,
+                ior: 1.3,
+                thickness_nm: if extreme { 0.0 } else { f32::INFINITY },
+            });
+            material.diffuse_transmission = Some(lumen::scene::DiffuseTransmission {
+                factor: 1.0,
+                color: Vec3::ONE,
+            });
+        }
         world.spawn((
             Mesh3d(slab),
             material,
@@ -392,7 +425,7 @@ fn extreme_transmissions_stay_finite() {
             .fold(0.0, f32::max);
         assert!(
             brightest <= 1.01,
-            "ior {ior}, thickness {thickness}, distance {distance}: {brightest}"
+            "ior {ior}, thickness {thickness}, distance {distance}, lobes {lobes}: {brightest}"
         );
         let scene = trace_scene(&mut app, (32, 32)).expect("trace scene");
         let options = options((32, 32), 2, 8, 1);
@@ -401,7 +434,7 @@ fn extreme_transmissions_stay_finite() {
         // image is finite whatever happens: the count is what can fail.
         assert_eq!(
             result.dropped_samples, 0,
-            "ior {ior}, thickness {thickness}, distance {distance}: non-finite paths"
+            "ior {ior}, thickness {thickness}, distance {distance}, lobes {lobes}: non-finite paths"
         );
         // No interface adds light, but Russian roulette (from the fourth bounce, survival
         // at most 0.95) divides a surviving path by its survival: one path may carry up to
@@ -415,7 +448,7 @@ fn extreme_transmissions_stay_finite() {
             .fold(0.0, f32::max);
         assert!(
             brightest <= 1.01 * roulette,
-            "ior {ior}, thickness {thickness}, distance {distance}: traced {brightest}"
+            "ior {ior}, thickness {thickness}, distance {distance}, lobes {lobes}: traced {brightest}"
         );
     }
 }
