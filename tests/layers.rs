@@ -38,6 +38,15 @@ fn layered_furnace_with(
     compensation: bool,
     layer: impl Fn(&mut Material, f32),
 ) -> (App, image::Rgba32FImage) {
+    layered_furnace_in(PassId::Layers, compensation, layer)
+}
+
+/// [`layered_furnace_with`], the layers drawn by `pass`.
+fn layered_furnace_in(
+    pass: PassId,
+    compensation: bool,
+    layer: impl Fn(&mut Material, f32),
+) -> (App, image::Rgba32FImage) {
     let mut app = common::app_with("furnace");
     common::indirect_off(&mut app);
     app.world_mut()
@@ -50,7 +59,7 @@ fn layered_furnace_with(
         layer(&mut m, column);
     }
     let report = app.render_headless(FURNACE_SIZE).expect("frame");
-    let layers = common::decision(&report, PassId::Layers);
+    let layers = common::decision(&report, pass);
     assert!(layers.enabled, "{}", layers.reason);
     let image = app.read_hdr_image().expect("readback");
     (app, image)
@@ -252,6 +261,32 @@ fn a_white_furnace_under_a_sheen_and_a_coat_returns_the_light_it_receives() {
     let (_, image) = layered_furnace(sheen_under_coat);
     let worst = worst_from_one(&image);
     assert!(worst <= 0.01, "a sphere pixel is {worst} from 1");
+}
+
+#[test]
+fn blended_white_furnaces_return_the_light_they_receive() {
+    // The furnace's spheres blended (alpha 1: the transparent pass draws them, with their
+    // lobes and layers in one fragment): under a sheen and a coat, anisotropic, and
+    // translucent, every sphere pixel within 0.01 of 1, as the opaque furnaces.
+    type Layer = fn(&mut Material, f32);
+    let layers: [(&str, Layer); 3] = [
+        ("sheen and coat", sheen_under_coat),
+        ("anisotropy", |m, _| m.anisotropy = anisotropy(1.0, 0.3)),
+        ("diffuse transmission", |m, r| {
+            m.diffuse_transmission = translucent(r, Vec3::ONE)
+        }),
+    ];
+    for (name, layer) in layers {
+        let (_, image) = layered_furnace_in(PassId::Transparent, true, |m, r| {
+            m.blend = true;
+            layer(m, r);
+        });
+        let worst = worst_from_one(&image);
+        assert!(
+            worst <= 0.01,
+            "{name}: a blended sphere pixel is {worst} from 1"
+        );
+    }
 }
 
 #[test]
