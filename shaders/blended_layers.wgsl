@@ -3,7 +3,9 @@
 // the base's light (a transmissive one's transmitted light included) in the same fragment (layer_light.wgsl, as the layers pass draws them over an opaque
 // surface). The header declares SHEEN_LOBE and RELIT_BASE as private switches, not
 // constants: the base is lit with the batch's own lobe, then each layer turns the
-// switches to its own. Without layers the pass imports blended_layers_none.wgsl instead.
+// switches to its own. Header constants BLENDED_SHEEN and BLENDED_COAT compile in only
+// the layers the variant's batches have. Without layers the pass imports
+// blended_layers_none.wgsl instead.
 #import common
 #import mesh_vertex
 #import material_maps
@@ -20,13 +22,13 @@ fn over_layers(ext: ExtensionTexels, in: TexturedOutput, base: ShadingPoint, lay
     p.n = layer_n;
     var light = base_light;
     RELIT_BASE = false;
-    if any(maps.sheen.rgb > vec3<f32>(0.0)) {
+    if BLENDED_SHEEN && any(maps.sheen.rgb > vec3<f32>(0.0)) {
         SHEEN_LOBE = true;
         let sheen = sheen_layer(ext, p);
         SHEEN_LOBE = false;
         light = sheen.light + sheen.through * light;
     }
-    if maps.clearcoat.x > 0.0 {
+    if BLENDED_COAT && maps.clearcoat.x > 0.0 {
         let coat = coat_layer(ext, p, in.world_tangent);
         light = coat.light + coat.through * light;
     }

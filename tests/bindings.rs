@@ -105,7 +105,7 @@ fn every_bind_group_list_matches_its_shader() {
     ] {
         // Every variant of the blended lobes: the layered ones turn switches, the others
         // read constants.
-        for lobes in transparent::BlendedLobes::ALL {
+        for lobes in transparent::BlendedLobes::all() {
             check(
                 "transparent.wgsl",
                 &TransparentPass::defs(

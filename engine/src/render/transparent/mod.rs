@@ -84,31 +84,27 @@ pub struct BlendedLobes {
     /// A lobe of its own (an anisotropy, a specular tint, an iridescent film or a diffuse
     /// transmission): compiled with `RELIT_BASE`, set by `shaders/relit_base.wgsl`.
     pub relit: bool,
-    /// A sheen or a clearcoat over the base, blended or transmissive
-    /// (`shaders/blended_layers.wgsl`).
-    pub layered: bool,
+    /// A sheen over the base, blended or transmissive (`shaders/blended_layers.wgsl`,
+    /// `BLENDED_SHEEN`).
+    pub sheen: bool,
+    /// A clearcoat over the base and its sheen (`BLENDED_COAT`).
+    pub coat: bool,
 }
 
 impl BlendedLobes {
     /// Every combination, in the order their pipelines are compiled.
-    pub const ALL: [BlendedLobes; 4] = [
-        BlendedLobes {
-            relit: false,
-            layered: false,
-        },
-        BlendedLobes {
-            relit: true,
-            layered: false,
-        },
-        BlendedLobes {
-            relit: false,
-            layered: true,
-        },
-        BlendedLobes {
-            relit: true,
-            layered: true,
-        },
-    ];
+    pub fn all() -> impl Iterator<Item = BlendedLobes> {
+        (0..8u8).map(|k| BlendedLobes {
+            relit: k & 1 != 0,
+            sheen: k & 2 != 0,
+            coat: k & 4 != 0,
+        })
+    }
+
+    /// A sheen or a clearcoat: the variant lights layers over the base.
+    pub fn layered(self) -> bool {
+        self.sheen || self.coat
+    }
 
     /// The lobes of `batch` in `frame` (none without a maps entry).
     fn of(frame: &ExtractedFrame, batch: &Batch) -> BlendedLobes {
@@ -120,7 +116,8 @@ impl BlendedLobes {
                     || m.iridescence.is_some()
                     || m.diffuse_transmission.is_some()
             }),
-            layered: entry.is_some_and(|m| m.clearcoat.is_some() || m.sheen.is_some()),
+            sheen: entry.is_some_and(|m| m.sheen.is_some()),
+            coat: entry.is_some_and(|m| m.clearcoat.is_some()),
         }
     }
 }
@@ -202,7 +199,7 @@ impl FramePass for TransparentPass {
             .map(|b| BlendedLobes::of(frame, b))
             .collect();
         let own = lobes.iter().filter(|l| l.relit).count();
-        let layered = lobes.iter().filter(|l| l.layered).count();
+        let layered = lobes.iter().filter(|l| l.layered()).count();
         let drawn_with: Vec<String> = [
             (own, "with its own lobe"),
             (layered, "with a sheen or a clearcoat"),
@@ -334,15 +331,16 @@ impl TransparentPass {
 
     /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights, the
     /// maps' layout with the extension units where `units`; with `RELIT_BASE` where
-    /// `lobes.relit`; where `lobes.layered`, with `RELIT_BASE` and `SHEEN_LOBE` as
-    /// switches that the layers turn, else without the layers' code.
+    /// `lobes.relit`; with layers, `RELIT_BASE` and `SHEEN_LOBE` as switches that the
+    /// layers turn and only the layers' code it has (`BLENDED_SHEEN`, `BLENDED_COAT`),
+    /// else without the layers' code.
     pub fn defs(
         (variant, lobes): (TransparentVariant, BlendedLobes),
         uniform_capacity: u32,
         units: bool,
     ) -> Vec<crate::render::shaders::ShaderDef> {
         use crate::render::shaders::ShaderDef;
-        let switch = |name, on| match lobes.layered {
+        let switch = |name, on| match lobes.layered() {
             true => ShaderDef::Switch(name, on),
             false => ShaderDef::Bool(name, on),
         };
@@ -354,7 +352,10 @@ impl TransparentPass {
                 other => other,
             })
             .collect();
-        if !lobes.layered {
+        if lobes.layered() {
+            defs.push(ShaderDef::Bool("BLENDED_SHEEN", lobes.sheen));
+            defs.push(ShaderDef::Bool("BLENDED_COAT", lobes.coat));
+        } else {
             defs.push(ShaderDef::Import("blended_layers", "blended_layers_none"));
         }
         defs.extend(unit_defs(MAPS_GROUP, units));
@@ -427,7 +428,7 @@ pub fn prepare_transparent(
     };
     let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
-    for lobes in BlendedLobes::ALL {
+    for lobes in BlendedLobes::all() {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
             ((variant, lobes), t.hdr_format),
