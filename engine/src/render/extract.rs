@@ -83,7 +83,7 @@ pub struct Batch {
     pub transmissive: bool,
     /// Clearcoated ([`crate::scene::Material::coat`]) and opaque: drawn by the G-buffer
     /// and then again by the layers pass; its maps entry holds the coat (so does a
-    /// blended batch's, whose coat the transparent pass draws).
+    /// blended or transmissive batch's, whose coat the transparent pass draws).
     pub coated: bool,
     /// With a sheen ([`crate::scene::Material::layer_sheen`]) and opaque: drawn again by
     /// the layers pass, under the coat; its maps entry holds the sheen.
@@ -613,8 +613,8 @@ pub fn extract_frame(
             .filter(|t| t.factor > 0.0);
         let transmissive = transmission.is_some();
         // The layers pass, too, draws through the maps' bind group, which holds the coat
-        // and the sheen.
-        // A blended or transmissive surface's layers are the transparent pass's.
+        // and the sheen; a blended or transmissive surface's layers are the transparent
+        // pass's.
         let clearcoat = material.coat();
         let coated = !blend && !transmissive && clearcoat.is_some();
         let sheen = material.layer_sheen();
