@@ -14,10 +14,13 @@
 // occlusion), E that environment radiance and L̄ the rays' mean. Where every ray misses
 // it adds nothing: the reflection falls back to the environment, never to black.
 //
-// At full resolution fs_main writes the frame with its reflections. At half resolution
-// fs_trace_half traces one pixel per 2×2 block into a half-size target (the hits' mean
-// light and the fraction that hit), and fs_composite_half gives them to the block's
-// pixels on the same surface, each with its own weight and environment term.
+// At full resolution fs_mark_full marks the pixels smooth enough to trace in a depth
+// target, and fs_main, depth-tested against it, writes their reflections. At half
+// resolution fs_trace_half traces one pixel per 2×2 block into a half-size target (the
+// hits' mean light and the fraction that hit), fs_mark_half marks the pixels that get
+// hits, and fs_composite_half gives them the hits of their block's pixel on the same
+// surface, each with its own weight and environment term. Unmarked pixels keep the lit
+// frame already in the HDR target.
 //
 // Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
 // SCREEN_AO, REFLECTION_PROBES (bool), as the lighting pass compiles them. Group 3 is the
@@ -177,43 +180,58 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// The terms of `pixel`'s reflection that do not depend on the rays: the split-sum
-// weight lighting gave environment light times the roughness fade (rgb), and the
-// environment radiance E it used. Zero weight where the pixel is background, too rough or
-// saturated (a pixel clamped to the f16 maximum no longer holds the term to replace).
-struct Terms {
-    weight: vec3<f32>,
-    fallback: vec3<f32>,
+// The surface of a pixel that reflects: its normal n, the direction v to the camera, its
+// position p (m) and perceptual roughness r. `traced` is false where the pixel is
+// background, too rough, unlit or saturated (a pixel clamped to the f16 maximum no longer
+// holds the term to replace): such a pixel keeps the lit frame. It reads no more than the
+// depth and two G-buffer texels, so that the trace can tell early which pixels it skips.
+struct Reflector {
     n: vec3<f32>,
     v: vec3<f32>,
     p: vec3<f32>,
     r: f32,
+    traced: bool,
 }
 
-fn reflection_terms(pixel: vec2<i32>, lit: vec3<f32>) -> Terms {
-    var t: Terms;
-    t.weight = vec3<f32>(0.0);
-    t.fallback = vec3<f32>(0.0);
+fn reflecting_surface(pixel: vec2<i32>, lit: vec3<f32>) -> Reflector {
+    var s: Reflector;
+    s.traced = false;
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     if depth <= 0.0 {
-        return t;
+        return s;
     }
+    let g1 = textureLoad(gbuffer1, pixel, 0);
+    let g2 = textureLoad(gbuffer2, pixel, 0);
+    s.r = clamp_perceptual_roughness(g1.b);
+    if s.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) || is_unlit(g2.a) {
+        return s;
+    }
+    s.n = oct_decode(g1.rg);
+    s.p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
+    s.v = safe_normalize(view.position_exposure.xyz - s.p, s.n);
+    s.traced = true;
+    return s;
+}
+
+// The terms of the reflection of surface `s` at `pixel` that do not depend on the rays:
+// the split-sum weight lighting gave environment light times the roughness fade
+// (`weight`, rgb), and the environment radiance E it used (`fallback`).
+struct Terms {
+    weight: vec3<f32>,
+    fallback: vec3<f32>,
+}
+
+fn reflection_terms(pixel: vec2<i32>, s: Reflector) -> Terms {
+    var t: Terms;
     let g0 = textureLoad(gbuffer0, pixel, 0);
     let g1 = textureLoad(gbuffer1, pixel, 0);
     let g2 = textureLoad(gbuffer2, pixel, 0);
-    t.r = clamp_perceptual_roughness(g1.b);
-    if t.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) || is_unlit(g2.a) {
-        return t;
-    }
     // Fades out over the last quarter below the cutoff.
-    let fade = clamp((params.max_roughness - t.r) / (0.25 * params.max_roughness), 0.0, 1.0);
+    let fade = clamp((params.max_roughness - s.r) / (0.25 * params.max_roughness), 0.0, 1.0);
     let base = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
-    t.n = oct_decode(g1.rg);
-    t.p = world_at(vec2<f32>(pixel) + vec2<f32>(0.5), depth);
-    t.v = safe_normalize(view.position_exposure.xyz - t.p, t.n);
-    let n_dot_v = max(dot(t.n, t.v), MIN_N_DOT_V);
+    let n_dot_v = max(dot(s.n, s.v), MIN_N_DOT_V);
     let f0 = compute_f0(base, g1.a, g2.a);
-    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, t.r), 0.0).rg;
+    let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, s.r), 0.0).rg;
     var energy = vec3<f32>(1.0);
     if ENERGY_COMPENSATION {
         energy = energy_compensation(f0, dfg);
@@ -222,33 +240,30 @@ fn reflection_terms(pixel: vec2<i32>, lit: vec3<f32>) -> Terms {
     if SCREEN_AO {
         ao = combine_occlusion(ao, textureLoad(screen_ao, pixel, 0).r);
     }
-    t.weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, t.r) * fade;
-    let reflected = 2.0 * dot(t.n, t.v) * t.n - t.v;
-    t.fallback = environment_radiance(reflected, t.r);
+    t.weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, s.r) * fade;
+    let reflected = 2.0 * dot(s.n, s.v) * s.n - s.v;
+    t.fallback = environment_radiance(reflected, s.r);
     if REFLECTION_PROBES {
-        t.fallback = probe_reflection(t.p, reflected, t.r, t.fallback, view.position_exposure.w);
+        t.fallback = probe_reflection(s.p, reflected, s.r, t.fallback, view.position_exposure.w);
     }
     return t;
 }
 
-// The rays of a pixel with terms `t`: the mean over rays of the lit frame where they hit
-// (rgb; blended out near the screen's edges), and the fraction of the rays that hit (a).
+// The rays of surface `s`: the mean over rays of the lit frame where they hit (rgb;
+// blended out near the screen's edges), and the fraction of the rays that hit (a).
 // `noise` seeds the per-pixel rotation of the rays.
-fn reflection_hits(t: Terms, noise: vec2<f32>) -> vec4<f32> {
-    if all(t.weight == vec3<f32>(0.0)) {
-        return vec4<f32>(0.0);
-    }
-    let frame = basis(t.n);
-    let local_v = transpose(frame) * t.v;
-    let alpha = perceptual_roughness_to_alpha(t.r);
+fn reflection_hits(s: Reflector, noise: vec2<f32>) -> vec4<f32> {
+    let frame = basis(s.n);
+    let local_v = transpose(frame) * s.v;
+    let alpha = perceptual_roughness_to_alpha(s.r);
     let rotation = fract(52.9829189 * fract(dot(noise, vec2<f32>(0.06711056, 0.00583715))));
     var sum = vec4<f32>(0.0);
     for (var k = 0u; k < RAYS; k++) {
         let xi = fract(hammersley(k, RAYS) + vec2<f32>(rotation, 0.5 * rotation));
         let h = frame * sample_ggx_vndf(local_v, alpha, xi);
-        let l = reflect(-t.v, h);
-        if dot(l, t.n) > 0.0 {
-            let hit = trace(t.p + t.n * (1e-3 * length(t.p - view.position_exposure.xyz)), l);
+        let l = reflect(-s.v, h);
+        if dot(l, s.n) > 0.0 {
+            let hit = trace(s.p + s.n * (1e-3 * length(s.p - view.position_exposure.xyz)), l);
             if hit.z > 0.0 {
                 // Hits near the screen's edges blend into the environment.
                 let border = min(min(hit.x, hit.y), min(view.viewport.x - hit.x, view.viewport.y - hit.y));
@@ -268,37 +283,84 @@ fn with_reflection(lit: vec4<f32>, t: Terms, hits: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(min(max(lit.rgb + safe, vec3<f32>(0.0)), vec3<f32>(65504.0)), lit.a);
 }
 
-// Full resolution: every pixel traces its own rays.
+// The mark steps write depth 1 into a depth target cleared to 0 where the next step has
+// something to add; that step is depth-tested against it (its triangle lies at depth 0,
+// compared with Less), so the rasterizer shades no other pixel, and those keep the lit
+// frame the HDR target already holds. A branch alone would not spare them on a SIMD
+// rasterizer such as llvmpipe, which runs both sides under a lane mask.
+
+// Full resolution, step 1: marks the pixels that trace.
+@fragment
+fn fs_mark_full(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
+    let pixel = vec2<i32>(frag.xy);
+    if !reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb).traced {
+        discard;
+    }
+    return 1.0;
+}
+
+// Full resolution, step 2, on the marked pixels: each traces its own rays.
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let pixel = vec2<i32>(frag.xy);
     let lit = textureLoad(scene_color, pixel, 0);
-    let t = reflection_terms(pixel, lit.rgb);
-    return with_reflection(lit, t, reflection_hits(t, frag.xy));
+    let s = reflecting_surface(pixel, lit.rgb);
+    var t: Terms;
+    var hits = vec4<f32>(0.0);
+    if s.traced {
+        t = reflection_terms(pixel, s);
+        hits = reflection_hits(s, frag.xy);
+    }
+    return with_reflection(lit, t, hits);
 }
 
-// Half resolution, step 1: the hits of the top-left pixel of each 2×2 block.
+// Half resolution, step 1: the hits of the top-left pixel of each 2×2 block (0 where it
+// traces nothing).
 @fragment
 fn fs_trace_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<i32>(textureDimensions(depth_buffer));
     let pixel = min(vec2<i32>(frag.xy) * 2, size - vec2<i32>(1));
-    let lit = textureLoad(scene_color, pixel, 0);
-    return reflection_hits(reflection_terms(pixel, lit.rgb), frag.xy);
+    let s = reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb);
+    if !s.traced {
+        return vec4<f32>(0.0);
+    }
+    return reflection_hits(s, frag.xy);
 }
 
-// Half resolution, step 2: each pixel takes its block's hits when both lie on one
-// surface (depths within 1 %; reversed-Z depth is 1/distance up to a factor), with its
-// own weight and environment term; else no traced reflection.
-@fragment
-fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let pixel = vec2<i32>(frag.xy);
-    let lit = textureLoad(scene_color, pixel, 0);
+// The hits pixel `pixel` takes from its block: those of the block's traced pixel when
+// both lie on one surface (depths within 1 %; reversed-Z depth is 1/distance up to a
+// factor); none otherwise.
+fn block_hits(pixel: vec2<i32>) -> vec4<f32> {
     let size = vec2<i32>(textureDimensions(depth_buffer));
     let cell = min(pixel / 2, vec2<i32>(textureDimensions(half_added)) - vec2<i32>(1));
     let depth = textureLoad(depth_buffer, pixel, 0).r;
     let source = textureLoad(depth_buffer, min(cell * 2, size - vec2<i32>(1)), 0).r;
     if depth <= 0.0 || abs(depth - source) > 0.01 * depth {
-        return lit;
+        return vec4<f32>(0.0);
     }
-    return with_reflection(lit, reflection_terms(pixel, lit.rgb), textureLoad(half_added, cell, 0));
+    return textureLoad(half_added, cell, 0);
+}
+
+// Half resolution, step 2: marks the pixels whose block has a hit to give them (a pixel
+// with no hit would add W · (0 − 0 · E) = 0).
+@fragment
+fn fs_mark_half(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
+    if !(block_hits(vec2<i32>(frag.xy)).a > 0.0) {
+        discard;
+    }
+    return 1.0;
+}
+
+// Half resolution, step 3, on the marked pixels only: each takes its block's hits, with
+// its own weight and environment term.
+@fragment
+fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let pixel = vec2<i32>(frag.xy);
+    let lit = textureLoad(scene_color, pixel, 0);
+    let s = reflecting_surface(pixel, lit.rgb);
+    var t: Terms;
+    if s.traced {
+        t = reflection_terms(pixel, s);
+    }
+    return with_reflection(lit, t, block_hits(pixel));
 }

@@ -466,6 +466,66 @@ fn reflection_rays_that_leave_the_screen_keep_the_environment() {
     }
 }
 
+/// The pass shades only the pixels it marked: with the floor (roughness 0.8) above the
+/// cutoff, every pixel outside the sphere's (0.5) screen box is bit for bit the frame
+/// without reflections, at both resolutions, while the sphere reflects the floor.
+#[test]
+fn reflections_leave_every_pixel_too_rough_to_trace_as_lighting_wrote_it() {
+    for half in [true, false] {
+        let render = |ssr: bool| {
+            let mut app = scene(Some(Vec3::splat(0.5)), true);
+            {
+                let mut quality = app.world_mut().resource_mut::<Quality>();
+                quality.ssr.enabled = ssr;
+                quality.ssr.max_roughness = 0.6;
+                quality.ssr.half_resolution = half;
+            }
+            let report = app.render_headless(SIZE).expect("frame");
+            assert_eq!(report.plan.runs(PassId::Reflections), ssr);
+            let image = app.read_hdr_image().expect("image");
+            (app, image)
+        };
+        let ((app, with), (_, without)) = (render(true), render(false));
+        // The sphere's screen box, from the corners of its world box.
+        let (mut low, mut high) = ((SIZE.0, SIZE.1), (0, 0));
+        for i in 0..8 {
+            let corner = Vec3::new(0.0, SPHERE_RADIUS, 0.0)
+                + Vec3::new(
+                    if i & 1 == 0 { -1.0 } else { 1.0 },
+                    if i & 2 == 0 { -1.0 } else { 1.0 },
+                    if i & 4 == 0 { -1.0 } else { 1.0 },
+                ) * SPHERE_RADIUS;
+            let (x, y) = pixel_of(&app, corner);
+            low = (low.0.min(x), low.1.min(y));
+            high = (high.0.max(x), high.1.max(y));
+        }
+        let on_sphere =
+            |x: u32, y: u32| (low.0..=high.0).contains(&x) && (low.1..=high.1).contains(&y);
+        let (mut outside, mut changed) = (0, 0);
+        for (x, y, p) in with.enumerate_pixels() {
+            let q = without.get_pixel(x, y);
+            if on_sphere(x, y) {
+                changed += usize::from(p != q);
+            } else {
+                assert_eq!(
+                    p, q,
+                    "pixel ({x}, {y}) off the sphere, half resolution: {half}"
+                );
+                outside += 1;
+            }
+        }
+        println!("half {half}: {outside} pixels off the sphere unchanged, {changed} on it changed");
+        assert!(
+            outside > 8000,
+            "the floor fills most of the frame: {outside}"
+        );
+        assert!(
+            changed > 50,
+            "the sphere reflects the floor: {changed} pixels changed"
+        );
+    }
+}
+
 #[test]
 fn the_plan_traces_reflections_only_where_a_surface_is_smooth_enough() {
     // The contact scene's roughest-first materials: floor 0.8, sphere 0.5; the cutoff.

@@ -190,6 +190,21 @@ const NO_GROUP: BindGroupSpec = BindGroupSpec {
     bindings: &[],
 };
 
+/// Format of the mask of the pixels the last step shades: 1 where a pixel traces (full
+/// resolution) or its block has a hit (half), 0 elsewhere.
+const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The depth state against the mask: written by the mark step, tested by the composite.
+fn mask_test(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: MASK_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
 /// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
 #[derive(Resource)]
 pub struct SsrPass {
@@ -197,12 +212,15 @@ pub struct SsrPass {
     /// Groups 0, 1, nothing and 3 (full resolution, half-resolution trace); 0 to 3
     /// (composite).
     pipeline_layouts: [wgpu::PipelineLayout; 2],
-    /// Per variant: the full-resolution pipeline, or the trace and composite pipelines.
+    /// Per variant: the full-resolution mark and trace pipelines, or the half-resolution
+    /// trace, mark and composite pipelines.
     pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
     color: Option<Target>,
     /// The half-resolution trace's hits, at half size.
     half: Option<Target>,
+    /// The pixels the last step shades (depth 1), at full size.
+    mask: Option<Target>,
     bind_groups: Option<(Generations, [wgpu::BindGroup; 5])>,
 }
 
@@ -239,6 +257,7 @@ impl SsrPass {
                 }),
             color: None,
             half: None,
+            mask: None,
             bind_groups: None,
         }
     }
@@ -265,24 +284,48 @@ impl SsrPass {
             "ssr",
             &gpu.shaders.compose("ssr.wgsl", &SsrPass::defs(variant))?,
         )?;
-        let pipeline = |layout: usize, entry: &str, format| {
+        let pipeline = |layout: usize, entry: &str, formats: &[wgpu::TextureFormat], depth| {
             fullscreen_pipeline(
                 gpu,
                 entry,
                 Some(&self.pipeline_layouts[layout]),
                 &module,
                 ("vs_fullscreen", entry),
-                &[format],
-                None,
+                formats,
+                depth,
             )
         };
         let pipelines = if variant.half {
             vec![
-                pipeline(0, "fs_trace_half", HALF_FORMAT)?,
-                pipeline(1, "fs_composite_half", variant.format)?,
+                pipeline(0, "fs_trace_half", &[HALF_FORMAT], None)?,
+                pipeline(
+                    1,
+                    "fs_mark_half",
+                    &[],
+                    Some(mask_test(true, wgpu::CompareFunction::Always)),
+                )?,
+                pipeline(
+                    1,
+                    "fs_composite_half",
+                    &[variant.format],
+                    Some(mask_test(false, wgpu::CompareFunction::Less)),
+                )?,
             ]
         } else {
-            vec![pipeline(0, "fs_main", variant.format)?]
+            vec![
+                pipeline(
+                    0,
+                    "fs_mark_full",
+                    &[],
+                    Some(mask_test(true, wgpu::CompareFunction::Always)),
+                )?,
+                pipeline(
+                    0,
+                    "fs_main",
+                    &[variant.format],
+                    Some(mask_test(false, wgpu::CompareFunction::Less)),
+                )?,
+            ]
         };
         self.pipelines.insert(variant, pipelines);
         Ok(())
@@ -343,6 +386,7 @@ pub fn prepare_ssr(
         pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
         let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
         pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
+        pass.mask = Some(Target::new(&gpu, "ssr mask", t.size, MASK_FORMAT));
         pass.bind_groups = None;
     }
     let ssr = quality.ssr;
@@ -418,9 +462,20 @@ pub fn prepare_ssr(
     }
 }
 
-/// Records the copy of the lit frame and the pass that writes it back with its
-/// reflections (no blending: f32 targets are not blendable); at half resolution, the
-/// trace into the half-size target first.
+/// One step of the pass: its pipeline, its colour target and how it is loaded, the mask
+/// it writes (cleared) or tests (loaded), and its bind groups.
+struct Step<'a> {
+    pipeline: &'a wgpu::RenderPipeline,
+    color: Option<(&'a wgpu::TextureView, wgpu::LoadOp<wgpu::Color>)>,
+    mask: Option<(&'a wgpu::TextureView, wgpu::LoadOp<f32>)>,
+    groups: [&'a wgpu::BindGroup; 4],
+}
+
+/// Records the copy of the lit frame and the steps that write its reflections into the
+/// HDR target (no blending: f32 targets are not blendable). At full resolution, the mark
+/// of the pixels that trace, then their trace. At half resolution, the trace into the
+/// half-size target, the mark of the pixels that get hits, and their composite. The last
+/// step shades only the marked pixels, over the lit frame the HDR target already holds.
 pub fn ssr_pass(
     plan: Res<FramePlan>,
     pass: Res<SsrPass>,
@@ -428,11 +483,12 @@ pub fn ssr_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(color), Some(half), Some((_, groups))) = (
+    let (Some(encoder), Some(t), Some(color), Some(half), Some(mask), Some((_, groups))) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.color.as_ref(),
         pass.half.as_ref(),
+        pass.mask.as_ref(),
         pass.bind_groups.as_ref(),
     ) else {
         return;
@@ -449,26 +505,52 @@ pub fn ssr_pass(
         color.texture.as_image_copy(),
         hdr.texture.size(),
     );
-    // Full resolution: one step into the HDR target. Half: the trace into the half-size
-    // target, then the composite (whose group 2 is the trace's hits) into the HDR target.
     let [main, environment, hits, probes, none] = groups;
     let without_hits = [main, environment, none, probes];
     let with_hits = [main, environment, hits, probes];
-    let steps: Vec<(
-        &wgpu::RenderPipeline,
-        &wgpu::TextureView,
-        [&wgpu::BindGroup; 4],
-    )> = match pipelines.as_slice() {
-        [full] => vec![(full, &hdr.view, without_hits)],
-        [trace, composite] => vec![
-            (trace, &half.view, without_hits),
-            (composite, &hdr.view, with_hits),
+    let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+    let marked = Some((&mask.view, wgpu::LoadOp::Clear(0.0)));
+    let tested = Some((&mask.view, wgpu::LoadOp::Load));
+    let steps = match pipelines.as_slice() {
+        [mark, full] => vec![
+            Step {
+                pipeline: mark,
+                color: None,
+                mask: marked,
+                groups: without_hits,
+            },
+            Step {
+                pipeline: full,
+                color: Some((&hdr.view, wgpu::LoadOp::Load)),
+                mask: tested,
+                groups: without_hits,
+            },
+        ],
+        [trace, mark, composite] => vec![
+            Step {
+                pipeline: trace,
+                color: Some((&half.view, clear)),
+                mask: None,
+                groups: without_hits,
+            },
+            Step {
+                pipeline: mark,
+                color: None,
+                mask: marked,
+                groups: with_hits,
+            },
+            Step {
+                pipeline: composite,
+                color: Some((&hdr.view, wgpu::LoadOp::Load)),
+                mask: tested,
+                groups: with_hits,
+            },
         ],
         _ => return,
     };
     let last = steps.len() - 1;
     let scope = timer.begin_pass(PassId::Reflections);
-    for (i, (pipeline, target, step_groups)) in steps.into_iter().enumerate() {
+    for (i, step) in steps.into_iter().enumerate() {
         // The pass's GPU time: from the start of its first step to the end of its last.
         let writes = timer
             .render_writes(&scope)
@@ -478,24 +560,41 @@ pub fn ssr_pass(
                 beginning_of_pass_write_index: w.beginning_of_pass_write_index.filter(|_| i == 0),
                 end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| i == last),
             });
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("ssr"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
+        // The mark step has no colour target at all (not one that is unset).
+        let colors: Vec<_> = step
+            .color
+            .map(|(view, load)| wgpu::RenderPassColorAttachment {
+                view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    load,
                     store: wgpu::StoreOp::Store,
                 },
-            })],
-            depth_stencil_attachment: None,
+            })
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mask = step
+            .mask
+            .map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
+                view,
+                depth_ops: Some(wgpu::Operations {
+                    load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            });
+        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("ssr"),
+            color_attachments: &colors,
+            depth_stencil_attachment: mask,
             timestamp_writes: writes,
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        rp.set_pipeline(pipeline);
-        for (index, group) in step_groups.into_iter().enumerate() {
+        rp.set_pipeline(step.pipeline);
+        for (index, group) in step.groups.into_iter().enumerate() {
             rp.set_bind_group(index as u32, group, &[]);
         }
         rp.draw(0..3, 0..1);
