@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::shaders::{Composed, ShaderDef};
+use crate::render::targets::DEPTH_FORMAT;
 use crate::render::timing::GpuTimer;
 use std::collections::HashMap;
 
@@ -157,6 +158,20 @@ pub fn draw_fullscreen_with(
             groups: &[bind_group],
         },
     );
+}
+
+/// The depth state of a full-screen step against a mask held in a target of the frame's
+/// depth format ([`DEPTH_FORMAT`]; `write`: the step writes the mask; `compare`: its test). The full-screen triangle lies
+/// at depth 0, so `Less` passes only where the mask holds more than 0: the rasterizer
+/// shades no other pixel, which a branch or a `discard` would not spare on llvmpipe.
+pub fn mask_depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(compare),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
 }
 
 /// One full-screen draw in a timed pass of its own, in full.

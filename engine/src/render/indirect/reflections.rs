@@ -27,10 +27,10 @@ use crate::render::indirect::depth_pyramid::{
 };
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::pipelines::{create_module, fullscreen_pipeline, mask_depth_state};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
@@ -190,21 +190,6 @@ const NO_GROUP: BindGroupSpec = BindGroupSpec {
     bindings: &[],
 };
 
-/// Format of the mask of the pixels the last step shades: 1 where a pixel traces (full
-/// resolution) or its block has a hit (half), 0 elsewhere.
-const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-/// The depth state against the mask: written by the mark step, tested by the composite.
-fn mask_test(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: MASK_FORMAT,
-        depth_write_enabled: Some(write),
-        depth_compare: Some(compare),
-        stencil: Default::default(),
-        bias: Default::default(),
-    }
-}
-
 /// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
 #[derive(Resource)]
 pub struct SsrPass {
@@ -219,7 +204,8 @@ pub struct SsrPass {
     color: Option<Target>,
     /// The half-resolution trace's hits, at half size.
     half: Option<Target>,
-    /// The pixels the last step shades (depth 1), at full size.
+    /// The pixels the last step shades: depth 1 where a pixel traces (full resolution) or
+    /// its block has a hit (half), 0 elsewhere; at full size.
     mask: Option<Target>,
     bind_groups: Option<(Generations, [wgpu::BindGroup; 5])>,
 }
@@ -302,13 +288,13 @@ impl SsrPass {
                     1,
                     "fs_mark_half",
                     &[],
-                    Some(mask_test(true, wgpu::CompareFunction::Always)),
+                    Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
                 )?,
                 pipeline(
                     1,
                     "fs_composite_half",
                     &[variant.format],
-                    Some(mask_test(false, wgpu::CompareFunction::Less)),
+                    Some(mask_depth_state(false, wgpu::CompareFunction::Less)),
                 )?,
             ]
         } else {
@@ -317,13 +303,13 @@ impl SsrPass {
                     0,
                     "fs_mark_full",
                     &[],
-                    Some(mask_test(true, wgpu::CompareFunction::Always)),
+                    Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
                 )?,
                 pipeline(
                     0,
                     "fs_main",
                     &[variant.format],
-                    Some(mask_test(false, wgpu::CompareFunction::Less)),
+                    Some(mask_depth_state(false, wgpu::CompareFunction::Less)),
                 )?,
             ]
         };
@@ -386,7 +372,7 @@ pub fn prepare_ssr(
         pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
         let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
         pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
-        pass.mask = Some(Target::new(&gpu, "ssr mask", t.size, MASK_FORMAT));
+        pass.mask = Some(Target::new(&gpu, "ssr mask", t.size, DEPTH_FORMAT));
         pass.bind_groups = None;
     }
     let ssr = quality.ssr;

@@ -20,7 +20,7 @@ use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::light_culling::LightCullingPass;
 use crate::render::pipelines::{
-    FullscreenDraw, create_module, draw_fullscreen_pass, fullscreen_pipeline,
+    FullscreenDraw, create_module, draw_fullscreen_pass, fullscreen_pipeline, mask_depth_state,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -148,13 +148,7 @@ impl FramePass for ShadowMaskPass {
 /// shaded only where the depth at their pixel holds geometry (reversed Z: the full-screen
 /// triangle at depth 0 passes `Less` where the stored depth is above 0).
 fn depth_test() -> wgpu::DepthStencilState {
-    wgpu::DepthStencilState {
-        format: DEPTH_FORMAT,
-        depth_write_enabled: Some(false),
-        depth_compare: Some(wgpu::CompareFunction::Less),
-        stencil: Default::default(),
-        bias: Default::default(),
-    }
+    mask_depth_state(false, wgpu::CompareFunction::Less)
 }
 
 /// The mask pass's pipelines per variant: the depth copy at mask resolution, and the
@@ -259,11 +253,7 @@ impl ShadowMaskPass {
             &module,
             ("vs_fullscreen", "fs_depth"),
             &[],
-            Some(wgpu::DepthStencilState {
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                ..depth_test()
-            }),
+            Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
         )?;
         let mask = fullscreen_pipeline(
             gpu,
