@@ -2,7 +2,8 @@
 // each pixel marks its left (r) and top (g) edge where the perceptual luma steps by at least SMAA_THRESHOLD and by at least half the largest
 // step around it (local contrast adaptation, smaa_edge). The luma is the one
 // aa_prepare.wgsl stored in a. Pixels without an edge are discarded (the target is
-// cleared to 0).
+// cleared to 0); those with one also write depth 1 into the mask the coverage step is
+// depth-tested against (smaa.rs), so that only they are shaded there.
 #import color
 #import antialiasing
 #import fullscreen
@@ -17,8 +18,13 @@ fn luma_px(p: vec2<i32>) -> f32 {
     return textureLoad(prepared, clamp(p, vec2<i32>(0), last), 0).a;
 }
 
+struct Edges {
+    @location(0) edges: vec4<f32>,
+    @builtin(frag_depth) mask: f32,
+}
+
 @fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_main(@builtin(position) frag: vec4<f32>) -> Edges {
     let p = vec2<i32>(frag.xy);
     let centre = luma_px(p);
     let left = luma_px(p + vec2<i32>(-1, 0));
@@ -41,5 +47,5 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if max(edges.x, edges.y) == 0.0 {
         discard;
     }
-    return vec4<f32>(edges, 0.0, 0.0);
+    return Edges(vec4<f32>(edges, 0.0, 0.0), 1.0);
 }

@@ -88,6 +88,28 @@ pub fn fullscreen_variant(
     fullscreen_blended_variant(gpu, label, layout, entry, defs, format, None)
 }
 
+/// [`fullscreen_variant`] with a depth state: a step that writes or tests a depth mask
+/// ([`mask_depth_state`]).
+pub fn fullscreen_masked_variant(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    (entry, defs): (&str, &[ShaderDef]),
+    format: wgpu::TextureFormat,
+    depth: wgpu::DepthStencilState,
+) -> Result<wgpu::RenderPipeline> {
+    let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
+    fullscreen_pipeline(
+        gpu,
+        label,
+        Some(layout),
+        &module,
+        ("vs_fullscreen", "fs_main"),
+        &[format],
+        Some(depth),
+    )
+}
+
 /// [`fullscreen_variant`] blending into the target with `blend` (`None`: replace).
 pub fn fullscreen_blended_variant(
     gpu: &Gpu,

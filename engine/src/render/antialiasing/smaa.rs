@@ -4,7 +4,8 @@
 //! 1. the HDR image is copied with its perceptual luma ([`super::prepare`]);
 //! 2. `smaa_edges.wgsl` marks each pixel's left and top edges where the perceptual luma
 //!    steps ([`crate::antialiasing::smaa_edge`]);
-//! 3. `smaa_weights.wgsl`, on edge pixels only, follows each edge to both ends (up to
+//! 3. `smaa_weights.wgsl`, on edge pixels only (depth-tested against a mask the edge step
+//!    writes, so that no other pixel is shaded), follows each edge to both ends (up to
 //!    [`MAX_SEARCH`] pixels each way), reads the crossing edges there, and evaluates the
 //!    coverage of the revectorized silhouette ([`crate::antialiasing::smaa_coverage`]);
 //! 4. `smaa_blend.wgsl` mixes every pixel with its neighbours across its edges by those
@@ -25,10 +26,11 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
-    PerFormat, draw_fullscreen, draw_fullscreen_with, fullscreen_variant, one_group_layout,
+    FullscreenDraw, PerFormat, draw_fullscreen_pass, draw_fullscreen_with,
+    fullscreen_masked_variant, mask_depth_state, one_group_layout,
 };
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -116,6 +118,8 @@ struct Images {
     key: u64,
     prepared: PreparedImage,
     edges: Target,
+    /// Depth 1 on the pixels with an edge, 0 elsewhere.
+    mask: Target,
     weights: Target,
     edges_group: wgpu::BindGroup,
     weights_group: wgpu::BindGroup,
@@ -142,14 +146,16 @@ impl SmaaPass {
         let edges_layout = EDGES_BINDINGS.layout(gpu);
         let weights_layout = WEIGHTS_BINDINGS.layout(gpu);
         let blend_layout = BLEND_BINDINGS.layout(gpu);
-        let step = |label: &str, layout, entry: &str, defs, format| {
-            fullscreen_variant(
+        // The edge step writes the mask (depth 1 on edge pixels); the coverage step is
+        // tested against it and shades only those.
+        let step = |label: &str, layout, source, format, depth| {
+            fullscreen_masked_variant(
                 gpu,
                 label,
                 &one_group_layout(gpu, label, layout),
-                entry,
-                defs,
+                source,
                 format,
+                depth,
             )
         };
         Ok(SmaaPass {
@@ -157,16 +163,16 @@ impl SmaaPass {
             edges: step(
                 "smaa edges",
                 &edges_layout,
-                "smaa_edges.wgsl",
-                &[],
+                ("smaa_edges.wgsl", &[]),
                 EDGES_FORMAT,
+                mask_depth_state(true, wgpu::CompareFunction::Always),
             )?,
             weights: step(
                 "smaa weights",
                 &weights_layout,
-                "smaa_weights.wgsl",
-                WEIGHTS_DEFS,
+                ("smaa_weights.wgsl", WEIGHTS_DEFS),
                 WEIGHTS_FORMAT,
+                mask_depth_state(false, wgpu::CompareFunction::Less),
             )?,
             blends: PerFormat::new(gpu, "smaa blend", "smaa_blend.wgsl", &blend_layout),
             edges_layout,
@@ -186,6 +192,7 @@ impl SmaaPass {
     ) -> Result<Images> {
         let prepared = self.preparation.image(gpu, size, hdr)?;
         let edges = Target::new(gpu, "smaa edges", size, EDGES_FORMAT);
+        let mask = Target::new(gpu, "smaa mask", size, DEPTH_FORMAT);
         let weights = Target::new(gpu, "smaa weights", size, WEIGHTS_FORMAT);
         let view = wgpu::BindingResource::TextureView;
         let edges_group =
@@ -201,6 +208,7 @@ impl SmaaPass {
             key,
             prepared,
             edges,
+            mask,
             weights,
             edges_group,
             weights_group,
@@ -260,22 +268,32 @@ pub fn smaa_pass(
     };
     pass.preparation
         .record(encoder, timer, "smaa prepare", &i.prepared);
-    // Pixels without an edge are discarded and stay 0 in both images.
-    draw_fullscreen(
+    // Pixels without an edge are discarded and stay 0 in both images; the coverage step
+    // shades only the pixels the edge step marked.
+    let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+    draw_fullscreen_pass(
         encoder,
         timer,
-        "smaa edges",
-        &[&i.edges.view],
-        &pass.edges,
-        &i.edges_group,
+        &FullscreenDraw {
+            name: "smaa edges",
+            targets: &[&i.edges.view],
+            load: clear,
+            depth: Some((&i.mask.view, wgpu::LoadOp::Clear(0.0))),
+            pipeline: &pass.edges,
+            groups: &[&i.edges_group],
+        },
     );
-    draw_fullscreen(
+    draw_fullscreen_pass(
         encoder,
         timer,
-        "smaa weights",
-        &[&i.weights.view],
-        &pass.weights,
-        &i.weights_group,
+        &FullscreenDraw {
+            name: "smaa weights",
+            targets: &[&i.weights.view],
+            load: clear,
+            depth: Some((&i.mask.view, wgpu::LoadOp::Load)),
+            pipeline: &pass.weights,
+            groups: &[&i.weights_group],
+        },
     );
     // Pixels no coverage reaches are discarded and keep the HDR target's exact value.
     draw_fullscreen_with(
