@@ -14,6 +14,8 @@
 // 4. the pixel's distance to the nearer end gives how far across the edge to sample: the
 //    blend an exact coverage of the edge's line would give;
 // 5. a sub-pixel term from the 3×3 average blurs isolated single-pixel features.
+// fs_mark runs step 1 alone and marks the pixels on a luma edge in a depth mask; fs_main
+// is depth-tested against it (fxaa.rs).
 #import color
 #import encoding
 #import antialiasing
@@ -74,37 +76,96 @@ fn luma_px(p: vec2<i32>) -> f32 {
     return textureLoad(prepared, clamp(p, vec2<i32>(0), last), 0).a;
 }
 
+// The lumas of pixel p's 3×3 neighbourhood (north is up, −y on screen), their range
+// around the centre, the edge's direction, and whether FXAA blends p: the luma has an
+// edge there (step 1) and a geometric edge runs across it (step 2).
+struct Neighbourhood {
+    m: f32,
+    n: f32,
+    s: f32,
+    w: f32,
+    e: f32,
+    nw: f32,
+    ne: f32,
+    sw: f32,
+    se: f32,
+    range: f32,
+    is_horizontal: bool,
+    blended: bool,
+}
+
+// Whether the luma range of m and its four neighbours n, s, w, e is an edge (step 1).
+fn luma_edge(m: f32, n: f32, s: f32, w: f32, e: f32) -> bool {
+    let lo = min(m, min(min(n, s), min(w, e)));
+    let hi = max(m, max(max(n, s), max(w, e)));
+    return hi - lo >= max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD);
+}
+
+fn neighbourhood(p: vec2<i32>) -> Neighbourhood {
+    var h: Neighbourhood;
+    h.m = luma_px(p);
+    h.n = luma_px(p + vec2<i32>(0, -1));
+    h.s = luma_px(p + vec2<i32>(0, 1));
+    h.w = luma_px(p + vec2<i32>(-1, 0));
+    h.e = luma_px(p + vec2<i32>(1, 0));
+    h.range = max(h.m, max(max(h.n, h.s), max(h.w, h.e))) - min(h.m, min(min(h.n, h.s), min(h.w, h.e)));
+    if !luma_edge(h.m, h.n, h.s, h.w, h.e) {
+        h.blended = false;
+        return h;
+    }
+    h.nw = luma_px(p + vec2<i32>(-1, -1));
+    h.ne = luma_px(p + vec2<i32>(1, -1));
+    h.sw = luma_px(p + vec2<i32>(-1, 1));
+    h.se = luma_px(p + vec2<i32>(1, 1));
+    // A horizontal edge changes luma from north to south.
+    let horizontal = 2.0 * abs(h.n + h.s - 2.0 * h.m) + abs(h.nw + h.sw - 2.0 * h.w)
+        + abs(h.ne + h.se - 2.0 * h.e);
+    let vertical = 2.0 * abs(h.w + h.e - 2.0 * h.m) + abs(h.nw + h.ne - 2.0 * h.n)
+        + abs(h.sw + h.se - 2.0 * h.s);
+    h.is_horizontal = horizontal >= vertical;
+    // Only where the luma has an edge: are the depth or the normals broken across it?
+    h.blended = geometric_edge_across(p, select(vec2<i32>(1, 0), vec2<i32>(0, 1), h.is_horizontal));
+    return h;
+}
+
+// Writes depth 1 into the mask (fxaa.rs) where the luma has an edge (step 1 alone: five
+// loads); the filter is depth-tested against it, so that no other pixel is shaded, and
+// tests the geometric edge itself.
 @fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let texel = 1.0 / vec2<f32>(textureDimensions(prepared));
+fn fs_mark(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
     let p = vec2<i32>(frag.xy);
     let m = luma_px(p);
-    // North is up (−y on screen).
     let n = luma_px(p + vec2<i32>(0, -1));
     let s = luma_px(p + vec2<i32>(0, 1));
     let w = luma_px(p + vec2<i32>(-1, 0));
     let e = luma_px(p + vec2<i32>(1, 0));
-    let lo = min(m, min(min(n, s), min(w, e)));
-    let hi = max(m, max(max(n, s), max(w, e)));
-    let range = hi - lo;
-    // Off every edge (here) or inside a surface (below): the HDR target keeps its own
-    // value (the pass loads it), not the f16 copy's.
-    if range < max(EDGE_THRESHOLD_MIN, hi * EDGE_THRESHOLD) {
+    if !luma_edge(m, n, s, w, e) {
         discard;
     }
-    let nw = luma_px(p + vec2<i32>(-1, -1));
-    let ne = luma_px(p + vec2<i32>(1, -1));
-    let sw = luma_px(p + vec2<i32>(-1, 1));
-    let se = luma_px(p + vec2<i32>(1, 1));
+    return 1.0;
+}
 
-    // A horizontal edge changes luma from north to south.
-    let horizontal = 2.0 * abs(n + s - 2.0 * m) + abs(nw + sw - 2.0 * w) + abs(ne + se - 2.0 * e);
-    let vertical = 2.0 * abs(w + e - 2.0 * m) + abs(nw + ne - 2.0 * n) + abs(sw + se - 2.0 * s);
-    let is_horizontal = horizontal >= vertical;
-    // Only where the luma has an edge: are the depth or the normals broken across it?
-    if !geometric_edge_across(p, select(vec2<i32>(1, 0), vec2<i32>(0, 1), is_horizontal)) {
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let texel = 1.0 / vec2<f32>(textureDimensions(prepared));
+    let p = vec2<i32>(frag.xy);
+    let h = neighbourhood(p);
+    // Off every edge or inside a surface: the HDR target keeps its own value (the pass
+    // loads it), not the f16 copy's.
+    if !h.blended {
         discard;
     }
+    let m = h.m;
+    let n = h.n;
+    let s = h.s;
+    let w = h.w;
+    let e = h.e;
+    let nw = h.nw;
+    let ne = h.ne;
+    let sw = h.sw;
+    let se = h.se;
+    let range = h.range;
+    let is_horizontal = h.is_horizontal;
     let before = select(w, n, is_horizontal);
     let after = select(e, s, is_horizontal);
     let g_before = abs(before - m);

@@ -94,20 +94,11 @@ pub fn fullscreen_masked_variant(
     gpu: &Gpu,
     label: &str,
     layout: &wgpu::PipelineLayout,
-    (entry, defs): (&str, &[ShaderDef]),
+    source: (&str, &[ShaderDef]),
     format: wgpu::TextureFormat,
     depth: wgpu::DepthStencilState,
 ) -> Result<wgpu::RenderPipeline> {
-    let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
-    fullscreen_pipeline(
-        gpu,
-        label,
-        Some(layout),
-        &module,
-        ("vs_fullscreen", "fs_main"),
-        &[format],
-        Some(depth),
-    )
+    fullscreen_composed(gpu, label, layout, source, format.into(), Some(depth))
 }
 
 /// [`fullscreen_variant`] blending into the target with `blend` (`None`: replace).
@@ -120,6 +111,24 @@ pub fn fullscreen_blended_variant(
     format: wgpu::TextureFormat,
     blend: Option<wgpu::BlendState>,
 ) -> Result<wgpu::RenderPipeline> {
+    let target = wgpu::ColorTargetState {
+        format,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    };
+    fullscreen_composed(gpu, label, layout, (entry, defs), target, None)
+}
+
+/// The full-screen pipeline of `fs_main` in the module composed from `(entry, defs)`, into
+/// one colour target, with an optional depth state.
+fn fullscreen_composed(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    (entry, defs): (&str, &[ShaderDef]),
+    target: wgpu::ColorTargetState,
+    depth: Option<wgpu::DepthStencilState>,
+) -> Result<wgpu::RenderPipeline> {
     let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
     fullscreen_target_pipeline(
         gpu,
@@ -127,12 +136,8 @@ pub fn fullscreen_blended_variant(
         Some(layout),
         &module,
         ("vs_fullscreen", "fs_main"),
-        &[Some(wgpu::ColorTargetState {
-            format,
-            blend,
-            write_mask: wgpu::ColorWrites::ALL,
-        })],
-        None,
+        &[Some(target)],
+        depth,
     )
 }
 
@@ -285,6 +290,7 @@ pub struct PerFormat {
     entry: &'static str,
     layout: wgpu::PipelineLayout,
     blend: Option<wgpu::BlendState>,
+    depth: Option<wgpu::DepthStencilState>,
     pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
 }
 
@@ -301,7 +307,16 @@ impl PerFormat {
             entry,
             layout: one_group_layout(gpu, label, group),
             blend: None,
+            depth: None,
             pipelines: HashMap::new(),
+        }
+    }
+
+    /// The same pipelines, depth-tested with `depth` ([`mask_depth_state`]).
+    pub fn depth_tested(self, depth: wgpu::DepthStencilState) -> PerFormat {
+        PerFormat {
+            depth: Some(depth),
+            ..self
         }
     }
 
@@ -316,14 +331,18 @@ impl PerFormat {
     /// Compiles the pipeline into `format` unless it exists.
     pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
         if !self.pipelines.contains_key(&format) {
-            let pipeline = fullscreen_blended_variant(
+            let target = wgpu::ColorTargetState {
+                format,
+                blend: self.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            };
+            let pipeline = fullscreen_composed(
                 gpu,
                 self.label,
                 &self.layout,
-                self.entry,
-                &[],
-                format,
-                self.blend,
+                (self.entry, &[]),
+                target,
+                self.depth.clone(),
             )?;
             self.pipelines.insert(format, pipeline);
         }

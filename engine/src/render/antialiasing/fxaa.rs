@@ -1,9 +1,11 @@
 //! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast, kept
 //! where a silhouette or a crease crosses them (the depth buffer and the G-buffer's
 //! normals, [`crate::antialiasing::depth_bend`] and [`crate::antialiasing::creased`]), and
-//! blended across, in two steps: the HDR image is copied with its perceptual luma
-//! ([`super::prepare`]), and `fxaa.wgsl` filters it and writes the result into the HDR
-//! target. It runs after depth of field, on the image tone mapping will show.
+//! blended across, in three steps: the HDR image is copied with its perceptual luma
+//! ([`super::prepare`]); `fxaa.wgsl`'s `fs_mark` writes depth 1 into a mask where the luma
+//! has an edge; and its `fs_main`, depth-tested against the mask so that no other pixel
+//! is shaded, filters the image and writes the result into the HDR target. It runs after
+//! depth of field, on the image tone mapping will show.
 
 use crate::error::Result;
 use crate::quality::{AaMethod, Quality};
@@ -13,8 +15,11 @@ use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{PerFormat, draw_fullscreen_with};
-use crate::render::targets::RenderTargets;
+use crate::render::pipelines::{
+    FullscreenDraw, PerFormat, create_module, draw_fullscreen_pass, fullscreen_pipeline,
+    mask_depth_state, one_group_layout,
+};
+use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -78,6 +83,8 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 /// The prepared image and the filter's bind group, for one set of frame targets.
 struct Prepared {
     image: PreparedImage,
+    /// Depth 1 where the luma has an edge, 0 elsewhere.
+    mask: Target,
     key: u64,
     filter: wgpu::BindGroup,
 }
@@ -87,6 +94,8 @@ struct Prepared {
 pub struct FxaaPass {
     preparation: Preparation,
     layout: wgpu::BindGroupLayout,
+    /// Writes the mask.
+    mark: wgpu::RenderPipeline,
     filters: PerFormat,
     sampler: wgpu::Sampler,
     prepared: Option<Prepared>,
@@ -99,7 +108,17 @@ impl FxaaPass {
         let layout = BINDINGS.layout(gpu);
         Ok(FxaaPass {
             preparation: Preparation::new(gpu)?,
-            filters: PerFormat::new(gpu, "fxaa", "fxaa.wgsl", &layout),
+            mark: fullscreen_pipeline(
+                gpu,
+                "fxaa mark",
+                Some(&one_group_layout(gpu, "fxaa mark", &layout)),
+                &create_module(gpu, "fxaa mark", &gpu.shaders.compose("fxaa.wgsl", &[])?)?,
+                ("vs_fullscreen", "fs_mark"),
+                &[],
+                Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
+            )?,
+            filters: PerFormat::new(gpu, "fxaa", "fxaa.wgsl", &layout)
+                .depth_tested(mask_depth_state(false, wgpu::CompareFunction::Less)),
             layout,
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("fxaa"),
@@ -156,6 +175,7 @@ pub fn prepare_fxaa(
         )?;
         Ok(Prepared {
             image,
+            mask: Target::new(&gpu, "fxaa mask", t.size, DEPTH_FORMAT),
             key: t.generation,
             filter,
         })
@@ -166,7 +186,7 @@ pub fn prepare_fxaa(
     }
 }
 
-/// Records the preparation and the filter.
+/// Records the preparation, the mark and the filter.
 pub fn fxaa_pass(
     pass: Res<FxaaPass>,
     plan: Res<FramePlan>,
@@ -185,14 +205,30 @@ pub fn fxaa_pass(
     };
     pass.preparation
         .record(encoder, timer, "fxaa prepare", &c.image);
-    // Pixels off every edge are discarded and keep the HDR target's exact value.
-    draw_fullscreen_with(
+    // The filter shades only the pixels the mark step marked; the others keep the HDR
+    // target's exact value.
+    draw_fullscreen_pass(
         encoder,
         timer,
-        PassId::Fxaa.name(),
-        &[hdr],
-        filter,
-        &c.filter,
-        wgpu::LoadOp::Load,
+        &FullscreenDraw {
+            name: "fxaa mark",
+            targets: &[],
+            load: wgpu::LoadOp::Load,
+            depth: Some((&c.mask.view, wgpu::LoadOp::Clear(0.0))),
+            pipeline: &pass.mark,
+            groups: &[&c.filter],
+        },
+    );
+    draw_fullscreen_pass(
+        encoder,
+        timer,
+        &FullscreenDraw {
+            name: PassId::Fxaa.name(),
+            targets: &[hdr],
+            load: wgpu::LoadOp::Load,
+            depth: Some((&c.mask.view, wgpu::LoadOp::Load)),
+            pipeline: filter,
+            groups: &[&c.filter],
+        },
     );
 }
