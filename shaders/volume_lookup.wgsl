@@ -44,6 +44,9 @@ fn volume_irradiance(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let local = clamp((biased - volume.origin_ready.xyz) / spacing, vec3<f32>(0.0), top);
     let base = min(vec3<u32>(floor(local)), counts - vec3<u32>(1u));
     let f = local - vec3<f32>(base);
+    // Every probe's irradiance is read along n: its octahedral position within a tile,
+    // once for all eight.
+    let along_n = atlas_position(vec2<f32>(0.0), f32(IRRADIANCE_SIDE), n);
     var sum = vec3<f32>(0.0);
     var total = 0.0;
     for (var i = 0u; i < 8u; i++) {
@@ -60,7 +63,7 @@ fn volume_irradiance(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
         // DDGI: weights under 0.2 are crushed further, so barely visible probes fade out.
         w = select(w, w * w * w / 0.04, w < 0.2);
         w = max(w, 1e-6) * trilinear.x * trilinear.y * trilinear.z;
-        let e = atlas_position(tile_origin(probe, IRRADIANCE_SIDE + 2u), f32(IRRADIANCE_SIDE), n);
+        let e = tile_origin(probe, IRRADIANCE_SIDE + 2u) + along_n;
         sum += w * textureSampleLevel(probe_irradiance, probe_sampler, e * volume.texel_sizes.xy, 0.0).rgb;
         total += w;
     }
