@@ -217,6 +217,37 @@ pub struct FullscreenDraw<'a> {
     pub groups: &'a [&'a wgpu::BindGroup],
 }
 
+/// A colour attachment loaded with `load` and stored.
+pub fn color_attachment(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        },
+    }
+}
+
+/// A depth attachment (no stencil) loaded with `load` and stored.
+pub fn depth_attachment(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<f32>,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
 /// Records `draw`: the full-screen triangle in a timed render pass of its own.
 pub fn draw_fullscreen_pass(
     encoder: &mut wgpu::CommandEncoder,
@@ -228,28 +259,9 @@ pub fn draw_fullscreen_pass(
         let attachments: Vec<Option<wgpu::RenderPassColorAttachment>> = draw
             .targets
             .iter()
-            .map(|view| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: draw.load,
-                        store: wgpu::StoreOp::Store,
-                    },
-                })
-            })
+            .map(|view| Some(color_attachment(view, draw.load)))
             .collect();
-        let depth_stencil_attachment =
-            draw.depth
-                .map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations {
-                        load,
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                });
+        let depth_stencil_attachment = draw.depth.map(|(view, load)| depth_attachment(view, load));
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(draw.name),
             color_attachments: &attachments,

@@ -27,7 +27,9 @@ use crate::render::indirect::depth_pyramid::{
 };
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::pipelines::{create_module, fullscreen_pipeline, mask_depth_state};
+use crate::render::pipelines::{
+    color_attachment, create_module, depth_attachment, fullscreen_pipeline, mask_depth_state,
+};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
@@ -549,28 +551,10 @@ pub fn ssr_pass(
         // The mark step has no colour target at all (not one that is unset).
         let colors: Vec<_> = step
             .color
-            .map(|(view, load)| wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })
+            .map(|(view, load)| Some(color_attachment(view, load)))
             .into_iter()
-            .map(Some)
             .collect();
-        let mask = step
-            .mask
-            .map(|(view, load)| wgpu::RenderPassDepthStencilAttachment {
-                view,
-                depth_ops: Some(wgpu::Operations {
-                    load,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            });
+        let mask = step.mask.map(|(view, load)| depth_attachment(view, load));
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("ssr"),
             color_attachments: &colors,
