@@ -37,7 +37,7 @@ use crate::render::light_culling::LIGHT_TILES;
 use crate::render::lighting::{LightingPass, LightingVariant};
 use crate::render::lobe_tables::LobeTables;
 use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
-use crate::render::pipelines::draw_fullscreen_with;
+use crate::render::pipelines::{color_attachment, draw_fullscreen_with};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
@@ -516,17 +516,7 @@ pub fn transparent_pass(
     } else {
         None
     };
-    let attachment = |view, load| {
-        Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load,
-                store: wgpu::StoreOp::Store,
-            },
-        })
-    };
+    let attachment = |view, load| Some(color_attachment(view, load));
     // Sorted: straight over the HDR target; weighted: into the sums, cleared to 0 and 1.
     let color_attachments = match oit {
         Some(([accum, reveal], _, _)) => vec![
