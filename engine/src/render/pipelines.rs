@@ -187,11 +187,25 @@ pub fn draw_fullscreen_with(
     );
 }
 
-/// The depth state of a full-screen step against a mask held in a target of the frame's
-/// depth format ([`DEPTH_FORMAT`]; `write`: the step writes the mask; `compare`: its test). The full-screen triangle lies
-/// at depth 0, so `Less` passes only where the mask holds more than 0: the rasterizer
-/// shades no other pixel, which a branch or a `discard` would not spare on llvmpipe.
-pub fn mask_depth_state(write: bool, compare: wgpu::CompareFunction) -> wgpu::DepthStencilState {
+/// What a full-screen step does with a depth mask held in a target of the frame's depth
+/// format ([`DEPTH_FORMAT`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaskDepth {
+    /// Writes the mask: depth 1 (`frag_depth`) where the next step has work; the target
+    /// is cleared to 0.
+    Mark,
+    /// Is tested against it: the full-screen triangle lies at depth 0, so `Less` passes
+    /// only where the mask holds more than 0, and the rasterizer shades no other pixel
+    /// (which a branch or a `discard` would not spare on llvmpipe).
+    Test,
+}
+
+/// The depth state of a full-screen step that marks or is tested against a depth mask.
+pub fn mask_depth_state(step: MaskDepth) -> wgpu::DepthStencilState {
+    let (write, compare) = match step {
+        MaskDepth::Mark => (true, wgpu::CompareFunction::Always),
+        MaskDepth::Test => (false, wgpu::CompareFunction::Less),
+    };
     wgpu::DepthStencilState {
         format: DEPTH_FORMAT,
         depth_write_enabled: Some(write),

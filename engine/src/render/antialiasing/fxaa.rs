@@ -16,7 +16,7 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
-    FullscreenDraw, PerFormat, create_module, draw_fullscreen_pass, fullscreen_pipeline,
+    FullscreenDraw, MaskDepth, PerFormat, create_module, draw_fullscreen_pass, fullscreen_pipeline,
     mask_depth_state, one_group_layout,
 };
 use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
@@ -94,8 +94,8 @@ struct Prepared {
 pub struct FxaaPass {
     preparation: Preparation,
     layout: wgpu::BindGroupLayout,
-    /// Writes the mask.
-    mark: wgpu::RenderPipeline,
+    /// Writes the mask; compiled with the first filter.
+    mark: Option<wgpu::RenderPipeline>,
     filters: PerFormat,
     sampler: wgpu::Sampler,
     prepared: Option<Prepared>,
@@ -108,17 +108,9 @@ impl FxaaPass {
         let layout = BINDINGS.layout(gpu);
         Ok(FxaaPass {
             preparation: Preparation::new(gpu)?,
-            mark: fullscreen_pipeline(
-                gpu,
-                "fxaa mark",
-                Some(&one_group_layout(gpu, "fxaa mark", &layout)),
-                &create_module(gpu, "fxaa mark", &gpu.shaders.compose("fxaa.wgsl", &[])?)?,
-                ("vs_fullscreen", "fs_mark"),
-                &[],
-                Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
-            )?,
+            mark: None,
             filters: PerFormat::new(gpu, "fxaa", "fxaa.wgsl", &layout)
-                .depth_tested(mask_depth_state(false, wgpu::CompareFunction::Less)),
+                .depth_tested(mask_depth_state(MaskDepth::Test)),
             layout,
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("fxaa"),
@@ -131,8 +123,21 @@ impl FxaaPass {
     }
 }
 
-/// Compiles the filter for this frame's HDR format and (re)creates the prepared image
-/// at the frame's size.
+/// The mark step's pipeline: `fs_mark` into the mask, no colour target.
+fn mark_pipeline(gpu: &Gpu, layout: &wgpu::BindGroupLayout) -> Result<wgpu::RenderPipeline> {
+    fullscreen_pipeline(
+        gpu,
+        "fxaa mark",
+        Some(&one_group_layout(gpu, "fxaa mark", layout)),
+        &create_module(gpu, "fxaa mark", &gpu.shaders.compose("fxaa.wgsl", &[])?)?,
+        ("vs_fullscreen", "fs_mark"),
+        &[],
+        Some(mask_depth_state(MaskDepth::Mark)),
+    )
+}
+
+/// Compiles the filter for this frame's HDR format (and the mark, once) and (re)creates
+/// the prepared image at the frame's size.
 pub fn prepare_fxaa(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
@@ -147,6 +152,15 @@ pub fn prepare_fxaa(
     if let Err(e) = pass.filters.ensure(&gpu, format) {
         errors.0.push(e);
         return;
+    }
+    if pass.mark.is_none() {
+        match mark_pipeline(&gpu, &pass.layout) {
+            Ok(mark) => pass.mark = Some(mark),
+            Err(e) => {
+                errors.0.push(e);
+                return;
+            }
+        }
     }
     let Some((t, hdr, [depth, normal])) = targets
         .current
@@ -194,9 +208,10 @@ pub fn fxaa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(c), Some(hdr), Some(filter)) = (
+    let (Some(encoder), Some(c), Some(mark), Some(hdr), Some(filter)) = (
         encoder.as_mut(),
         pass.prepared.as_ref(),
+        pass.mark.as_ref(),
         targets.current.as_ref().and_then(|t| t.view(HDR)),
         plan.variant::<FxaaPass>()
             .and_then(|f| pass.filters.get(*f)),
@@ -215,7 +230,7 @@ pub fn fxaa_pass(
             targets: &[],
             load: wgpu::LoadOp::Load,
             depth: Some((&c.mask.view, wgpu::LoadOp::Clear(0.0))),
-            pipeline: &pass.mark,
+            pipeline: mark,
             groups: &[&c.filter],
         },
     );

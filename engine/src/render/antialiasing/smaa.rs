@@ -26,7 +26,7 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::pipelines::{
-    FullscreenDraw, PerFormat, draw_fullscreen_pass, draw_fullscreen_with,
+    FullscreenDraw, MaskDepth, PerFormat, draw_fullscreen_pass, draw_fullscreen_with,
     fullscreen_masked_variant, mask_depth_state, one_group_layout,
 };
 use crate::render::shaders::ShaderDef;
@@ -165,14 +165,14 @@ impl SmaaPass {
                 &edges_layout,
                 ("smaa_edges.wgsl", &[]),
                 EDGES_FORMAT,
-                mask_depth_state(true, wgpu::CompareFunction::Always),
+                mask_depth_state(MaskDepth::Mark),
             )?,
             weights: step(
                 "smaa weights",
                 &weights_layout,
                 ("smaa_weights.wgsl", WEIGHTS_DEFS),
                 WEIGHTS_FORMAT,
-                mask_depth_state(false, wgpu::CompareFunction::Less),
+                mask_depth_state(MaskDepth::Test),
             )?,
             blends: PerFormat::new(gpu, "smaa blend", "smaa_blend.wgsl", &blend_layout),
             edges_layout,

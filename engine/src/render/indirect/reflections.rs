@@ -28,7 +28,8 @@ use crate::render::indirect::depth_pyramid::{
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::pipelines::{
-    color_attachment, create_module, depth_attachment, fullscreen_pipeline, mask_depth_state,
+    MaskDepth, color_attachment, create_module, depth_attachment, fullscreen_pipeline,
+    mask_depth_state,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -290,13 +291,13 @@ impl SsrPass {
                     1,
                     "fs_mark_half",
                     &[],
-                    Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
+                    Some(mask_depth_state(MaskDepth::Mark)),
                 )?,
                 pipeline(
                     1,
                     "fs_composite_half",
                     &[variant.format],
-                    Some(mask_depth_state(false, wgpu::CompareFunction::Less)),
+                    Some(mask_depth_state(MaskDepth::Test)),
                 )?,
             ]
         } else {
@@ -305,13 +306,13 @@ impl SsrPass {
                     0,
                     "fs_mark_full",
                     &[],
-                    Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
+                    Some(mask_depth_state(MaskDepth::Mark)),
                 )?,
                 pipeline(
                     0,
                     "fs_main",
                     &[variant.format],
-                    Some(mask_depth_state(false, wgpu::CompareFunction::Less)),
+                    Some(mask_depth_state(MaskDepth::Test)),
                 )?,
             ]
         };

@@ -20,7 +20,8 @@ use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::light_culling::LightCullingPass;
 use crate::render::pipelines::{
-    FullscreenDraw, create_module, draw_fullscreen_pass, fullscreen_pipeline, mask_depth_state,
+    FullscreenDraw, MaskDepth, create_module, draw_fullscreen_pass, fullscreen_pipeline,
+    mask_depth_state,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -148,7 +149,7 @@ impl FramePass for ShadowMaskPass {
 /// shaded only where the depth at their pixel holds geometry (reversed Z: the full-screen
 /// triangle at depth 0 passes `Less` where the stored depth is above 0).
 fn depth_test() -> wgpu::DepthStencilState {
-    mask_depth_state(false, wgpu::CompareFunction::Less)
+    mask_depth_state(MaskDepth::Test)
 }
 
 /// The mask pass's pipelines per variant: the depth copy at mask resolution, and the
@@ -253,7 +254,7 @@ impl ShadowMaskPass {
             &module,
             ("vs_fullscreen", "fs_depth"),
             &[],
-            Some(mask_depth_state(true, wgpu::CompareFunction::Always)),
+            Some(mask_depth_state(MaskDepth::Mark)),
         )?;
         let mask = fullscreen_pipeline(
             gpu,
