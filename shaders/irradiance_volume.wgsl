@@ -39,6 +39,16 @@ fn moment_weight(texel: vec3<f32>, ray: vec3<f32>) -> f32 {
     return pow(max(dot(texel, ray), 0.0), MOMENT_SHARPNESS);
 }
 
+// The normal term of the half-resolution volume's upsample: the weight of a texel looked
+// up at a pixel with normal `texel_n` for a pixel with normal `n`, max(0, n·n_t)⁸, as
+// three squarings.
+fn upsample_normal_weight(texel_n: vec3<f32>, n: vec3<f32>) -> f32 {
+    let c = max(dot(texel_n, n), 0.0);
+    let c2 = c * c;
+    let c4 = c2 * c2;
+    return c4 * c4;
+}
+
 // Atlas position (texels) at which a bilinear read of direction d reads the probe tile
 // whose first texel is tile_origin: a side² octahedral map inside a one-texel border.
 fn atlas_position(tile_origin: vec2<f32>, side: f32, d: vec3<f32>) -> vec2<f32> {

@@ -11,6 +11,7 @@
 #import fullscreen
 #import surface_light
 #import shadow_kernel
+#import irradiance_volume
 
 // Group 0, the view and the G-buffer (engine/src/render/lighting.rs, VIEW_AND_GBUFFER).
 @group(0) @binding(0) var<uniform> view: View;
@@ -27,50 +28,98 @@
 
 const F16_MAX: f32 = 65504.0;
 
+// The irradiance volume pass's output (volume_irradiance.wgsl), read where
+// VOLUME_IRRADIANCE_SCALE > 0 (gathered with the shadow mask's sampler).
+@group(0) @binding(7) var volume_half: texture_2d<f32>;
+
+// The four half-resolution texels around full-resolution `pixel`, whose view depth is
+// `depth` (m): the texel with the smallest coordinates (`base`), where to gather them
+// (`uv`) and each one's shadow_mask_weight, bilinear × depth (`w`). Texel (x, y) was
+// shaded at pixel (2x, 2y), and the texture holds each texel's view depth in its alpha.
+// The four texels come in one textureGather per channel, x y z w = (0, 1) (1, 1) (1, 0)
+// (0, 0) from `base`, at the corner the four share; the sampler clamps at the texture's
+// edge.
+struct HalfResolution {
+    base: vec2<i32>,
+    uv: vec2<f32>,
+    w: vec4<f32>,
+    texel_depth: vec4<f32>,
+}
+
+fn half_resolution_weights(half: texture_2d<f32>, pixel: vec2<i32>, depth: f32) -> HalfResolution {
+    // The pixel lies at pixel / 2 in texels.
+    let t = vec2<f32>(pixel) * 0.5;
+    let base = floor(t);
+    let f = t - base;
+    var out: HalfResolution;
+    out.base = vec2<i32>(base);
+    // The corner shared by texels base and base + 1: the gather's footprint, unambiguous.
+    out.uv = (base + 1.0) / vec2<f32>(textureDimensions(half));
+    let g = vec2<f32>(1.0) - f;
+    let bilinear = vec4<f32>(g.x * f.y, f.x * f.y, f.x * g.y, g.x * g.y);
+    out.texel_depth = textureGather(3, half, shadow_mask_sampler, out.uv);
+    out.w = vec4<f32>(
+        shadow_mask_weight(bilinear.x, out.texel_depth.x, depth),
+        shadow_mask_weight(bilinear.y, out.texel_depth.y, depth),
+        shadow_mask_weight(bilinear.z, out.texel_depth.z, depth),
+        shadow_mask_weight(bilinear.w, out.texel_depth.w, depth),
+    );
+    return out;
+}
+
 // The visibility of shadowed directional lights 0 to SHADOW_MASK_LIGHTS − 1 at `pixel`,
 // whose view depth is `depth` (m), from the shadow mask: at full resolution its texel; at
-// half resolution the 2 × 2 texels around the pixel centre, each weighted by
-// shadow_mask_weight (bilinear × depth), or, where all four lie across a depth edge, the
-// texel nearest in depth. The four texels come in one textureGather per channel (depth
-// and each light), x y z w = (0, 1) (1, 1) (1, 0) (0, 0) from the footprint's top-left
-// texel; the sampler clamps at the mask's edge.
+// half resolution its 2 × 2 texels around the pixel, weighted by half_resolution_weights,
+// or, where all four lie across a depth edge, the texel nearest in depth.
 fn shadow_mask_visibility(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
     if SHADOW_MASK_SCALE == 1u {
         return textureLoad(shadow_mask, pixel, 0).rgb;
     }
-    // Texel (x, y) was shaded at pixel (2x, 2y): the pixel lies at pixel / 2 in texels.
-    let t = vec2<f32>(pixel) * 0.5;
-    let base = floor(t);
-    let f = t - base;
-    // The corner shared by texels base and base + 1: the gather's footprint, unambiguous.
-    let uv = (base + 1.0) / vec2<f32>(textureDimensions(shadow_mask));
-    let g = vec2<f32>(1.0) - f;
-    let bilinear = vec4<f32>(g.x * f.y, f.x * f.y, f.x * g.y, g.x * g.y);
-    let texel_depth = textureGather(3, shadow_mask, shadow_mask_sampler, uv);
-    let w = vec4<f32>(
-        shadow_mask_weight(bilinear.x, texel_depth.x, depth),
-        shadow_mask_weight(bilinear.y, texel_depth.y, depth),
-        shadow_mask_weight(bilinear.z, texel_depth.z, depth),
-        shadow_mask_weight(bilinear.w, texel_depth.w, depth),
-    );
-    let total = dot(w, vec4<f32>(1.0));
+    let up = half_resolution_weights(shadow_mask, pixel, depth);
+    let total = dot(up.w, vec4<f32>(1.0));
     // The texel nearest in depth, first of (0, 0) (1, 0) (0, 1) (1, 1) on a tie.
-    let gap = abs(texel_depth - depth);
+    let gap = abs(up.texel_depth - depth);
     let least = min(min(gap.x, gap.y), min(gap.z, gap.w));
     var nearest = vec4<f32>(0.0, 1.0, 0.0, 0.0);
     nearest = select(nearest, vec4<f32>(1.0, 0.0, 0.0, 0.0), gap.x == least);
     nearest = select(nearest, vec4<f32>(0.0, 0.0, 1.0, 0.0), gap.z == least);
     nearest = select(nearest, vec4<f32>(0.0, 0.0, 0.0, 1.0), gap.w == least);
-    let weights = select(nearest, w / max(total, 1e-6), total > 1e-3);
+    let weights = select(nearest, up.w / max(total, 1e-6), total > 1e-3);
     var lit = vec3<f32>(1.0);
-    lit.x = dot(weights, textureGather(0, shadow_mask, shadow_mask_sampler, uv));
+    lit.x = dot(weights, textureGather(0, shadow_mask, shadow_mask_sampler, up.uv));
     if SHADOW_MASK_LIGHTS > 1u {
-        lit.y = dot(weights, textureGather(1, shadow_mask, shadow_mask_sampler, uv));
+        lit.y = dot(weights, textureGather(1, shadow_mask, shadow_mask_sampler, up.uv));
     }
     if SHADOW_MASK_LIGHTS > 2u {
-        lit.z = dot(weights, textureGather(2, shadow_mask, shadow_mask_sampler, uv));
+        lit.z = dot(weights, textureGather(2, shadow_mask, shadow_mask_sampler, up.uv));
     }
     return lit;
+}
+
+// The irradiance volume's pre-exposed irradiance at `pixel` (view depth `depth`, m, unit
+// normal `n`), from the half-resolution volume pass: its 2 × 2 texels around the pixel,
+// weighted by half_resolution_weights times upsample_normal_weight of the normal at each
+// texel's pixel (so that light does not cross a crease, where two faces meet at one
+// depth), in rgb; the total weight in a. Where it is 0 (every texel across a depth edge
+// or a crease) the caller looks the volume up itself.
+fn half_volume_irradiance(pixel: vec2<i32>, depth: f32, n: vec3<f32>) -> vec4<f32> {
+    var up = half_resolution_weights(volume_half, pixel, depth);
+    let last_texel = vec2<i32>(textureDimensions(volume_half)) - vec2<i32>(1);
+    let last_pixel = vec2<i32>(textureDimensions(gbuffer1)) - vec2<i32>(1);
+    let corners = array<vec2<i32>, 4>(vec2<i32>(0, 1), vec2<i32>(1, 1), vec2<i32>(1, 0), vec2<i32>(0, 0));
+    for (var k = 0; k < 4; k++) {
+        let texel = min(up.base + corners[k], last_texel);
+        let texel_n = oct_decode(textureLoad(gbuffer1, min(texel * 2, last_pixel), 0).rg);
+        up.w[k] *= upsample_normal_weight(texel_n, n);
+    }
+    let total = dot(up.w, vec4<f32>(1.0));
+    let weights = up.w / max(total, 1e-6);
+    return vec4<f32>(
+        dot(weights, textureGather(0, volume_half, shadow_mask_sampler, up.uv)),
+        dot(weights, textureGather(1, volume_half, shadow_mask_sampler, up.uv)),
+        dot(weights, textureGather(2, volume_half, shadow_mask_sampler, up.uv)),
+        total,
+    );
 }
 
 @fragment
@@ -111,9 +160,16 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     point.frag = frag.xy;
     point.occlusion = unpack_occlusion(g0.a);
     point.receives = unpack_receives_shadows(g0.a);
+    let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
     if SHADOW_MASK_SCALE > 0u {
-        let view_depth = dot(world - view.position_exposure.xyz, view.forward.xyz);
         point.directional_lit = shadow_mask_visibility(pixel, view_depth);
+    }
+    if VOLUME_IRRADIANCE_SCALE > 0u {
+        let half = half_volume_irradiance(pixel, view_depth, n);
+        point.volume_irradiance = half.rgb;
+        if !(half.a > 1e-3) {
+            point.volume_irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+        }
     }
     var color = g2.rgb + surface_light(point, surface);
     // Keep the value finite in the f16 target (docs/src/formulas.md#numerical-guards); NaN becomes 0.

@@ -45,6 +45,10 @@
 // shadow-mask pass (shadow_mask.wgsl) through ShadingPoint.directional_lit, which the
 // lighting pass reads from the mask at that scale (1 or 2 pixels per texel).
 //
+// VOLUME_IRRADIANCE_SCALE: 0, or the irradiance volume's irradiance comes from the
+// half-resolution volume pass (volume_irradiance.wgsl) through
+// ShadingPoint.volume_irradiance, which the lighting pass upsamples (2 pixels per texel).
+//
 // LIGHT_CULLING: the unshadowed point and spot lights come from this pixel's tile list
 // (light_culling.wgsl) instead of the whole range; an overflowed tile loops over the
 // whole range in the same loop (no branch).
@@ -200,6 +204,9 @@ struct ShadingPoint {
     // With SHADOW_MASK_SCALE > 0: the visibility (0..1) of shadowed directional lights 0 to
     // 2 from the shadow mask, which already holds `receives`.
     directional_lit: vec3<f32>,
+    // With VOLUME_IRRADIANCE_SCALE > 0: the irradiance volume's pre-exposed irradiance
+    // from the half-resolution volume pass (volume_irradiance.wgsl).
+    volume_irradiance: vec3<f32>,
 }
 
 // The number of shadowed lights of one kind: the header constant `constant`
@@ -298,7 +305,11 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {
-                irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+                if VOLUME_IRRADIANCE_SCALE > 0u {
+                    irradiance = p.volume_irradiance;
+                } else {
+                    irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+                }
                 if RELIT_BASE && translucency.w > 0.0 {
                     back_irradiance = volume_irradiance(world, -n, -n) * (view.position_exposure.w / volume.spacing_exposure.w);
                 }

@@ -13,6 +13,7 @@ use lumen::render::indirect::depth_pyramid;
 use lumen::render::indirect::irradiance_volume;
 use lumen::render::indirect::reflection_probes;
 use lumen::render::indirect::reflections::{self, SsrPass, SsrVariant};
+use lumen::render::indirect::volume_irradiance;
 use lumen::render::layers::{self, Layer, LayersPass};
 use lumen::render::lighting::{LightingPass, LightingVariant};
 use lumen::render::shaders::{ShaderDef, ShaderLibrary};
@@ -86,6 +87,7 @@ fn every_bind_group_list_matches_its_shader() {
         uniform_shadow_views: true,
         shadow_mask: 2,
         shadow_mask_lights: 3,
+        volume_irradiance: 2,
     };
     check(
         "lighting.wgsl",
@@ -157,6 +159,18 @@ fn every_bind_group_list_matches_its_shader() {
             (0, shadow::mask::VIEW_AND_GBUFFER),
             (1, lighting::LIGHTS_AND_SHADOWS),
         ],
+    );
+    check(
+        "volume_irradiance.wgsl",
+        &[],
+        &[(0, volume_irradiance::VIEW_AND_GBUFFER)],
+    );
+    // Its groups 1 and 2 are empty, and of the probes' group 3 it declares the volume's
+    // four bindings.
+    assert_eq!(declared("volume_irradiance.wgsl", &[], &[1, 2]), Vec::new());
+    assert_eq!(
+        declared("volume_irradiance.wgsl", &[], &[3]),
+        listed(&[(3, lighting::PROBES)])[..4].to_vec()
     );
     check(
         "transparent_resolve.wgsl",

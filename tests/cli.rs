@@ -81,6 +81,8 @@ fn render_png_with_json_report() {
             "depth pyramid",
             "shadow mask depth",
             "shadow mask",
+            "volume irradiance depth",
+            "volume irradiance",
             "lighting",
             "ssr",
             "tonemap"

@@ -304,3 +304,86 @@ fn no_nan_at_the_extremes() {
     );
     common::assert_finite(&app);
 }
+
+#[test]
+fn the_half_resolution_lookup_agrees_with_the_per_pixel_one() {
+    use lumen::render::graph::PassId;
+    let size = (96, 96);
+    let mut app = common::app_with("cornell");
+    let report = app.render_headless(size).expect("frame at half resolution");
+    assert!(report.plan.runs(PassId::VolumeIrradiance));
+    let half = app.read_hdr_image().expect("hdr");
+    app.world_mut().resource_mut::<Quality>().gi.half_resolution = false;
+    let report = app.render_headless(size).expect("frame per pixel");
+    let reason = report
+        .plan
+        .decision(PassId::VolumeIrradiance)
+        .map(|d| (d.enabled, d.reason.clone()));
+    assert_eq!(
+        reason,
+        Some((
+            false,
+            "full resolution (--gi-resolution full): the lighting pass looks the volume up per pixel"
+                .into()
+        ))
+    );
+    let full = app.read_hdr_image().expect("hdr");
+    app.world_mut().resource_mut::<Quality>().gi.enabled = false;
+    app.render_headless(size).expect("frame without GI");
+    let direct = app.read_hdr_image().expect("hdr");
+    // Over the pixels that hold the box: the mean relative difference of the half- and
+    // full-resolution frames' luminance sums, and the same for the frame without GI (what
+    // the volume adds), so the bound is a fraction of the volume's own contribution.
+    let sum = |p: [f32; 4]| p[0] + p[1] + p[2];
+    let (mut half_gap, mut gi_gap, mut pixels, mut changed) = (0.0f64, 0.0f64, 0u32, 0u32);
+    for (x, y, f) in full.enumerate_pixels() {
+        let (f, h, d) = (
+            sum(f.0),
+            sum(half.get_pixel(x, y).0),
+            sum(direct.get_pixel(x, y).0),
+        );
+        if f <= 0.0 {
+            continue;
+        }
+        pixels += 1;
+        changed += u32::from(h != f);
+        half_gap += f64::from((h - f).abs() / f);
+        gi_gap += f64::from((d - f).abs() / f);
+    }
+    let (half_gap, gi_gap) = (half_gap / f64::from(pixels), gi_gap / f64::from(pixels));
+    println!(
+        "{pixels} pixels: half against full {half_gap:.4}, without GI against full {gi_gap:.4}, {changed} changed"
+    );
+    assert!(pixels > 4000, "{pixels}");
+    // The pass is what lit the half-resolution frame: the two frames differ.
+    assert!(changed > pixels / 4, "{changed} of {pixels}");
+    assert!(gi_gap > 0.3, "{gi_gap}");
+    assert!(half_gap < 0.02, "{half_gap}");
+}
+
+#[test]
+fn a_restarted_volume_converges_to_the_light_of_a_fresh_one() {
+    // A quality change restarts the volume's captures. The new round's first pass must
+    // read no probe light: it once read the old round's atlases (the uniform still said
+    // "ready"), which added the old bounces to the new ones, 8 % more light in `cornell`.
+    let size = (48, 48);
+    let mut app = common::app_with("cornell");
+    let report = app.render_headless(size).expect("fresh frame");
+    let fresh = app.read_hdr_image().expect("hdr");
+    let faces = report.probes.volume.faces_captured;
+    for half in [false, true] {
+        app.world_mut().resource_mut::<Quality>().gi.half_resolution = half;
+        let report = app.render_headless(size).expect("frame after a change");
+        assert_eq!(report.probes.volume.faces_captured, faces, "captured again");
+    }
+    let again = app.read_hdr_image().expect("hdr");
+    let sum = |im: &image::Rgba32FImage| -> f64 {
+        im.pixels()
+            .map(|p| f64::from(p.0[0] + p.0[1] + p.0[2]))
+            .sum()
+    };
+    let (a, b) = (sum(&fresh), sum(&again));
+    println!("light in the frame: fresh {a:.4}, after two restarts {b:.4}");
+    assert!(a > 0.0);
+    assert!((b / a - 1.0).abs() < 1e-4, "fresh {a}, restarted {b}");
+}

@@ -407,6 +407,8 @@ fn passes_follow_the_scene() {
             "depth pyramid",
             "shadow mask depth",
             "shadow mask",
+            "volume irradiance depth",
+            "volume irradiance",
             "lighting",
             "ssr",
             "tonemap"

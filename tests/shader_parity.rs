@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 65;
+const OUTPUTS: usize = 66;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -439,6 +439,12 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             n.dot(v),
             aa::CREASE_COSINE,
         ),
+        Vec4::new(
+            gi::upsample_normal_weight(n, v),
+            gi::upsample_normal_weight(n, l),
+            gi::upsample_normal_weight(n, n),
+            gi::upsample_normal_weight(n, -n),
+        ),
     ]
 }
 
@@ -508,6 +514,7 @@ const NAMES: [&str; OUTPUTS] = [
     "normal_from_map",
     "depth_bend | SILHOUETTE_BEND",
     "creased | CREASE_COSINE",
+    "upsample_normal_weight",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

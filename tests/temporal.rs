@@ -351,8 +351,9 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
     use lumen::render::{
         debug_view::DebugViewPass, dof::DofPass, exposure::ExposurePass, gbuffer::GBufferPass,
         indirect::ambient_occlusion::AoPass, indirect::depth_pyramid::DepthPyramidPass,
-        indirect::reflections::SsrPass, light_culling::LightCullingPass, lighting::LightingPass,
-        shadow::mask::ShadowMaskPass, shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
+        indirect::reflections::SsrPass, indirect::volume_irradiance::VolumeIrradiancePass,
+        light_culling::LightCullingPass, lighting::LightingPass, shadow::mask::ShadowMaskPass,
+        shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
     };
     // The built-in frame with the poison between the sky and TAA.
     let registry = Registry::new()
@@ -363,6 +364,7 @@ fn a_nan_in_the_lit_frame_never_reaches_the_history() {
         .with::<DepthPyramidPass>()
         .with::<LightCullingPass>()
         .with::<ShadowMaskPass>()
+        .with::<VolumeIrradiancePass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<SkyPass>()

@@ -529,6 +529,10 @@ pub struct GiSettings {
     /// Place a volume around all meshes when the scene has no
     /// [`crate::scene::IrradianceVolume`]; off, only the scene's own volume is used.
     pub auto_place: bool,
+    /// Look the volume up once per 2×2 pixels in its own pass, which the lighting pass
+    /// upsamples by depth ([`crate::render::indirect::volume_irradiance`]); off, the
+    /// lighting pass looks it up per pixel.
+    pub half_resolution: bool,
 }
 
 impl Default for GiSettings {
@@ -540,6 +544,7 @@ impl Default for GiSettings {
             bounces: 2,
             probes_per_frame: 8,
             auto_place: true,
+            half_resolution: true,
         }
     }
 }
@@ -733,6 +738,7 @@ impl QualityPreset {
                     face_size: 32,
                     bounces: 3,
                     probes_per_frame: 16,
+                    half_resolution: false,
                     ..high.gi
                 },
                 reflection_probes: ReflectionProbeSettings {

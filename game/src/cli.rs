@@ -347,6 +347,10 @@ pub struct SceneArgs {
     /// Capture passes of the irradiance volume, one bounce each (1..=4).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=4))]
     pub gi_bounces: Option<u32>,
+    /// Where the irradiance volume is looked up: half (once per 2×2 pixels, upsampled by
+    /// depth; default) or full (per pixel, as `ultra`).
+    #[arg(long, value_name = "RES", value_parser = parse_gi_resolution)]
+    pub gi_resolution: Option<bool>,
     /// Probes captured per frame in `view` and `bench` while the volume converges (0: all
     /// at once).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=4096))]
@@ -835,14 +839,21 @@ fn parse_on_off(s: &str) -> Result<bool, String> {
     }
 }
 
-fn parse_ssr_resolution(s: &str) -> Result<bool, String> {
+/// `half` (true) or `full` (false), for a pass that `what` names in the error.
+fn parse_half_full(s: &str, what: &str) -> Result<bool, String> {
     match s.to_ascii_lowercase().as_str() {
         "half" => Ok(true),
         "full" => Ok(false),
-        _ => Err(format!(
-            "unknown reflection resolution '{s}' (use half, full)"
-        )),
+        _ => Err(format!("unknown {what} resolution '{s}' (use half, full)")),
     }
+}
+
+fn parse_ssr_resolution(s: &str) -> Result<bool, String> {
+    parse_half_full(s, "reflection")
+}
+
+fn parse_gi_resolution(s: &str) -> Result<bool, String> {
+    parse_half_full(s, "irradiance volume")
 }
 
 fn parse_light_shadows(s: &str) -> Result<bool, String> {

@@ -166,6 +166,9 @@ fn apply_quality(quality: &mut Quality, args: &SceneArgs) {
     if let Some(n) = args.gi_bounces {
         quality.gi.bounces = n;
     }
+    if let Some(half) = args.gi_resolution {
+        quality.gi.half_resolution = half;
+    }
     if let Some(n) = args.gi_budget {
         quality.gi.probes_per_frame = n;
     }
@@ -378,6 +381,7 @@ pub fn quality_json(q: &Quality) -> serde_json::Value {
             "bounces": q.gi.bounces,
             "probes_per_frame": q.gi.probes_per_frame,
             "auto_place": q.gi.auto_place,
+            "resolution": if q.gi.half_resolution { "half" } else { "full" },
         },
         "reflection_probes": {
             "enabled": q.reflection_probes.enabled,

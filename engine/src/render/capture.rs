@@ -135,7 +135,7 @@ fn update_volume(
     if volume.grid != wanted {
         volume.set_grid(gpu, wanted);
     } else if changed {
-        volume.restart();
+        volume.restart(gpu);
     }
     if let Err(reason) = grid {
         volume.skip_reason = reason.clone();

@@ -19,6 +19,9 @@ use crate::render::ibl::Ibl;
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
+use crate::render::indirect::volume_irradiance::{
+    VOLUME_IRRADIANCE, VOLUME_IRRADIANCE_SCALE, VolumeIrradiancePass,
+};
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
@@ -103,6 +106,9 @@ pub struct LightingVariant {
     pub shadow_mask: u32,
     /// The shadowed directional lights the mask holds (1 to 3; 0 without a mask).
     pub shadow_mask_lights: u32,
+    /// Pixels per texel of the half-resolution volume pass's irradiance (2), or 0 where
+    /// the volume is looked up per pixel.
+    pub volume_irradiance: u32,
 }
 
 impl FramePass for LightingPass {
@@ -117,6 +123,7 @@ impl FramePass for LightingPass {
         SHADOW_MASK,
         LIGHT_TILES,
         AMBIENT_OCCLUSION,
+        VOLUME_IRRADIANCE,
     ];
     const WRITES: &'static [Slot] = &[HDR];
     type Variant = LightingVariant;
@@ -259,6 +266,11 @@ impl FramePass for LightingPass {
             uniform_shadow_views: views_fit_uniform(frame),
             shadow_mask,
             shadow_mask_lights,
+            volume_irradiance: if irradiance_volume.enabled && plan.runs(PassId::VolumeIrradiance) {
+                VOLUME_IRRADIANCE_SCALE
+            } else {
+                0
+            },
         };
         PassDecision {
             runs: true,
@@ -290,7 +302,7 @@ impl FramePass for LightingPass {
 }
 
 /// The generations of the resources a bind group was built from (unused places 0).
-type BindingGenerations = [u64; 3];
+type BindingGenerations = [u64; 4];
 
 /// Bind groups of the lighting pass, each with the generations it was built from.
 type BindGroups = [Option<(BindingGenerations, wgpu::BindGroup)>; 4];
@@ -324,6 +336,10 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
             Binding::Sampled(wgpu::TextureViewDimension::D2),
         ),
         ("shadow_mask_sampler", Binding::Sampler),
+        (
+            "volume_half",
+            Binding::Sampled(wgpu::TextureViewDimension::D2),
+        ),
     ],
 };
 
@@ -411,6 +427,7 @@ impl LightingPass {
             ShaderDef::Bool("RELIT_BASE", false),
             ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
             ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.shadow_mask_lights),
+            ShaderDef::U32("VOLUME_IRRADIANCE_SCALE", variant.volume_irradiance),
         ];
         defs.extend(lookup_defs(
             variant.shadow_filter,
@@ -475,6 +492,7 @@ pub struct LightingInputs<'w> {
     volume: Res<'w, IrradianceVolumeGpu>,
     reflections: Res<'w, ReflectionProbesGpu>,
     mask: Res<'w, ShadowMaskPass>,
+    volume_half: Res<'w, VolumeIrradiancePass>,
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group when targets,
@@ -495,6 +513,7 @@ pub fn prepare_lighting(
         volume,
         reflections,
         mask,
+        volume_half,
     } = inputs;
     let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
     else {
@@ -514,12 +533,22 @@ pub fn prepare_lighting(
         return;
     }
     let keys: [BindingGenerations; 4] = [
-        [t.generation, buffers.generation, mask.generation],
-        [buffers.generation, shadows.generation, culling.generation],
-        [ibl.generation, t.generation, 0],
+        [
+            t.generation,
+            buffers.generation,
+            mask.mask.generation,
+            volume_half.output.generation,
+        ],
+        [
+            buffers.generation,
+            shadows.generation,
+            culling.generation,
+            0,
+        ],
+        [ibl.generation, t.generation, 0, 0],
         {
             let [v, r] = probe_bindings(&volume, &reflections).0;
-            [v, r, 0]
+            [v, r, 0, 0]
         },
     ];
     let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
@@ -533,6 +562,7 @@ pub fn prepare_lighting(
                 TextureView(depth),
                 TextureView(mask.view()),
                 Sampler(mask.sampler()),
+                TextureView(volume_half.view()),
             ],
             1 => lights_and_shadows(&buffers, &shadows, &culling),
             2 => vec![

@@ -36,6 +36,7 @@ pub mod mesh_vertex;
 pub mod passes;
 pub mod pipelines;
 pub mod readback;
+pub mod scaled_output;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod shadow;

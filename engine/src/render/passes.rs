@@ -16,6 +16,7 @@ use crate::render::graph::registry::Registry;
 use crate::render::indirect::ambient_occlusion::AoPass;
 use crate::render::indirect::depth_pyramid::DepthPyramidPass;
 use crate::render::indirect::reflections::SsrPass;
+use crate::render::indirect::volume_irradiance::VolumeIrradiancePass;
 use crate::render::layers::LayersPass;
 use crate::render::light_culling::LightCullingPass;
 use crate::render::lighting::LightingPass;
@@ -37,6 +38,7 @@ pub fn builtin() -> Result<Registry> {
         .with::<DepthPyramidPass>()
         .with::<LightCullingPass>()
         .with::<ShadowMaskPass>()
+        .with::<VolumeIrradiancePass>()
         .with::<LightingPass>()
         .with::<SsrPass>()
         .with::<LayersPass>()

@@ -153,6 +153,9 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     for n in [1u32, 3] {
         knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
     }
+    knob("--gi-resolution", "full".into(), &|a| {
+        a.gi_resolution = Some(false)
+    });
     knob("--reflection-probes", "off".into(), &|a| {
         a.reflection_probes = Some(false)
     });

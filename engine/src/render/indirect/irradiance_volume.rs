@@ -472,15 +472,18 @@ impl IrradianceVolumeGpu {
         }
         self.grid = grid;
         self.ready = false;
-        self.restart();
-        self.write_uniform(gpu);
+        self.restart(gpu);
     }
 
-    /// Starts capturing from the first pass again (the scene changed). The atlases read
-    /// now stay in use until the first new pass completes.
-    pub fn restart(&mut self) {
+    /// Starts capturing from the first pass again (the scene changed). The frame keeps
+    /// reading the atlases until the first new pass completes; the uniform is written
+    /// again at once, so that the new round's first captures, already set up for
+    /// capturing, read no probe light (they would otherwise add the old round's bounces
+    /// to the new one's).
+    pub fn restart(&mut self, gpu: &Gpu) {
         self.completed_passes = 0;
         self.next_probe = 0;
+        self.write_uniform(gpu);
     }
 
     /// Whether every pass is done.

@@ -2,10 +2,12 @@
 //! arriving from other surfaces and from the environment is occluded and reflected.
 //! Screen-space ambient occlusion ([`ambient_occlusion`]), screen-space reflections
 //! ([`reflections`]) over the [`depth_pyramid`], diffuse global illumination from the
-//! probes of an [`irradiance_volume`], and [`reflection_probes`].
+//! probes of an [`irradiance_volume`] (looked up at half resolution by
+//! [`volume_irradiance`]), and [`reflection_probes`].
 
 pub mod ambient_occlusion;
 pub mod depth_pyramid;
 pub mod irradiance_volume;
 pub mod reflection_probes;
 pub mod reflections;
+pub mod volume_irradiance;

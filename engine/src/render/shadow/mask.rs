@@ -19,17 +19,15 @@ use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::light_culling::LightCullingPass;
-use crate::render::pipelines::{
-    FullscreenDraw, MaskDepth, create_module, draw_fullscreen_pass, fullscreen_pipeline,
-    mask_depth_state,
-};
+use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
+use crate::render::scaled_output::ScaledOutput;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::lookups::{
     LIGHTS_AND_SHADOWS, lights_and_shadows, lookup_defs, views_fit_uniform,
 };
 use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
-use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -167,19 +165,14 @@ pub struct ShadowMaskPass {
     layouts: [wgpu::BindGroupLayout; 2],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<MaskVariant, MaskPipelines>,
-    /// The mask (a 1 × 1 texel until the pass first runs, so that the lighting pass always
-    /// has one to bind).
-    mask: Target,
+    /// The mask and the depth of each texel's pixel it is depth-tested against (software
+    /// rasterizers shade a masked-off lane as dearly as a live one: the depth test is
+    /// what spares the background). Its generation is bumped whenever the mask is made
+    /// anew, so the lighting pass rebuilds its bind group.
+    pub mask: ScaledOutput,
     /// What the lighting pass gathers the mask with: clamped to its edge, so a pixel on
     /// the last row or column reads the last texel twice.
     sampler: wgpu::Sampler,
-    /// The depth of each texel's pixel, at mask resolution, that the mask is depth-tested
-    /// against (software rasterizers shade a masked-off lane as dearly as a live one: the
-    /// depth test is what spares the background), with the mask's size.
-    depth: Option<((u32, u32), Target)>,
-    /// Bumped whenever the mask texture is made anew, so the lighting pass rebuilds its
-    /// bind group.
-    pub generation: u64,
     /// Group 0 and group 1, with the generations they were built from.
     bind_groups: Option<([u64; 4], [wgpu::BindGroup; 2])>,
 }
@@ -199,20 +192,18 @@ impl ShadowMaskPass {
             layouts,
             pipeline_layout,
             pipelines: HashMap::new(),
-            mask: Target::new(gpu, "shadow mask", (1, 1), MASK_FORMAT),
+            mask: ScaledOutput::new(gpu, ["shadow mask depth", "shadow mask"], MASK_FORMAT),
             sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("shadow mask"),
                 ..Default::default()
             }),
-            depth: None,
-            generation: 0,
             bind_groups: None,
         }
     }
 
     /// The mask's view, for the lighting pass to bind.
     pub fn view(&self) -> &wgpu::TextureView {
-        &self.mask.view
+        self.mask.view()
     }
 
     /// The sampler the lighting pass gathers the mask with.
@@ -292,18 +283,7 @@ pub fn prepare_shadow_mask(
         errors.0.push(e);
         return;
     }
-    let size = (
-        t.size.0.div_ceil(variant.scale),
-        t.size.1.div_ceil(variant.scale),
-    );
-    if pass.depth.as_ref().is_none_or(|(s, _)| *s != size) {
-        pass.depth = Some((
-            size,
-            Target::new(&gpu, "shadow mask depth", size, DEPTH_FORMAT),
-        ));
-        pass.mask = Target::new(&gpu, "shadow mask", size, MASK_FORMAT);
-        pass.generation += 1;
-    }
+    pass.mask.fit(&gpu, t.size, variant.scale);
     let key = [
         t.generation,
         buffers.generation,
@@ -351,11 +331,7 @@ pub fn shadow_mask_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, [g0, g1])), Some((_, depth))) = (
-        encoder.as_mut(),
-        pass.bind_groups.as_ref(),
-        pass.depth.as_ref(),
-    ) else {
+    let (Some(encoder), Some((_, [g0, g1]))) = (encoder.as_mut(), pass.bind_groups.as_ref()) else {
         return;
     };
     let Some(pipelines) = plan
@@ -364,34 +340,18 @@ pub fn shadow_mask_pass(
     else {
         return;
     };
-    let groups = [g0, g1];
-    // The depth copy has no colour target; the lookups' mask is cleared to (1, 1, 1, −1),
-    // which the background keeps: lit, no depth.
+    // The background keeps (1, 1, 1, −1): lit, no depth.
     let background = wgpu::Color {
         r: 1.0,
         g: 1.0,
         b: 1.0,
         a: -1.0,
     };
-    let draws = [
-        FullscreenDraw {
-            name: "shadow mask depth",
-            targets: &[],
-            load: wgpu::LoadOp::Clear(background),
-            depth: Some((&depth.view, wgpu::LoadOp::Clear(0.0))),
-            pipeline: &pipelines.depth,
-            groups: &groups,
-        },
-        FullscreenDraw {
-            name: "shadow mask",
-            targets: &[&pass.mask.view],
-            load: wgpu::LoadOp::Clear(background),
-            depth: Some((&depth.view, wgpu::LoadOp::Load)),
-            pipeline: &pipelines.mask,
-            groups: &groups,
-        },
-    ];
-    for draw in &draws {
-        draw_fullscreen_pass(encoder, timer, draw);
-    }
+    pass.mask.record(
+        encoder,
+        timer,
+        [&pipelines.depth, &pipelines.mask],
+        &[g0, g1],
+        background,
+    );
 }

@@ -1,0 +1,275 @@
+//! The irradiance volume at half resolution (`shaders/volume_irradiance.wgsl`): the
+//! volume's irradiance (DDGI's blend of eight probes, sixteen bilinear samples) looked up
+//! once per 2 × 2 pixels, at the top-left pixel of each block, in its own pass. The
+//! lighting pass then gathers the four texels around each pixel and weights them as it
+//! weights the half-resolution shadow mask (bilinear × a tent in view depth,
+//! [`crate::shadow_kernel::shadow_mask_weight`]), instead of looking the volume up per
+//! pixel.
+//!
+//! It runs when [`crate::quality::GiSettings::half_resolution`] is on, the frame has an
+//! irradiance volume, and something is drawn. Probe captures, the transparent pass and the
+//! layer passes keep their per-pixel lookups.
+
+use crate::error::Result;
+use crate::quality::Quality;
+use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
+use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
+use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
+use crate::render::scaled_output::ScaledOutput;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::targets::RenderTargets;
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::system::ScheduleSystem;
+
+#[allow(non_upper_case_globals)]
+impl PassId {
+    /// The irradiance volume's lookups, once per 2 × 2 pixels.
+    pub const VolumeIrradiance: PassId = PassId::new("volume irradiance");
+}
+
+/// Pixels per texel along each axis.
+pub const VOLUME_IRRADIANCE_SCALE: u32 = 2;
+
+/// Format of the pass's output: pre-exposed irradiance (rgb) and the view depth (m) of the
+/// pixel each texel was looked up at (16-bit floats, as the HDR target and the shadow
+/// mask's depth).
+pub const VOLUME_IRRADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The irradiance at half resolution (⌈width/2⌉ × ⌈height/2⌉), owned by the pass
+/// ([`VolumeIrradiancePass::view`]).
+pub const VOLUME_IRRADIANCE: Slot = Slot::owned("volume irradiance");
+
+/// Group 0: the view, depth and the G-buffer's normals; group 3 is the lighting pass's
+/// [`PROBES`], groups 1 and 2 are empty.
+pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
+    label: "volume irradiance: view and G-buffer",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[
+        ("view", Binding::Uniform),
+        ("depth_buffer", Binding::TextureLoad),
+        ("gbuffer1", Binding::TextureLoad),
+    ],
+};
+
+/// The groups between 0 and the probes' group 3, which the shader does not read.
+const UNUSED: BindGroupSpec = BindGroupSpec {
+    label: "volume irradiance: unused",
+    visibility: wgpu::ShaderStages::FRAGMENT,
+    bindings: &[],
+};
+
+/// Why the pass does not run this frame, if it does not.
+pub fn skip_reason(quality: &Quality, frame: &ExtractedFrame, volume: bool) -> Option<String> {
+    if !quality.gi.half_resolution {
+        Some("full resolution (--gi-resolution full): the lighting pass looks the volume up per pixel".into())
+    } else if frame.instances.is_empty() {
+        Some("nothing is drawn".into())
+    } else if !volume {
+        Some("no irradiance volume".into())
+    } else {
+        None
+    }
+}
+
+impl FramePass for VolumeIrradiancePass {
+    const ID: PassId = PassId::VolumeIrradiance;
+    const READS: &'static [Slot] = &[DEPTH, GBUFFER_NORMAL];
+    const WRITES: &'static [Slot] = &[VOLUME_IRRADIANCE];
+    type Variant = ();
+
+    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+        Ok(VolumeIrradiancePass::new(gpu))
+    }
+
+    fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
+        let volume = world.resource::<IrradianceVolumeGpu>().grid.is_some();
+        let skip = skip_reason(
+            world.resource::<Quality>(),
+            world.resource::<ExtractedFrame>(),
+            volume,
+        );
+        let reason = skip
+            .clone()
+            .unwrap_or_else(|| "one lookup per 2×2 pixels, upsampled by depth".into());
+        PassDecision::new(skip.is_none(), reason, ())
+    }
+
+    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
+        Some(prepare_volume_irradiance.into_configs())
+    }
+
+    fn record() -> ScheduleConfigs<ScheduleSystem> {
+        volume_irradiance_pass.into_configs()
+    }
+}
+
+/// The pass's pipelines, its half-resolution depth and output, and its bind groups.
+#[derive(Resource)]
+pub struct VolumeIrradiancePass {
+    /// The layouts of group 0, of the empty groups 1 and 2, and of group 3.
+    layouts: [wgpu::BindGroupLayout; 3],
+    pipeline_layout: wgpu::PipelineLayout,
+    /// The depth copy at half resolution, then the lookups, depth-tested against it,
+    /// compiled the first time the pass runs.
+    pipelines: Option<[wgpu::RenderPipeline; 2]>,
+    /// The output and the depth of each texel's pixel it is depth-tested against. Its
+    /// generation is bumped whenever the output is made anew, so the lighting pass
+    /// rebuilds its bind group.
+    pub output: ScaledOutput,
+    /// Groups 0 to 3, with the generations they were built from.
+    bind_groups: Option<([u64; 4], [wgpu::BindGroup; 4])>,
+}
+
+impl VolumeIrradiancePass {
+    /// Creates the layouts; the pipelines compile the first time the pass runs.
+    pub fn new(gpu: &Gpu) -> Self {
+        let layouts = [
+            VIEW_AND_GBUFFER.layout(gpu),
+            UNUSED.layout(gpu),
+            PROBES.layout(gpu),
+        ];
+        let pipeline_layout = gpu
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("volume irradiance"),
+                bind_group_layouts: &[
+                    Some(&layouts[0]),
+                    Some(&layouts[1]),
+                    Some(&layouts[1]),
+                    Some(&layouts[2]),
+                ],
+                immediate_size: 0,
+            });
+        VolumeIrradiancePass {
+            layouts,
+            pipeline_layout,
+            pipelines: None,
+            output: ScaledOutput::new(
+                gpu,
+                ["volume irradiance depth", "volume irradiance"],
+                VOLUME_IRRADIANCE_FORMAT,
+            ),
+            bind_groups: None,
+        }
+    }
+
+    /// Compiles both pipelines (the pass has one variant), once.
+    fn compile(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.pipelines.is_some() {
+            return Ok(());
+        }
+        let module = create_module(
+            gpu,
+            "volume irradiance",
+            &gpu.shaders.compose("volume_irradiance.wgsl", &[])?,
+        )?;
+        let depth = fullscreen_pipeline(
+            gpu,
+            "volume irradiance depth",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_depth"),
+            &[],
+            Some(mask_depth_state(MaskDepth::Mark)),
+        )?;
+        let lookups = fullscreen_pipeline(
+            gpu,
+            "volume irradiance",
+            Some(&self.pipeline_layout),
+            &module,
+            ("vs_fullscreen", "fs_main"),
+            &[VOLUME_IRRADIANCE_FORMAT],
+            Some(mask_depth_state(MaskDepth::Test)),
+        )?;
+        self.pipelines = Some([depth, lookups]);
+        Ok(())
+    }
+
+    /// The output's view, for the lighting pass to bind.
+    pub fn view(&self) -> &wgpu::TextureView {
+        self.output.view()
+    }
+}
+
+/// Makes the half-resolution targets for this frame's size and builds the bind groups
+/// when the targets, buffers or probes changed.
+pub fn prepare_volume_irradiance(
+    gpu: Res<Gpu>,
+    buffers: Res<SceneBuffers>,
+    targets: Res<RenderTargets>,
+    volume: Res<IrradianceVolumeGpu>,
+    reflections: Res<ReflectionProbesGpu>,
+    mut pass: ResMut<VolumeIrradiancePass>,
+    mut errors: ResMut<FrameErrors>,
+) {
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    if let Err(e) = pass.compile(&gpu) {
+        errors.0.push(e);
+        return;
+    }
+    pass.output.fit(&gpu, t.size, VOLUME_IRRADIANCE_SCALE);
+    let ([v, r], probes) = probe_bindings(&volume, &reflections);
+    let key = [t.generation, buffers.generation, v, r];
+    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
+        return;
+    }
+    let Some([depth, normal]) = t.views([DEPTH, GBUFFER_NORMAL]) else {
+        return;
+    };
+    use wgpu::BindingResource::TextureView;
+    let groups = VIEW_AND_GBUFFER
+        .group(
+            &gpu,
+            &pass.layouts[0],
+            vec![
+                buffers.view.as_entire_binding(),
+                TextureView(depth),
+                TextureView(normal),
+            ],
+        )
+        .and_then(|g0| {
+            let unused = UNUSED.group(&gpu, &pass.layouts[1], Vec::new())?;
+            let g3 = PROBES.group(&gpu, &pass.layouts[2], probes)?;
+            Ok([g0, unused.clone(), unused, g3])
+        });
+    match groups {
+        Ok(groups) => pass.bind_groups = Some((key, groups)),
+        Err(e) => errors.0.push(e),
+    }
+}
+
+/// Records the pass: the depth of each texel's pixel, then the lookups, depth-tested
+/// against it.
+pub fn volume_irradiance_pass(pass: Res<VolumeIrradiancePass>, mut encoder: ResMut<FrameEncoder>) {
+    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let (Some(encoder), Some((_, [g0, g1, g2, g3])), Some([depth, lookups])) = (
+        encoder.as_mut(),
+        pass.bind_groups.as_ref(),
+        pass.pipelines.as_ref(),
+    ) else {
+        return;
+    };
+    // The background keeps (0, 0, 0, −1): no irradiance, no depth.
+    let background = wgpu::Color {
+        r: 0.0,
+        g: 0.0,
+        b: 0.0,
+        a: -1.0,
+    };
+    pass.output.record(
+        encoder,
+        timer,
+        [depth, lookups],
+        &[g0, g1, g2, g3],
+        background,
+    );
+}
