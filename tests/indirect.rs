@@ -143,30 +143,38 @@ fn ao_at_a_sphere_floor_contact_matches_ray_traced_ao() {
     };
     let truth = render_ambient_occlusion(&traced, &options, fine_ao().radius_m, &|_| {}).image;
     app.world_mut().insert_resource(DebugView::Occlusion);
-    let report = app.render_headless(SIZE).expect("frame");
-    assert!(report.plan.runs(PassId::AmbientOcclusion));
-    let shown = app.read_display_image().expect("image");
-    let mut worst = (0.0f32, "");
-    let mut lines = Vec::new();
-    for (label, p) in labelled() {
-        let at = pixel_of(&app, p);
-        let gtao = window(&|x, y| f32::from(shown.get_pixel(x, y).0[0]) / 255.0, at);
-        let rtao = window(&|x, y| truth.get_pixel(x, y).0[0], at);
-        lines.push(format!(
-            "{label} at {at:?}: pass {gtao:.3}, ray-traced {rtao:.3}"
-        ));
-        if (gtao - rtao).abs() > worst.0 {
-            worst = ((gtao - rtao).abs(), label);
+    // At full resolution, and at half (the default: one trace per 2×2 pixels, filtered
+    // and upsampled by the full-resolution resolve).
+    for (resolution, tolerance) in [
+        (AoResolution::Full, AO_TOLERANCE),
+        (AoResolution::Half, AO_HALF_TOLERANCE),
+    ] {
+        app.world_mut().resource_mut::<Quality>().ao.resolution = resolution;
+        let report = app.render_headless(SIZE).expect("frame");
+        assert!(report.plan.runs(PassId::AmbientOcclusion));
+        let shown = app.read_display_image().expect("image");
+        let mut worst = (0.0f32, "");
+        let mut lines = Vec::new();
+        for (label, p) in labelled() {
+            let at = pixel_of(&app, p);
+            let gtao = window(&|x, y| f32::from(shown.get_pixel(x, y).0[0]) / 255.0, at);
+            let rtao = window(&|x, y| truth.get_pixel(x, y).0[0], at);
+            lines.push(format!(
+                "{resolution:?}: {label} at {at:?}: pass {gtao:.3}, ray-traced {rtao:.3}"
+            ));
+            if (gtao - rtao).abs() > worst.0 {
+                worst = ((gtao - rtao).abs(), label);
+            }
         }
+        println!("{}", lines.join("\n"));
+        assert!(
+            worst.0 <= tolerance,
+            "{resolution:?}: largest difference {:.3} at the {}:\n{}",
+            worst.0,
+            worst.1,
+            lines.join("\n")
+        );
     }
-    println!("{}", lines.join("\n"));
-    assert!(
-        worst.0 <= AO_TOLERANCE,
-        "largest difference {:.3} at the {}:\n{}",
-        worst.0,
-        worst.1,
-        lines.join("\n")
-    );
 }
 
 /// Largest difference allowed between the pass and ray-traced AO at a labelled point
@@ -174,6 +182,10 @@ fn ao_at_a_sphere_floor_contact_matches_ray_traced_ao() {
 /// every surface is a height field of infinite thickness, and it weights the falloff on
 /// the horizon, not per direction).
 const AO_TOLERANCE: f32 = 0.08;
+
+/// The same at half resolution (measured: 0.129 at the contact, 0.286 against 0.157: at
+/// 128×96 the contact's darkening spans a few pixels, and each trace stands for four).
+const AO_HALF_TOLERANCE: f32 = 0.15;
 
 /// The floor fills the frame (from 1.1 m to 14 m away; n·v from 0.07 to 0.7), with
 /// and without the filter.
