@@ -1,8 +1,8 @@
 // The irradiance volume at half resolution (engine/src/render/indirect/volume_irradiance.rs):
 // the volume's irradiance (volume_lookup.wgsl) once per 2 × 2 pixels, at the top-left pixel
 // of each block, so that the lighting pass reads four texels instead of sixteen bilinear
-// samples per pixel and upsamples them with the shadow mask's depth-aware weights
-// (half_resolution_upsample in lighting.wgsl).
+// samples per pixel and upsamples them with the shadow mask's depth-aware weights and a
+// normal term (half_volume_irradiance in lighting.wgsl).
 //
 // fs_depth copies the depth of each texel's pixel into a depth target at half resolution;
 // fs_main is depth-tested against it, so it shades only texels whose pixel holds geometry

@@ -3,8 +3,10 @@
 //! once per 2 × 2 pixels, at the top-left pixel of each block, in its own pass. The
 //! lighting pass then gathers the four texels around each pixel and weights them as it
 //! weights the half-resolution shadow mask (bilinear × a tent in view depth,
-//! [`crate::shadow_kernel::shadow_mask_weight`]), instead of looking the volume up per
-//! pixel.
+//! [`crate::shadow_kernel::shadow_mask_weight`]) times a normal term
+//! ([`crate::irradiance_volume::upsample_normal_weight`], so that light does not cross a
+//! crease), instead of looking the volume up per pixel; where every weight is 0 it looks
+//! the volume up for that pixel.
 //!
 //! It runs when [`crate::quality::GiSettings::half_resolution`] is on, the frame has an
 //! irradiance volume, and something is drawn. Probe captures, the transparent pass and the
@@ -97,7 +99,7 @@ impl FramePass for VolumeIrradiancePass {
         );
         let reason = skip
             .clone()
-            .unwrap_or_else(|| "one lookup per 2×2 pixels, upsampled by depth".into());
+            .unwrap_or_else(|| "one lookup per 2×2 pixels, upsampled by depth and normal".into());
         PassDecision::new(skip.is_none(), reason, ())
     }
 
