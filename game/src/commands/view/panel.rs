@@ -367,6 +367,17 @@ fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
             .logarithmic(true)
             .text("SSR thickness (m)"),
     );
+    ui.checkbox(&mut v.gi.enabled, "irradiance volume (GI)");
+    ui.add(egui::Slider::new(&mut v.gi.density, 1..=16).text("GI probes along the longest side"));
+    ui.add(egui::Slider::new(&mut v.gi.face_size, 4..=64).text("GI capture face (px)"));
+    ui.add(egui::Slider::new(&mut v.gi.bounces, 1..=4).text("GI bounces"));
+    ui.add(egui::Slider::new(&mut v.gi.probes_per_frame, 0..=64).text("GI probes per frame"));
+    ui.checkbox(&mut v.gi.half_resolution, "GI at half resolution");
+    ui.checkbox(&mut v.reflection_probes.enabled, "reflection probes");
+    ui.add(
+        egui::Slider::new(&mut v.reflection_probes.face_size, 16..=256)
+            .text("reflection probe face (px, a power of two)"),
+    );
     combo(
         ui,
         "anti-aliasing",
