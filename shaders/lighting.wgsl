@@ -29,7 +29,7 @@
 const F16_MAX: f32 = 65504.0;
 
 // The irradiance volume pass's output (volume_irradiance.wgsl), read where
-// VOLUME_IRRADIANCE_SCALE > 0 (gathered with the shadow mask's sampler).
+// HALF_VOLUME (gathered with the shadow mask's sampler).
 @group(0) @binding(7) var volume_half: texture_2d<f32>;
 
 // The four half-resolution texels around full-resolution `pixel`, whose view depth is
@@ -164,7 +164,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if SHADOW_MASK_SCALE > 0u {
         point.directional_lit = shadow_mask_visibility(pixel, view_depth);
     }
-    if VOLUME_IRRADIANCE_SCALE > 0u {
+    if HALF_VOLUME {
         let half = half_volume_irradiance(pixel, view_depth, n);
         point.volume_irradiance = half.rgb;
         if !(half.a > 1e-3) {

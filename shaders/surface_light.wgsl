@@ -45,7 +45,7 @@
 // shadow-mask pass (shadow_mask.wgsl) through ShadingPoint.directional_lit, which the
 // lighting pass reads from the mask at that scale (1 or 2 pixels per texel).
 //
-// VOLUME_IRRADIANCE_SCALE: 0, or the irradiance volume's irradiance comes from the
+// HALF_VOLUME: the irradiance volume's irradiance comes from the
 // half-resolution volume pass (volume_irradiance.wgsl) through
 // ShadingPoint.volume_irradiance, which the lighting pass upsamples (2 pixels per texel).
 //
@@ -204,7 +204,7 @@ struct ShadingPoint {
     // With SHADOW_MASK_SCALE > 0: the visibility (0..1) of shadowed directional lights 0 to
     // 2 from the shadow mask, which already holds `receives`.
     directional_lit: vec3<f32>,
-    // With VOLUME_IRRADIANCE_SCALE > 0: the irradiance volume's pre-exposed irradiance
+    // With HALF_VOLUME: the irradiance volume's pre-exposed irradiance
     // from the half-resolution volume pass (volume_irradiance.wgsl).
     volume_irradiance: vec3<f32>,
 }
@@ -305,7 +305,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {
-                if VOLUME_IRRADIANCE_SCALE > 0u {
+                if HALF_VOLUME {
                     irradiance = p.volume_irradiance;
                 } else {
                     irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);

@@ -87,7 +87,7 @@ fn every_bind_group_list_matches_its_shader() {
         uniform_shadow_views: true,
         shadow_mask: 2,
         shadow_mask_lights: 3,
-        volume_irradiance: 2,
+        half_volume: true,
     };
     check(
         "lighting.wgsl",

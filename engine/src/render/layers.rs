@@ -201,7 +201,7 @@ impl FramePass for LayersPass {
         let lighting = lighting.map(|l| LightingVariant {
             shadow_mask: 0,
             shadow_mask_lights: 0,
-            volume_irradiance: 0,
+            half_volume: false,
             ..l
         });
         PassDecision::new(runs, reason, lighting.filter(|_| runs))

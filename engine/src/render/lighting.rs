@@ -19,9 +19,7 @@ use crate::render::ibl::Ibl;
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::indirect::volume_irradiance::{
-    VOLUME_IRRADIANCE, VOLUME_IRRADIANCE_SCALE, VolumeIrradiancePass,
-};
+use crate::render::indirect::volume_irradiance::{VOLUME_IRRADIANCE, VolumeIrradiancePass};
 use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
@@ -106,9 +104,9 @@ pub struct LightingVariant {
     pub shadow_mask: u32,
     /// The shadowed directional lights the mask holds (1 to 3; 0 without a mask).
     pub shadow_mask_lights: u32,
-    /// Pixels per texel of the half-resolution volume pass's irradiance (2), or 0 where
-    /// the volume is looked up per pixel.
-    pub volume_irradiance: u32,
+    /// The irradiance volume's light comes from the half-resolution volume pass
+    /// (upsampled), not from a lookup per pixel.
+    pub half_volume: bool,
 }
 
 impl FramePass for LightingPass {
@@ -266,11 +264,7 @@ impl FramePass for LightingPass {
             uniform_shadow_views: views_fit_uniform(frame),
             shadow_mask,
             shadow_mask_lights,
-            volume_irradiance: if irradiance_volume.enabled && plan.runs(PassId::VolumeIrradiance) {
-                VOLUME_IRRADIANCE_SCALE
-            } else {
-                0
-            },
+            half_volume: irradiance_volume.enabled && plan.runs(PassId::VolumeIrradiance),
         };
         PassDecision {
             runs: true,
@@ -427,7 +421,7 @@ impl LightingPass {
             ShaderDef::Bool("RELIT_BASE", false),
             ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
             ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.shadow_mask_lights),
-            ShaderDef::U32("VOLUME_IRRADIANCE_SCALE", variant.volume_irradiance),
+            ShaderDef::Bool("HALF_VOLUME", variant.half_volume),
         ];
         defs.extend(lookup_defs(
             variant.shadow_filter,

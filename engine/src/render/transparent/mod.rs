@@ -149,7 +149,7 @@ impl TransparentVariant {
                 light_culling: false,
                 shadow_mask: 0,
                 shadow_mask_lights: 0,
-                volume_irradiance: 0,
+                half_volume: false,
                 ..lighting
             },
             weighted: transparency == Transparency::WeightedBlended,
