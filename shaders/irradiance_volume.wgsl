@@ -5,6 +5,7 @@
 
 const OCT_SIDE: u32 = 8u;
 const IRRADIANCE_SIDE: u32 = 6u;
+const IRRADIANCE_TEXELS: u32 = IRRADIANCE_SIDE * IRRADIANCE_SIDE;
 const MOMENT_SHARPNESS: f32 = 50.0;
 const BACKFACE_FLOOR: f32 = 0.2;
 const SELF_SHADOW_BIAS: f32 = 0.3;
@@ -47,6 +48,19 @@ fn upsample_normal_weight(texel_n: vec3<f32>, n: vec3<f32>) -> f32 {
     let c2 = c * c;
     let c4 = c2 * c2;
     return c4 * c4;
+}
+
+// Cosine weight of radiance captured along unit `ray` in the irradiance of a surface with
+// unit normal `normal`: max(0, normal·ray).
+fn irradiance_weight(normal: vec3<f32>, ray: vec3<f32>) -> f32 {
+    return max(dot(normal, ray), 0.0);
+}
+
+// The share of a volume's light at `p`: 1 inside the box low..high (m), falling linearly
+// with the distance outside it, in probe spacings per axis, to 0 one spacing away.
+fn volume_fade(p: vec3<f32>, low: vec3<f32>, high: vec3<f32>, spacing: vec3<f32>) -> f32 {
+    let outside = max(max(low - p, p - high), vec3<f32>(0.0)) / spacing;
+    return clamp(1.0 - length(outside), 0.0, 1.0);
 }
 
 // Atlas position (texels) at which a bilinear read of direction d reads the probe tile

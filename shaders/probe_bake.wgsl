@@ -1,11 +1,10 @@
 // Bakes the irradiance volume's probe records (probe_capture.wgsl) into the two atlases the
 // lighting pass samples with bilinear filtering (volume_lookup.wgsl), after each capture
-// pass: per probe, a 6² octahedral map of irradiance (pre-exposed, from the SH) and an 8²
+// pass: per probe, a 6² octahedral map of irradiance (pre-exposed) and an 8²
 // map of the distance moments (E[d], E[d²]), each inside a one-texel border that repeats
 // its edge (DDGI's layout, Majercik et al. 2019). One workgroup per probe.
 #import common
 #import encoding
-#import ibl
 #import irradiance_volume
 
 struct BakeParams {
@@ -36,7 +35,7 @@ fn cs_bake(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id
     let range = params.exposure_range.y;
 
     let m_texel = inner_texel(local.xy, OCT_SIDE);
-    let m = probes[base + 9u + m_texel.y * OCT_SIDE + m_texel.x];
+    let m = probes[base + IRRADIANCE_TEXELS + m_texel.y * OCT_SIDE + m_texel.x];
     // A direction no captured pixel reached counts as open as far as a moment reaches.
     var moments = vec2<f32>(range, range * range);
     if m.z > 0.0 {
@@ -45,12 +44,8 @@ fn cs_bake(@builtin(workgroup_id) group: vec3<u32>, @builtin(local_invocation_id
     textureStore(moment_atlas, tile * (OCT_SIDE + 2u) + local.xy, vec4<f32>(moments, 0.0, 1.0));
 
     if all(local.xy < vec2<u32>(IRRADIANCE_SIDE + 2u)) {
-        let d = oct_texel_direction(inner_texel(local.xy, IRRADIANCE_SIDE), IRRADIANCE_SIDE);
-        var sh: array<vec4<f32>, 9>;
-        for (var k = 0u; k < 9u; k++) {
-            sh[k] = probes[base + k];
-        }
-        var e = sh_irradiance(sh, d) * params.exposure_range.x;
+        let texel = inner_texel(local.xy, IRRADIANCE_SIDE);
+        var e = probes[base + texel.y * IRRADIANCE_SIDE + texel.x].xyz * params.exposure_range.x;
         e = select(e, vec3<f32>(0.0), e != e);
         e = clamp(e, vec3<f32>(0.0), vec3<f32>(F16_MAX));
         textureStore(irradiance_atlas, tile * (IRRADIANCE_SIDE + 2u) + local.xy, vec4<f32>(e, 1.0));

@@ -1,12 +1,12 @@
 // Reduces one captured cube face of an irradiance probe (the capture's lit HDR and depth)
-// into the probe's record: radiance projected on 9 SH coefficients, each texel weighted by
-// its solid angle, and the distance moments of the octahedral map (DDGI, Majercik et al.
-// 2019). One workgroup per face; thread t owns moment texel t and, for t < 9, SH
-// coefficient t. Face 0 starts the record afresh; faces 1–5 add to it.
+// into the probe's record: the irradiance E(n) = Σ L(ω) max(0, n·ω) Δω for the normal n of
+// each texel of the 6² octahedral irradiance map, each captured pixel weighted by its solid
+// angle Δω, and the distance moments of the 8² octahedral map (DDGI, Majercik et al. 2019).
+// One workgroup per face; thread t owns moment texel t and, for t < 36, irradiance texel
+// t. Face 0 starts the record afresh; faces 1–5 add to it.
 #import common
 #import bindings
 #import encoding
-#import ibl
 #import irradiance_volume
 
 struct CaptureParams {
@@ -34,8 +34,9 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
     let exposure = max(view.position_exposure.w, 1e-30);
     let range = params.range.x;
     let texel_dir = oct_texel_direction(vec2<u32>(t % OCT_SIDE, t / OCT_SIDE), OCT_SIDE);
+    let normal = oct_texel_direction(vec2<u32>(t % IRRADIANCE_SIDE, t / IRRADIANCE_SIDE), IRRADIANCE_SIDE);
     var moments = vec4<f32>(0.0);
-    var sh = vec3<f32>(0.0);
+    var irradiance = vec3<f32>(0.0);
     for (var y = 0u; y < size.y; y++) {
         for (var x = 0u; x < size.x; x++) {
             let ndc = vec2<f32>(
@@ -49,10 +50,9 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
                 distance = min(length(unproject(ndc, depth) - origin), range);
             }
             let solid_angle = cube_texel_solid_angle(ndc, f32(size.x));
-            if t < 9u {
-                var basis = sh_basis(dir);
+            if t < IRRADIANCE_TEXELS {
                 let radiance = textureLoad(hdr, vec2<u32>(x, y), 0).rgb / exposure;
-                sh += radiance * (basis[t] * solid_angle);
+                irradiance += radiance * (irradiance_weight(normal, dir) * solid_angle);
             }
             let w = moment_weight(texel_dir, dir) * solid_angle;
             moments += vec4<f32>(w * distance, w * distance * distance, w, 0.0);
@@ -60,9 +60,9 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
     }
     let base = params.probe_face_stride.x * params.probe_face_stride.z;
     let fresh = params.probe_face_stride.y == 0u;
-    if t < 9u {
-        probes[base + t] = select(probes[base + t], vec4<f32>(0.0), fresh) + vec4<f32>(sh, 0.0);
+    if t < IRRADIANCE_TEXELS {
+        probes[base + t] = select(probes[base + t], vec4<f32>(0.0), fresh) + vec4<f32>(irradiance, 0.0);
     }
-    let m = base + 9u + t;
+    let m = base + IRRADIANCE_TEXELS + t;
     probes[m] = select(probes[m], vec4<f32>(0.0), fresh) + moments;
 }

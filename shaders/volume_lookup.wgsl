@@ -33,6 +33,15 @@ fn tile_origin(probe: u32, tile: u32) -> vec2<f32> {
     return vec2<f32>(vec2<u32>(probe % tiles, probe / tiles) * tile);
 }
 
+// How much the volume's light replaces the environment's at `p` (volume_fade over the
+// grid's box: its probes' cells).
+fn volume_coverage(p: vec3<f32>) -> f32 {
+    let spacing = volume.spacing_exposure.xyz;
+    let low = volume.origin_ready.xyz - 0.5 * spacing;
+    let high = low + vec3<f32>(volume.counts_tiles.xyz) * spacing;
+    return volume_fade(p, low, high, spacing);
+}
+
 // Irradiance at `p` with normal n, seen from direction v, pre-exposed by the atlas's
 // exposure (volume.spacing_exposure.w).
 fn volume_irradiance(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {

@@ -47,7 +47,7 @@ fn cornell_colour_bleeding_matches_the_path_tracer() {
     let report = app.render_headless(size).expect("frame");
     assert_eq!(
         report.probes.volume.passes,
-        (2, 2),
+        (4, 4),
         "{:?}",
         report.probes.volume
     );
@@ -222,6 +222,40 @@ fn bounce_light_brightens_the_sphere_s_shadowed_underside() {
     println!("the sphere's underside at {at:?}: with GI {lit:?}, without {dark:?}");
     let sum = |p: [f32; 4]| p[0] + p[1] + p[2];
     assert!(sum(lit) > sum(dark) * 1.5 + 1e-2, "{lit:?} vs {dark:?}");
+}
+
+/// Outside its box the volume's light fades into the environment's over one probe
+/// spacing. `small_scene` has no environment, so the floor 1.5 spacings beyond the box
+/// shows only the sun, as without GI; before the fade it took the light of the probes at
+/// the grid's edge, which see the sunlit sphere beside them. The sphere's shadowed
+/// underside, 0.1 spacings below the box, still gets the floor's bounce light.
+#[test]
+fn the_volume_s_light_fades_out_beyond_its_box() {
+    let mut app = small_scene();
+    app.render_headless(SIZE).expect("frame");
+    let with_gi = app.read_hdr_image().expect("hdr");
+    app.world_mut().resource_mut::<Quality>().gi.enabled = false;
+    app.render_headless(SIZE).expect("frame");
+    let without = app.read_hdr_image().expect("hdr");
+    let luminance = |img: &image::Rgba32FImage, p: Vec3| {
+        let (x, y) = common::pixel_of(&app, p, SIZE);
+        let q = img.get_pixel(x, y).0;
+        0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2]
+    };
+    let far = Vec3::new(-2.5, 0.0, 1.0);
+    let (far_gi, far_off) = (luminance(&with_gi, far), luminance(&without, far));
+    let near = Vec3::new(0.0, 0.1, 0.3);
+    let (near_gi, near_off) = (luminance(&with_gi, near), luminance(&without, near));
+    println!(
+        "floor beyond the box: {far_gi} with GI, {far_off} without; \
+         the sphere's underside: {near_gi}, {near_off}"
+    );
+    assert!(far_off > 0.05, "the far floor is sunlit: {far_off}");
+    assert!(
+        (far_gi - far_off).abs() <= 1e-3 * far_off,
+        "{far_gi} vs {far_off}"
+    );
+    assert!(near_gi > near_off * 1.5, "{near_gi} vs {near_off}");
 }
 
 #[test]

@@ -21,7 +21,7 @@ use lumen::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 66;
+const OUTPUTS: usize = 67;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -445,8 +445,20 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             gi::upsample_normal_weight(n, n),
             gi::upsample_normal_weight(n, -n),
         ),
+        Vec4::new(
+            gi::irradiance_weight(n, l),
+            gi::irradiance_weight(n, v),
+            gi::volume_fade(v * 3.0, FADE_LOW, FADE_HIGH, FADE_SPACING),
+            gi::volume_fade(l * 2.0 + n, FADE_LOW, FADE_HIGH, FADE_SPACING),
+        ),
     ]
 }
+
+/// The box and spacing of output 66's `volume_fade` (the same in tests/shaders/parity.wgsl):
+/// the cases' points lie inside, within a spacing and beyond.
+const FADE_LOW: Vec3 = Vec3::new(-1.0, -0.5, -2.0);
+const FADE_HIGH: Vec3 = Vec3::new(1.5, 0.5, 1.0);
+const FADE_SPACING: Vec3 = Vec3::new(0.5, 0.25, 1.0);
 
 const NAMES: [&str; OUTPUTS] = [
     "d_ggx | g1_schlick_ggx | v_schlick_ggx | v_smith_ggx_correlated",
@@ -515,6 +527,7 @@ const NAMES: [&str; OUTPUTS] = [
     "depth_bend | SILHOUETTE_BEND",
     "creased | CREASE_COSINE",
     "upsample_normal_weight",
+    "irradiance_weight | volume_fade",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

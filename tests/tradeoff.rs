@@ -18,7 +18,7 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     assert_eq!(doc["schema"], "lumen-tradeoff/1");
     let rows = doc["rows"].as_array().expect("rows");
     // 4 presets and 51 single knobs.
-    assert_eq!(rows.len(), 55, "{rows:?}");
+    assert_eq!(rows.len(), 56, "{rows:?}");
     for r in rows {
         for k in ["kind", "setting"] {
             assert!(r[k].is_string(), "{r}");
@@ -41,8 +41,8 @@ fn the_tradeoff_report_has_every_row_and_ultra_beats_low() {
     // The reference was cached for the next run.
     assert_eq!(cached(dir.path(), "-64x36-16spp-8b").len(), 1);
     let table = std::fs::read_to_string(dir.path().join("t.md")).expect("markdown");
-    // Header, separator and 55 rows.
-    assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 57);
+    // Header, separator and 56 rows.
+    assert_eq!(table.lines().filter(|l| l.starts_with("| ")).count(), 58);
     let chart = image::open(dir.path().join("t.png")).expect("chart");
     assert_eq!((chart.width(), chart.height()), (1200, 600));
 }

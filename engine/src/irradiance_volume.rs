@@ -1,9 +1,10 @@
 //! Diffuse global illumination from a grid of irradiance probes: the formulas, the same as
 //! `shaders/irradiance_volume.wgsl` (same names, bound by the parity test).
 //!
-//! Each probe stores the radiance it sees as spherical harmonics of bands 0–2 (Ramamoorthi
-//! & Hanrahan 2001; irradiance by [`crate::ibl::sh_irradiance`]) and, per direction of a
-//! small octahedral map, the first two moments of the distance to the nearest surface
+//! Each probe stores, per direction n of a 6² octahedral map, the irradiance
+//! E(n) = Σ L(ω) max(0, n·ω) Δω of the radiance it captured ([`irradiance_weight`]; the
+//! cosine-weighted integral over the hemisphere, Lambert 1760) and, per direction of an 8²
+//! octahedral map, the first two moments of the distance to the nearest surface
 //! (Majercik et al. 2019, "Dynamic Diffuse Global Illumination with Ray-Traced Irradiance
 //! Fields", JCGT 8(2)). A shaded point blends the eight probes of its grid cell with
 //! trilinear weights times two DDGI terms:
@@ -104,6 +105,23 @@ pub fn cube_texel_solid_angle(xy: Vec2, size: f32) -> f32 {
 /// moment texel of direction `texel` (unit): max(0, texel·ray)^[`MOMENT_SHARPNESS`].
 pub fn moment_weight(texel: Vec3, ray: Vec3) -> f32 {
     texel.dot(ray).max(0.0).powf(MOMENT_SHARPNESS)
+}
+
+/// Weight of radiance captured along `ray` (unit) in the irradiance of a surface with unit
+/// normal `normal`: max(0, normal·ray), the cosine of Lambert's law. Summed over a
+/// probe's captured pixels times their solid angles ([`cube_texel_solid_angle`]) it gives
+/// the irradiance (lx for radiance in cd/m²) of each texel of the probe's irradiance map.
+pub fn irradiance_weight(normal: Vec3, ray: Vec3) -> f32 {
+    normal.dot(ray).max(0.0)
+}
+
+/// The share of a volume's light at `p` (m): 1 inside the box `low`..`high` (m), falling
+/// linearly with the distance outside it, measured in probe spacings per axis (`spacing`,
+/// m), to 0 one spacing away. Beyond it the environment's irradiance stays: a probe at the
+/// grid's edge saw the scene from inside the box, not from a floor metres outside it.
+pub fn volume_fade(p: Vec3, low: Vec3, high: Vec3, spacing: Vec3) -> f32 {
+    let outside = (low - p).max(p - high).max(Vec3::ZERO) / spacing;
+    (1.0 - outside.length()).clamp(0.0, 1.0)
 }
 
 /// The normal term of the half-resolution volume's upsample
@@ -207,5 +225,64 @@ mod tests {
             (w - 10f32.to_radians().cos().powi(8)).abs() < 1e-6 && (0.88..0.89).contains(&w),
             "{w}"
         );
+    }
+
+    /// The irradiance texels of a capture: summed over the cube's pixels, the cosine
+    /// weight times the solid angle is π for every normal (a uniform radiance L gives the
+    /// irradiance π L), and a source in one direction lights no normal turned away from
+    /// it. Spherical harmonics of bands 0–2, which the probes stored before, give a
+    /// normal facing away from such a source about 6 % of the irradiance of one facing it
+    /// (0.0625 against 1.0625 of a unit source).
+    #[test]
+    fn irradiance_texels_integrate_the_cosine_without_ringing() {
+        let size = 16;
+        let faces = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+        for t in 0..IRRADIANCE_SIDE * IRRADIANCE_SIDE {
+            let n =
+                oct_texel_direction((t % IRRADIANCE_SIDE, t / IRRADIANCE_SIDE), IRRADIANCE_SIDE);
+            let mut total = 0.0;
+            for axis in faces {
+                let u = if axis.y.abs() > 0.5 { Vec3::X } else { Vec3::Y };
+                let v = axis.cross(u);
+                for y in 0..size {
+                    for x in 0..size {
+                        let xy =
+                            (Vec2::new(x as f32, y as f32) + 0.5) / size as f32 * 2.0 - Vec2::ONE;
+                        let ray = (axis + u * xy.x + v * xy.y).normalize();
+                        total +=
+                            irradiance_weight(n, ray) * cube_texel_solid_angle(xy, size as f32);
+                    }
+                }
+            }
+            assert!((total / PI - 1.0).abs() < 5e-3, "normal {n}: {total}");
+            assert_eq!(irradiance_weight(n, -n), 0.0);
+        }
+    }
+
+    #[test]
+    fn the_volume_s_light_fades_over_one_spacing_outside_its_box() {
+        let (low, high) = (Vec3::ZERO, Vec3::new(4.0, 2.0, 2.0));
+        let spacing = Vec3::new(1.0, 0.5, 1.0);
+        assert_eq!(
+            volume_fade(Vec3::new(2.0, 1.0, 1.0), low, high, spacing),
+            1.0
+        );
+        assert_eq!(volume_fade(high, low, high, spacing), 1.0);
+        let half_out = volume_fade(Vec3::new(4.5, 1.0, 1.0), low, high, spacing);
+        assert!((half_out - 0.5).abs() < 1e-6, "{half_out}");
+        // Half a spacing out along y is a quarter of a metre.
+        let above = volume_fade(Vec3::new(2.0, 2.25, 1.0), low, high, spacing);
+        assert!((above - 0.5).abs() < 1e-6, "{above}");
+        assert_eq!(
+            volume_fade(Vec3::new(-1.0, 1.0, 1.0), low, high, spacing),
+            0.0
+        );
+        assert_eq!(
+            volume_fade(Vec3::new(20.0, -9.0, 1.0), low, high, spacing),
+            0.0
+        );
+        // Off a corner the distance counts, not the larger axis.
+        let corner = volume_fade(Vec3::new(4.5, 2.25, 1.0), low, high, spacing);
+        assert!((corner - (1.0 - 0.5f32.sqrt())).abs() < 1e-6, "{corner}");
     }
 }

@@ -540,8 +540,8 @@ impl Default for GiSettings {
         GiSettings {
             enabled: true,
             density: 4,
-            face_size: 16,
-            bounces: 2,
+            face_size: 32,
+            bounces: 4,
             probes_per_frame: 8,
             auto_place: true,
             half_resolution: true,
@@ -736,7 +736,7 @@ impl QualityPreset {
                 gi: GiSettings {
                     density: 6,
                     face_size: 32,
-                    bounces: 3,
+                    bounces: 4,
                     probes_per_frame: 16,
                     half_resolution: false,
                     ..high.gi

@@ -33,7 +33,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 66u;
+const OUTPUTS: u32 = 67u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -200,6 +200,15 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         upsample_normal_weight(c.n.xyz, c.l.xyz),
         upsample_normal_weight(c.n.xyz, c.n.xyz),
         upsample_normal_weight(c.n.xyz, -c.n.xyz),
+    );
+    let fade_low = vec3<f32>(-1.0, -0.5, -2.0);
+    let fade_high = vec3<f32>(1.5, 0.5, 1.0);
+    let fade_spacing = vec3<f32>(0.5, 0.25, 1.0);
+    results[o + 66u] = vec4<f32>(
+        irradiance_weight(c.n.xyz, c.l.xyz),
+        irradiance_weight(c.n.xyz, c.v.xyz),
+        volume_fade(c.v.xyz * 3.0, fade_low, fade_high, fade_spacing),
+        volume_fade(c.l.xyz * 2.0 + c.n.xyz, fade_low, fade_high, fade_spacing),
     );
     results[o + 53u] = vec4<f32>(tinted_f0(c.base_metallic.rgb, c.base_metallic.w, spec, vec3<f32>(x * 1.2 - 0.1, k, r)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);

@@ -149,8 +149,10 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     for n in [2u32, 8] {
         knob("--gi-density", n.to_string(), &|a| a.gi_density = Some(n));
     }
-    knob("--gi-face", "8".into(), &|a| a.gi_face = Some(8));
-    for n in [1u32, 3] {
+    for n in [8u32, 16] {
+        knob("--gi-face", n.to_string(), &|a| a.gi_face = Some(n));
+    }
+    for n in [1u32, 2] {
         knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
     }
     knob("--gi-resolution", "full".into(), &|a| {

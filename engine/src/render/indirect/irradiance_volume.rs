@@ -30,8 +30,8 @@ use crate::scene::{
 use bevy_ecs::prelude::*;
 use glam::{UVec3, Vec3};
 
-/// vec4s per probe record: 9 SH coefficients, then the moment texels.
-pub const RECORD_STRIDE: u32 = 9 + OCT_SIDE * OCT_SIDE;
+/// vec4s per probe record: the irradiance texels, then the moment texels.
+pub const RECORD_STRIDE: u32 = IRRADIANCE_SIDE * IRRADIANCE_SIDE + OCT_SIDE * OCT_SIDE;
 
 /// Format of both atlases.
 pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
