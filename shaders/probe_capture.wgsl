@@ -27,9 +27,17 @@ fn unproject(ndc: vec2<f32>, depth: f32) -> vec3<f32> {
     return h.xyz / h.w;
 }
 
+// One chunk of 64 captured pixels, shared by the workgroup: each thread prepares one
+// pixel's direction and solid angle (xyz, w) and radiance and distance (rgb, w), then
+// every thread adds all 64 to its own texels. The per-pixel work is done once per face,
+// not once per texel.
+var<workgroup> chunk_dir: array<vec4<f32>, 64>;
+var<workgroup> chunk_light: array<vec4<f32>, 64>;
+
 @compute @workgroup_size(64)
 fn cs_reduce(@builtin(local_invocation_index) t: u32) {
     let size = textureDimensions(hdr);
+    let pixels = size.x * size.y;
     let origin = view.position_exposure.xyz;
     let exposure = max(view.position_exposure.w, 1e-30);
     let range = params.range.x;
@@ -37,8 +45,11 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
     let normal = oct_texel_direction(vec2<u32>(t % IRRADIANCE_SIDE, t / IRRADIANCE_SIDE), IRRADIANCE_SIDE);
     var moments = vec4<f32>(0.0);
     var irradiance = vec3<f32>(0.0);
-    for (var y = 0u; y < size.y; y++) {
-        for (var x = 0u; x < size.x; x++) {
+    for (var first = 0u; first < pixels; first += 64u) {
+        let i = first + t;
+        if i < pixels {
+            let x = i % size.x;
+            let y = i / size.x;
             let ndc = vec2<f32>(
                 (f32(x) + 0.5) / f32(size.x) * 2.0 - 1.0,
                 1.0 - (f32(y) + 0.5) / f32(size.y) * 2.0,
@@ -49,14 +60,23 @@ fn cs_reduce(@builtin(local_invocation_index) t: u32) {
             if depth > 0.0 {
                 distance = min(length(unproject(ndc, depth) - origin), range);
             }
-            let solid_angle = cube_texel_solid_angle(ndc, f32(size.x));
+            let radiance = textureLoad(hdr, vec2<u32>(x, y), 0).rgb / exposure;
+            chunk_dir[t] = vec4<f32>(dir, cube_texel_solid_angle(ndc, f32(size.x)));
+            chunk_light[t] = vec4<f32>(radiance, distance);
+        }
+        workgroupBarrier();
+        let count = min(64u, pixels - first);
+        for (var k = 0u; k < count; k++) {
+            let dir = chunk_dir[k].xyz;
+            let solid_angle = chunk_dir[k].w;
+            let light = chunk_light[k];
             if t < IRRADIANCE_TEXELS {
-                let radiance = textureLoad(hdr, vec2<u32>(x, y), 0).rgb / exposure;
-                irradiance += radiance * (irradiance_weight(normal, dir) * solid_angle);
+                irradiance += light.rgb * (irradiance_weight(normal, dir) * solid_angle);
             }
             let w = moment_weight(texel_dir, dir) * solid_angle;
-            moments += vec4<f32>(w * distance, w * distance * distance, w, 0.0);
+            moments += vec4<f32>(w * light.w, w * light.w * light.w, w, 0.0);
         }
+        workgroupBarrier();
     }
     let base = params.probe_face_stride.x * params.probe_face_stride.z;
     let fresh = params.probe_face_stride.y == 0u;

@@ -55,12 +55,12 @@ fn render_png_with_json_report() {
         assert!(report.get(key).is_some(), "missing {key}: {report}");
     }
     assert_eq!(report["size"], "64x48");
-    // spheres' own volume (4×4×2 at `high`, four passes of six faces per probe) and probe.
+    // spheres' own volume (4×4×2 at `high`, three passes of six faces per probe) and probe.
     assert_eq!(
         report["probes"]["volume_probes"],
         serde_json::json!([4, 4, 2])
     );
-    assert_eq!(report["probes"]["faces_captured"], 32 * 4 * 6);
+    assert_eq!(report["probes"]["faces_captured"], 32 * 3 * 6);
     assert_eq!(report["probes"]["reflection_probes_captured"], 1);
     let ev100 = report["ev100"].as_f64().unwrap_or(f64::NAN);
     let exposure = report["exposure"].as_f64().unwrap_or(f64::NAN);

@@ -47,7 +47,7 @@ fn cornell_colour_bleeding_matches_the_path_tracer() {
     let report = app.render_headless(size).expect("frame");
     assert_eq!(
         report.probes.volume.passes,
-        (4, 4),
+        (3, 3),
         "{:?}",
         report.probes.volume
     );

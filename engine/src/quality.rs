@@ -541,7 +541,7 @@ impl Default for GiSettings {
             enabled: true,
             density: 4,
             face_size: 32,
-            bounces: 4,
+            bounces: 3,
             probes_per_frame: 8,
             auto_place: true,
             half_resolution: true,

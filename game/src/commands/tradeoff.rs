@@ -152,7 +152,7 @@ fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
     for n in [8u32, 16] {
         knob("--gi-face", n.to_string(), &|a| a.gi_face = Some(n));
     }
-    for n in [1u32, 2] {
+    for n in [2u32, 4] {
         knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
     }
     knob("--gi-resolution", "full".into(), &|a| {
