@@ -168,7 +168,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let half = half_volume_irradiance(pixel, view_depth, n);
         point.volume_irradiance = half.rgb;
         if !(half.a > 1e-3) {
-            point.volume_irradiance = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+            point.volume_irradiance = exposed_volume_irradiance(world, n, v, view.position_exposure.w);
         }
     }
     var color = g2.rgb + surface_light(point, surface);

@@ -305,17 +305,15 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
         }
         if IRRADIANCE_VOLUME {
             if volume.origin_ready.w > 0.5 {
-                var from_volume = vec3<f32>(0.0);
-                if HALF_VOLUME {
-                    from_volume = p.volume_irradiance;
-                } else {
-                    from_volume = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+                var from_volume = p.volume_irradiance;
+                if !HALF_VOLUME {
+                    from_volume = exposed_volume_irradiance(world, n, v, view.position_exposure.w);
                 }
                 // Outside the volume's box its light fades into the environment's.
                 let coverage = volume_coverage(world);
                 irradiance = mix(irradiance, from_volume, coverage);
                 if RELIT_BASE && translucency.w > 0.0 {
-                    let back = volume_irradiance(world, -n, -n) * (view.position_exposure.w / volume.spacing_exposure.w);
+                    let back = exposed_volume_irradiance(world, -n, -n, view.position_exposure.w);
                     back_irradiance = mix(back_irradiance, back, coverage);
                 }
             }

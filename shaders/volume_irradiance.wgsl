@@ -41,6 +41,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let camera = view.position_exposure.xyz;
     let v = safe_normalize(camera - world, n);
     let view_depth = dot(world - camera, view.forward.xyz);
-    let e = volume_irradiance(world, n, v) * (view.position_exposure.w / volume.spacing_exposure.w);
+    let e = exposed_volume_irradiance(world, n, v, view.position_exposure.w);
     return vec4<f32>(min(e, vec3<f32>(F16_MAX)), view_depth);
 }

@@ -42,6 +42,11 @@ fn volume_coverage(p: vec3<f32>) -> f32 {
     return volume_fade(p, low, high, spacing);
 }
 
+// volume_irradiance at the frame's `exposure` instead of the atlas's.
+fn exposed_volume_irradiance(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>, exposure: f32) -> vec3<f32> {
+    return volume_irradiance(p, n, v) * (exposure / volume.spacing_exposure.w);
+}
+
 // Irradiance at `p` with normal n, seen from direction v, pre-exposed by the atlas's
 // exposure (volume.spacing_exposure.w).
 fn volume_irradiance(p: vec3<f32>, n: vec3<f32>, v: vec3<f32>) -> vec3<f32> {

@@ -257,6 +257,14 @@ mod tests {
             assert!((total / PI - 1.0).abs() < 5e-3, "normal {n}: {total}");
             assert_eq!(irradiance_weight(n, -n), 0.0);
         }
+        // The harmonics of a unit source along +y: 1.0625 facing it, 0.0625 facing away.
+        let sh = crate::ibl::sh_basis(Vec3::Y).map(Vec3::splat);
+        let facing = crate::ibl::sh_irradiance(&sh, Vec3::Y).x;
+        let away = crate::ibl::sh_irradiance(&sh, -Vec3::Y).x;
+        assert!(
+            (facing - 1.0625).abs() < 1e-3 && (away - 0.0625).abs() < 1e-3,
+            "{facing} {away}"
+        );
     }
 
     #[test]
