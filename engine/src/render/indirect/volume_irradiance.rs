@@ -5,8 +5,8 @@
 //! weights the half-resolution shadow mask (bilinear × a tent in view depth,
 //! [`crate::shadow_kernel::shadow_mask_weight`]) times a normal term
 //! ([`crate::irradiance_volume::upsample_normal_weight`], so that light does not cross a
-//! crease), instead of looking the volume up per pixel; where every weight is 0 it looks
-//! the volume up for that pixel.
+//! crease), instead of looking the volume up per pixel; where every weight is 0 it takes
+//! the texel nearest in depth among those facing the pixel's way.
 //!
 //! It runs when [`crate::quality::GiSettings::half_resolution`] is on, the frame has an
 //! irradiance volume, and something is drawn. Probe captures, the transparent pass and the
