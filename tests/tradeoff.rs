@@ -111,7 +111,9 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
             "unshadowed lights",
             "indirect light",
             "total",
-            "reference noise"
+            "reference noise",
+            "1 % brighter",
+            "3 % brighter"
         ]
     );
     let flip = |name: &str| {
@@ -139,6 +141,19 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
     assert!(flip("indirect light") > flip("implementation"));
     // The reference's own noise at 16 spp is far from 0.
     assert!(flip("reference noise") > 0.01);
+    // FLIP's scale: a uniform error costs more the larger it is, and its relative MSE is
+    // at most (k − 1)² (the relative MSE divides by y² + 0.01).
+    assert!(flip("1 % brighter") > 0.0);
+    assert!(flip("3 % brighter") > flip("1 % brighter"));
+    let relative = |name: &str| {
+        parts
+            .iter()
+            .find(|p| p["part"] == name)
+            .and_then(|p| p["relative_mse"].as_f64())
+            .expect(name)
+    };
+    assert!(relative("3 % brighter") <= 0.03f64.powi(2) * 1.001);
+    assert!(relative("3 % brighter") > relative("1 % brighter"));
     // Four references, each cached under its own name.
     for name in ["1b-frame", "1b", "8b", "8b-seed1"] {
         let suffix = format!("-64x36-16spp-{name}");

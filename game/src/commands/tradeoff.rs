@@ -594,7 +594,9 @@ struct Part {
 /// `--decompose`: splits the frame's error against the full reference into what its
 /// shading gets wrong (its direct light against the direct-light reference with the
 /// frame's light visibility), what its unshadowed lights cost, what indirect light is
-/// worth in the scene, and the total, which holds what the frame does not transport.
+/// worth in the scene, and the total, which holds what the frame does not transport;
+/// then the two measures of the judge: its own noise, and what a uniform error of 1 % and
+/// 3 % costs on the scene.
 fn decompose(args: &TradeoffArgs) -> Result<()> {
     let direct = |visibility| ReferenceKind {
         bounces: 1,
@@ -686,6 +688,18 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
             &second,
             &full,
         )?,
+        part(
+            "1 % brighter",
+            "the full reference 1 % brighter against itself: what a uniform error of 1 % costs on this scene (FLIP's scale)",
+            &brighter(&full, 1.01),
+            &full,
+        )?,
+        part(
+            "3 % brighter",
+            "the full reference 3 % brighter against itself: what a uniform error of 3 % costs on this scene",
+            &brighter(&full, 1.03),
+            &full,
+        )?,
     ];
     let adapter = app.adapter().cloned().context("no adapter")?;
     let quality = crate::setup::preset_name(app.world().resource::<lumen::prelude::Quality>());
@@ -730,6 +744,17 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
         write_json(path, &doc)?;
     }
     Ok(())
+}
+
+/// `img` with its colour multiplied by `k` and its alpha kept.
+fn brighter(img: &image::Rgba32FImage, k: f32) -> image::Rgba32FImage {
+    let mut out = img.clone();
+    for p in out.pixels_mut() {
+        for c in &mut p.0[..3] {
+            *c *= k;
+        }
+    }
+    out
 }
 
 /// Writes `doc` as pretty JSON to `path`, or to standard output for "-".
