@@ -116,13 +116,15 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
             "3 % brighter"
         ]
     );
-    let flip = |name: &str| {
+    // One measure of one part.
+    let value = |name: &str, measure: &str| {
         parts
             .iter()
             .find(|p| p["part"] == name)
-            .and_then(|p| p["flip_mean"].as_f64())
+            .and_then(|p| p[measure].as_f64())
             .expect(name)
     };
+    let flip = |name: &str| value(name, "flip_mean");
     for name in names {
         let f = flip(name);
         assert!(f.is_finite() && (0.0..=1.0).contains(&f), "{name}: {f}");
@@ -145,13 +147,7 @@ fn the_decomposition_separates_shading_visibility_and_transport() {
     // at most (k − 1)² (the relative MSE divides by y² + 0.01).
     assert!(flip("1 % brighter") > 0.0);
     assert!(flip("3 % brighter") > flip("1 % brighter"));
-    let relative = |name: &str| {
-        parts
-            .iter()
-            .find(|p| p["part"] == name)
-            .and_then(|p| p["relative_mse"].as_f64())
-            .expect(name)
-    };
+    let relative = |name: &str| value(name, "relative_mse");
     assert!(relative("3 % brighter") <= 0.03f64.powi(2) * 1.001);
     assert!(relative("3 % brighter") > relative("1 % brighter"));
     // Four references, each cached under its own name.
