@@ -8,7 +8,8 @@
 // the bits of the depths: depths are ≥ 0, whose bit patterns order as the numbers do, so
 // the maximum of the bits is the bits of the maximum. (A mip chain of an R32Float or
 // R32Uint texture does not serve every backend: GL cannot render R32Float, and reads an
-// integer texture's upper mips as 0.) One dispatch per level from level 1 up, in order.
+// integer texture's upper mips as 0.) One dispatch per level from level 1 up, in order: level 1 by cs_first, which reads the
+// depth buffer, the others by cs_build, which read the level below in the buffer.
 #import pyramid_layout
 
 @group(0) @binding(0) var depth_buffer: texture_2d<f32>;
@@ -17,6 +18,46 @@
 @group(0) @binding(2) var<uniform> step: vec4<u32>;
 @group(0) @binding(3) var<storage, read_write> pyramid: array<u32>;
 
+// The texels of the level below that texel `id` of level `level` covers, (2x, 2y) to
+// (2x + 1, 2y + 1), and its last row and column too where its size is odd and this texel
+// is the last one: the first (`base`), the last offset (`extra`) and that level's size.
+struct Footprint {
+    base: vec2<u32>,
+    extra: vec2<u32>,
+    size: vec2<u32>,
+}
+
+fn footprint(level: u32, id: vec2<u32>) -> Footprint {
+    let below = levels.levels[level - 1u];
+    var f: Footprint;
+    f.size = vec2<u32>(below.y, below.z);
+    f.base = id * 2u;
+    let odd = ((f.size & vec2<u32>(1u)) == vec2<u32>(1u)) & (f.base + vec2<u32>(3u) > f.size);
+    f.extra = select(vec2<u32>(1u), vec2<u32>(2u), odd);
+    return f;
+}
+
+// Level 1, from the depth buffer. It has its own entry point so that neither dispatch
+// carries the other's loads: a SIMD rasterizer such as llvmpipe runs both sides of a
+// branch under a lane mask.
+@compute @workgroup_size(8, 8)
+fn cs_first(@builtin(global_invocation_id) id: vec3<u32>) {
+    let l = levels.levels[1];
+    if id.x >= l.y || id.y >= l.z {
+        return;
+    }
+    let f = footprint(1u, id.xy);
+    var nearest = 0u;
+    for (var dy = 0u; dy <= f.extra.y; dy++) {
+        for (var dx = 0u; dx <= f.extra.x; dx++) {
+            let q = min(f.base + vec2<u32>(dx, dy), f.size - vec2<u32>(1u));
+            nearest = max(nearest, bitcast<u32>(max(textureLoad(depth_buffer, vec2<i32>(q), 0).r, 0.0)));
+        }
+    }
+    pyramid[l.x + id.y * l.y + id.x] = nearest;
+}
+
+// Level step.x ≥ 2, from the level below in the buffer.
 @compute @workgroup_size(8, 8)
 fn cs_build(@builtin(global_invocation_id) id: vec3<u32>) {
     let level = step.x;
@@ -24,22 +65,13 @@ fn cs_build(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= l.y || id.y >= l.z {
         return;
     }
-    // The texels (2x, 2y) to (2x + 1, 2y + 1) of the level below, and its last row and
-    // column too where its size is odd and this texel is the last one.
-    let below = levels.levels[level - 1u];
-    let size = vec2<u32>(below.y, below.z);
-    let base = id.xy * 2u;
-    let odd = ((size & vec2<u32>(1u)) == vec2<u32>(1u)) & (base + vec2<u32>(3u) > size);
-    let extra = select(vec2<u32>(1u), vec2<u32>(2u), odd);
+    let f = footprint(level, id.xy);
+    let first = levels.levels[level - 1u].x;
     var nearest = 0u;
-    for (var dy = 0u; dy <= extra.y; dy++) {
-        for (var dx = 0u; dx <= extra.x; dx++) {
-            let q = min(base + vec2<u32>(dx, dy), size - vec2<u32>(1u));
-            if level == 1u {
-                nearest = max(nearest, bitcast<u32>(max(textureLoad(depth_buffer, vec2<i32>(q), 0).r, 0.0)));
-            } else {
-                nearest = max(nearest, pyramid[below.x + q.y * size.x + q.x]);
-            }
+    for (var dy = 0u; dy <= f.extra.y; dy++) {
+        for (var dx = 0u; dx <= f.extra.x; dx++) {
+            let q = min(f.base + vec2<u32>(dx, dy), f.size - vec2<u32>(1u));
+            nearest = max(nearest, pyramid[first + q.y * f.size.x + q.x]);
         }
     }
     pyramid[l.x + id.y * l.y + id.x] = nearest;

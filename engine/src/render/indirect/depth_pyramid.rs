@@ -110,8 +110,9 @@ pub struct Pyramid {
 pub struct DepthPyramidPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    /// Compiled when the pass first runs.
-    pipeline: Option<wgpu::ComputePipeline>,
+    /// Compiled when the pass first runs: level 1's (`cs_first`, from the depth buffer)
+    /// and the levels' above (`cs_build`, from the level below).
+    pipelines: Option<[wgpu::ComputePipeline; 2]>,
     /// One uniform per level: the level its dispatch writes.
     steps: Vec<wgpu::Buffer>,
     /// The pyramid, once a frame has needed it.
@@ -178,7 +179,7 @@ impl DepthPyramidPass {
         DepthPyramidPass {
             layout,
             pipeline_layout,
-            pipeline: None,
+            pipelines: None,
             steps,
             pyramid: None,
             generation: 0,
@@ -187,7 +188,7 @@ impl DepthPyramidPass {
     }
 
     fn pipeline(&mut self, gpu: &Gpu) -> Result<()> {
-        if self.pipeline.is_some() {
+        if self.pipelines.is_some() {
             return Ok(());
         }
         let module = create_module(
@@ -195,17 +196,19 @@ impl DepthPyramidPass {
             "depth pyramid",
             &gpu.shaders.compose("depth_pyramid.wgsl", &[])?,
         )?;
-        let pipeline = gpu.checked("depth pyramid pipeline", |device| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("depth pyramid"),
-                layout: Some(&self.pipeline_layout),
-                module: &module,
-                entry_point: Some("cs_build"),
-                compilation_options: Default::default(),
-                cache: None,
+        let entry = |entry_point: &str| {
+            gpu.checked("depth pyramid pipeline", |device| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("depth pyramid"),
+                    layout: Some(&self.pipeline_layout),
+                    module: &module,
+                    entry_point: Some(entry_point),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
             })
-        })?;
-        self.pipeline = Some(pipeline);
+        };
+        self.pipelines = Some([entry("cs_first")?, entry("cs_build")?]);
         Ok(())
     }
 }
@@ -321,10 +324,10 @@ pub fn prepare_pyramid(
 /// Records one dispatch per level from level 1 up (each reads the one below it).
 pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(p), Some(pipeline)) = (
+    let (Some(encoder), Some(p), Some([first, above])) = (
         encoder.as_mut(),
         pass.pyramid.as_ref(),
-        pass.pipeline.as_ref(),
+        pass.pipelines.as_ref(),
     ) else {
         return;
     };
@@ -334,8 +337,8 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
             label: Some("depth pyramid"),
             timestamp_writes: timer.compute_writes(&scope),
         });
-        cp.set_pipeline(pipeline);
-        for (group, level) in p.groups.iter().zip(&p.levels.levels[1..]) {
+        for (k, (group, level)) in p.groups.iter().zip(&p.levels.levels[1..]).enumerate() {
+            cp.set_pipeline(if k == 0 { first } else { above });
             cp.set_bind_group(0, group, &[]);
             cp.dispatch_workgroups(level[1].div_ceil(8), level[2].div_ceil(8), 1);
         }
