@@ -8,8 +8,9 @@
 // the bits of the depths: depths are ≥ 0, whose bit patterns order as the numbers do, so
 // the maximum of the bits is the bits of the maximum. (A mip chain of an R32Float or
 // R32Uint texture does not serve every backend: GL cannot render R32Float, and reads an
-// integer texture's upper mips as 0.) One dispatch per level from level 1 up, in order: level 1 by cs_first, which reads the
-// depth buffer, the others by cs_build, which read the level below in the buffer.
+// integer texture's upper mips as 0.) One dispatch per level from level 1 up, in order:
+// level 1 by cs_first, which reads the depth buffer, the others by cs_build, which read
+// the level below in the buffer.
 #import pyramid_layout
 
 @group(0) @binding(0) var depth_buffer: texture_2d<f32>;
