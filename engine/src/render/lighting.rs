@@ -90,8 +90,9 @@ pub struct LightingVariant {
     pub ao_multi_bounce: bool,
     /// Diffuse indirect light from the irradiance volume's probes.
     pub irradiance_volume: bool,
-    /// Specular indirect light from reflection probes.
-    pub reflection_probes: bool,
+    /// Specular indirect light from reflection probes: the probe slots looked up
+    /// ([`ReflectionProbesGpu::slots`]), 0 for none.
+    pub reflection_probes: u32,
     /// Unshadowed point and spot lights come from the tile lists of the culling pass.
     pub light_culling: bool,
     /// Every light fits the uniform copy of the light array (read from it, not from the
@@ -258,7 +259,11 @@ impl FramePass for LightingPass {
             screen_ao,
             ao_multi_bounce: screen_ao && quality.ao.multi_bounce,
             irradiance_volume: irradiance_volume.enabled,
-            reflection_probes: reflection_probes.enabled,
+            reflection_probes: if reflection_probes.enabled {
+                reflections.slots()
+            } else {
+                0
+            },
             light_culling: plan.runs(PassId::LightCulling),
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views_fit_uniform(frame),
@@ -415,7 +420,8 @@ impl LightingPass {
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
             ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
             ShaderDef::Bool("IRRADIANCE_VOLUME", variant.irradiance_volume),
-            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes),
+            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes > 0),
+            ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("SHEEN_LOBE", false),
             ShaderDef::Bool("RELIT_BASE", false),

@@ -251,10 +251,18 @@ impl ReflectionProbesGpu {
         self.write_uniform(gpu);
     }
 
+    /// The slots the shaders look up: the last captured slot + 1 (0 with no capture).
+    /// The lighting and reflection passes compile it in (`REFLECTION_PROBE_SLOTS`).
+    pub fn slots(&self) -> u32 {
+        self.captured
+            .iter()
+            .rposition(Option::is_some)
+            .map_or(0, |slot| slot as u32 + 1)
+    }
+
     /// Writes the uniform: the captured probes, in slot order.
     pub fn write_uniform(&self, gpu: &Gpu) {
         let mut data = GpuReflectionProbes::default();
-        let mut n = 0;
         for (slot, c) in self.captured.iter().enumerate() {
             if let Some(c) = c {
                 data.items[slot] = GpuReflectionProbe {
@@ -266,10 +274,9 @@ impl ReflectionProbesGpu {
                         .into(),
                     exposure: [c.exposure, 0.0, 0.0, 0.0],
                 };
-                n = slot as u32 + 1;
             }
         }
-        data.count = [n, 0, 0, 0];
+        data.count = [self.slots(), 0, 0, 0];
         gpu.queue
             .write_buffer(&self.uniform, 0, bytemuck::bytes_of(&data));
     }

@@ -90,8 +90,9 @@ pub struct SsrVariant {
     pub energy_compensation: bool,
     /// The AO pass's occlusion enters the specular occlusion, as in lighting.
     pub screen_ao: bool,
-    /// Rays that miss fall back to the reflection probes (then the environment).
-    pub reflection_probes: bool,
+    /// Rays that miss fall back to the reflection probes (then the environment): the
+    /// probe slots looked up ([`ReflectionProbesGpu::slots`]), 0 for none.
+    pub reflection_probes: u32,
     /// The HDR target's format.
     pub format: wgpu::TextureFormat,
     /// Traced at half resolution, then composited.
@@ -137,11 +138,7 @@ impl FramePass for SsrPass {
             env_map: env.is_some_and(|e| e.image.is_some()),
             energy_compensation: quality.energy_compensation,
             screen_ao: plan.runs(PassId::AmbientOcclusion),
-            reflection_probes: world
-                .resource::<ReflectionProbesGpu>()
-                .captured
-                .iter()
-                .any(Option::is_some),
+            reflection_probes: world.resource::<ReflectionProbesGpu>().slots(),
             format: quality.hdr_precision.format(),
             half: ssr.half_resolution,
         };
@@ -159,7 +156,7 @@ impl FramePass for SsrPass {
         let fallback = Decision::new(
             "reflection fallback",
             skip.is_none(),
-            match (variant.reflection_probes, variant.environment) {
+            match (variant.reflection_probes > 0, variant.environment) {
                 (true, _) => "the reflection probes, then the environment, where a ray misses",
                 (false, true) => "the environment where a ray misses",
                 (false, false) => "no probe or environment: a ray that misses reflects nothing",
@@ -260,7 +257,8 @@ impl SsrPass {
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
-            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes),
+            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes > 0),
+            ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
         ]
     }
 
