@@ -16,11 +16,13 @@
 //
 // At full resolution fs_mark_full marks the pixels smooth enough to trace in a depth
 // target, and fs_main, depth-tested against it, writes their reflections. At half
-// resolution fs_trace_half traces one pixel per 2×2 block into a half-size target (the
-// hits' mean light and the fraction that hit), fs_mark_half marks the pixels that get
-// hits, and fs_composite_half gives them the hits of their block's pixel on the same
-// surface, each with its own weight and environment term. Unmarked pixels keep the lit
-// frame already in the HDR target.
+// resolution fs_mark_trace_half marks the 2×2 blocks whose traced pixel (the top-left
+// one) is smooth enough, in a half-size depth target; fs_trace_half, depth-tested against
+// it, traces those pixels into a half-size target (the hits' mean light and the fraction
+// that hit; 0 elsewhere, its clear value); fs_mark_half marks the pixels that get hits,
+// and fs_composite_half gives them the hits of their block's pixel on the same surface,
+// each with its own weight and environment term. Unmarked pixels keep the lit frame
+// already in the HDR target.
 //
 // Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
 // SCREEN_AO, REFLECTION_PROBES (bool), as the lighting pass compiles them. Group 3 is the
@@ -314,12 +316,29 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return with_reflection(lit, t, hits);
 }
 
-// Half resolution, step 1: the hits of the top-left pixel of each 2×2 block (0 where it
-// traces nothing).
+// The pixel that traces for the 2×2 block at half-resolution fragment `frag`: its
+// top-left one.
+fn block_pixel(frag: vec2<f32>) -> vec2<i32> {
+    let size = vec2<i32>(textureDimensions(depth_buffer));
+    return min(vec2<i32>(frag) * 2, size - vec2<i32>(1));
+}
+
+// Half resolution, step 1: marks the blocks whose pixel traces. Without it, every SIMD
+// group of the trace that holds one such block would run the rays for all of its blocks
+// (masked), and the many that hold none would still pay for a pass through the loops.
+@fragment
+fn fs_mark_trace_half(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
+    let pixel = block_pixel(frag.xy);
+    if !reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb).traced {
+        discard;
+    }
+    return 1.0;
+}
+
+// Half resolution, step 2, on the marked blocks: the hits of the block's pixel.
 @fragment
 fn fs_trace_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let size = vec2<i32>(textureDimensions(depth_buffer));
-    let pixel = min(vec2<i32>(frag.xy) * 2, size - vec2<i32>(1));
+    let pixel = block_pixel(frag.xy);
     let s = reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb);
     if !s.traced {
         return vec4<f32>(0.0);
@@ -341,7 +360,7 @@ fn block_hits(pixel: vec2<i32>) -> vec4<f32> {
     return textureLoad(half_added, cell, 0);
 }
 
-// Half resolution, step 2: marks the pixels whose block has a hit to give them (a pixel
+// Half resolution, step 3: marks the pixels whose block has a hit to give them (a pixel
 // with no hit would add W · (0 − 0 · E) = 0).
 @fragment
 fn fs_mark_half(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
@@ -351,7 +370,7 @@ fn fs_mark_half(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 
     return 1.0;
 }
 
-// Half resolution, step 3, on the marked pixels only: each takes its block's hits, with
+// Half resolution, step 4, on the marked pixels only: each takes its block's hits, with
 // its own weight and environment term.
 @fragment
 fn fs_composite_half(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {

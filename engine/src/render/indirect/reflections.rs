@@ -198,7 +198,7 @@ pub struct SsrPass {
     /// (composite).
     pipeline_layouts: [wgpu::PipelineLayout; 2],
     /// Per variant: the full-resolution mark and trace pipelines, or the half-resolution
-    /// trace, mark and composite pipelines.
+    /// trace mark, trace, composite mark and composite pipelines.
     pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
     color: Option<Target>,
@@ -207,6 +207,9 @@ pub struct SsrPass {
     /// The pixels the last step shades: depth 1 where a pixel traces (full resolution) or
     /// its block has a hit (half), 0 elsewhere; at full size.
     mask: Option<Target>,
+    /// The blocks the half-resolution trace shades: depth 1 where the block's pixel
+    /// traces; at half size.
+    half_mask: Option<Target>,
     bind_groups: Option<(Generations, [wgpu::BindGroup; 5])>,
 }
 
@@ -244,6 +247,7 @@ impl SsrPass {
             color: None,
             half: None,
             mask: None,
+            half_mask: None,
             bind_groups: None,
         }
     }
@@ -284,7 +288,18 @@ impl SsrPass {
         };
         let pipelines = if variant.half {
             vec![
-                pipeline(0, "fs_trace_half", &[HALF_FORMAT], None)?,
+                pipeline(
+                    0,
+                    "fs_mark_trace_half",
+                    &[],
+                    Some(mask_depth_state(MaskDepth::Mark)),
+                )?,
+                pipeline(
+                    0,
+                    "fs_trace_half",
+                    &[HALF_FORMAT],
+                    Some(mask_depth_state(MaskDepth::Test)),
+                )?,
                 pipeline(
                     1,
                     "fs_mark_half",
@@ -373,6 +388,7 @@ pub fn prepare_ssr(
         pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
         let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
         pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
+        pass.half_mask = Some(Target::new(&gpu, "ssr half mask", half, DEPTH_FORMAT));
         pass.mask = Some(Target::new(&gpu, "ssr mask", t.size, DEPTH_FORMAT));
         pass.bind_groups = None;
     }
@@ -460,9 +476,10 @@ struct Step<'a> {
 
 /// Records the copy of the lit frame and the steps that write its reflections into the
 /// HDR target (no blending: f32 targets are not blendable). At full resolution, the mark
-/// of the pixels that trace, then their trace. At half resolution, the trace into the
-/// half-size target, the mark of the pixels that get hits, and their composite. The last
-/// step shades only the marked pixels, over the lit frame the HDR target already holds.
+/// of the pixels that trace, then their trace. At half resolution, the mark of the blocks
+/// that trace and their trace into the half-size target, then the mark of the pixels that
+/// get hits and their composite. The last step shades only the marked pixels, over the lit
+/// frame the HDR target already holds.
 pub fn ssr_pass(
     plan: Res<FramePlan>,
     pass: Res<SsrPass>,
@@ -470,14 +487,24 @@ pub fn ssr_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(color), Some(half), Some(mask), Some((_, groups))) = (
+    let (
+        Some(encoder),
+        Some(t),
+        Some(color),
+        Some(half),
+        Some(mask),
+        Some(half_mask),
+        Some((_, groups)),
+    ) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         pass.color.as_ref(),
         pass.half.as_ref(),
         pass.mask.as_ref(),
+        pass.half_mask.as_ref(),
         pass.bind_groups.as_ref(),
-    ) else {
+    )
+    else {
         return;
     };
     let (Some(hdr), Some(pipelines)) = (
@@ -513,11 +540,17 @@ pub fn ssr_pass(
                 groups: without_hits,
             },
         ],
-        [trace, mark, composite] => vec![
+        [mark_trace, trace, mark, composite] => vec![
+            Step {
+                pipeline: mark_trace,
+                color: None,
+                mask: Some((&half_mask.view, wgpu::LoadOp::Clear(0.0))),
+                groups: without_hits,
+            },
             Step {
                 pipeline: trace,
                 color: Some((&half.view, clear)),
-                mask: None,
+                mask: Some((&half_mask.view, wgpu::LoadOp::Load)),
                 groups: without_hits,
             },
             Step {
