@@ -1,7 +1,7 @@
 //! Reflection probes: the floor seen in the metal spheres of `spheres` against the path
 //! tracer, capture bookkeeping (a probe captured once is not captured again while the
-//! scene is unchanged), the plan's reasons, and robustness (a probe inside a mesh, a box of
-//! zero size).
+//! scene is unchanged), two probes' blend, the plan's reasons, and robustness (a probe
+//! inside a mesh, a box of zero size).
 
 use crate::common;
 
@@ -208,6 +208,113 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
     );
     common::assert_finite(&app);
 }
+/// `small_scene` with a red and a green box standing off-centre, without screen-space
+/// reflections, and with those of two probes on either side of the sphere that `which`
+/// keeps. Captured from either side, the two probes reflect the boxes at different places
+/// on the sphere.
+fn two_probe_scene(which: [bool; 2]) -> App {
+    let mut app = small_scene();
+    let cube = app.add_mesh(cuboid(Vec3::splat(0.8))).expect("box");
+    let world = app.world_mut();
+    let probe = world
+        .query_filtered::<Entity, With<ReflectionProbe>>()
+        .single(world)
+        .expect("probe");
+    world.despawn(probe);
+    for (colour, x, z) in [
+        (Vec3::new(0.8, 0.05, 0.05), -1.3, 0.6),
+        (Vec3::new(0.05, 0.8, 0.05), 1.3, -0.6),
+    ] {
+        world.spawn((
+            Mesh3d(cube),
+            Material::new(colour, 0.0, 0.6),
+            Transform::from_xyz(x, 0.4, z),
+        ));
+    }
+    for (keep, position) in which
+        .into_iter()
+        .zip([Vec3::new(-1.5, 1.0, 1.5), Vec3::new(1.5, 1.0, -1.5)])
+    {
+        if keep {
+            world.spawn((
+                ReflectionProbe::new(Vec3::new(5.0, 3.0, 5.0)),
+                Transform::from_translation(position),
+            ));
+        }
+    }
+    world.resource_mut::<Quality>().ssr.enabled = false;
+    app
+}
+
+/// Two probes whose boxes both hold the mirror sphere deep inside (weight 1 each) blend
+/// equally there: the frame with both is, on the sphere's pixels, the mean of the frames
+/// with each alone. It also runs the shaders compiled for two probe slots
+/// (`REFLECTION_PROBE_SLOTS` 2).
+#[test]
+fn two_probes_blend_by_their_box_weights() {
+    let size = (96, 64);
+    let mut frames = Vec::new();
+    for which in [[true, true], [true, false], [false, true]] {
+        let mut app = two_probe_scene(which);
+        let report = app.render_headless(size).expect("frame");
+        let placed = which.iter().filter(|k| **k).count();
+        assert_eq!(
+            decision(&report),
+            (
+                true,
+                format!("{placed} placed, {placed} captured (parallax-corrected boxes)")
+            )
+        );
+        common::assert_finite(&app);
+        frames.push((app.read_hdr_image().expect("hdr"), app));
+    }
+    // The sphere's pixels: points on the part of it that faces the camera (radius 0.5 at
+    // (0, 0.5, 0)), every 10°, away from its rim, past which lies floor outside one box.
+    let app = &frames[0].1;
+    let mut pixels = Vec::new();
+    for up in (-80..=80).step_by(10) {
+        for side in (-80..=80).step_by(10) {
+            let (b, a) = ((up as f32).to_radians(), (side as f32).to_radians());
+            let n = Vec3::new(b.cos() * a.sin(), b.sin(), b.cos() * a.cos());
+            let toward = (Vec3::new(0.0, 1.5, 4.0) - Vec3::new(0.0, 0.5, 0.0)).normalize();
+            if n.dot(toward) > 0.6 {
+                pixels.push(common::pixel_of(
+                    app,
+                    Vec3::new(0.0, 0.5, 0.0) + 0.5 * n,
+                    size,
+                ));
+            }
+        }
+    }
+    pixels.sort_unstable();
+    pixels.dedup();
+    let sum = |image: &image::Rgba32FImage, (x, y): (u32, u32)| {
+        let p = image.get_pixel(x, y).0;
+        p[0] + p[1] + p[2]
+    };
+    let (mut worst, mut apart) = (0f32, 0f32);
+    for &at in &pixels {
+        let (both, a, b) = (
+            sum(&frames[0].0, at),
+            sum(&frames[1].0, at),
+            sum(&frames[2].0, at),
+        );
+        let mean = 0.5 * (a + b);
+        worst = worst.max((both - mean).abs() / mean.max(1e-6));
+        apart = apart.max((a - b).abs() / mean.max(1e-6));
+    }
+    println!(
+        "{} sphere pixels: both against the mean of each alone, worst {worst:.4}; the two alone differ by up to {apart:.3} of their mean",
+        pixels.len()
+    );
+    // The two alone must differ for the mean to say anything.
+    assert!(apart > 0.2, "the probes reflect the same: {apart}");
+    assert!(
+        worst < 0.003,
+        "both against the mean of each alone: {worst}"
+    );
+}
+
 /// A mirror sphere on a floor, a red wall to its left, and a probe above and in front:
 /// the probe's reflection of the floor (below) and of the wall (left) against the path
 /// tracer, pixel by pixel. This checks the capture, the face orientation, the prefilter
