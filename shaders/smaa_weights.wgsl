@@ -64,18 +64,29 @@ struct End {
 // pixel to the step's side, past the boundary) is shorter than 2 pixels: a long segment
 // beside a short one is a shape's corner with a slanted side. The line reaches as far as
 // the next stair is long (the whole half segment for MAX_STAIR or more). Only the sides
-// with a crossing edge are measured.
+// with a crossing edge are measured. A thin feature's end is a step with a full reach,
+// whatever the next stair: the segment's edge stops there, no stair follows, and the
+// edge on the step's side of the segment's last two pixels (the feature's other side)
+// stops there too. That is a dash one pixel thick, SMAA's U pattern, whose corners it
+// cuts; the stair rules alone left it untouched.
 fn segment_end(b: vec2<i32>, out: vec2<i32>, outward: vec2<i32>, across: vec2<i32>,
                own: vec2<f32>, cross: vec2<f32>, long: bool) -> End {
     let c = crossing(b, across, cross);
+    let inside = out - outward;
     var stairs = vec2<i32>(0);
     var corner = vec2<bool>(false);
     if c.x > 0.5 {
         stairs.x = stair_length(out + across, outward, own);
+        let thin = has_edge(inside + across, own) && has_edge(inside + across - outward, own)
+            && !has_edge(out, own) && stairs.x == 0;
+        stairs.x = select(stairs.x, MAX_STAIR, thin);
         corner.x = has_edge(b + 2 * across, cross) || (long && stairs.x < 2);
     }
     if c.y > 0.5 {
         stairs.y = stair_length(out - across, outward, own);
+        let thin = has_edge(inside - across, own) && has_edge(inside - across - outward, own)
+            && !has_edge(out, own) && stairs.y == 0;
+        stairs.y = select(stairs.y, MAX_STAIR, thin);
         corner.y = has_edge(b - across, cross) || (long && stairs.y < 2);
     }
     let height = smaa_end_height(c, select(vec2<f32>(0.0), vec2<f32>(1.0), corner));

@@ -115,6 +115,49 @@ fn smaa_follows_staircases_and_leaves_straight_edges_alone() {
     }
 }
 
+/// [`edge_scene`] with its plane replaced by a bar of the same radiance half a pixel thick
+/// and 1.6 m (51 pixels) long, across the frame's centre and turned by atan(1/16) about
+/// the view axis: without anti-aliasing, a row of one-pixel-thick dashes, each ending in
+/// a one-pixel step.
+fn thin_bar_scene() -> App {
+    let mut app = edge_scene();
+    let bar = app.add_mesh(plane(1.6, 0.5 / 32.0)).expect("bar");
+    let world = app.world_mut();
+    let mut planes = world.query::<(&mut Mesh3d, &mut Transform)>();
+    for (mut mesh, mut t) in planes.iter_mut(world) {
+        *mesh = Mesh3d(bar);
+        *t = Transform::IDENTITY.with_rotation(
+            Quat::from_rotation_z((1.0f32 / 16.0).atan())
+                * Quat::from_rotation_x(std::f32::consts::FRAC_PI_2),
+        );
+    }
+    app
+}
+
+#[test]
+fn smaa_blends_the_ends_of_a_thin_bars_dashes() {
+    // A dash one pixel thick has a step at each end on the same side, above and below:
+    // SMAA's U pattern, which cuts its corners. Against 64 jittered renders, on the pixels
+    // that either frame lights, SMAA's error is below 0.8 of the unfiltered frame's.
+    let mut app = thin_bar_scene();
+    let truth = edge_image(&mut app, AaMethod::None, 64);
+    let none = edge_image(&mut app, AaMethod::None, 1);
+    let smaa = edge_image(&mut app, AaMethod::Smaa, 1);
+    let lit: Vec<usize> = (0..truth.len())
+        .filter(|&i| truth[i] > 0.02 || none[i] > 0.02)
+        .collect();
+    assert!(lit.len() > 50, "{} pixels near the bar", lit.len());
+    let error = |img: &[f32]| {
+        lit.iter().map(|&i| (img[i] - truth[i]).abs()).sum::<f32>() / lit.len() as f32
+    };
+    let (none, smaa) = (error(&none), error(&smaa));
+    eprintln!(
+        "thin bar ({} px): error none {none:.4}, smaa {smaa:.4}",
+        lit.len()
+    );
+    assert!(smaa < 0.8 * none, "smaa {smaa} vs none {none}");
+}
+
 #[test]
 fn accumulation_gives_the_box_filtered_pixel_at_an_edge() {
     let size = (64, 64);
@@ -463,9 +506,10 @@ fn anti_aliasing_reduces_the_error_on_silhouettes() {
     );
     assert!(fxaa < 0.75 * none, "fxaa {fxaa} vs none {none}");
     // SMAA rebuilds lines from the staircases of solid edges; this band is mostly
-    // sub-pixel wires and rails, drawn as dashes, which no one-frame filter can join
-    // (measured: 0.96 of none's error; on staircases it removes 80 %, the test above).
-    assert!(smaa < 0.99 * none, "smaa {smaa} vs none {none}");
+    // sub-pixel wires and rails, drawn as dashes, which no one-frame filter can join. It
+    // cuts the dashes' corners (measured: 0.73 of none's error, 0.96 before it did; on
+    // staircases it removes 80 %, the test above).
+    assert!(smaa < 0.85 * none, "smaa {smaa} vs none {none}");
     assert!(taa < 0.6 * none, "taa {taa} vs none {none}");
     assert!(
         accumulated < 0.6 * none,
