@@ -102,6 +102,14 @@ fn small_scene() -> App {
     app
 }
 
+/// The one reflection probe of `small_scene`.
+fn scene_probe(world: &mut World) -> Entity {
+    world
+        .query_filtered::<Entity, With<ReflectionProbe>>()
+        .single(world)
+        .expect("probe")
+}
+
 const SIZE: (u32, u32) = (48, 32);
 
 fn decision(report: &FrameReport) -> (bool, String) {
@@ -167,10 +175,7 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
             Material::new(Vec3::splat(0.7), 0.0, 0.6),
             Transform::from_xyz(2.0, 0.5, 0.0),
         ));
-        let probe = world
-            .query_filtered::<Entity, With<ReflectionProbe>>()
-            .single(world)
-            .expect("probe");
+        let probe = scene_probe(world);
         world.entity_mut(probe).insert((
             ReflectionProbe::new(half),
             Transform::from_translation(position),
@@ -182,10 +187,7 @@ fn no_nan_with_a_probe_inside_a_mesh_or_a_box_of_zero_size() {
     // No probe of its own and automatic placement off: no probe work, with the reason.
     let mut app = small_scene();
     let world = app.world_mut();
-    let probe = world
-        .query_filtered::<Entity, With<ReflectionProbe>>()
-        .single(world)
-        .expect("probe");
+    let probe = scene_probe(world);
     world.despawn(probe);
     world.resource_mut::<Quality>().reflection_probes.auto_place = false;
     let report = app.render_headless(SIZE).expect("frame");
@@ -216,10 +218,7 @@ fn two_probe_scene(which: [bool; 2]) -> App {
     let mut app = small_scene();
     let cube = app.add_mesh(cuboid(Vec3::splat(0.8))).expect("box");
     let world = app.world_mut();
-    let probe = world
-        .query_filtered::<Entity, With<ReflectionProbe>>()
-        .single(world)
-        .expect("probe");
+    let probe = scene_probe(world);
     world.despawn(probe);
     for (colour, x, z) in [
         (Vec3::new(0.8, 0.05, 0.05), -1.3, 0.6),
