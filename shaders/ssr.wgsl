@@ -291,11 +291,15 @@ fn with_reflection(lit: vec4<f32>, t: Terms, hits: vec4<f32>) -> vec4<f32> {
 // frame the HDR target already holds. A branch alone would not spare them on a SIMD
 // rasterizer such as llvmpipe, which runs both sides under a lane mask.
 
+// Whether `pixel` traces: what the mark steps test.
+fn traces(pixel: vec2<i32>) -> bool {
+    return reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb).traced;
+}
+
 // Full resolution, step 1: marks the pixels that trace.
 @fragment
 fn fs_mark_full(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
-    let pixel = vec2<i32>(frag.xy);
-    if !reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb).traced {
+    if !traces(vec2<i32>(frag.xy)) {
         discard;
     }
     return 1.0;
@@ -328,8 +332,7 @@ fn block_pixel(frag: vec2<f32>) -> vec2<i32> {
 // (masked), and the many that hold none would still pay for a pass through the loops.
 @fragment
 fn fs_mark_trace_half(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
-    let pixel = block_pixel(frag.xy);
-    if !reflecting_surface(pixel, textureLoad(scene_color, pixel, 0).rgb).traced {
+    if !traces(block_pixel(frag.xy)) {
         discard;
     }
     return 1.0;
