@@ -6,7 +6,7 @@
 // that crosses the surface within the pixel, or enters it at most `thickness_m` behind
 // the surface, hits it. A hit returns the lit frame
 // there (one bounce); a miss, a ray below the surface or one leaving the screen returns
-// the reflection probes' prefiltered radiance (REFLECTION_PROBES) blended with the
+// the reflection probes' prefiltered radiance (REFLECTION_PROBE_SLOTS > 0) blended with the
 // environment's, as lighting already added it.
 //
 // The pass writes the lit frame (read from its copy) plus W · (L̄ − E): W the split-sum specular weight
@@ -24,8 +24,8 @@
 // each with its own weight and environment term. Unmarked pixels keep the lit frame
 // already in the HDR target.
 //
-// Header constants: RAYS, STEPS (u32), HAS_ENVIRONMENT, ENV_MAP, ENERGY_COMPENSATION,
-// SCREEN_AO, REFLECTION_PROBES (bool), as the lighting pass compiles them. Group 3 is the
+// Header constants: RAYS, STEPS, REFLECTION_PROBE_SLOTS (u32), HAS_ENVIRONMENT, ENV_MAP,
+// ENERGY_COMPENSATION, SCREEN_AO (bool), as the lighting pass compiles them. Group 3 is the
 // lighting pass's (volume_lookup.wgsl declares the volume's bindings, unused here).
 #import common
 #import brdf
@@ -245,7 +245,7 @@ fn reflection_terms(pixel: vec2<i32>, s: Reflector) -> Terms {
     t.weight = (f0 * dfg.x + vec3<f32>(dfg.y)) * energy * specular_occlusion(n_dot_v, ao, s.r) * fade;
     let reflected = 2.0 * dot(s.n, s.v) * s.n - s.v;
     t.fallback = environment_radiance(reflected, s.r);
-    if REFLECTION_PROBES {
+    if REFLECTION_PROBE_SLOTS > 0u {
         t.fallback = probe_reflection(s.p, reflected, s.r, t.fallback, view.position_exposure.w);
     }
     return t;

@@ -14,8 +14,9 @@
 // SCREEN_AO and AO_MULTI_BOUNCE (the AO pass's occlusion on environment light, with the
 // multiple-bounce fit), IRRADIANCE_VOLUME (diffuse indirect light from the probe grid,
 // volume_lookup.wgsl, in place of the environment's irradiance once a capture pass has
-// completed), REFLECTION_PROBES (specular indirect light from the reflection probes,
-// probe_reflections.wgsl, blended with the environment's).
+// completed), REFLECTION_PROBE_SLOTS (u32: the reflection probe slots looked up for
+// specular indirect light, probe_reflections.wgsl, blended with the environment's; 0
+// for none).
 //
 // Shadowed lights come first within their kind and get their own loop: software
 // rasterizers (llvmpipe) run both sides of a branch, so shadow code in a loop over
@@ -248,7 +249,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
                      n_dot_v, relit_lobe.film);
     }
     var dfg = vec2<f32>(1.0, 0.0);
-    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
+    if ENERGY_COMPENSATION || HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBE_SLOTS > 0u {
         dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, r), 0.0).rg;
         if RELIT_BASE && relit_dfg.x >= 0.0 {
             dfg = relit_dfg;
@@ -257,7 +258,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
     if ENERGY_COMPENSATION {
         specular_energy = energy_compensation(f0, dfg);
     }
-    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBES {
+    if HAS_ENVIRONMENT || IRRADIANCE_VOLUME || REFLECTION_PROBE_SLOTS > 0u {
         // Split sum (Karis 2013): prefiltered radiance × (F0·A + B); diffuse from SH
         // irradiance weighted by what the specular lobe leaves, (1 − E_spec), so a white
         // surface in a uniform environment returns exactly that environment. Inside an
@@ -300,7 +301,7 @@ fn surface_light(p: ShadingPoint, surface: Surface) -> vec3<f32> {
                 prefiltered = textureSampleLevel(env_cube, env_sampler, reflected, r * environment.params.z).rgb * environment.params.x;
             }
         }
-        if REFLECTION_PROBES {
+        if REFLECTION_PROBE_SLOTS > 0u {
             prefiltered = probe_reflection(world, reflected_world, r, prefiltered, view.position_exposure.w);
         }
         if IRRADIANCE_VOLUME {

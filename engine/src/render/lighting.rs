@@ -420,7 +420,6 @@ impl LightingPass {
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
             ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
             ShaderDef::Bool("IRRADIANCE_VOLUME", variant.irradiance_volume),
-            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes > 0),
             ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
             ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
             ShaderDef::Bool("SHEEN_LOBE", false),

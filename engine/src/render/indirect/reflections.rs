@@ -261,7 +261,6 @@ impl SsrPass {
             ShaderDef::Bool("ENV_MAP", variant.env_map),
             ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
             ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
-            ShaderDef::Bool("REFLECTION_PROBES", variant.reflection_probes > 0),
             ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
         ]
     }
