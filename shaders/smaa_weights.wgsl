@@ -51,6 +51,17 @@ fn stair_length(first: vec2<i32>, outward: vec2<i32>, own: vec2<f32>) -> i32 {
     return n;
 }
 
+// The next stair's length past the segment's end on the `side` of the segment (`out` the
+// first pixel past the end, `inside` the last one in it), MAX_STAIR for a thin feature's
+// end (segment_end).
+fn next_stair(out: vec2<i32>, inside: vec2<i32>, outward: vec2<i32>, side: vec2<i32>,
+              own: vec2<f32>) -> i32 {
+    let n = stair_length(out + side, outward, own);
+    let thin = has_edge(inside + side, own) && has_edge(inside + side - outward, own)
+        && !has_edge(out, own) && n == 0;
+    return select(n, MAX_STAIR, thin);
+}
+
 // One end of a segment: the silhouette's height there and how far its line reaches.
 struct End {
     height: f32,
@@ -76,17 +87,11 @@ fn segment_end(b: vec2<i32>, out: vec2<i32>, outward: vec2<i32>, across: vec2<i3
     var stairs = vec2<i32>(0);
     var corner = vec2<bool>(false);
     if c.x > 0.5 {
-        stairs.x = stair_length(out + across, outward, own);
-        let thin = has_edge(inside + across, own) && has_edge(inside + across - outward, own)
-            && !has_edge(out, own) && stairs.x == 0;
-        stairs.x = select(stairs.x, MAX_STAIR, thin);
+        stairs.x = next_stair(out, inside, outward, across, own);
         corner.x = has_edge(b + 2 * across, cross) || (long && stairs.x < 2);
     }
     if c.y > 0.5 {
-        stairs.y = stair_length(out - across, outward, own);
-        let thin = has_edge(inside - across, own) && has_edge(inside - across - outward, own)
-            && !has_edge(out, own) && stairs.y == 0;
-        stairs.y = select(stairs.y, MAX_STAIR, thin);
+        stairs.y = next_stair(out, inside, outward, -across, own);
         corner.y = has_edge(b - across, cross) || (long && stairs.y < 2);
     }
     let height = smaa_end_height(c, select(vec2<f32>(0.0), vec2<f32>(1.0), corner));
