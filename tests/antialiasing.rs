@@ -536,8 +536,8 @@ fn no_anti_aliasing_pass_runs_when_none_is_asked_for() {
             .map(|(_, d)| (d.enabled, d.reason.clone()))
             .expect("the plan decides on the pass")
     };
-    assert_eq!(decision("fxaa"), (false, "--aa none".to_string()));
-    assert_eq!(decision("smaa"), (false, "--aa none".to_string()));
+    assert_eq!(decision("fxaa"), (false, "aa = none".to_string()));
+    assert_eq!(decision("smaa"), (false, "aa = none".to_string()));
     assert!(!decision("accumulate").0);
     let specular = report
         .plan
@@ -658,7 +658,9 @@ fn highlight_flicker(specular_aa: Option<lumen::quality::SpecularAaForm>) -> f64
     app.world_mut().resource_mut::<Quality>().aa.specular = match specular_aa {
         Some(form) => lumen::quality::SpecularAaSettings {
             enabled: true,
-            ..lumen::quality::SpecularAaSettings::of_form(form)
+            form,
+            variance: None,
+            threshold: None,
         },
         None => lumen::quality::SpecularAaSettings::default(),
     };

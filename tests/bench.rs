@@ -4,6 +4,7 @@
 
 use crate::common;
 
+use lumen::choice::Choice;
 use lumen::quality::QualityPreset;
 use std::path::Path;
 use std::process::{Command, Output};
@@ -55,7 +56,9 @@ fn bench_writes_a_complete_consistent_report() {
             "--warmup",
             "2",
             "--dof",
-            "--no-shadow-cache",
+            "on",
+            "--shadow-cache",
+            "off",
             "--json",
             "r.json",
             "--csv",
@@ -110,16 +113,13 @@ fn bench_writes_a_complete_consistent_report() {
     for k in ["name", "backend", "device_type", "driver"] {
         assert!(r["adapter"][k].is_string(), "adapter {k}");
     }
-    for k in [
-        "visibility",
-        "shadow_filter",
-        "shadow_mask",
-        "ibl_samples",
-        "hdr_precision",
-        "max_cascades",
-    ] {
-        assert!(r["quality"].get(k).is_some(), "quality {k}");
+    // Every built-in knob, by name, with its value as a preset file writes it.
+    for k in lumen::quality::knobs::builtin().iter() {
+        assert!(r["quality"].get(k.name).is_some(), "quality {}", k.name);
     }
+    assert_eq!(r["quality"]["shadow-cache"], false);
+    assert_eq!(r["quality"]["shadow-filter"], "tent");
+    assert_eq!(r["quality"]["cascades"], 4);
     assert!(r["scene_stats"]["triangles"].as_u64().unwrap_or(0) > 0);
     assert_summary(&r["frame_ms"], frames as usize, "frame");
     let stages: Vec<&str> = r["cpu_stages"]
@@ -249,7 +249,7 @@ fn bench_bad_input_is_a_one_line_error() {
 fn every_preset_renders_finite_images() {
     let env = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/hdri/sky.exr");
     let image = std::sync::Arc::new(lumen::scene::EquirectImage::load(&env).expect("HDRI"));
-    for preset in QualityPreset::ALL {
+    for &preset in QualityPreset::ALL {
         for scene in ["shadows", "dof", "spheres"] {
             let mut app = common::app_with(scene);
             let world = app.world_mut();

@@ -202,6 +202,7 @@ fn explain_prints_the_plan() {
             "x.png",
             "--explain",
             "--specular-aa",
+            "on",
             "--specular-aa-form",
             "2021",
             "--specular-aa-threshold",
@@ -249,7 +250,7 @@ fn bad_input_gives_one_line_errors() {
     assert_clean_failure(&lumen(&["render", "--tonemap", "filmic"], d), "filmic");
     assert_clean_failure(
         &lumen(&["render", "--specular-aa-form", "2020"], d),
-        "unknown specular AA form '2020' (use 2019 or 2021)",
+        "unknown specular-aa-form '2020' (use 2019, 2021)",
     );
     assert_clean_failure(&lumen(&["frobnicate"], d), "frobnicate");
     // Unwritable output: the parent "directory" is a regular file.
@@ -522,7 +523,8 @@ fn shadow_flags() {
             "32x32",
             "--out",
             "x.png",
-            "--no-shadows",
+            "--shadows",
+            "off",
             "--json",
         ],
         dir.path(),
@@ -547,7 +549,7 @@ fn shadow_flags() {
     assert!(
         shadow["reason"]
             .as_str()
-            .is_some_and(|r| r.contains("--no-shadows"))
+            .is_some_and(|r| r.contains("shadows = off"))
     );
     // Direct light only: the probes' captures would take most of each render.
     let render_shadows = |extra: &[&str]| {
@@ -627,7 +629,8 @@ fn environment_flags() {
             "furnace",
             "--ao",
             "off",
-            "--no-ssr",
+            "--ssr",
+            "off",
             "--exposure",
             "1",
             "--size",
@@ -686,7 +689,7 @@ fn environment_flags() {
             "--background-blur",
             "0.5",
         ],
-        vec!["--env", env.as_str(), "--no-energy-compensation"],
+        vec!["--env", env.as_str(), "--energy-compensation", "off"],
     ] {
         let mut args = vec!["render", "--size", "32x18", "--out", "e.png"];
         args.extend(extra.iter().copied());
@@ -788,9 +791,9 @@ fn camera_flags() {
         let r = render_json(&["--tonemap", name]);
         assert_eq!(r["tonemapper"], name);
     }
-    let with = pass_names(&render_json(&["--dof", "--focus", "2"]));
+    let with = pass_names(&render_json(&["--dof", "on", "--focus", "2"]));
     assert!(with.iter().any(|p| p == "dof blur"), "{with:?}");
-    let without = pass_names(&render_json(&["--scene", "dof", "--no-dof"]));
+    let without = pass_names(&render_json(&["--scene", "dof", "--dof", "off"]));
     assert!(!without.iter().any(|p| p.starts_with("dof")), "{without:?}");
     let r = render_json(&["--auto-exposure"]);
     assert!(pass_names(&r).iter().any(|p| p == "exposure"), "{r}");

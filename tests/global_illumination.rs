@@ -216,7 +216,7 @@ fn bounce_light_brightens_the_sphere_s_shadowed_underside() {
     let report = app.render_headless(SIZE).expect("frame");
     assert_eq!(
         volume_reason(&report),
-        (false, "global illumination off (--gi off)".into())
+        (false, "global illumination off (gi = off)".into())
     );
     let dark = app.read_hdr_image().expect("hdr").get_pixel(at.0, at.1).0;
     println!("the sphere's underside at {at:?}: with GI {lit:?}, without {dark:?}");
@@ -357,7 +357,7 @@ fn the_half_resolution_lookup_agrees_with_the_per_pixel_one() {
         reason,
         Some((
             false,
-            "full resolution (--gi-resolution full): the lighting pass looks the volume up per pixel"
+            "full resolution (gi-resolution = full): the lighting pass looks the volume up per pixel"
                 .into()
         ))
     );

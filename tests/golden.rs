@@ -73,7 +73,7 @@ const CASES: &[Case] = &[
     ),
     case(
         "furnace",
-        &["--scene", "furnace", "--ao", "off", "--no-ssr"],
+        &["--scene", "furnace", "--ao", "off", "--ssr", "off"],
     ),
     case("dof", &["--scene", "dof"]),
     case("lights", &["--scene", "lights"]),
@@ -118,7 +118,8 @@ const CASES: &[Case] = &[
             "occlusion",
             "--ao",
             "full",
-            "--no-ao-denoise",
+            "--ao-denoise",
+            "off",
         ],
     ),
     ibl_case(
@@ -132,7 +133,8 @@ const CASES: &[Case] = &[
             "shadows",
             "--env",
             "assets/hdri/sky.exr",
-            "--no-shadows",
+            "--shadows",
+            "off",
         ],
     ),
     case("tonemap-aces", &["--scene", "spheres", "--tonemap", "aces"]),

@@ -238,7 +238,7 @@ fn ao_is_one_on_an_open_plane_at_any_resolution() {
 fn the_plan_runs_ao_only_where_there_is_indirect_light_to_occlude() {
     let cases = [
         (None, AoResolution::Half, false, "no indirect light"),
-        (Some(Vec3::ONE), AoResolution::Off, false, "--ao off"),
+        (Some(Vec3::ONE), AoResolution::Off, false, "ao = off"),
         (Some(Vec3::ONE), AoResolution::Half, true, "half resolution"),
     ];
     for (environment, resolution, runs, reason) in cases {
@@ -544,7 +544,7 @@ fn the_plan_traces_reflections_only_where_a_surface_is_smooth_enough() {
     let cases = [
         (0.4, true, false, "no surface smoother than the cutoff"),
         (0.6, true, true, "ray(s) per 2×2 pixels"),
-        (0.6, false, false, "--no-ssr"),
+        (0.6, false, false, "ssr = off"),
     ];
     for (cutoff, enabled, runs, reason) in cases {
         let mut app = scene(None, true);

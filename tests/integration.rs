@@ -21,6 +21,7 @@ mod gnu_parallel;
 mod golden;
 mod ibl;
 mod indirect;
+mod knobs;
 mod layering;
 mod layers;
 mod lights;

@@ -309,6 +309,9 @@ struct Reference {
     glob: bool,
 }
 
+/// A `#[macro_export]` macro: named at its crate's root, defined in its own file.
+type ExportedMacros = HashMap<(String, String), usize>;
+
 /// The module graph of a set of files.
 struct Graph {
     names: Vec<String>,
@@ -324,6 +327,7 @@ const ITEM_KEYWORDS: &[&str] = &[
 /// Builds the graph of `sources` (named relative to the repository root).
 fn graph(sources: &[Source]) -> Graph {
     let mut modules: HashMap<ModulePath, Module> = HashMap::new();
+    let mut exported = ExportedMacros::new();
     let mut externs: Vec<Vec<(&str, &str)>> = Vec::new();
     let mut references = Vec::new();
     for (file, source) in sources.iter().enumerate() {
@@ -384,6 +388,20 @@ fn graph(sources: &[Source]) -> Graph {
                     if let Some(Token::Ident(name)) = t.get(j).map(|t| &t.0)
                         && name != "fn"
                     {
+                        // `#[macro_export]` in the attributes just before it.
+                        let attributes = t[..i]
+                            .iter()
+                            .rev()
+                            .take_while(|(tok, _)| {
+                                !matches!(
+                                    tok,
+                                    Token::Punct(';') | Token::Punct('}') | Token::Punct('{')
+                                )
+                            })
+                            .any(|(tok, _)| *tok == Token::Ident("macro_export".into()));
+                        if kw == "macro_rules" && attributes {
+                            exported.insert((root.0.clone(), name.clone()), file);
+                        }
                         if top_level {
                             let here = context(&stack);
                             modules.entry(here).or_default().defs.insert(name.clone());
@@ -434,6 +452,7 @@ fn graph(sources: &[Source]) -> Graph {
 
     let resolver = Resolver {
         modules: &modules,
+        exported: &exported,
         externs: &externs,
     };
     let mut edges = vec![BTreeMap::new(); sources.len()];
@@ -456,6 +475,7 @@ fn graph(sources: &[Source]) -> Graph {
 
 struct Resolver<'a> {
     modules: &'a HashMap<ModulePath, Module>,
+    exported: &'a ExportedMacros,
     externs: &'a [Vec<(&'static str, &'static str)>],
 }
 
@@ -524,6 +544,11 @@ impl Resolver<'_> {
         };
         if glob || module.defs.contains(name) || depth > 16 {
             return Some(module.file);
+        }
+        if k == 0
+            && let Some(&file) = self.exported.get(&(krate.clone(), name.clone()))
+        {
+            return Some(file);
         }
         let Some(imported) = module.imports.get(name) else {
             return Some(module.file);
@@ -861,6 +886,30 @@ mod parser {
 
     fn edge(a: &str, b: &str) -> (String, String) {
         (a.into(), b.into())
+    }
+
+    #[test]
+    fn an_exported_macro_belongs_to_the_file_that_defines_it() {
+        let g = graph_of(&[
+            (
+                "engine/src/lib.rs",
+                "pub mod choice;\npub mod brdf;\npub use brdf::Model;\n",
+            ),
+            (
+                "engine/src/choice.rs",
+                "#[doc(hidden)]\n#[macro_export]\nmacro_rules! __choices { () => {} }\npub use crate::__choices as choices;\n",
+            ),
+            (
+                "engine/src/brdf.rs",
+                "crate::choice::choices! {}\npub struct Model;\n",
+            ),
+        ]);
+        let edges = edges(&g);
+        let brdf = |to: &str| edges.contains(&("engine/src/brdf.rs".to_string(), to.to_string()));
+        assert!(
+            brdf("engine/src/choice.rs") && !brdf("engine/src/lib.rs"),
+            "{edges:?}"
+        );
     }
 
     #[test]

@@ -152,7 +152,7 @@ fn a_probe_captured_once_is_not_captured_again_until_the_scene_changes() {
         decision(&off),
         (
             false,
-            "reflection probes off (--reflection-probes off)".into()
+            "reflection probes off (reflection-probes = off)".into()
         )
     );
 }

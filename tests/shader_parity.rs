@@ -10,6 +10,7 @@ use lumen::ambient_occlusion as ao;
 use lumen::anisotropy as an;
 use lumen::antialiasing as aa;
 use lumen::brdf::{self, Surface, VisibilityModel};
+use lumen::choice::Choice;
 use lumen::iridescence as ir;
 use lumen::irradiance_volume as gi;
 use lumen::reflection_probe as rp;

@@ -159,7 +159,7 @@ fn shadows_scene(filter: ShadowFilter) -> App {
 
 #[test]
 fn each_light_removes_exactly_its_own_light_inside_its_shadow() {
-    for filter in ShadowFilter::ALL {
+    for &filter in ShadowFilter::ALL {
         let mut app = shadows_scene(filter);
         for kind in KINDS {
             let p = project(shadow_point(kind));
@@ -262,7 +262,7 @@ fn lit_surfaces_show_no_acne() {
     // Every pixel a light reaches directly must stay lit with its shadows on: the
     // ratio shadowed / unshadowed is 1 within 0.5 % (stated bound) on a plane lit at 55°,
     // and on the lit side (n·l > 0.2) of a sphere, for every light kind and filter.
-    for filter in ShadowFilter::ALL {
+    for &filter in ShadowFilter::ALL {
         for kind in KINDS {
             for with_sphere in [false, true] {
                 let mut app = lit_surface_scene(kind, with_sphere, filter);
@@ -337,7 +337,7 @@ fn shadows_touch_their_casters() {
         Vec3::new(c.x - 1.2, 0.5, c.z + 0.4),
         Vec3::new(c.x - h, 0.0, c.z),
     );
-    for filter in ShadowFilter::ALL {
+    for &filter in ShadowFilter::ALL {
         let mut app = shadows_scene(filter);
         {
             let world = app.world_mut();
@@ -478,7 +478,7 @@ fn pcss_penumbra_widens_with_the_light_size() {
 
 #[test]
 fn every_filter_renders_finite() {
-    for filter in ShadowFilter::ALL {
+    for &filter in ShadowFilter::ALL {
         for scene in ["shadows", "extremes", "spheres"] {
             let mut app = common::app_with(scene);
             {
@@ -544,7 +544,7 @@ fn the_shadow_pass_runs_only_when_needed() {
     app.world_mut().resource_mut::<Quality>().shadows = false;
     let report = app.render_headless((16, 16)).expect("frame");
     assert!(!report.plan.runs(PassId::Shadow));
-    assert!(shadow_reason(&report).contains("--no-shadows"));
+    assert!(shadow_reason(&report).contains("shadows = off"));
 
     // Nothing casts.
     let mut app = shadows_scene(ShadowFilter::Pcf);

@@ -152,6 +152,7 @@ impl App {
         world.init_resource::<Meshes>();
         world.init_resource::<crate::scene::Textures>();
         world.init_resource::<Quality>();
+        world.init_resource::<crate::quality::Knobs>();
         world.init_resource::<Time>();
         world.init_resource::<Keys>();
         world.init_resource::<MouseButtons>();
@@ -220,6 +221,21 @@ impl App {
         } else {
             self.world.insert_resource(registry);
         }
+        Ok(())
+    }
+
+    /// Adds a knob to the ones the viewer's panel, `--explain` and the reports list (the
+    /// front end adds its flag to the command line it builds from
+    /// [`crate::quality::Knobs`]). Its value lives in [`Quality::extensions`] unless its
+    /// path is a field of [`Quality`]; a name already taken is an error.
+    pub fn add_knob(&mut self, knob: &'static crate::quality::Knob) -> Result<()> {
+        let knobs = self
+            .world
+            .resource::<crate::quality::Knobs>()
+            .clone()
+            .with(knob)
+            .map_err(|e| Error::InvalidArgument(e.to_string()))?;
+        self.world.insert_resource(knobs);
         Ok(())
     }
 

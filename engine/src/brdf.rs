@@ -23,40 +23,24 @@ pub const MIN_PERCEPTUAL_ROUGHNESS: f32 = 0.045;
 /// divide by zero in the visibility term (docs/src/formulas.md#numerical-guards, Filament's 1e-4).
 pub const MIN_N_DOT_V: f32 = 1e-4;
 
+crate::choice::choices! {
 /// Which geometric shadowing–masking (visibility) term the specular lobe uses.
 ///
 /// A speed/accuracy knob (docs/src/formulas.md#the-brdf). The numeric values are the ones the
 /// shaders receive as the constant `VISIBILITY_MODEL`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum VisibilityModel {
+pub enum VisibilityModel: "visibility term" {
     /// Smith with Schlick-GGX G1 and k_direct = (r + 1)²/8, as in the seeds
     /// (Karis 2013, "Real Shading in Unreal Engine 4").
     #[default]
-    SchlickGgx = 0,
+    SchlickGgx(0) = "schlick-ggx",
     /// Height-correlated Smith GGX (Heitz 2014, "Understanding the Masking-Shadowing
     /// Function in Microfacet-Based BRDFs"; Filament, Bevy).
-    SmithGgxCorrelated = 1,
+    SmithGgxCorrelated(1) = "smith-correlated",
     /// Hammon's fast approximation of the height-correlated term (Hammon 2017,
     /// "PBR Diffuse Lighting for GGX+Smith Microsurfaces").
-    SmithGgxCorrelatedFast = 2,
+    SmithGgxCorrelatedFast(2) = "smith-correlated-fast",
 }
-
-impl VisibilityModel {
-    /// Every model, in the order of their shader constants.
-    pub const ALL: [VisibilityModel; 3] = [
-        VisibilityModel::SchlickGgx,
-        VisibilityModel::SmithGgxCorrelated,
-        VisibilityModel::SmithGgxCorrelatedFast,
-    ];
-
-    /// The name used on the command line and in reports.
-    pub fn name(self) -> &'static str {
-        match self {
-            VisibilityModel::SchlickGgx => "schlick-ggx",
-            VisibilityModel::SmithGgxCorrelated => "smith-correlated",
-            VisibilityModel::SmithGgxCorrelatedFast => "smith-correlated-fast",
-        }
-    }
 }
 
 /// Clamps a perceptual roughness into [`MIN_PERCEPTUAL_ROUGHNESS`], 1] (NaN → 1).
@@ -354,8 +338,9 @@ pub fn surface_brdf(n: Vec3, v: Vec3, l: Vec3, surface: &Surface, model: Visibil
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::choice::Choice;
 
-    const MODELS: [VisibilityModel; 3] = VisibilityModel::ALL;
+    const MODELS: &[VisibilityModel] = VisibilityModel::ALL;
 
     fn close(a: f32, b: f32, rel: f32) -> bool {
         (a - b).abs() <= rel * b.abs().max(1e-30)
@@ -561,7 +546,7 @@ mod tests {
     fn specular_lobe_albedo_never_exceeds_one() {
         // Every visibility model, F0 over the measured ranges of docs/src/formulas.md#measured-texture-ranges
         // (dielectrics 0.02–0.05, gems to 0.17, metals 0.5–1.0), as a pure specular surface.
-        for model in MODELS {
+        for &model in MODELS {
             for f0 in [0.02f32, 0.04, 0.05, 0.08, 0.17, 0.5, 0.7, 1.0] {
                 for r in ROUGHNESS_GRID {
                     for nv in N_DOT_V_GRID {
@@ -682,7 +667,7 @@ mod tests {
             Vec3::new(0.0, 1.0, 1e-7).normalize(),
             Vec3::new(f32::MIN_POSITIVE, 0.0, 0.0),
         ];
-        for model in MODELS {
+        for &model in MODELS {
             for r in [0.0f32, 1e-9, 0.045, 1.0, -1.0, 2.0, f32::NAN] {
                 for m in [0.0f32, 1.0] {
                     let s = Surface {

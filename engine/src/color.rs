@@ -53,55 +53,30 @@ pub fn srgb_decode(x: f32) -> f32 {
     }
 }
 
+crate::choice::choices! {
 /// Tone mapping operator applied to exposed scene-referred radiance before sRGB output.
 /// The numeric values are the shader constant `TONEMAPPER`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Tonemapper {
+pub enum Tonemapper: "tone mapper" {
     /// No curve: values are clamped to [0, 1].
-    None = 0,
+    None(0) = "none",
     /// Reinhard `c / (c + 1)` per channel, as in the seeds (Reinhard et al. 2002).
-    Reinhard = 1,
+    Reinhard(1) = "reinhard",
     /// Stephen Hill's fit of the ACES RRT + ODT (sRGB, 100 cd/m² display), as
     /// Bevy's `AcesFitted`.
-    AcesFitted = 2,
+    AcesFitted(2) = "aces",
     /// AgX (Troy Sobotka), in Benjamin Wrensch's polynomial approximation: hue-stable
     /// desaturation of bright colours.
-    Agx = 3,
+    Agx(3) = "agx",
     /// Khronos PBR Neutral (2024): colours up to 0.76 are reproduced exactly (after a
     /// small black-level offset), only highlights are compressed. The default: the most
     /// faithful base colours, which is what a renderer measured for accuracy should show.
     #[default]
-    PbrNeutral = 4,
+    PbrNeutral(4) = "pbr-neutral",
+}
 }
 
 impl Tonemapper {
-    /// Every operator, in the order of their shader constants.
-    pub const ALL: [Tonemapper; 5] = [
-        Tonemapper::None,
-        Tonemapper::Reinhard,
-        Tonemapper::AcesFitted,
-        Tonemapper::Agx,
-        Tonemapper::PbrNeutral,
-    ];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Tonemapper::None => "none",
-            Tonemapper::Reinhard => "reinhard",
-            Tonemapper::AcesFitted => "aces",
-            Tonemapper::Agx => "agx",
-            Tonemapper::PbrNeutral => "pbr-neutral",
-        }
-    }
-
-    /// Parses a command-line name (see [`Tonemapper::name`]).
-    pub fn from_name(name: &str) -> Option<Tonemapper> {
-        Tonemapper::ALL
-            .into_iter()
-            .find(|t| t.name().eq_ignore_ascii_case(name))
-    }
-
     /// Applies the operator to one linear colour (exposed radiance).
     pub fn apply(self, c: Vec3) -> Vec3 {
         match self {
@@ -271,6 +246,7 @@ pub fn kelvin_to_linear_rgb(kelvin: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::choice::Choice;
 
     #[test]
     fn srgb_curve_known_values() {
@@ -292,7 +268,7 @@ mod tests {
 
     #[test]
     fn tonemappers_map_zero_to_zero_and_are_monotonic() {
-        for (i, t) in Tonemapper::ALL.into_iter().enumerate() {
+        for (i, &t) in Tonemapper::ALL.iter().enumerate() {
             assert_eq!(t as usize, i, "ALL is in shader-constant order");
             assert!(t.apply(Vec3::ZERO).max_element().abs() < 1e-3, "{t:?}");
             let mut last = -1.0f32;

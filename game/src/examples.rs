@@ -51,7 +51,7 @@ fn parse(args: impl Iterator<Item = String>, default: (u32, u32)) -> Result<Exam
                         .map_err(|_| format!("--frames: '{n}' is not a count"))?,
                 );
             }
-            _ => out.size = crate::cli::parse_size(&a)?,
+            _ => out.size = crate::cli::values::size(&a)?,
         }
     }
     Ok(out)

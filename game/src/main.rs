@@ -1,6 +1,5 @@
 //! `lumen`: render, view and list scenes. See `lumen --help`.
 
-use clap::Parser;
 use lumen_game::cli::{Cli, Command, RenderArgs, SceneArgs, ViewArgs};
 use lumen_game::{commands, scenes};
 use std::process::ExitCode;
@@ -19,7 +18,12 @@ fn main() -> ExitCode {
     ))
     .format_timestamp(None)
     .init();
-    let cli = match Cli::try_parse() {
+    let knobs = lumen::quality::Knobs::default();
+    let (args, notes) = lumen_game::cli::legacy::rewrite(std::env::args_os());
+    for note in notes {
+        eprintln!("lumen: {note}");
+    }
+    let cli = match lumen_game::cli::parse_from(&knobs, args) {
         Ok(cli) => cli,
         Err(e) => {
             use clap::error::ErrorKind;
@@ -37,7 +41,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    match run(cli) {
+    match run(cli, &knobs) {
         Ok(()) => ExitCode::SUCCESS,
         // Texels that fail a rule get a status of their own, for asset pipelines.
         Err(e) if e.is::<commands::validate::ValidationFailed>() => {
@@ -51,7 +55,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> anyhow::Result<()> {
+fn run(cli: Cli, knobs: &lumen::quality::Knobs) -> anyhow::Result<()> {
     match cli.command {
         Some(Command::Render(mut args)) => {
             args.scene.resolve_builtin();
@@ -76,6 +80,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             args.scene.resolve_builtin();
             commands::tradeoff::run(&args)
         }
+        Some(Command::Quality(args)) => commands::quality::run(&args, knobs),
         Some(Command::Scenes) => {
             let text: String = scenes::SCENES
                 .iter()

@@ -191,7 +191,7 @@ fn update_reflections(
     budget: Option<u32>,
     camera_aspect: f32,
 ) -> Result<ReflectionStatus> {
-    let quality = *world.resource::<crate::quality::Quality>();
+    let quality = world.resource::<crate::quality::Quality>().clone();
     let placed = probes_for(world, &quality.reflection_probes);
     let mut probes = world.resource_mut::<ReflectionProbesGpu>();
     match &placed {

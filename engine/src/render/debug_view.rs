@@ -15,6 +15,7 @@
 //! | validation, validation-strict | the worst verdict of `lumen::validate`'s metal/roughness rules on the G-buffer's base colour and metallic: green valid, yellow borderline, red invalid (`Verdict::color`); black background |
 //! | CoC | thin-lens CoC radius ÷ the largest radius, red in front of the focus plane, green behind it (the lens's settings even when depth of field is off) |
 
+use crate::choice::Choice;
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
@@ -34,80 +35,34 @@ use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
+crate::choice::choices! {
 /// Which channel the frame shows: a resource; [`DebugView::Off`] is the normal image.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum DebugView {
+pub enum DebugView: "debug view" {
     /// The tone-mapped image.
     #[default]
-    Off = 0,
+    Off(0) = "off",
     /// Base colour.
-    Albedo = 1,
+    Albedo(1) = "albedo",
     /// World-space normal.
-    Normal = 2,
+    Normal(2) = "normal",
     /// Metallic.
-    Metallic = 3,
+    Metallic(3) = "metallic",
     /// Perceptual roughness.
-    Roughness = 4,
+    Roughness(4) = "roughness",
     /// Ambient occlusion.
-    Occlusion = 5,
+    Occlusion(5) = "occlusion",
     /// View depth, logarithmic.
-    Depth = 6,
+    Depth(6) = "depth",
     /// The shadow map atlas.
-    ShadowAtlas = 7,
+    ShadowAtlas(7) = "shadow-atlas",
     /// The thin-lens circle of confusion.
-    CircleOfConfusion = 8,
+    CircleOfConfusion(8) = "coc",
     /// The texture validator's heat map of the metal/roughness rules (tolerant).
-    Validation = 9,
+    Validation(9) = "validation",
     /// The same with the strict dark floor (50 sRGB).
-    ValidationStrict = 10,
+    ValidationStrict(10) = "validation-strict",
 }
-
-impl DebugView {
-    /// Every view, `Off` first.
-    pub const ALL: [DebugView; 11] = [
-        DebugView::Off,
-        DebugView::Albedo,
-        DebugView::Normal,
-        DebugView::Metallic,
-        DebugView::Roughness,
-        DebugView::Occlusion,
-        DebugView::Depth,
-        DebugView::ShadowAtlas,
-        DebugView::CircleOfConfusion,
-        DebugView::Validation,
-        DebugView::ValidationStrict,
-    ];
-
-    /// Name used on the command line and in the viewer.
-    pub fn name(self) -> &'static str {
-        match self {
-            DebugView::Off => "off",
-            DebugView::Albedo => "albedo",
-            DebugView::Normal => "normal",
-            DebugView::Metallic => "metallic",
-            DebugView::Roughness => "roughness",
-            DebugView::Occlusion => "occlusion",
-            DebugView::Depth => "depth",
-            DebugView::ShadowAtlas => "shadow-atlas",
-            DebugView::CircleOfConfusion => "coc",
-            DebugView::Validation => "validation",
-            DebugView::ValidationStrict => "validation-strict",
-        }
-    }
-
-    /// The view called `name` (see [`DebugView::name`]).
-    pub fn parse(name: &str) -> std::result::Result<DebugView, String> {
-        DebugView::ALL
-            .into_iter()
-            .find(|v| v.name().eq_ignore_ascii_case(name.trim()))
-            .ok_or_else(|| {
-                let names: Vec<&str> = DebugView::ALL.iter().map(|v| v.name()).collect();
-                format!(
-                    "unknown debug view '{name}': expected one of {}",
-                    names.join(", ")
-                )
-            })
-    }
 }
 
 /// View depth (m) as the depth view's grey level: 1 at 0.1 m, 0 at 100 m and beyond,
@@ -354,7 +309,7 @@ mod tests {
 
     #[test]
     fn names_round_trip_and_unknown_names_are_errors() {
-        for v in DebugView::ALL {
+        for &v in DebugView::ALL {
             assert_eq!(DebugView::parse(v.name()), Ok(v));
         }
         let err = DebugView::parse("albedoo").expect_err("unknown");

@@ -1027,7 +1027,7 @@ pub fn extract_frame(
             let s = quality.aa.specular;
             [
                 finite_or(s.screen_scale(), 0.0).max(0.0),
-                finite_or(s.threshold, 0.0).clamp(0.0, 1.0),
+                finite_or(s.threshold(), 0.0).clamp(0.0, 1.0),
                 jitter.offset_px.x,
                 jitter.offset_px.y,
             ]

@@ -4,7 +4,10 @@
 //! frame (the optional write [`MOTION`]), from the camera's previous unjittered matrix and
 //! each instance's previous transform, which extraction keeps.
 
+use crate::choice::Choice;
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::SPECULAR_AA;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
 use crate::render::device::Gpu;
@@ -129,11 +132,11 @@ impl FramePass for GBufferPass {
                     "the normal's screen-space variation widens the stored roughness \
                      ({} form, σ² {:.3}, κ {:.3})",
                     aa.specular.form.name(),
-                    aa.specular.variance,
-                    aa.specular.threshold
+                    aa.specular.variance(),
+                    aa.specular.threshold()
                 )
             } else {
-                "off (--specular-aa turns it on)".into()
+                format!("off ({})", SPECULAR_AA.setting(Value::Bool(false)))
             },
         ));
         decision

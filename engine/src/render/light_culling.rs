@@ -5,6 +5,8 @@
 //! [`crate::quality::Quality::light_culling`] is on.
 
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::LIGHT_CULLING;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -87,7 +89,7 @@ impl FramePass for LightCullingPass {
             // frame itself); a probe's small 90° views gain little from tiles anyway.
             "probe capture: every pixel loops over all lights".into()
         } else if !quality.light_culling {
-            "off (--no-light-culling)".into()
+            format!("off ({})", LIGHT_CULLING.setting(Value::Bool(false)))
         } else if instances == 0 {
             "nothing to light".into()
         } else if unshadowed >= min_lights {

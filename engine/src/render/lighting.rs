@@ -5,6 +5,7 @@
 //! not compiled in.
 
 use crate::brdf::VisibilityModel;
+use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
 use crate::render::bindings::{BindGroupSpec, Binding};

@@ -55,3 +55,16 @@ pub fn builtin() -> Result<Registry> {
         .with::<DebugViewPass>()
         .ordered()
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_pass_a_knob_names_is_registered() {
+        let ids = super::builtin().expect("the built-in frame").ids();
+        for k in crate::quality::knobs::builtin().iter() {
+            for p in k.passes {
+                assert!(ids.contains(p), "knob {} names pass {p:?}", k.name);
+            }
+        }
+    }
+}

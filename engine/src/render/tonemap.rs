@@ -1,6 +1,7 @@
 //! Tone mapping pass: HDR luminance → display image, with the exact sRGB curve
 //! (`shaders/tonemap.wgsl`). Compiled per (output format, tone mapper).
 
+use crate::choice::Choice;
 use crate::color::Tonemapper;
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding};

@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod convert;
 pub mod merge;
+pub mod quality;
 pub mod reference;
 pub mod render;
 pub mod tradeoff;

@@ -2,16 +2,18 @@
 //! with the benchmark's machinery and compared with the path-traced reference (FLIP on
 //! the tone-mapped images, relative MSE and PSNR on the linear HDR ones).
 
+use crate::cli::knob_flags::flag;
 use crate::cli::{SceneArgs, TradeoffArgs};
 use crate::measure::{measure, stats::Summary};
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::brdf::VisibilityModel;
+use lumen::choice::Choice;
 use lumen::color::Tonemapper;
-use lumen::quality::{
-    AaMethod, AoResolution, HdrPrecision, QualityPreset, ShadowFilter, ShadowMask, SpecularAaForm,
-};
+use lumen::quality::QualityPreset;
+use lumen::quality::knob::{Acts, Knobs, Value};
+use lumen::quality::knobs::{AA, ACCUMULATE, AO, GI, REFLECTION_PROBES, SSR};
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
@@ -57,123 +59,28 @@ impl Row {
     }
 }
 
-/// Every row: the four presets, then each knob varied alone from `high`.
-fn configurations(base: &SceneArgs) -> Vec<(String, String, SceneArgs)> {
+/// Every row: the four presets, then each knob of `knobs` that acts on the frame, varied
+/// alone from `high` to each value its declaration sweeps (with the other knobs' values
+/// its sweep needs). A row's kind is the knob's flag.
+pub fn configurations(base: &SceneArgs, knobs: &Knobs) -> Vec<(String, String, SceneArgs)> {
     let mut out = Vec::new();
-    for preset in QualityPreset::ALL {
+    for &preset in QualityPreset::ALL {
         let mut a = base.clone();
         a.quality = Some(preset);
+        a.quality_file = None;
         out.push(("preset".into(), preset.name().into(), a));
     }
-    let mut knob = |kind: &str, setting: String, change: &dyn Fn(&mut SceneArgs)| {
-        let mut a = base.clone();
-        a.quality = Some(QualityPreset::High);
-        change(&mut a);
-        out.push((kind.into(), setting, a));
-    };
-    for f in ShadowFilter::ALL
-        .into_iter()
-        .filter(|f| *f != QualityPreset::High.quality().shadow_filter)
-    {
-        knob("--shadow-filter", f.name().into(), &|a| {
-            a.shadow_filter = Some(f)
-        });
-    }
-    for m in ShadowMask::ALL
-        .into_iter()
-        .filter(|m| *m != QualityPreset::High.quality().shadow_mask)
-    {
-        knob("--shadow-mask", m.name().into(), &|a| {
-            a.shadow_mask = Some(m)
-        });
-    }
-    knob("--light-shadows", "all".into(), &|a| {
-        a.light_shadows = Some(true)
-    });
-    for x in [0.5f32, 2.0] {
-        knob("--shadow-resolution-scale", x.to_string(), &|a| {
-            a.shadow_resolution_scale = Some(x)
-        });
-    }
-    for n in [1u32, 2] {
-        knob("--cascades", n.to_string(), &|a| a.cascades = Some(n));
-    }
-    for v in [
-        VisibilityModel::SmithGgxCorrelated,
-        VisibilityModel::SmithGgxCorrelatedFast,
-    ] {
-        knob("--visibility", v.name().into(), &|a| a.visibility = Some(v));
-    }
-    knob("--no-energy-compensation", String::new(), &|a| {
-        a.no_energy_compensation = true
-    });
-    for n in [16u32, 256] {
-        knob("--ibl-samples", n.to_string(), &|a| a.ibl_samples = Some(n));
-    }
-    knob("--brdf-lut-size", "32".into(), &|a| {
-        a.brdf_lut_size = Some(32)
-    });
-    knob("--hdr", "f32".into(), &|a| a.hdr = Some(HdrPrecision::Full));
-    for r in [AoResolution::Off, AoResolution::Full] {
-        knob("--ao", r.name().into(), &|a| a.ao = Some(r));
-    }
-    for n in [1u32, 6] {
-        knob("--ao-slices", n.to_string(), &|a| a.ao_slices = Some(n));
-    }
-    for n in [3u32, 12] {
-        knob("--ao-steps", n.to_string(), &|a| a.ao_steps = Some(n));
-    }
-    for r in [0.5f32, 2.0] {
-        knob("--ao-radius", r.to_string(), &|a| a.ao_radius = Some(r));
-    }
-    knob("--no-ao-denoise", String::new(), &|a| {
-        a.no_ao_denoise = true
-    });
-    knob("--no-ao-multi-bounce", String::new(), &|a| {
-        a.no_ao_multi_bounce = true
-    });
-    knob("--no-ssr", String::new(), &|a| a.no_ssr = true);
-    for r in [0.25f32, 0.8] {
-        knob("--ssr-max-roughness", r.to_string(), &|a| {
-            a.ssr_max_roughness = Some(r)
-        });
-    }
-    for n in [1u32, 8] {
-        knob("--ssr-rays", n.to_string(), &|a| a.ssr_rays = Some(n));
-    }
-    knob("--ssr-steps", "16".into(), &|a| a.ssr_steps = Some(16));
-    knob("--ssr-resolution", "full".into(), &|a| {
-        a.ssr_resolution = Some(false)
-    });
-    knob("--gi", "off".into(), &|a| a.gi = Some(false));
-    for n in [2u32, 8] {
-        knob("--gi-density", n.to_string(), &|a| a.gi_density = Some(n));
-    }
-    for n in [8u32, 16] {
-        knob("--gi-face", n.to_string(), &|a| a.gi_face = Some(n));
-    }
-    for n in [2u32, 4] {
-        knob("--gi-bounces", n.to_string(), &|a| a.gi_bounces = Some(n));
-    }
-    knob("--gi-resolution", "full".into(), &|a| {
-        a.gi_resolution = Some(false)
-    });
-    knob("--reflection-probes", "off".into(), &|a| {
-        a.reflection_probes = Some(false)
-    });
-    knob("--reflection-probe-size", "128".into(), &|a| {
-        a.reflection_probe_size = Some(128)
-    });
-    for m in AaMethod::ALL {
-        knob("--aa", m.name().into(), &|a| a.aa = Some(m));
-    }
-    knob("--specular-aa", String::new(), &|a| a.specular_aa = true);
-    knob("--specular-aa --specular-aa-form", "2019".into(), &|a| {
-        a.specular_aa = true;
-        a.specular_aa_form = Some(SpecularAaForm::Slope2019)
-    });
-    for n in [4u32, 16] {
-        knob("--accumulate", n.to_string(), &|a| a.accumulate = Some(n));
+    for knob in knobs.iter().filter(|k| k.acts.meets(Acts::FRAME)) {
+        for &value in knob.sweep {
+            let mut a = base.clone();
+            a.quality = Some(QualityPreset::High);
+            a.quality_file = None;
+            for &(other, v) in knob.sweep_with {
+                a.knobs.set(other, v);
+            }
+            a.knobs.set(knob, value);
+            out.push((flag(knob), knob.format(value), a));
+        }
     }
     out
 }
@@ -288,8 +195,9 @@ fn accumulated_judge(
 ) -> Result<(image::Rgba32FImage, Tonemapper, bool)> {
     let mut args = scene.clone();
     args.quality = Some(QualityPreset::High);
-    args.aa = Some(AaMethod::None);
-    args.accumulate = Some(n);
+    args.quality_file = None;
+    args.knobs.set(&AA, Value::Name("none"));
+    args.knobs.set(&ACCUMULATE, Value::Int(i64::from(n)));
     let mut app = App::headless()?;
     build_scene(&mut app, &args)?;
     app.render_headless(size)?;
@@ -358,9 +266,14 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
             reference(&args.scene, args.size, args.spp, FULL_REFERENCE).context("the reference")?
         }
     };
-    let mut configs = configurations(&args.scene);
+    let mut configs = configurations(&args.scene, &Knobs::default());
     if !args.only.is_empty() {
-        configs.retain(|(kind, _, _)| args.only.iter().any(|o| o == kind));
+        // A knob is named by its flag or its name (`--aa` or `aa`).
+        configs.retain(|(kind, _, _)| {
+            args.only
+                .iter()
+                .any(|o| o == kind || kind.strip_prefix("--") == Some(o.as_str()))
+        });
         if configs.is_empty() {
             return Err(anyhow!(
                 "--only {}: no row has that knob (the first column's names, e.g. preset, --aa)",
@@ -640,10 +553,12 @@ fn decompose(args: &TradeoffArgs) -> Result<()> {
     let frame = app.read_hdr_image()?;
     let mut direct_app = App::headless()?;
     let mut direct_args = args.scene.clone();
-    direct_args.ao = Some(lumen::quality::AoResolution::Off);
-    direct_args.no_ssr = true;
-    direct_args.gi = Some(false);
-    direct_args.reflection_probes = Some(false);
+    direct_args.knobs.set(&AO, Value::Name("off"));
+    direct_args.knobs.set(&SSR, Value::Bool(false));
+    direct_args.knobs.set(&GI, Value::Bool(false));
+    direct_args
+        .knobs
+        .set(&REFLECTION_PROBES, Value::Bool(false));
     build_scene(&mut direct_app, &direct_args)?;
     direct_app.render_headless(args.size)?;
     let direct_frame = direct_app.read_hdr_image()?;

@@ -74,35 +74,19 @@ impl TraceLight {
     }
 }
 
+crate::choice::choices! {
 /// Which lights the path tracer's shadow rays test.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LightVisibility {
+pub enum LightVisibility: "light visibility" {
     /// Every light is occluded by the geometry between it and the surface: the physical
     /// truth.
     #[default]
-    Physical,
+    Physical = "physical",
     /// Only the lights whose shadow the frame draws are occluded; the others light every
     /// surface facing them, as the rasterizer does. It judges a frame against the same
     /// visibility, separating the cost of unshadowed lights from the rest of the error.
-    AsFrame,
+    AsFrame = "frame",
 }
-
-impl LightVisibility {
-    /// Both, in the order `--light-visibility` lists them.
-    pub const ALL: [LightVisibility; 2] = [LightVisibility::Physical, LightVisibility::AsFrame];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            LightVisibility::Physical => "physical",
-            LightVisibility::AsFrame => "frame",
-        }
-    }
-
-    /// The mode called `name`.
-    pub fn from_name(name: &str) -> Option<LightVisibility> {
-        LightVisibility::ALL.into_iter().find(|v| v.name() == name)
-    }
 }
 
 /// One drawn mesh instance, with the factors of its material.

@@ -9,6 +9,8 @@
 //! [`CopyToHdr`] writes it into the HDR target.
 
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::ACCUMULATE;
 use crate::render::antialiasing::copy::CopyToHdr;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
@@ -96,7 +98,10 @@ impl FramePass for AccumulatePass {
                     sub.count
                 )
             } else {
-                "one render per image (--accumulate 1)".into()
+                format!(
+                    "one render per image ({})",
+                    ACCUMULATE.setting(Value::Int(1))
+                )
             },
             format,
         )

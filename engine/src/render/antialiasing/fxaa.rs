@@ -8,6 +8,8 @@
 //! depth of field, on the image tone mapping will show.
 
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
 use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -44,16 +46,28 @@ impl FramePass for FxaaPass {
         let quality = world.resource::<Quality>();
         let accumulating = quality.aa.accumulate > 1;
         let (runs, reason) = match quality.aa.method {
-            AaMethod::None => (false, "--aa none".to_string()),
-            AaMethod::Smaa => (false, "SMAA instead (--aa smaa)".into()),
-            AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)".into()),
+            AaMethod::None => (false, AA.setting(Value::Name("none"))),
+            AaMethod::Smaa => (
+                false,
+                format!("SMAA instead ({})", AA.setting(Value::Name("smaa"))),
+            ),
+            AaMethod::Taa => (
+                false,
+                format!(
+                    "temporal anti-aliasing instead ({})",
+                    AA.setting(Value::Name("taa"))
+                ),
+            ),
             AaMethod::Fxaa if accumulating => (
                 false,
                 "the accumulation of jittered renders already filters every pixel".into(),
             ),
             AaMethod::Fxaa => (
                 true,
-                "blends luma edges across on silhouettes and creases (--aa fxaa)".into(),
+                format!(
+                    "blends luma edges across on silhouettes and creases ({})",
+                    AA.setting(Value::Name("fxaa"))
+                ),
             ),
         };
         PassDecision::new(runs, reason, quality.hdr_precision.format())

@@ -18,6 +18,8 @@
 //! edges pixel by pixel rather than through SMAA's bilinear search texture.
 
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
 use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -70,14 +72,29 @@ impl FramePass for SmaaPass {
         let (runs, reason) = match quality.aa.method {
             AaMethod::Smaa if quality.aa.accumulate > 1 => (
                 false,
-                "the accumulation of jittered renders already filters every pixel",
+                "the accumulation of jittered renders already filters every pixel".to_string(),
             ),
-            AaMethod::Smaa => (true, "blends across luma edges' patterns (--aa smaa)"),
-            AaMethod::None => (false, "--aa none"),
-            AaMethod::Fxaa => (false, "FXAA instead (--aa fxaa)"),
-            AaMethod::Taa => (false, "temporal anti-aliasing instead (--aa taa)"),
+            AaMethod::Smaa => (
+                true,
+                format!(
+                    "blends across luma edges' patterns ({})",
+                    AA.setting(Value::Name("smaa"))
+                ),
+            ),
+            AaMethod::None => (false, AA.setting(Value::Name("none"))),
+            AaMethod::Fxaa => (
+                false,
+                format!("FXAA instead ({})", AA.setting(Value::Name("fxaa"))),
+            ),
+            AaMethod::Taa => (
+                false,
+                format!(
+                    "temporal anti-aliasing instead ({})",
+                    AA.setting(Value::Name("taa"))
+                ),
+            ),
         };
-        PassDecision::new(runs, reason.to_string(), quality.hdr_precision.format())
+        PassDecision::new(runs, reason, quality.hdr_precision.format())
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {

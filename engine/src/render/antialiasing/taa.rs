@@ -15,6 +15,8 @@
 
 use crate::error::Result;
 use crate::quality::Quality;
+use crate::quality::knob::Value;
+use crate::quality::knobs::AA;
 use crate::render::antialiasing::accumulate::mean_format;
 use crate::render::antialiasing::resolve::TaaResolve;
 use crate::render::bindings::{BindGroupSpec, Binding};
@@ -106,7 +108,7 @@ impl FramePass for TaaPass {
             (_, false) if accumulating => {
                 "the accumulation of jittered renders already filters every pixel".to_string()
             }
-            (_, false) => "--aa taa is off".to_string(),
+            (_, false) => format!("off (not {})", AA.setting(Value::Name("taa"))),
             (Some(why), true) => format!("history reset ({why}): this frame alone"),
             (None, true) => format!(
                 "frame {} since the history's reset, at most {TAA_FRAMES} averaged \

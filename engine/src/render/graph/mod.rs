@@ -49,23 +49,7 @@ use bevy_ecs::system::ScheduleSystem;
 use std::any::Any;
 use std::sync::Arc;
 
-/// A pass's name: how reports, timers, `--explain` and the JSON plan call it. Each pass
-/// module defines its own (`impl PassId { pub const Shadow: PassId = … }` beside the
-/// pass), so adding a pass touches nothing else.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct PassId(&'static str);
-
-impl PassId {
-    /// A pass named `name`.
-    pub const fn new(name: &'static str) -> PassId {
-        PassId(name)
-    }
-
-    /// Short name used in reports and JSON.
-    pub const fn name(self) -> &'static str {
-        self.0
-    }
-}
+pub use crate::pass_id::PassId;
 
 /// How a [`Slot`] comes to exist.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -167,6 +167,11 @@ impl Registry {
         Ok(Registry { entries: order })
     }
 
+    /// The passes' names, in order.
+    pub fn ids(&self) -> Vec<PassId> {
+        self.entries.iter().map(|e| e.id).collect()
+    }
+
     /// The passes that run in probe captures, in the same order.
     pub fn capture_subset(&self) -> Registry {
         Registry {

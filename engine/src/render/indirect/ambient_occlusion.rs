@@ -7,7 +7,10 @@
 //! It runs only when the frame has indirect light to occlude (an environment), something
 //! is drawn and [`crate::quality::AoSettings::resolution`] is not `off`.
 
+use crate::choice::Choice;
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::AO;
 use crate::quality::{AoResolution, AoSettings, Quality};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
@@ -96,13 +99,16 @@ struct Params {
 }
 
 /// Why the AO pass does not run this frame, if it does not.
-pub fn skip_reason(quality: &AoSettings, frame: &ExtractedFrame) -> Option<&'static str> {
+pub fn skip_reason(quality: &AoSettings, frame: &ExtractedFrame) -> Option<String> {
     if quality.resolution == AoResolution::Off {
-        Some("ambient occlusion is off (--ao off)")
+        Some(format!(
+            "ambient occlusion is off ({})",
+            AO.setting(Value::Name("off"))
+        ))
     } else if frame.instances.is_empty() {
-        Some("nothing is drawn")
+        Some("nothing is drawn".into())
     } else if frame.environment.is_none() {
-        Some("no indirect light to occlude (no environment)")
+        Some("no indirect light to occlude (no environment)".into())
     } else {
         None
     }
@@ -127,20 +133,18 @@ impl FramePass for AoPass {
             denoise: ao.denoise,
         };
         let skip = skip_reason(&ao, frame);
-        let reason = skip.map_or_else(
-            || {
-                format!(
-                    "GTAO at {} resolution, {} slices × {} steps, radius {:.2} m, {}",
-                    ao.resolution.name(),
-                    variant.slices,
-                    variant.steps,
-                    ao.radius_m,
-                    if ao.denoise { "denoised" } else { "raw" }
-                )
-            },
-            String::from,
-        );
-        PassDecision::new(skip.is_none(), reason, variant)
+        let runs = skip.is_none();
+        let reason = skip.unwrap_or_else(|| {
+            format!(
+                "GTAO at {} resolution, {} slices × {} steps, radius {:.2} m, {}",
+                ao.resolution.name(),
+                variant.slices,
+                variant.steps,
+                ao.radius_m,
+                if ao.denoise { "denoised" } else { "raw" }
+            )
+        });
+        PassDecision::new(runs, reason, variant)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {

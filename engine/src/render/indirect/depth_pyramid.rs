@@ -16,6 +16,8 @@
 
 use crate::error::Result;
 use crate::quality::Quality;
+use crate::quality::knob::Value;
+use crate::quality::knobs::SSR;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -219,7 +221,10 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
     let ssr = world.resource::<Quality>().ssr;
     let frame = world.resource::<ExtractedFrame>();
     if !ssr.enabled {
-        return Some("screen-space reflections are off (--no-ssr)".into());
+        return Some(format!(
+            "screen-space reflections are off ({})",
+            SSR.setting(Value::Bool(false))
+        ));
     }
     if frame.instances.is_empty() {
         return Some("nothing is drawn".into());

@@ -16,6 +16,8 @@ use crate::irradiance_volume::{
     IRRADIANCE_SIDE, OCT_SIDE, probe_counts, probe_origin, probe_spacing,
 };
 use crate::quality::GiSettings;
+use crate::quality::knob::Value;
+use crate::quality::knobs::GI;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
@@ -253,7 +255,10 @@ impl Grid {
 /// The grid this frame's scene asks for, or why it has none.
 pub fn grid_for(world: &mut World, gi: &GiSettings) -> std::result::Result<Grid, String> {
     if !gi.enabled {
-        return Err("global illumination off (--gi off)".into());
+        return Err(format!(
+            "global illumination off ({})",
+            GI.setting(Value::Bool(false))
+        ));
     }
     let explicit = world
         .query::<&IrradianceVolume>()

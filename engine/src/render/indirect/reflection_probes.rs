@@ -6,6 +6,8 @@
 
 use crate::error::Result;
 use crate::quality::ReflectionProbeSettings;
+use crate::quality::knob::Value;
+use crate::quality::knobs::REFLECTION_PROBES;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
@@ -81,7 +83,10 @@ pub fn probes_for(
     settings: &ReflectionProbeSettings,
 ) -> std::result::Result<Vec<PlacedProbe>, String> {
     if !settings.enabled {
-        return Err("reflection probes off (--reflection-probes off)".into());
+        return Err(format!(
+            "reflection probes off ({})",
+            REFLECTION_PROBES.setting(Value::Bool(false))
+        ));
     }
     let explicit: Vec<PlacedProbe> = world
         .query::<(&ReflectionProbe, &GlobalTransform)>()

@@ -14,6 +14,8 @@
 
 use crate::error::Result;
 use crate::quality::Quality;
+use crate::quality::knob::Value;
+use crate::quality::knobs::GI_RESOLUTION;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -70,7 +72,10 @@ const UNUSED: BindGroupSpec = BindGroupSpec {
 /// Why the pass does not run this frame, if it does not.
 pub fn skip_reason(quality: &Quality, frame: &ExtractedFrame, volume: bool) -> Option<String> {
     if !quality.gi.half_resolution {
-        Some("full resolution (--gi-resolution full): the lighting pass looks the volume up per pixel".into())
+        Some(format!(
+            "full resolution ({}): the lighting pass looks the volume up per pixel",
+            GI_RESOLUTION.setting(Value::Bool(false))
+        ))
     } else if frame.instances.is_empty() {
         Some("nothing is drawn".into())
     } else if !volume {

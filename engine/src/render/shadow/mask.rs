@@ -10,7 +10,10 @@
 //! ([`MASK_LIGHTS`]), and something is drawn. Point and spot lights keep their lookups in
 //! the light loop, as do the transparent and layer passes, and probe captures.
 
+use crate::choice::Choice;
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs;
 use crate::quality::{Quality, ShadowMask};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
@@ -70,7 +73,10 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
 pub fn skip_reason(mask: ShadowMask, frame: &ExtractedFrame) -> Option<String> {
     let directional = frame.shadowed_counts[0];
     if mask == ShadowMask::Off {
-        Some("off (--shadow-mask off): the light loop filters the shadow map".into())
+        Some(format!(
+            "off ({}): the light loop filters the shadow map",
+            knobs::SHADOW_MASK.setting(Value::Name("off"))
+        ))
     } else if frame.instances.is_empty() {
         Some("nothing is drawn".into())
     } else if frame.shadow_views.is_empty() || directional == 0 {

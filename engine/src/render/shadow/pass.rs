@@ -8,6 +8,8 @@
 
 use super::atlas::{AtlasLayout, AtlasRect, pack};
 use crate::error::Result;
+use crate::quality::knob::Value;
+use crate::quality::knobs::{SHADOW_CACHE, SHADOWS};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
 use crate::render::device::Gpu;
@@ -231,8 +233,9 @@ impl FramePass for ShadowPass {
             return PassDecision::new(
                 false,
                 format!(
-                    "cached: the atlas already holds these {views} view(s) and {} caster(s) (--no-shadow-cache draws it every frame)",
-                    frame.casters.len()
+                    "cached: the atlas already holds these {views} view(s) and {} caster(s) ({} draws it every frame)",
+                    frame.casters.len(),
+                    SHADOW_CACHE.setting(Value::Bool(false))
                 ),
                 ShadowVariant,
             );
@@ -246,7 +249,7 @@ impl FramePass for ShadowPass {
                 frame.casters.len()
             )
         } else if frame.shadows_disabled {
-            "shadows are off (--no-shadows)".into()
+            format!("shadows are off ({})", SHADOWS.setting(Value::Bool(false)))
         } else if sc.skipped == 0 {
             "no light casts shadows".into()
         } else if frame.casters.is_empty() {

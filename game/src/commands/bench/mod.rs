@@ -10,7 +10,7 @@ use super::view::{WindowOptions, WindowScene, run_window};
 use crate::cli::{BenchArgs, ViewArgs};
 use crate::measure::{FrameSample, WindowFrames, measure};
 use crate::output::write_text;
-use crate::setup::{build_scene, check_scene_args, preset_name, quality_json};
+use crate::setup::{build_scene, check_scene_args, preset_name};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
 use lumen::prelude::Quality;
@@ -48,7 +48,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     bar.finish_and_clear();
 
     let adapter = app.adapter().cloned().context("no adapter")?;
-    let quality = *app.world().resource::<Quality>();
+    let quality = app.world().resource::<Quality>().clone();
     let last = samples
         .last()
         .ok_or_else(|| anyhow!("no frame was measured"))?;
@@ -57,7 +57,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         scene: args.scene.label(),
         size: args.size,
         preset: preset_name(&quality),
-        quality: quality_json(&quality),
+        quality: app
+            .world()
+            .resource::<lumen::quality::Knobs>()
+            .json(&quality),
         adapter: [
             adapter.name.clone(),
             adapter.backend.to_string(),

@@ -17,6 +17,7 @@
 mod animation_panel;
 pub mod controls;
 pub mod gui;
+mod knob_panel;
 mod open;
 pub mod panel;
 mod screenshot;

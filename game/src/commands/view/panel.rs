@@ -3,10 +3,10 @@
 
 use super::animation_panel::animation_ui;
 use super::controls::{CameraControls, CameraMode};
-use lumen::brdf::VisibilityModel;
+use super::knob_panel::quality_ui;
+use lumen::choice::Choice;
 use lumen::color::Tonemapper;
 use lumen::prelude::*;
-use lumen::quality::{HdrPrecision, QualityPreset};
 use lumen::scene::{AutoExposure, Vignette};
 use lumen::{App, FrameReport};
 use std::collections::VecDeque;
@@ -112,10 +112,13 @@ impl Panel {
                         .show(ui, |ui| {
                             // Written back only when a knob moved: a write marks the
                             // quality changed, which recaptures probes and resets TAA.
-                            let before = *app.world().resource::<Quality>();
-                            let mut q = before;
-                            quality_ui(ui, &mut q);
-                            if q != before {
+                            let world = app.world();
+                            let next = quality_ui(
+                                ui,
+                                world.resource::<lumen::quality::Knobs>(),
+                                world.resource::<Quality>(),
+                            );
+                            if let Some(q) = next {
                                 *app.world_mut().resource_mut::<Quality>() = q;
                             }
                         });
@@ -248,7 +251,7 @@ fn view_ui(
     egui::ComboBox::from_label("debug view")
         .selected_text(view.name())
         .show_ui(ui, |ui| {
-            for v in DebugView::ALL {
+            for &v in DebugView::ALL {
                 ui.selectable_value(&mut view, v, v.name());
             }
         });
@@ -283,166 +286,6 @@ fn view_ui(
         "drag: orbit/look · scroll: zoom/speed · F: orbit or fly · WASD QE Shift: fly · \
          Tab: panel · drop a .gltf/.glb/.hdr/.exr to open it",
     );
-}
-
-fn combo<T: Copy + PartialEq>(
-    ui: &mut egui::Ui,
-    label: &str,
-    value: &mut T,
-    all: &[T],
-    name: impl Fn(T) -> &'static str,
-) {
-    egui::ComboBox::from_label(label)
-        .selected_text(name(*value))
-        .show_ui(ui, |ui| {
-            for v in all {
-                ui.selectable_value(value, *v, name(*v));
-            }
-        });
-}
-
-/// Every knob of [`Quality`], and the presets.
-fn quality_ui(ui: &mut egui::Ui, q: &mut Quality) {
-    ui.horizontal(|ui| {
-        for p in QualityPreset::ALL {
-            let current = p.quality() == *q;
-            if ui.selectable_label(current, p.name()).clicked() {
-                *q = p.quality();
-            }
-        }
-    });
-    let mut v = *q;
-    combo(
-        ui,
-        "visibility",
-        &mut v.visibility,
-        &VisibilityModel::ALL,
-        |m| m.name(),
-    );
-    ui.checkbox(&mut v.shadows, "shadows");
-    combo(
-        ui,
-        "shadow filter",
-        &mut v.shadow_filter,
-        &lumen::quality::ShadowFilter::ALL,
-        |f| f.name(),
-    );
-    combo(
-        ui,
-        "shadow mask",
-        &mut v.shadow_mask,
-        &lumen::quality::ShadowMask::ALL,
-        |m| m.name(),
-    );
-    ui.add(
-        egui::Slider::new(&mut v.shadow_resolution_scale, 0.125..=4.0)
-            .logarithmic(true)
-            .text("shadow resolution ×"),
-    );
-    ui.add(egui::Slider::new(&mut v.max_cascades, 1..=4).text("cascades"));
-    ui.checkbox(&mut v.all_lights_cast_shadows, "every light casts shadows");
-    combo(
-        ui,
-        "ambient occlusion",
-        &mut v.ao.resolution,
-        &lumen::quality::AoResolution::ALL,
-        |r| r.name(),
-    );
-    ui.add(egui::Slider::new(&mut v.ao.slices, 1..=8).text("AO slices"));
-    ui.add(egui::Slider::new(&mut v.ao.steps, 1..=32).text("AO steps"));
-    ui.add(
-        egui::Slider::new(&mut v.ao.radius_m, 0.05..=10.0)
-            .logarithmic(true)
-            .text("AO radius (m)"),
-    );
-    ui.checkbox(&mut v.ao.denoise, "AO filter");
-    ui.checkbox(&mut v.ao.multi_bounce, "AO multiple bounce");
-    ui.checkbox(&mut v.ssr.enabled, "screen-space reflections");
-    ui.checkbox(&mut v.ssr.half_resolution, "SSR at half resolution");
-    ui.add(egui::Slider::new(&mut v.ssr.max_roughness, 0.0..=1.0).text("SSR max roughness"));
-    ui.add(egui::Slider::new(&mut v.ssr.rays, 1..=16).text("SSR rays"));
-    ui.add(egui::Slider::new(&mut v.ssr.steps, 8..=256).text("SSR steps"));
-    ui.add(
-        egui::Slider::new(&mut v.ssr.thickness_m, 0.01..=5.0)
-            .logarithmic(true)
-            .text("SSR thickness (m)"),
-    );
-    ui.checkbox(&mut v.gi.enabled, "irradiance volume (GI)");
-    ui.add(egui::Slider::new(&mut v.gi.density, 1..=16).text("GI probes along the longest side"));
-    ui.add(egui::Slider::new(&mut v.gi.face_size, 4..=64).text("GI capture face (px)"));
-    ui.add(egui::Slider::new(&mut v.gi.bounces, 1..=4).text("GI bounces"));
-    ui.add(egui::Slider::new(&mut v.gi.probes_per_frame, 0..=64).text("GI probes per frame"));
-    ui.checkbox(&mut v.gi.half_resolution, "GI at half resolution");
-    ui.checkbox(&mut v.reflection_probes.enabled, "reflection probes");
-    ui.add(
-        egui::Slider::new(&mut v.reflection_probes.face_size, 16..=256)
-            .text("reflection probe face (px, a power of two)"),
-    );
-    combo(
-        ui,
-        "anti-aliasing",
-        &mut v.aa.method,
-        &lumen::quality::AaMethod::ALL,
-        |m| m.name(),
-    );
-    ui.add(egui::Slider::new(&mut v.aa.accumulate, 1..=64).text("accumulated renders"));
-    ui.add(egui::Slider::new(&mut v.aa.taa_sharpen, 0.0..=1.0).text("TAA sharpening"));
-    ui.checkbox(&mut v.aa.specular.enabled, "specular anti-aliasing");
-    let form = v.aa.specular.form;
-    combo(
-        ui,
-        "specular AA form",
-        &mut v.aa.specular.form,
-        &lumen::quality::SpecularAaForm::ALL,
-        |f| f.name(),
-    );
-    if v.aa.specular.form != form {
-        v.aa.specular = v.aa.specular.with_form(v.aa.specular.form);
-    }
-    ui.add(egui::Slider::new(&mut v.aa.specular.variance, 0.0..=1.0).text("specular AA σ²"));
-    ui.add(egui::Slider::new(&mut v.aa.specular.threshold, 0.0..=1.0).text("specular AA κ"));
-    ui.checkbox(&mut v.energy_compensation, "energy compensation");
-    ui.checkbox(&mut v.light_culling, "light culling");
-    ui.checkbox(&mut v.shadow_cache, "shadow cache");
-    ui.add(
-        egui::Slider::new(&mut v.ibl_samples, 1..=4096)
-            .logarithmic(true)
-            .text("IBL samples"),
-    );
-    ui.add(
-        egui::Slider::new(&mut v.brdf_lut_size, 8..=512)
-            .logarithmic(true)
-            .text("BRDF table side"),
-    );
-    ui.add(
-        egui::Slider::new(&mut v.brdf_lut_samples, 1..=65536)
-            .logarithmic(true)
-            .text("BRDF table samples"),
-    );
-    let mut rings = v.dof_rings.is_some();
-    ui.horizontal(|ui| {
-        ui.checkbox(&mut rings, "override DoF rings");
-        let mut n = v.dof_rings.unwrap_or(3);
-        if rings {
-            ui.add(egui::Slider::new(&mut n, 1..=5));
-        }
-        v.dof_rings = rings.then_some(n);
-    });
-    combo(
-        ui,
-        "HDR target",
-        &mut v.hdr_precision,
-        &[HdrPrecision::Half, HdrPrecision::Full],
-        |p| p.name(),
-    );
-    ui.add(
-        egui::Slider::new(&mut v.max_texture_size, 16..=16384)
-            .logarithmic(true)
-            .text("texture budget (next load)"),
-    );
-    if v != *q {
-        *q = v;
-    }
 }
 
 /// Exposure, tone mapping, depth of field and vignetting of the camera.
@@ -508,13 +351,13 @@ fn camera_ui(ui: &mut egui::Ui, camera: &mut Camera, metered_ev100: Option<f32>)
     ui.add(
         egui::Slider::new(&mut c.exposure_compensation, -5.0..=5.0).text("compensation (stops)"),
     );
-    combo(
-        ui,
-        "tone mapper",
-        &mut c.tonemapper,
-        &Tonemapper::ALL,
-        |t| t.name(),
-    );
+    egui::ComboBox::from_label("tone mapper")
+        .selected_text(c.tonemapper.name())
+        .show_ui(ui, |ui| {
+            for &t in Tonemapper::ALL {
+                ui.selectable_value(&mut c.tonemapper, t, t.name());
+            }
+        });
     let mut dof = c.depth_of_field.is_some();
     ui.checkbox(&mut dof, "depth of field");
     let mut d = c.depth_of_field.unwrap_or_default();

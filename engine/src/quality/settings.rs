@@ -1,91 +1,53 @@
-//! Speed/accuracy knobs. Each is a field of [`Quality`] with a documented cost (README,
-//! "Quality presets"); [`QualityPreset`] sets them all at once.
+//! The quality settings as typed fields: [`Quality`], its nested settings and the enums
+//! its knobs choose from. Each field is one knob ([`super::knobs`]), whose declaration
+//! gives its default ([`super::knobs`] implements `Default` from them).
 
 use crate::brdf::VisibilityModel;
+use crate::choice::choices;
 use bevy_ecs::prelude::Resource;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
+choices! {
 /// How shadow maps are filtered (README, "Shadows", for the measured cost of each).
 /// The numeric values are the shader constant `SHADOW_FILTER`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ShadowFilter {
+pub enum ShadowFilter: "shadow filter" {
     /// One comparison tap: the hardware's bilinear 2×2 percentage-closer filter.
-    Hardware2x2 = 0,
+    Hardware2x2(0) = "hardware",
     /// A 5×5-texel kernel ([1 3 4 3 1] per axis) read with 9 bilinear comparison taps,
     /// no noise (Castaño 2013's optimised PCF; [`crate::shadow_kernel`]). The default: as
     /// accurate as [`ShadowFilter::Pcf`] against the path tracer at three quarters of its
     /// lighting cost (README, "Shadows").
     #[default]
-    Tent = 3,
+    Tent(3) = "tent",
     /// 16 hardware 2×2 taps on a Poisson disc of radius 1.5 texels, rotated per pixel
     /// (Reeves et al. 1987, percentage-closer filtering).
-    Pcf = 1,
+    Pcf(1) = "pcf",
     /// Percentage-closer soft shadows (Fernando 2005): a 16-tap blocker search, then a
     /// 16-tap filter whose radius grows with the light's size and the distance between
     /// blocker and receiver (contact hardening).
-    Pcss = 2,
+    Pcss(2) = "pcss",
+}
 }
 
-impl ShadowFilter {
-    /// Every filter, cheapest first.
-    pub const ALL: [ShadowFilter; 4] = [
-        ShadowFilter::Hardware2x2,
-        ShadowFilter::Tent,
-        ShadowFilter::Pcf,
-        ShadowFilter::Pcss,
-    ];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShadowFilter::Hardware2x2 => "hardware",
-            ShadowFilter::Tent => "tent",
-            ShadowFilter::Pcf => "pcf",
-            ShadowFilter::Pcss => "pcss",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<ShadowFilter> {
-        ShadowFilter::ALL
-            .into_iter()
-            .find(|f| f.name().eq_ignore_ascii_case(name))
-    }
-}
-
+choices! {
 /// Where the shadowed directional lights' visibility is resolved (README, "Shadows", for
 /// the measured cost and error of each; [`crate::render::shadow::mask`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum ShadowMask {
+pub enum ShadowMask: "shadow mask" {
     /// No mask pass: the lighting pass's light loop filters the shadow map per pixel.
-    Off,
+    Off = "off",
     /// One filtered lookup per 2×2 pixels in the mask pass, upsampled by the lighting
     /// pass with depth-aware weights ([`crate::shadow_kernel::shadow_mask_weight`]).
     #[default]
-    Half,
+    Half = "half",
     /// One filtered lookup per pixel in the mask pass: the same visibility as `off`.
-    Full,
+    Full = "full",
+}
 }
 
 impl ShadowMask {
-    /// Every setting.
-    pub const ALL: [ShadowMask; 3] = [ShadowMask::Off, ShadowMask::Half, ShadowMask::Full];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            ShadowMask::Off => "off",
-            ShadowMask::Half => "half",
-            ShadowMask::Full => "full",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<ShadowMask> {
-        ShadowMask::ALL
-            .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(name))
-    }
-
     /// Pixels per mask texel along each axis (0 when off).
     pub fn scale(self) -> u32 {
         match self {
@@ -96,39 +58,22 @@ impl ShadowMask {
     }
 }
 
+choices! {
 /// Where screen-space ambient occlusion is computed (README, "Indirect light", for the
 /// measured cost of each).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum AoResolution {
+pub enum AoResolution: "AO resolution" {
     /// No ambient-occlusion pass: indirect light sees only the materials' occlusion.
-    Off,
+    Off = "off",
     /// One AO sample per 2×2 pixels, upsampled by the depth-aware resolve.
     #[default]
-    Half,
+    Half = "half",
     /// One AO sample per pixel.
-    Full,
+    Full = "full",
+}
 }
 
 impl AoResolution {
-    /// Every setting, cheapest first.
-    pub const ALL: [AoResolution; 3] = [AoResolution::Off, AoResolution::Half, AoResolution::Full];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            AoResolution::Off => "off",
-            AoResolution::Half => "half",
-            AoResolution::Full => "full",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<AoResolution> {
-        AoResolution::ALL
-            .into_iter()
-            .find(|r| r.name().eq_ignore_ascii_case(name))
-    }
-
     /// Full-resolution pixels per AO sample along each axis (0 when off).
     pub fn scale(self) -> u32 {
         match self {
@@ -140,10 +85,11 @@ impl AoResolution {
 }
 
 /// Screen-space ambient occlusion (GTAO, [`crate::ambient_occlusion`]): it darkens
-/// environment light (and, once they exist, probe light) where the depth buffer shows
-/// nearby geometry; direct lights are never occluded by it. It runs only when the frame
-/// has indirect light to occlude.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// environment light (and probe light) where the depth buffer shows nearby geometry;
+/// direct lights are never occluded by it. It runs only when the frame has indirect light
+/// to occlude.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct AoSettings {
     /// Off, half or full resolution.
     pub resolution: AoResolution,
@@ -162,23 +108,11 @@ pub struct AoSettings {
     pub multi_bounce: bool,
 }
 
-impl Default for AoSettings {
-    fn default() -> Self {
-        AoSettings {
-            resolution: AoResolution::Half,
-            slices: 3,
-            steps: 6,
-            radius_m: 1.0,
-            denoise: true,
-            multi_bounce: true,
-        }
-    }
-}
-
 /// Screen-space reflections ([`crate::render::indirect::reflections`]): the lit frame
 /// seen in smooth surfaces, traced over a hierarchical depth pyramid. Where a ray misses
 /// or leaves the screen, the environment's reflection stays.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SsrSettings {
     /// On or off.
     pub enabled: bool,
@@ -197,39 +131,27 @@ pub struct SsrSettings {
     pub half_resolution: bool,
 }
 
-impl Default for SsrSettings {
-    fn default() -> Self {
-        SsrSettings {
-            enabled: true,
-            max_roughness: 0.35,
-            rays: 1,
-            steps: 32,
-            thickness_m: 0.3,
-            half_resolution: true,
-        }
-    }
-}
-
-/// The renderer's quality settings.
-#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+/// The renderer's quality settings. Every field is a [`Knob`] (the built-in ones are in
+/// [`knobs`]); its default is the knob's, which is the `high` preset.
+#[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Quality {
     /// Visibility (geometric) term of the specular lobe. `schlick-ggx` (the seeds',
     /// default) and `smith-correlated-fast` cost the same; `smith-correlated` adds two
     /// square roots per light and pixel.
     pub visibility: VisibilityModel,
-    /// Shadows on or off for the whole frame (`--no-shadows`); off skips the shadow pass.
+    /// Shadows on or off for the whole frame; off skips the shadow pass.
     pub shadows: bool,
     /// Shadow filtering.
     pub shadow_filter: ShadowFilter,
-    /// Where the shadowed directional lights' visibility is resolved (`--shadow-mask`).
+    /// Where the shadowed directional lights' visibility is resolved.
     pub shadow_mask: ShadowMask,
-    /// Every light casts shadows, whatever its own `cast_shadows` says
-    /// (`--light-shadows all`): the frame then has the physical visibility the path
-    /// tracer has. Each point light adds six shadow views (one cube) and each spot light
-    /// one, plus their shadowed loop in the lighting pass. No preset turns it on yet: until
-    /// the frame has bounce light, unshadowed lights below a floor stand in for the light
-    /// the floor would bounce, and shadowing them raises the error against the full
-    /// reference (docs/src/indirect.md).
+    /// Every light casts shadows, whatever its own `cast_shadows` says: the frame then has
+    /// the physical visibility the path tracer has. Each point light adds six shadow views
+    /// (one cube) and each spot light one, plus their shadowed loop in the lighting pass.
+    /// No preset turns it on yet: until the frame has bounce light, unshadowed lights
+    /// below a floor stand in for the light the floor would bounce, and shadowing them
+    /// raises the error against the full reference (docs/src/indirect.md).
     pub all_lights_cast_shadows: bool,
     /// Multiple-scattering energy compensation of the specular lobe (Kulla & Conty 2017),
     /// for environment and direct light. On: metals and rough surfaces keep their energy
@@ -248,6 +170,7 @@ pub struct Quality {
     pub max_cascades: u32,
     /// Depth-of-field sample rings for every camera with DoF (1..=5); `None` keeps each
     /// camera's own `DepthOfField::rings`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dof_rings: Option<u32>,
     /// Precision of the HDR target that lighting, sky and DoF write and tone mapping
     /// reads.
@@ -256,8 +179,8 @@ pub struct Quality {
     /// exact optimisation: a light is skipped only where its range window is 0).
     pub light_culling: bool,
     /// The shadow atlas is drawn again only when its views or casters changed (an exact
-    /// optimisation: equal views and casters draw an equal atlas). Off
-    /// (`--no-shadow-cache`), it is drawn every frame, as to measure what drawing costs.
+    /// optimisation: equal views and casters draw an equal atlas). Off, it is drawn every
+    /// frame, as to measure what drawing costs.
     pub shadow_cache: bool,
     /// Texture budget: the longest side, in texels, a texture keeps when it is loaded
     /// (larger ones are downscaled with a warning; the device's own limit applies too).
@@ -272,82 +195,65 @@ pub struct Quality {
     pub reflection_probes: ReflectionProbeSettings,
     /// Anti-aliasing: geometric specular AA, post-process AA and accumulation.
     pub aa: AaSettings,
-    /// How blended surfaces are composited (`--transparency`).
+    /// How blended surfaces are composited.
     pub transparency: Transparency,
+    /// The values of knobs that scripts and plugins register ([`Knobs::with`]), by knob
+    /// name: a knob whose path is `extensions.NAME` lives here, and reads its default
+    /// while it is absent.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub extensions: BTreeMap<String, toml::Value>,
 }
 
+impl Quality {
+    /// The settings as a TOML tree of their serde form (the tree a [`Knob::path`] names
+    /// a field of).
+    pub fn to_tree(&self) -> toml::Table {
+        toml::Table::try_from(self)
+            .unwrap_or_else(|e| panic!("the quality settings have no TOML form: {e}"))
+    }
+
+    /// The settings a TOML tree of their serde form describes.
+    pub fn from_tree(tree: toml::Table) -> Result<Quality, toml::de::Error> {
+        Quality::deserialize(toml::Value::Table(tree))
+    }
+}
+
+choices! {
 /// How the transparent pass composites blended surfaces (docs/src/materials.md#blending).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Transparency {
+pub enum Transparency: "transparency" {
     /// Sorted back to front per primitive and composited with "over": exact where the
     /// primitives do not interleave in depth.
     #[default]
-    Sorted,
+    Sorted = "sorted",
     /// Weighted blended order-independent transparency (McGuire & Bavoil 2013): every
     /// blended fragment is accumulated in any order, weighted by its coverage and depth,
     /// then resolved once. No sort and no order artefacts where primitives interleave;
     /// the colour of overlapping layers is a weighted average, not the exact "over".
-    WeightedBlended,
+    WeightedBlended = "weighted",
+}
 }
 
-impl Transparency {
-    /// Both, in the order `--transparency` lists them.
-    pub const ALL: [Transparency; 2] = [Transparency::Sorted, Transparency::WeightedBlended];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Transparency::Sorted => "sorted",
-            Transparency::WeightedBlended => "weighted",
-        }
-    }
-}
-
+choices! {
 /// Which anti-aliasing filter runs on each finished frame (docs/src/antialiasing.md for
 /// the measured cost and error of each).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum AaMethod {
+pub enum AaMethod: "anti-aliasing" {
     /// No post-process anti-aliasing: every pixel is its centre's sample.
     #[default]
-    None,
+    None = "none",
     /// Fast approximate anti-aliasing (Lottes 2009): one full-screen pass that finds
     /// luminance edges and blends each edge pixel with its neighbour across the edge.
-    Fxaa,
+    Fxaa = "fxaa",
     /// Subpixel morphological anti-aliasing (Jimenez et al. 2012, SMAA 1x): edges found
     /// from luma, followed to their ends, and each edge pixel blended with its neighbour
     /// by the coverage of the silhouette's revectorized line.
-    Smaa,
+    Smaa = "smaa",
     /// Temporal anti-aliasing (Karis 2014; Salvi 2016): every frame is jittered inside
     /// the pixel, and the history of earlier frames, reprojected by motion vectors and
     /// clipped to the current neighbourhood's colour range, is blended in.
-    Taa,
+    Taa = "taa",
 }
-
-impl AaMethod {
-    /// Every method, cheapest first.
-    pub const ALL: [AaMethod; 4] = [
-        AaMethod::None,
-        AaMethod::Fxaa,
-        AaMethod::Smaa,
-        AaMethod::Taa,
-    ];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            AaMethod::None => "none",
-            AaMethod::Fxaa => "fxaa",
-            AaMethod::Smaa => "smaa",
-            AaMethod::Taa => "taa",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<AaMethod> {
-        AaMethod::ALL
-            .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(name))
-    }
 }
 
 /// Geometric specular anti-aliasing in the G-buffer pass
@@ -357,75 +263,65 @@ impl AaMethod {
 /// flicker (2.45× less on a turning bump-mapped sphere) but widens still highlights beyond
 /// the pixel's footprint, which raises the error against the reference: off in every
 /// preset (docs/src/antialiasing.md).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SpecularAaSettings {
     /// On or off. Off, the G-buffer stores each material's roughness as it is.
     pub enabled: bool,
     /// The form of the filter kernel.
     pub form: SpecularAaForm,
     /// σ², the variance of the pixel filter, which scales the screen-space variation of
-    /// the normal (dimensionless; the form's default: 1/(2π) for 2021, Filament's 0.15
-    /// for 2019).
-    pub variance: f32,
-    /// κ, the largest α² the filter may add (dimensionless; the form's default: 0.18 for
-    /// 2021, 0.2 for 2019).
-    pub threshold: f32,
-}
-
-impl Default for SpecularAaSettings {
-    fn default() -> Self {
-        SpecularAaSettings::of_form(SpecularAaForm::default())
-    }
+    /// the normal (dimensionless); `None` takes the form's default (1/(2π) for 2021,
+    /// Filament's 0.15 for 2019).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub variance: Option<f32>,
+    /// κ, the largest α² the filter may add (dimensionless); `None` takes the form's
+    /// default (0.18 for 2021, 0.2 for 2019).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub threshold: Option<f32>,
 }
 
 impl SpecularAaSettings {
-    /// Off, with `form` and its default σ² and κ.
-    pub fn of_form(form: SpecularAaForm) -> SpecularAaSettings {
-        SpecularAaSettings {
-            enabled: false,
-            form,
-            variance: form.default_variance(),
-            threshold: form.default_threshold(),
-        }
+    /// σ²: the one set, else the form's default.
+    pub fn variance(&self) -> f32 {
+        self.variance
+            .unwrap_or_else(|| self.form.default_variance())
     }
 
-    /// The same on/off, with `form` and its default σ² and κ.
-    pub fn with_form(self, form: SpecularAaForm) -> SpecularAaSettings {
-        SpecularAaSettings {
-            enabled: self.enabled,
-            ..SpecularAaSettings::of_form(form)
-        }
+    /// κ: the one set, else the form's default.
+    pub fn threshold(&self) -> f32 {
+        self.threshold
+            .unwrap_or_else(|| self.form.default_threshold())
     }
 
     /// The α² the kernel adds per unit of the normal's screen-space variation (the
     /// `screen_scale` of [`crate::brdf::specular_aa_roughness`]): c · σ².
     pub fn screen_scale(&self) -> f32 {
-        self.form.kernel_factor() * self.variance
+        self.form.kernel_factor() * self.variance()
     }
 }
 
+choices! {
 /// The isotropic kernel of geometric specular anti-aliasing for a deferred renderer
 /// (Tokuyoshi & Kaplanyan). Both widen α² by the screen-space variation of the normal
 /// times the pixel filter's variance σ²; they differ in the space the NDF is filtered in,
 /// which sets the factor c (docs/src/antialiasing.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum SpecularAaForm {
+pub enum SpecularAaForm: "specular AA form" {
     /// 2019, "Improved Geometric Specular Antialiasing": filtered in the slope space of
     /// the half vector, α²_k = 2σ²|∂n|² (Filament's form; σ² 0.15, κ 0.2).
-    Slope2019,
+    Slope2019 = "2019",
     /// 2021, "Stable Geometric Specular Antialiasing with Projected-Space NDF Filtering",
     /// eq. 14: filtered in the projected space of the half vector, α²_k = σ²|∂n|²
     /// (σ² = 1/(2π), the paper's pixel filter variance; κ 0.18). The default: it calms
     /// flicker as much as 2019's (2.40× against 2.45× on a turning bump-mapped sphere) with
     /// less error on still frames (docs/src/antialiasing.md).
     #[default]
-    Projected2021,
+    Projected2021 = "2021",
+}
 }
 
 impl SpecularAaForm {
-    /// Both, in the order the command line lists them.
-    pub const ALL: [SpecularAaForm; 2] = [SpecularAaForm::Slope2019, SpecularAaForm::Projected2021];
-
     /// c: the α² per unit of σ²|∂n|² (2 in slope space, 1 in projected space).
     pub fn kernel_factor(self) -> f32 {
         match self {
@@ -449,26 +345,14 @@ impl SpecularAaForm {
             SpecularAaForm::Projected2021 => 0.18,
         }
     }
-
-    /// The command line's name (`--specular-aa-form`).
-    pub fn name(self) -> &'static str {
-        match self {
-            SpecularAaForm::Slope2019 => "2019",
-            SpecularAaForm::Projected2021 => "2021",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<SpecularAaForm> {
-        SpecularAaForm::ALL.into_iter().find(|f| f.name() == name)
-    }
 }
 
-/// Most jittered renders one image may average (`--accumulate`).
+/// Most jittered renders one image may average (the `accumulate` knob).
 pub const MAX_ACCUMULATE: u32 = 1024;
 
 /// Anti-aliasing settings.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct AaSettings {
     /// The post-process filter.
     pub method: AaMethod,
@@ -486,21 +370,10 @@ pub struct AaSettings {
 }
 
 impl AaSettings {
-    /// Whether temporal anti-aliasing runs: `--aa taa` without accumulation (which already
+    /// Whether temporal anti-aliasing runs: TAA without accumulation (which already
     /// filters every pixel, so TAA, its motion vectors and its history stay off).
     pub fn temporal(&self) -> bool {
         self.method == AaMethod::Taa && self.accumulate <= 1
-    }
-}
-
-impl Default for AaSettings {
-    fn default() -> Self {
-        AaSettings {
-            method: AaMethod::None,
-            accumulate: 1,
-            specular: SpecularAaSettings::default(),
-            taa_sharpen: 0.0,
-        }
     }
 }
 
@@ -510,7 +383,8 @@ impl Default for AaSettings {
 /// from them. Each capture pass renders six low-resolution views per probe through the
 /// frame's own shadow, G-buffer and lighting passes; the lighting of a pass includes the
 /// probe light of the one before, so each pass adds one bounce.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GiSettings {
     /// On or off. Off, no probe is placed or captured and environment irradiance stays.
     pub enabled: bool,
@@ -535,24 +409,11 @@ pub struct GiSettings {
     pub half_resolution: bool,
 }
 
-impl Default for GiSettings {
-    fn default() -> Self {
-        GiSettings {
-            enabled: true,
-            density: 4,
-            face_size: 32,
-            bounces: 3,
-            probes_per_frame: 8,
-            auto_place: true,
-            half_resolution: true,
-        }
-    }
-}
-
 /// Reflection probes ([`crate::render::indirect::reflection_probes`]): cube maps of the lit
 /// scene captured through the frame's own passes and prefiltered like an environment, for
 /// the specular reflections the environment cannot give (the floor in a metal sphere).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ReflectionProbeSettings {
     /// On or off. Off, no probe is placed or captured.
     pub enabled: bool,
@@ -563,26 +424,18 @@ pub struct ReflectionProbeSettings {
     pub auto_place: bool,
 }
 
-impl Default for ReflectionProbeSettings {
-    fn default() -> Self {
-        ReflectionProbeSettings {
-            enabled: true,
-            face_size: 64,
-            auto_place: true,
-        }
-    }
-}
-
+choices! {
 /// Format of the exposed HDR target.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum HdrPrecision {
+pub enum HdrPrecision: "HDR precision" {
     /// `Rgba16Float`: 11 significant bits (relative step 2⁻¹¹), values up to 65504.
     /// Pre-exposure keeps a frame inside that range.
     #[default]
-    Half,
+    Half = "f16",
     /// `Rgba32Float`: 24 significant bits; twice the bandwidth of every pass that writes
     /// or reads the target.
-    Full,
+    Full = "f32",
+}
 }
 
 impl HdrPrecision {
@@ -593,193 +446,30 @@ impl HdrPrecision {
             HdrPrecision::Full => wgpu::TextureFormat::Rgba32Float,
         }
     }
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            HdrPrecision::Half => "f16",
-            HdrPrecision::Full => "f32",
-        }
-    }
 }
 
-/// Named sets of every knob, cheapest first. `High` is [`Quality::default`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum QualityPreset {
+choices! {
+/// Named sets of every knob, cheapest first, each a TOML file ([`preset`]). `High` is
+/// [`Quality::default`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum QualityPreset: "quality preset" {
     /// Hardware 2×2 shadow filtering at half resolution with one cascade, no energy
-    /// compensation, 16-sample IBL prefiltering, one DoF ring, no ambient occlusion.
-    Low,
+    /// compensation, 16-sample IBL prefiltering, one DoF ring, no ambient occlusion,
+    /// reflections, irradiance volume or reflection probes.
+    Low = "low",
     /// The `tent` filter (half-resolution mask) with two cascades, energy compensation, 32 IBL
-    /// samples, two DoF rings, half-resolution AO of 2 slices × 4 steps.
-    Medium,
+    /// samples, two DoF rings, half-resolution AO of 2 slices × 4 steps, a coarse
+    /// one-bounce irradiance volume.
+    Medium = "medium",
     /// The defaults: the `tent` filter, resolved for the sun in a half-resolution shadow
     /// mask, up to four cascades, 64 IBL samples, the camera's rings, half-resolution AO
     /// of 3 slices × 6 steps.
-    High,
-    /// PCSS at twice the resolution in the light loop (no shadow mask), height-correlated Smith visibility, 256 IBL samples, a 128² BRDF table of 1024 samples, five DoF rings, an
-    /// f32 HDR target, full-resolution AO of 4 slices × 8 steps and temporal
+    #[default]
+    High = "high",
+    /// PCSS at twice the resolution in the light loop (no shadow mask), height-correlated
+    /// Smith visibility, 256 IBL samples, a 128² BRDF table of 1024 samples, five DoF
+    /// rings, an f32 HDR target, full-resolution AO of 4 slices × 8 steps and temporal
     /// anti-aliasing.
-    Ultra,
+    Ultra = "ultra",
 }
-
-impl QualityPreset {
-    /// Every preset, cheapest first.
-    pub const ALL: [QualityPreset; 4] = [
-        QualityPreset::Low,
-        QualityPreset::Medium,
-        QualityPreset::High,
-        QualityPreset::Ultra,
-    ];
-
-    /// The name used on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            QualityPreset::Low => "low",
-            QualityPreset::Medium => "medium",
-            QualityPreset::High => "high",
-            QualityPreset::Ultra => "ultra",
-        }
-    }
-
-    /// Parses a command-line name.
-    pub fn from_name(name: &str) -> Option<QualityPreset> {
-        QualityPreset::ALL
-            .into_iter()
-            .find(|p| p.name().eq_ignore_ascii_case(name))
-    }
-
-    /// Every knob of this preset.
-    pub fn quality(self) -> Quality {
-        let high = Quality::default();
-        match self {
-            QualityPreset::Low => Quality {
-                shadow_filter: ShadowFilter::Hardware2x2,
-                shadow_resolution_scale: 0.5,
-                max_cascades: 1,
-                energy_compensation: false,
-                ibl_samples: 16,
-                brdf_lut_size: 32,
-                brdf_lut_samples: 128,
-                dof_rings: Some(1),
-                max_texture_size: 1024,
-                ao: AoSettings {
-                    resolution: AoResolution::Off,
-                    ..high.ao
-                },
-                ssr: SsrSettings {
-                    enabled: false,
-                    ..high.ssr
-                },
-                gi: GiSettings {
-                    enabled: false,
-                    ..high.gi
-                },
-                reflection_probes: ReflectionProbeSettings {
-                    enabled: false,
-                    ..high.reflection_probes
-                },
-                ..high
-            },
-            QualityPreset::Medium => Quality {
-                max_cascades: 2,
-                ibl_samples: 32,
-                brdf_lut_samples: 256,
-                dof_rings: Some(2),
-                max_texture_size: 2048,
-                ao: AoSettings {
-                    slices: 2,
-                    steps: 4,
-                    ..high.ao
-                },
-                ssr: SsrSettings {
-                    max_roughness: 0.2,
-                    steps: 24,
-                    ..high.ssr
-                },
-                gi: GiSettings {
-                    density: 3,
-                    face_size: 8,
-                    bounces: 1,
-                    ..high.gi
-                },
-                reflection_probes: ReflectionProbeSettings {
-                    face_size: 32,
-                    ..high.reflection_probes
-                },
-                ..high
-            },
-            QualityPreset::High => high,
-            QualityPreset::Ultra => Quality {
-                visibility: VisibilityModel::SmithGgxCorrelated,
-                shadow_filter: ShadowFilter::Pcss,
-                shadow_mask: ShadowMask::Off,
-                shadow_resolution_scale: 2.0,
-                ibl_samples: 256,
-                brdf_lut_size: 128,
-                brdf_lut_samples: 1024,
-                dof_rings: Some(5),
-                hdr_precision: HdrPrecision::Full,
-                max_texture_size: 8192,
-                ao: AoSettings {
-                    resolution: AoResolution::Full,
-                    slices: 4,
-                    steps: 8,
-                    ..high.ao
-                },
-                ssr: SsrSettings {
-                    max_roughness: 0.7,
-                    rays: 8,
-                    steps: 96,
-                    half_resolution: false,
-                    ..high.ssr
-                },
-                gi: GiSettings {
-                    density: 6,
-                    face_size: 32,
-                    bounces: 4,
-                    probes_per_frame: 16,
-                    half_resolution: false,
-                    ..high.gi
-                },
-                reflection_probes: ReflectionProbeSettings {
-                    face_size: 128,
-                    ..high.reflection_probes
-                },
-                aa: AaSettings {
-                    method: AaMethod::Taa,
-                    ..high.aa
-                },
-                ..high
-            },
-        }
-    }
-}
-
-impl Default for Quality {
-    fn default() -> Self {
-        Quality {
-            visibility: VisibilityModel::default(),
-            shadows: true,
-            shadow_filter: ShadowFilter::default(),
-            shadow_mask: ShadowMask::default(),
-            all_lights_cast_shadows: false,
-            energy_compensation: true,
-            ibl_samples: 64,
-            brdf_lut_size: 64,
-            brdf_lut_samples: 512,
-            shadow_resolution_scale: 1.0,
-            max_cascades: 4,
-            dof_rings: None,
-            hdr_precision: HdrPrecision::Half,
-            light_culling: true,
-            shadow_cache: true,
-            max_texture_size: 4096,
-            ao: AoSettings::default(),
-            ssr: SsrSettings::default(),
-            gi: GiSettings::default(),
-            reflection_probes: ReflectionProbeSettings::default(),
-            aa: AaSettings::default(),
-            transparency: Transparency::default(),
-        }
-    }
 }
