@@ -36,6 +36,7 @@ mod shadows;
 mod skinning;
 mod slurm;
 mod temporal;
+mod toy;
 mod tradeoff;
 mod transmission;
 mod transparency;

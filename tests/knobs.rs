@@ -1,10 +1,9 @@
 //! The knobs as the `lumen` command offers them: flags derived from the declarations,
 //! grouped by heading and per subcommand, presets as TOML files (`lumen quality show`,
-//! `--quality-file`), the old spellings as hidden aliases with a note, and a knob that a
-//! plugin declares reaching `--help`, the JSON, the tradeoff sweep and `quality show`.
+//! `--quality-file`), and the old spellings as hidden aliases with a note. A knob that a
+//! plugin declares is `toy.rs`'s.
 
-use lumen::quality::knob::{Acts, Group, Kind, Knob, Value};
-use lumen::quality::{Knobs, Quality, QualityPreset};
+use lumen::quality::knob::Acts;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -160,75 +159,4 @@ fn each_subcommand_offers_the_knobs_that_act_on_it_under_headings() {
     let bad = lumen(&["render", "--ao-slices", "9"], dir.path());
     assert!(!bad.status.success());
     assert!(text(&bad.stderr).contains("1..=8"), "{}", text(&bad.stderr));
-}
-
-/// A plugin's knob, declared in this file alone.
-static TOY_STRENGTH: Knob = Knob {
-    name: "toy-strength",
-    path: "extensions.toy-strength",
-    group: Group::CAMERA,
-    doc: "Strength of the toy effect",
-    kind: Kind::Float { min: 0.0, max: 4.0 },
-    default: Value::Float(1.0),
-    passes: &[],
-    acts: Acts::FRAME,
-    sweep: &[Value::Float(0.25), Value::Float(2.0)],
-    sweep_with: &[],
-};
-
-#[test]
-fn a_plugins_knob_reaches_help_json_tradeoff_and_quality_show() {
-    let knobs = Knobs::default().with(&TOY_STRENGTH).expect("a new knob");
-    // --help, under its heading, and parsed into the scene's settings.
-    let mut cmd = lumen_game::cli::command(&knobs);
-    let help = cmd
-        .find_subcommand_mut("render")
-        .expect("render")
-        .render_long_help()
-        .to_string();
-    let at = help.find("--toy-strength <X>").expect("the flag is listed");
-    let heading = help[..at]
-        .lines()
-        .rfind(|l| !l.starts_with(' ') && l.ends_with(':'));
-    assert_eq!(heading, Some("Camera:"), "{help}");
-    let cli = lumen_game::cli::parse_from(
-        &knobs,
-        ["lumen", "render", "--toy-strength", "3"].map(Into::into),
-    )
-    .expect("parses");
-    let Some(lumen_game::cli::Command::Render(args)) = cli.command else {
-        panic!("render");
-    };
-    let mut quality = Quality::default();
-    args.scene.knobs.apply(&mut quality).expect("in range");
-    assert_eq!(TOY_STRENGTH.get(&quality), Value::Float(3.0));
-    assert!(
-        lumen_game::cli::parse_from(
-            &knobs,
-            ["lumen", "render", "--toy-strength", "5"].map(Into::into)
-        )
-        .is_err(),
-        "out of range"
-    );
-    // The JSON of reports.
-    assert_eq!(knobs.json(&quality)["toy-strength"], serde_json::json!(3.0));
-    // The tradeoff sweep: one row per declared value, every other knob at `high`.
-    let rows: Vec<(String, String)> =
-        lumen_game::commands::tradeoff::configurations(&args.scene, &knobs)
-            .into_iter()
-            .filter(|(kind, _, _)| kind == "--toy-strength")
-            .map(|(kind, setting, _)| (kind, setting))
-            .collect();
-    assert_eq!(
-        rows,
-        [
-            ("--toy-strength".to_string(), "0.25".to_string()),
-            ("--toy-strength".to_string(), "2".to_string())
-        ]
-    );
-    // `quality show`, which loads back.
-    let shown = lumen_game::commands::quality::show(&knobs, QualityPreset::High);
-    assert!(shown.contains("toy-strength = 1.0"), "{shown}");
-    let back = lumen::quality::preset::parse(&shown, "shown", &knobs).expect("parses");
-    assert_eq!(TOY_STRENGTH.get(&back), Value::Float(1.0));
 }

@@ -314,7 +314,7 @@ impl FramePass for Poison {
 fn poison(pass: Res<Poison>, targets: Res<RenderTargets>, mut encoder: ResMut<FrameEncoder>) {
     let (Some(encoder), Some(hdr)) = (
         encoder.encoder.as_mut(),
-        targets.current.as_ref().and_then(|t| t.get(HDR)),
+        targets.current.as_ref().and_then(|t| t.texture(HDR)),
     ) else {
         return;
     };
@@ -328,7 +328,7 @@ fn poison(pass: Res<Poison>, targets: Res<RenderTargets>, mut encoder: ResMut<Fr
             },
         },
         wgpu::TexelCopyTextureInfo {
-            texture: &hdr.texture,
+            texture: hdr,
             mip_level: 0,
             origin: wgpu::Origin3d {
                 x: POISONED.0,

@@ -16,7 +16,6 @@ use crate::render::graph::{FramePass, FramePlan, PassId, Slot, slots};
 use crate::render::jitter::Jitter;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
-use crate::render::shadow::pass::ShadowPass;
 use crate::render::targets::{RenderTargets, Target};
 use crate::render::timing::PassTiming;
 use crate::render::{self, ExtractSchedule, RenderSchedule};
@@ -716,7 +715,11 @@ impl App {
                 .collect())
         };
         if target == FrameTarget::ShadowAtlas {
-            let atlas = &self.world.resource::<ShadowPass>().atlas.texture;
+            let atlas = &self
+                .world
+                .resource::<crate::render::shadow::atlas::ShadowAtlas>()
+                .atlas
+                .texture;
             return image::Rgba32FImage::from_raw(atlas.width(), atlas.height(), depth(atlas)?)
                 .ok_or_else(|| Error::Gpu("atlas readback has the wrong size".into()));
         }
@@ -726,7 +729,7 @@ impl App {
             .as_ref()
             .ok_or_else(|| Error::InvalidArgument("no frame was rendered".into()))?;
         let texture = |slot: Slot| {
-            t.get(slot).map(|t| &t.texture).ok_or_else(|| {
+            t.texture(slot).ok_or_else(|| {
                 Error::InvalidArgument(format!("the last frame had no {} target", slot.name))
             })
         };

@@ -154,3 +154,91 @@ impl BindGroupSpec {
         }))
     }
 }
+
+/// The identity of one bound resource: a clone of its handle (which keeps it alive, so its
+/// identity is not reused while a group that binds it is kept), compared by identity.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Bound {
+    Buffer(wgpu::Buffer, u64, Option<wgpu::BufferSize>),
+    View(wgpu::TextureView),
+    Sampler(wgpu::Sampler),
+}
+
+impl Bound {
+    fn of(resource: &wgpu::BindingResource<'_>) -> Option<Bound> {
+        match resource {
+            wgpu::BindingResource::Buffer(b) => {
+                Some(Bound::Buffer(b.buffer.clone(), b.offset, b.size))
+            }
+            wgpu::BindingResource::TextureView(v) => Some(Bound::View((*v).clone())),
+            wgpu::BindingResource::Sampler(s) => Some(Bound::Sampler((*s).clone())),
+            _ => None,
+        }
+    }
+}
+
+/// A bind group kept while it binds the same layout and the same resources: its key is
+/// the identity of the layout and of every bound buffer (with its range), texture view and
+/// sampler, so a resized, re-created or re-assigned resource can never leave it stale,
+/// and nothing has to count generations.
+#[derive(Debug, Default)]
+pub struct CachedGroup {
+    key: Option<(wgpu::BindGroupLayout, Vec<Bound>)>,
+    group: Option<wgpu::BindGroup>,
+}
+
+impl CachedGroup {
+    /// The group of `spec` with `layout` binding `resources` (one per binding, in order):
+    /// the kept one when it binds the same, else a new one, kept in its place.
+    pub fn get(
+        &mut self,
+        gpu: &Gpu,
+        spec: &BindGroupSpec,
+        layout: &wgpu::BindGroupLayout,
+        resources: Vec<wgpu::BindingResource<'_>>,
+    ) -> Result<&wgpu::BindGroup> {
+        if resources.len() != spec.bindings.len() {
+            return Err(Error::Gpu(format!(
+                "bind group '{}': {} resources for {} bindings",
+                spec.label,
+                resources.len(),
+                spec.bindings.len()
+            )));
+        }
+        let entries = resources
+            .into_iter()
+            .zip(0u32..)
+            .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource })
+            .collect();
+        Ok(self.entries(gpu, spec.label, layout, entries))
+    }
+
+    /// The group of `layout` with `entries`: the kept one when it binds the same, else a
+    /// new one, kept in its place.
+    pub fn entries(
+        &mut self,
+        gpu: &Gpu,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        entries: Vec<wgpu::BindGroupEntry<'_>>,
+    ) -> &wgpu::BindGroup {
+        let bound: Option<Vec<Bound>> = entries.iter().map(|e| Bound::of(&e.resource)).collect();
+        let key = bound.map(|b| (layout.clone(), b));
+        if key.is_none() || self.key != key {
+            self.key = key;
+            self.group = None;
+        }
+        self.group.get_or_insert_with(|| {
+            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries: &entries,
+            })
+        })
+    }
+
+    /// The group made last, if any.
+    pub fn group(&self) -> Option<&wgpu::BindGroup> {
+        self.group.as_ref()
+    }
+}

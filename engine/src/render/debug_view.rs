@@ -17,18 +17,19 @@
 
 use crate::choice::Choice;
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
+use crate::render::shadow::atlas::ShadowAtlas;
+use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -122,6 +123,7 @@ impl FramePass for DebugViewPass {
         AMBIENT_OCCLUSION,
     ];
     const WRITES: &'static [Slot] = &[DISPLAY];
+    const CONSULTS: &'static [FactId] = &[SCREEN_AO.id];
     type Variant = DebugViewVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -141,7 +143,7 @@ impl FramePass for DebugViewPass {
             DebugViewVariant {
                 format: world.resource::<FrameOutput>().format,
                 view,
-                screen_ao: plan.runs(PassId::AmbientOcclusion),
+                screen_ao: plan.fact(&SCREEN_AO).copied().unwrap_or(false),
             },
         )
     }
@@ -161,7 +163,7 @@ pub struct DebugViewPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<DebugViewVariant, wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
+    bind_group: CachedGroup,
     params: wgpu::Buffer,
 }
 
@@ -180,7 +182,7 @@ impl DebugViewPass {
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
-            bind_group: None,
+            bind_group: CachedGroup::default(),
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("debug view params"),
                 size: std::mem::size_of::<Params>() as u64,
@@ -224,7 +226,7 @@ pub fn prepare_debug_view(
     frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     buffers: Res<SceneBuffers>,
-    shadows: Res<ShadowPass>,
+    shadows: Res<ShadowAtlas>,
     mut pass: ResMut<DebugViewPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -250,30 +252,24 @@ pub fn prepare_debug_view(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    let key = (t.generation, buffers.generation, shadows.generation);
-    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
+    let DebugViewPass {
+        layout,
+        bind_group,
+        params,
+        ..
+    } = &mut *pass;
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        params.as_entire_binding(),
+        wgpu::BindingResource::TextureView(base_color),
+        wgpu::BindingResource::TextureView(normal),
+        wgpu::BindingResource::TextureView(depth),
+        wgpu::BindingResource::TextureView(&shadows.atlas.view),
+        wgpu::BindingResource::TextureView(ao),
+    ];
+    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
+        errors.0.push(e);
     }
-    let group = match BINDINGS.group(
-        &gpu,
-        &pass.layout,
-        vec![
-            buffers.view.as_entire_binding(),
-            pass.params.as_entire_binding(),
-            wgpu::BindingResource::TextureView(base_color),
-            wgpu::BindingResource::TextureView(normal),
-            wgpu::BindingResource::TextureView(depth),
-            wgpu::BindingResource::TextureView(&shadows.atlas.view),
-            wgpu::BindingResource::TextureView(ao),
-        ],
-    ) {
-        Ok(group) => group,
-        Err(e) => {
-            errors.0.push(e);
-            return;
-        }
-    };
-    pass.bind_group = Some((key, group));
 }
 
 /// Records the debug view into the frame's output view.
@@ -284,10 +280,10 @@ pub fn debug_view_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(target), Some((_, bind_group)), Some(pipeline)) = (
+    let (Some(encoder), Some(target), Some(bind_group), Some(pipeline)) = (
         encoder.as_mut(),
         output.view.as_ref(),
-        pass.bind_group.as_ref(),
+        pass.bind_group.group(),
         plan.variant::<DebugViewPass>()
             .and_then(|v| pass.pipelines.get(v)),
     ) else {

@@ -9,7 +9,7 @@
 //! capture recomputes the current buffer without turning them.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::extract_deform::DeformedFrame;
@@ -57,7 +57,10 @@ pub const INSTANCE_BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The deformed vertex buffers (owned by [`DeformPass`]).
+/// The deformed vertex buffers: a pair per deformed entity, kept while the entity is
+/// deformed ([`DeformedVertices`]). Not a graph resource: their number follows the
+/// scene's entities, not the frame's passes; the slot orders the passes that draw them
+/// after the pass that writes them.
 pub const DEFORMED_VERTICES: Slot = Slot::owned("deformed vertices");
 
 #[allow(non_upper_case_globals)]
@@ -97,7 +100,8 @@ impl FramePass for DeformPass {
     const WRITES: &'static [Slot] = &[DEFORMED_VERTICES];
     type Variant = DeformVariant;
 
-    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        world.init_resource::<DeformedVertices>();
         Ok(DeformPass::new(gpu))
     }
 
@@ -150,7 +154,43 @@ struct Dispatch {
     vertex_count: u32,
 }
 
-/// The pipeline, the frame's input buffers, and each deformed instance's outputs.
+/// Each deformed entity's output vertex buffers: what the deform pass writes and the
+/// passes that draw deformed meshes read.
+#[derive(Resource, Default)]
+pub struct DeformedVertices {
+    outputs: HashMap<Entity, Outputs>,
+}
+
+impl DeformedVertices {
+    /// The vertex buffer the passes draw for deformed `entity` this frame: its mesh's
+    /// vertices morphed and skinned (in world space when skinned).
+    pub fn vertices(&self, entity: Entity) -> Option<&wgpu::Buffer> {
+        self.outputs.get(&entity).map(|o| &o.buffers[o.current])
+    }
+
+    /// The same, as the previous frame computed it (equal to
+    /// [`DeformedVertices::vertices`] in the instance's first frame).
+    pub fn previous_vertices(&self, entity: Entity) -> Option<&wgpu::Buffer> {
+        self.outputs.get(&entity).map(|o| &o.buffers[1 - o.current])
+    }
+
+    /// The vertices to draw for an instance of `mesh`: those of deformed instance
+    /// `deformed` (an index into the frame's [`DeformedFrame::instances`]), or the mesh's
+    /// own. `None` where the deformed vertices do not exist.
+    pub fn draw_vertices<'a>(
+        &'a self,
+        frame: &ExtractedFrame,
+        mesh: &'a GpuMesh,
+        deformed: Option<u32>,
+    ) -> Option<&'a wgpu::Buffer> {
+        match deformed {
+            None => Some(&mesh.vertices),
+            Some(i) => self.vertices(frame.deformed.instances.get(i as usize)?.entity),
+        }
+    }
+}
+
+/// The pipeline and the frame's input buffers.
 #[derive(Resource)]
 pub struct DeformPass {
     frame_layout: wgpu::BindGroupLayout,
@@ -161,10 +201,8 @@ pub struct DeformPass {
     params_stride: u32,
     joints: GrowableBuffer,
     weights: GrowableBuffer,
-    frame_group: Option<(u64, wgpu::BindGroup)>,
-    generation: u64,
+    frame_group: CachedGroup,
     meshes: HashMap<MeshHandle, MeshInputs>,
-    outputs: HashMap<Entity, Outputs>,
     dispatches: Vec<Dispatch>,
 }
 
@@ -196,38 +234,9 @@ impl DeformPass {
             params_stride: size.div_ceil(align) * align,
             joints: GrowableBuffer::new(gpu, "joint matrices", 256),
             weights: GrowableBuffer::new(gpu, "morph weights", 256),
-            frame_group: None,
-            generation: 0,
+            frame_group: CachedGroup::default(),
             meshes: HashMap::new(),
-            outputs: HashMap::new(),
             dispatches: Vec::new(),
-        }
-    }
-
-    /// The vertex buffer the passes draw for deformed `entity` this frame: its mesh's
-    /// vertices morphed and skinned (in world space when skinned).
-    pub fn vertices(&self, entity: Entity) -> Option<&wgpu::Buffer> {
-        self.outputs.get(&entity).map(|o| &o.buffers[o.current])
-    }
-
-    /// The same, as the previous frame computed it (equal to [`DeformPass::vertices`] in
-    /// the instance's first frame).
-    pub fn previous_vertices(&self, entity: Entity) -> Option<&wgpu::Buffer> {
-        self.outputs.get(&entity).map(|o| &o.buffers[1 - o.current])
-    }
-
-    /// The vertices to draw for an instance of `mesh`: those of deformed instance
-    /// `deformed` (an index into the frame's [`DeformedFrame::instances`]), or the mesh's
-    /// own. `None` where the deformed vertices do not exist.
-    pub fn draw_vertices<'a>(
-        &'a self,
-        frame: &ExtractedFrame,
-        mesh: &'a GpuMesh,
-        deformed: Option<u32>,
-    ) -> Option<&'a wgpu::Buffer> {
-        match deformed {
-            None => Some(&mesh.vertices),
-            Some(i) => self.vertices(frame.deformed.instances.get(i as usize)?.entity),
         }
     }
 
@@ -288,19 +297,34 @@ fn mesh_inputs(gpu: &Gpu, meshes: &Meshes, mesh: MeshHandle) -> Option<MeshInput
     })
 }
 
+/// What deformation reads: the device, the frame's deformed instances, the meshes and their
+/// vertex buffers.
+#[derive(bevy_ecs::system::SystemParam)]
+pub struct DeformSources<'w> {
+    gpu: Res<'w, Gpu>,
+    frame: Res<'w, ExtractedFrame>,
+    meshes: Res<'w, Meshes>,
+    buffers: Res<'w, SceneBuffers>,
+}
+
 /// Uploads the frame's parameters, joint matrices and weights; creates the inputs of
 /// meshes and the outputs of instances met for the first time; turns each instance's
 /// outputs (not in a probe capture); forgets instances that left the scene.
 pub fn prepare_deform(
-    gpu: Res<Gpu>,
-    frame: Res<ExtractedFrame>,
-    meshes: Res<Meshes>,
-    buffers: Res<SceneBuffers>,
+    sources: DeformSources,
     capture: Option<Res<CaptureView>>,
     mut pass: ResMut<DeformPass>,
+    mut deformed_vertices: ResMut<DeformedVertices>,
     mut errors: ResMut<FrameErrors>,
 ) {
+    let DeformSources {
+        gpu,
+        frame,
+        meshes,
+        buffers,
+    } = sources;
     let pass = &mut *pass;
+    let outputs = &mut deformed_vertices.outputs;
     if let Err(e) = pass.ensure_pipeline(&gpu) {
         errors.0.push(e);
         return;
@@ -324,7 +348,7 @@ pub fn prepare_deform(
         };
         let inputs = &*inputs;
         let vertex_count = mesh.vertices.len() as u32;
-        let stale = pass.outputs.get(&d.entity).is_none_or(|o| o.mesh != d.mesh);
+        let stale = outputs.get(&d.entity).is_none_or(|o| o.mesh != d.mesh);
         if stale {
             let size = u64::from(vertex_count) * std::mem::size_of::<Vertex>() as u64;
             let buffer = |label| {
@@ -358,7 +382,7 @@ pub fn prepare_deform(
                     continue;
                 }
             };
-            pass.outputs.insert(
+            outputs.insert(
                 d.entity,
                 Outputs {
                     mesh: d.mesh,
@@ -369,7 +393,7 @@ pub fn prepare_deform(
                 },
             );
         } else if capture.is_none()
-            && let Some(o) = pass.outputs.get_mut(&d.entity)
+            && let Some(o) = outputs.get_mut(&d.entity)
         {
             o.current = 1 - o.current;
         }
@@ -391,58 +415,50 @@ pub fn prepare_deform(
         });
     }
     if capture.is_none() {
-        pass.outputs
-            .retain(|e, _| deformed.instances.iter().any(|d| d.entity == *e));
+        outputs.retain(|e, _| deformed.instances.iter().any(|d| d.entity == *e));
     }
-    let mut grew = pass.params.write(&gpu, &params);
+    pass.params.write(&gpu, &params);
     let joints: &[u8] = if deformed.joint_matrices.is_empty() {
         &[0; 64]
     } else {
         bytemuck::cast_slice(&deformed.joint_matrices)
     };
-    grew |= pass.joints.write(&gpu, joints);
+    pass.joints.write(&gpu, joints);
     let weights: &[u8] = if deformed.morph_weights.is_empty() {
         &[0; 4]
     } else {
         bytemuck::cast_slice(&deformed.morph_weights)
     };
-    grew |= pass.weights.write(&gpu, weights);
-    if grew {
-        pass.generation += 1;
-    }
-    if pass
+    pass.weights.write(&gpu, weights);
+    let resources = vec![
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &pass.params.buffer,
+            offset: 0,
+            size: wgpu::BufferSize::new(std::mem::size_of::<GpuDeformParams>() as u64),
+        }),
+        pass.joints.buffer.as_entire_binding(),
+        pass.weights.buffer.as_entire_binding(),
+    ];
+    if let Err(e) = pass
         .frame_group
-        .as_ref()
-        .is_some_and(|(g, _)| *g == pass.generation)
+        .get(&gpu, &FRAME_BINDINGS, &pass.frame_layout, resources)
     {
-        return;
-    }
-    match FRAME_BINDINGS.group(
-        &gpu,
-        &pass.frame_layout,
-        vec![
-            wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &pass.params.buffer,
-                offset: 0,
-                size: wgpu::BufferSize::new(std::mem::size_of::<GpuDeformParams>() as u64),
-            }),
-            pass.joints.buffer.as_entire_binding(),
-            pass.weights.buffer.as_entire_binding(),
-        ],
-    ) {
-        Ok(group) => pass.frame_group = Some((pass.generation, group)),
-        Err(e) => errors.0.push(e),
+        errors.0.push(e);
     }
 }
 
 /// Records one dispatch per deformed instance (64 vertices per workgroup), then copies
 /// the first output of new instances into their other buffer.
-pub fn deform_pass(mut pass: ResMut<DeformPass>, mut encoder: ResMut<FrameEncoder>) {
+pub fn deform_pass(
+    pass: Res<DeformPass>,
+    mut deformed_vertices: ResMut<DeformedVertices>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let pass = &mut *pass;
-    let (Some(encoder), Some((_, frame_group)), Some(pipeline)) = (
+    let outputs = &mut deformed_vertices.outputs;
+    let (Some(encoder), Some(frame_group), Some(pipeline)) = (
         encoder.as_mut(),
-        pass.frame_group.as_ref(),
+        pass.frame_group.group(),
         pass.pipeline.as_ref(),
     ) else {
         return;
@@ -455,7 +471,7 @@ pub fn deform_pass(mut pass: ResMut<DeformPass>, mut encoder: ResMut<FrameEncode
         });
         cp.set_pipeline(pipeline);
         for d in &pass.dispatches {
-            let Some(out) = pass.outputs.get(&d.entity) else {
+            let Some(out) = outputs.get(&d.entity) else {
                 continue;
             };
             let groups = d.vertex_count.div_ceil(WORKGROUP_SIZE);
@@ -465,7 +481,7 @@ pub fn deform_pass(mut pass: ResMut<DeformPass>, mut encoder: ResMut<FrameEncode
         }
     }
     for d in &pass.dispatches {
-        if let Some(out) = pass.outputs.get_mut(&d.entity)
+        if let Some(out) = outputs.get_mut(&d.entity)
             && out.fresh
         {
             let [a, b] = &out.buffers;

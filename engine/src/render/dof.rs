@@ -3,15 +3,18 @@
 //! Runs only when the camera has [`crate::scene::DepthOfField`].
 
 use crate::error::Result;
+use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedCamera, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    Extent, FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat, TextureDesc,
+};
 use crate::render::pipelines::create_module;
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -33,7 +36,7 @@ pub struct DofVariant;
 impl FramePass for DofPass {
     const ID: PassId = PassId::Dof;
     const READS: &'static [Slot] = &[HDR, DEPTH];
-    const WRITES: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR, DOF_SHARP, DOF_INPUT, DOF_TILES, DOF_FAR, DOF_NEAR];
     type Variant = DofVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -76,6 +79,28 @@ const TILE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Half-resolution pixels per side of a near-field tile (`TILE` in `dof.wgsl`).
 const TILE: u32 = 8;
 
+/// The sharp frame, copied from the HDR target before the composite overwrites it.
+pub const DOF_SHARP: Slot = Slot::target("dof sharp", TargetFormat::Hdr);
+/// The prepared half-resolution colour and CoC.
+pub const DOF_INPUT: Slot = half("dof input", DOF_FORMAT);
+/// The largest near CoC per tile of [`TILE`]² half-resolution pixels.
+pub const DOF_TILES: Slot = Slot::texture(
+    "dof near tiles",
+    TextureDesc::full(TargetFormat::Fixed(TILE_FORMAT)).at(Some(Extent::Divided(2 * TILE))),
+);
+/// The blurred far field.
+pub const DOF_FAR: Slot = half("dof far", DOF_FORMAT);
+/// The blurred near field.
+pub const DOF_NEAR: Slot = half("dof near", DOF_FORMAT);
+
+/// A half-resolution texture of `format`.
+const fn half(name: &'static str, format: wgpu::TextureFormat) -> Slot {
+    Slot::texture(
+        name,
+        TextureDesc::full(TargetFormat::Fixed(format)).at(Some(Extent::HALF)),
+    )
+}
+
 /// The thin lens as the CoC shaders read it (the first five fields of `DofParams` in
 /// `dof.wgsl` and of `DebugParams` in `debug_view.wgsl`).
 #[repr(C)]
@@ -115,28 +140,21 @@ struct Params {
     pad: [f32; 2],
 }
 
-struct DofTargets {
-    size: (u32, u32),
-    format: wgpu::TextureFormat,
-    sharp: Target,
-    input: Target,
-    tiles: Target,
-    far: Target,
-    near: Target,
-}
-
 /// The depth-of-field passes.
 #[derive(Resource)]
 pub struct DofPass {
     prepare: wgpu::RenderPipeline,
     tiles: wgpu::RenderPipeline,
     blur: wgpu::RenderPipeline,
-    composite: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
+    /// The composite and its bind group layout, per HDR format.
+    composite: HashMap<wgpu::TextureFormat, (wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
+    /// The prepare, tiles and blur steps' bind group layouts (derived from the shader).
+    layouts: [wgpu::BindGroupLayout; 3],
     module: wgpu::ShaderModule,
     params: wgpu::Buffer,
     sampler: wgpu::Sampler,
-    targets: Option<DofTargets>,
-    bind_groups: Option<(u64, [wgpu::BindGroup; 4])>,
+    /// The prepare, tiles, blur and composite steps' groups.
+    bind_groups: [CachedGroup; 4],
 }
 
 impl DofPass {
@@ -155,10 +173,14 @@ impl DofPass {
                 None,
             )
         };
+        let prepare = pipeline("fs_dof_prepare", &[DOF_FORMAT])?;
+        let tiles = pipeline("fs_dof_tiles", &[TILE_FORMAT])?;
+        let blur = pipeline("fs_dof_blur", &[DOF_FORMAT, DOF_FORMAT])?;
         Ok(DofPass {
-            prepare: pipeline("fs_dof_prepare", &[DOF_FORMAT])?,
-            tiles: pipeline("fs_dof_tiles", &[TILE_FORMAT])?,
-            blur: pipeline("fs_dof_blur", &[DOF_FORMAT, DOF_FORMAT])?,
+            layouts: [&prepare, &tiles, &blur].map(|p| p.get_bind_group_layout(0)),
+            prepare,
+            tiles,
+            blur,
             composite: HashMap::new(),
             params: gpu
                 .device
@@ -173,8 +195,7 @@ impl DofPass {
                 min_filter: wgpu::FilterMode::Linear,
                 ..Default::default()
             }),
-            targets: None,
-            bind_groups: None,
+            bind_groups: Default::default(),
             module,
         })
     }
@@ -191,13 +212,14 @@ impl DofPass {
                 &[format],
                 None,
             )?;
-            self.composite.insert(format, pipeline);
+            let layout = pipeline.get_bind_group_layout(0);
+            self.composite.insert(format, (pipeline, layout));
         }
         Ok(())
     }
 }
 
-/// Sizes the targets, writes the lens parameters and builds the bind groups.
+/// Writes the lens parameters and builds the bind groups.
 pub fn prepare_dof(
     gpu: Res<Gpu>,
     frame: Res<ExtractedFrame>,
@@ -209,34 +231,15 @@ pub fn prepare_dof(
     let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
         return;
     };
-    let (Some(dof), Some(depth)) = (camera.depth_of_field, t.get(DEPTH)) else {
+    let (Some(dof), Some([depth, sharp, input, tiles, far, near])) = (
+        camera.depth_of_field,
+        t.views([DEPTH, DOF_SHARP, DOF_INPUT, DOF_TILES, DOF_FAR, DOF_NEAR]),
+    ) else {
         return;
     };
     if let Err(e) = pass.composite_pipeline(&gpu, t.hdr_format) {
         errors.0.push(e);
         return;
-    }
-    if pass
-        .targets
-        .as_ref()
-        .is_none_or(|d| d.size != t.size || d.format != t.hdr_format)
-    {
-        let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
-        pass.targets = Some(DofTargets {
-            size: t.size,
-            format: t.hdr_format,
-            sharp: Target::new(&gpu, "dof sharp", t.size, t.hdr_format),
-            input: Target::new(&gpu, "dof input", half, DOF_FORMAT),
-            tiles: Target::new(
-                &gpu,
-                "dof near tiles",
-                (half.0.div_ceil(TILE), half.1.div_ceil(TILE)),
-                TILE_FORMAT,
-            ),
-            far: Target::new(&gpu, "dof far", half, DOF_FORMAT),
-            near: Target::new(&gpu, "dof near", half, DOF_FORMAT),
-        });
-        pass.bind_groups = None;
     }
     let params = Params {
         lens: LensUniform::new(camera, dof, t.size.1),
@@ -251,64 +254,60 @@ pub fn prepare_dof(
     }
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    let key = t.generation + (buffers.generation << 32);
-    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let Some(d) = pass.targets.as_ref() else {
-        return;
-    };
-    fn view(b: u32, target: &Target) -> wgpu::BindGroupEntry<'_> {
-        wgpu::BindGroupEntry {
-            binding: b,
-            resource: wgpu::BindingResource::TextureView(&target.view),
-        }
-    }
-    let common = |b: u32| match b {
-        0 => wgpu::BindGroupEntry {
-            binding: 0,
-            resource: buffers.view.as_entire_binding(),
-        },
-        _ => wgpu::BindGroupEntry {
-            binding: 1,
-            resource: pass.params.as_entire_binding(),
-        },
-    };
-    let group = |pipeline: &wgpu::RenderPipeline, entries: &[wgpu::BindGroupEntry]| {
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("dof"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries,
-        })
-    };
-    let prepare = group(
-        &pass.prepare,
-        &[common(0), common(1), view(2, &d.sharp), view(3, depth)],
-    );
-    let tiles = group(&pass.tiles, &[common(1), view(4, &d.input)]);
-    let blur = group(
-        &pass.blur,
-        &[common(1), view(4, &d.input), view(8, &d.tiles)],
-    );
-    let Some(composite_pipeline) = pass.composite.get(&t.hdr_format) else {
+    let DofPass {
+        composite,
+        layouts,
+        params,
+        sampler,
+        bind_groups: [prepare, tile_group, blur, composite_group],
+        ..
+    } = &mut *pass;
+    let Some((_, composite_layout)) = composite.get(&t.hdr_format) else {
         return;
     };
-    let composite = group(
-        composite_pipeline,
-        &[
-            common(0),
-            common(1),
-            view(2, &d.sharp),
-            view(3, depth),
-            view(5, &d.far),
-            view(6, &d.near),
-            wgpu::BindGroupEntry {
-                binding: 7,
-                resource: wgpu::BindingResource::Sampler(&pass.sampler),
-            },
+    let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
+    let view = wgpu::BindingResource::TextureView;
+    prepare.entries(
+        &gpu,
+        "dof prepare",
+        &layouts[0],
+        vec![
+            entry(0, buffers.view.as_entire_binding()),
+            entry(1, params.as_entire_binding()),
+            entry(2, view(sharp)),
+            entry(3, view(depth)),
         ],
     );
-    pass.bind_groups = Some((key, [prepare, tiles, blur, composite]));
+    tile_group.entries(
+        &gpu,
+        "dof tiles",
+        &layouts[1],
+        vec![entry(1, params.as_entire_binding()), entry(4, view(input))],
+    );
+    blur.entries(
+        &gpu,
+        "dof blur",
+        &layouts[2],
+        vec![
+            entry(1, params.as_entire_binding()),
+            entry(4, view(input)),
+            entry(8, view(tiles)),
+        ],
+    );
+    composite_group.entries(
+        &gpu,
+        "dof composite",
+        composite_layout,
+        vec![
+            entry(0, buffers.view.as_entire_binding()),
+            entry(1, params.as_entire_binding()),
+            entry(2, view(sharp)),
+            entry(3, view(depth)),
+            entry(5, view(far)),
+            entry(6, view(near)),
+            entry(7, wgpu::BindingResource::Sampler(sampler)),
+        ],
+    );
 }
 
 /// Records the depth-of-field passes: copy, prepare, near tiles, blur, composite into the
@@ -319,28 +318,29 @@ pub fn dof_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(d), Some((_, [prepare, tiles, blur, composite]))) = (
+    let [prepare, tiles, blur, composite] = &pass.bind_groups;
+    let (Some(encoder), Some(t), Some(prepare), Some(tiles), Some(blur), Some(composite)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        pass.targets.as_ref(),
-        pass.bind_groups.as_ref(),
+        prepare.group(),
+        tiles.group(),
+        blur.group(),
+        composite.group(),
     ) else {
         return;
     };
-    let (Some(composite_pipeline), Some(hdr)) = (pass.composite.get(&t.hdr_format), t.get(HDR))
-    else {
+    let (Some((composite_pipeline, _)), Some([hdr, input, tile_view, far, near])) = (
+        pass.composite.get(&t.hdr_format),
+        t.views([HDR, DOF_INPUT, DOF_TILES, DOF_FAR, DOF_NEAR]),
+    ) else {
         return;
     };
-    encoder.copy_texture_to_texture(
-        hdr.texture.as_image_copy(),
-        d.sharp.texture.as_image_copy(),
-        hdr.texture.size(),
-    );
+    t.copy(encoder, HDR, DOF_SHARP);
     draw_fullscreen(
         encoder,
         timer,
         "dof prepare",
-        &[&d.input.view],
+        &[input],
         &pass.prepare,
         prepare,
     );
@@ -348,23 +348,16 @@ pub fn dof_pass(
         encoder,
         timer,
         "dof tiles",
-        &[&d.tiles.view],
+        &[tile_view],
         &pass.tiles,
         tiles,
     );
-    draw_fullscreen(
-        encoder,
-        timer,
-        "dof blur",
-        &[&d.far.view, &d.near.view],
-        &pass.blur,
-        blur,
-    );
+    draw_fullscreen(encoder, timer, "dof blur", &[far, near], &pass.blur, blur);
     draw_fullscreen(
         encoder,
         timer,
         "dof composite",
-        &[&hdr.view],
+        &[hdr],
         composite_pipeline,
         composite,
     );

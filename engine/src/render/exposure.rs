@@ -3,12 +3,13 @@
 //! exposes the next one (pre-exposure happens on the CPU, before anything is drawn).
 
 use crate::error::{Error, Result};
+use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 pub use crate::render::frame::{FrameDelta, MeteredExposure};
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{BufferDesc, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot};
 use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -16,9 +17,24 @@ use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use wgpu::util::DeviceExt;
 
-/// The metered exposure state, read back after the frame and exposing the next one
-/// (owned by [`ExposurePass`]).
-pub const EXPOSURE_STATE: Slot = Slot::owned("exposure state");
+/// The metered exposure state (16 bytes), kept across frames, read back after each frame
+/// and exposing the next one.
+pub const EXPOSURE_STATE: Slot = Slot::buffer(
+    "exposure state",
+    BufferDesc {
+        usage: wgpu::BufferUsages::STORAGE,
+        history: true,
+    },
+);
+
+/// The frame's luminance histogram: 256 bins of 4 bytes.
+pub const EXPOSURE_HISTOGRAM: Slot = Slot::buffer(
+    "exposure histogram",
+    BufferDesc {
+        usage: wgpu::BufferUsages::STORAGE,
+        history: false,
+    },
+);
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -33,7 +49,7 @@ pub struct ExposureVariant;
 impl FramePass for ExposurePass {
     const ID: PassId = PassId::Exposure;
     const READS: &'static [Slot] = &[HDR];
-    const WRITES: &'static [Slot] = &[EXPOSURE_STATE];
+    const WRITES: &'static [Slot] = &[EXPOSURE_STATE, EXPOSURE_HISTOGRAM];
     type Variant = ExposureVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -54,6 +70,8 @@ impl FramePass for ExposurePass {
             reason,
             ExposureVariant,
         )
+        .sized(EXPOSURE_STATE, Sizing::Buffer(16))
+        .sized(EXPOSURE_HISTOGRAM, Sizing::Buffer(256 * 4))
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -91,11 +109,12 @@ struct Params {
 pub struct ExposurePass {
     histogram_pipeline: wgpu::ComputePipeline,
     average_pipeline: wgpu::ComputePipeline,
-    histogram: wgpu::Buffer,
-    state: wgpu::Buffer,
     readback: wgpu::Buffer,
     params: wgpu::Buffer,
-    bind_groups: Option<(u64, wgpu::BindGroup, wgpu::BindGroup)>,
+    /// The two pipelines' bind group layouts (derived from the shader).
+    layouts: [wgpu::BindGroupLayout; 2],
+    histogram_group: CachedGroup,
+    average_group: CachedGroup,
     /// Whether the pass recorded work in the frame it last ran in (so the app, when the
     /// plan says it ran, reads the state back).
     pub ran: bool,
@@ -117,21 +136,15 @@ impl ExposurePass {
                 })
             })
         };
-        let storage = |label, size| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let histogram_pipeline = pipeline("cs_histogram")?;
+        let average_pipeline = pipeline("cs_average")?;
         Ok(ExposurePass {
-            histogram_pipeline: pipeline("cs_histogram")?,
-            average_pipeline: pipeline("cs_average")?,
-            histogram: storage("exposure histogram", 256 * 4),
-            state: storage("exposure state", 16),
+            layouts: [
+                histogram_pipeline.get_bind_group_layout(0),
+                average_pipeline.get_bind_group_layout(0),
+            ],
+            histogram_pipeline,
+            average_pipeline,
             readback: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("exposure readback"),
                 size: 16,
@@ -145,14 +158,10 @@ impl ExposurePass {
                     contents: &[0; std::mem::size_of::<Params>()],
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
-            bind_groups: None,
+            histogram_group: CachedGroup::default(),
+            average_group: CachedGroup::default(),
             ran: false,
         })
-    }
-
-    /// Forgets the adapted state: the next metered frame starts from the initial EV100.
-    pub fn reset(&self, gpu: &Gpu) {
-        gpu.queue.write_buffer(&self.state, 0, &[0; 16]);
     }
 
     /// After the frame's submission completed: reads the adapted state back.
@@ -187,7 +196,7 @@ impl ExposurePass {
     }
 }
 
-/// Writes the pass's parameters and binds the HDR target.
+/// Writes the pass's parameters and binds the HDR target, the histogram and the state.
 pub fn prepare_exposure(
     gpu: Res<Gpu>,
     frame: Res<ExtractedFrame>,
@@ -199,7 +208,12 @@ pub fn prepare_exposure(
     let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
         return;
     };
-    let (Some(auto), Some(hdr)) = (camera.auto_exposure, t.view(HDR)) else {
+    let (Some(auto), Some(hdr), Some(histogram), Some(state)) = (
+        camera.auto_exposure,
+        t.view(HDR),
+        t.buffer(EXPOSURE_HISTOGRAM),
+        t.buffer(EXPOSURE_STATE),
+    ) else {
         return;
     };
     let params = Params {
@@ -217,47 +231,34 @@ pub fn prepare_exposure(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    if pass
-        .bind_groups
-        .as_ref()
-        .is_some_and(|(g, _, _)| *g == t.generation)
-    {
-        return;
-    }
-    let group = |pipeline: &wgpu::ComputePipeline, with_hdr: bool, with_state: bool| {
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 2,
-            resource: pass.histogram.as_entire_binding(),
-        }];
-        if with_hdr {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 0,
-                resource: pass.params.as_entire_binding(),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(hdr),
-            });
-        }
-        if with_state {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 0,
-                resource: pass.params.as_entire_binding(),
-            });
-            entries.push(wgpu::BindGroupEntry {
-                binding: 3,
-                resource: pass.state.as_entire_binding(),
-            });
-        }
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("exposure"),
-            layout: &pipeline.get_bind_group_layout(0),
-            entries: &entries,
-        })
-    };
-    let histogram = group(&pass.histogram_pipeline, true, false);
-    let average = group(&pass.average_pipeline, false, true);
-    pass.bind_groups = Some((t.generation, histogram, average));
+    let ExposurePass {
+        layouts,
+        params,
+        histogram_group,
+        average_group,
+        ..
+    } = &mut *pass;
+    let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
+    histogram_group.entries(
+        &gpu,
+        "exposure histogram",
+        &layouts[0],
+        vec![
+            entry(0, params.as_entire_binding()),
+            entry(1, wgpu::BindingResource::TextureView(hdr)),
+            entry(2, histogram.as_entire_binding()),
+        ],
+    );
+    average_group.entries(
+        &gpu,
+        "exposure average",
+        &layouts[1],
+        vec![
+            entry(0, params.as_entire_binding()),
+            entry(2, histogram.as_entire_binding()),
+            entry(3, state.as_entire_binding()),
+        ],
+    );
 }
 
 /// Records the histogram and the metering.
@@ -267,11 +268,15 @@ pub fn exposure_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some((_, histogram, average))) = (
+    let (Some(encoder), Some(t), Some(histogram), Some(average)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        pass.bind_groups.as_ref(),
+        pass.histogram_group.group(),
+        pass.average_group.group(),
     ) else {
+        return;
+    };
+    let Some(state) = t.buffer(EXPOSURE_STATE) else {
         return;
     };
     let scope = timer.begin_pass(PassId::Exposure);
@@ -287,7 +292,7 @@ pub fn exposure_pass(
         cp.set_bind_group(0, average, &[]);
         cp.dispatch_workgroups(1, 1, 1);
     }
-    encoder.copy_buffer_to_buffer(&pass.state, 0, &pass.readback, 0, 16);
+    encoder.copy_buffer_to_buffer(state, 0, &pass.readback, 0, 16);
     timer.end_pass(scope);
     pass.ran = true;
 }

@@ -6,10 +6,10 @@
 
 use crate::error::Result;
 use crate::render::bindings::BindGroupSpec;
-use crate::render::deform::DeformPass;
+use crate::render::deform::DeformedVertices;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::lighting::LightingPass;
+use crate::render::indirect::light_groups::LightGroups;
 use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
@@ -46,13 +46,13 @@ pub struct ForwardPipelines<V> {
 }
 
 impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
-    /// The layouts: `view` as group 0, the lighting pass's groups 1 to 3 (`lighting`) and
+    /// The layouts: `view` as group 0, the light groups 1 to 3 (`lighting`) and
     /// the material maps' (`maps`) as group [`MAPS_GROUP`].
     pub fn new(
         gpu: &Gpu,
         label: &'static str,
         view: &BindGroupSpec,
-        lighting: &[wgpu::BindGroupLayout; 4],
+        lighting: &[wgpu::BindGroupLayout; 3],
         maps: &wgpu::BindGroupLayout,
     ) -> ForwardPipelines<V> {
         let view_layout = view.layout(gpu);
@@ -62,9 +62,9 @@ impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
                 label: Some(label),
                 bind_group_layouts: &[
                     Some(&view_layout),
+                    Some(&lighting[0]),
                     Some(&lighting[1]),
                     Some(&lighting[2]),
-                    Some(&lighting[3]),
                     Some(maps),
                 ],
                 immediate_size: 0,
@@ -177,8 +177,8 @@ fn mesh_pipeline(
 /// What a forward pass draws with, besides its own resource.
 #[derive(SystemParam)]
 pub struct ForwardInputs<'w> {
-    /// The lighting pass, whose groups 1 to 3 a forward pass binds as they are.
-    pub lighting: Res<'w, LightingPass>,
+    /// Groups 1 to 3, which a forward pass binds as the lighting pass does.
+    pub lighting: Res<'w, LightGroups>,
     /// The material maps' bind groups.
     pub maps: Res<'w, GpuMaterialMaps>,
     /// Meshes, instances and the view.
@@ -188,7 +188,7 @@ pub struct ForwardInputs<'w> {
     /// The frame's targets.
     pub targets: Res<'w, RenderTargets>,
     /// The deformed vertices of skinned and morphed instances.
-    pub deform: Res<'w, DeformPass>,
+    pub deform: Res<'w, DeformedVertices>,
 }
 
 /// Binds `view_group` as group 0, the lighting pass's `shared` groups as 1 to 3 and the

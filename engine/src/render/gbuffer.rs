@@ -8,8 +8,8 @@ use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SPECULAR_AA;
-use crate::render::bindings::{BindGroupSpec, Binding};
-use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::deform::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -204,7 +204,7 @@ struct MotionBindings {
     sources: [wgpu::Buffer; 2],
     /// Bound as the previous vertices of rigid draws, which do not read them.
     placeholder: wgpu::Buffer,
-    group: Option<wgpu::BindGroup>,
+    group: CachedGroup,
     /// By deformed instance index (`None` where its vertices do not exist).
     deformed_groups: Vec<Option<wgpu::BindGroup>>,
 }
@@ -219,7 +219,7 @@ pub struct GBufferPass {
     /// Pipeline layouts by (textured, motion).
     layouts: HashMap<(bool, bool), wgpu::PipelineLayout>,
     pipelines: HashMap<GBufferVariant, wgpu::RenderPipeline>,
-    bind_group: Option<(u64, wgpu::BindGroup)>,
+    bind_group: CachedGroup,
     motion: MotionBindings,
 }
 
@@ -255,7 +255,7 @@ impl GBufferPass {
             layout,
             layouts,
             pipelines: HashMap::new(),
-            bind_group: None,
+            bind_group: CachedGroup::default(),
             motion: MotionBindings {
                 layout: motion_layout,
                 matrices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -280,7 +280,7 @@ impl GBufferPass {
                     usage: wgpu::BufferUsages::STORAGE,
                     mapped_at_creation: false,
                 }),
-                group: None,
+                group: CachedGroup::default(),
                 deformed_groups: Vec::new(),
             },
         };
@@ -400,7 +400,7 @@ pub fn prepare_gbuffer(
     buffers: Res<SceneBuffers>,
     frame: Res<ExtractedFrame>,
     plan: Res<FramePlan>,
-    deform: Res<DeformPass>,
+    deform: Res<DeformedVertices>,
     mut pass: ResMut<GBufferPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -417,28 +417,24 @@ pub fn prepare_gbuffer(
         errors.0.push(e);
         return;
     }
-    if pass
-        .bind_group
-        .as_ref()
-        .is_some_and(|(g, _)| *g == buffers.generation)
-    {
-        return;
+    let GBufferPass {
+        layout, bind_group, ..
+    } = &mut *pass;
+    if let Err(e) = bind_group.get(&gpu, &VIEW, layout, vec![buffers.view.as_entire_binding()]) {
+        errors.0.push(e);
     }
-    let group = match VIEW.group(&gpu, &pass.layout, vec![buffers.view.as_entire_binding()]) {
-        Ok(group) => group,
-        Err(e) => {
-            errors.0.push(e);
-            return;
-        }
-    };
-    pass.bind_group = Some((buffers.generation, group));
 }
 
 impl MotionBindings {
     /// Writes this frame's matrices and previous transforms, rebuilds the group when the
     /// transforms' buffer grew, and builds each deformed instance's group (its previous
     /// vertices alternate between two buffers, so these are rebuilt every frame).
-    fn prepare(&mut self, gpu: &Gpu, frame: &ExtractedFrame, deform: &DeformPass) -> Result<()> {
+    fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        frame: &ExtractedFrame,
+        deform: &DeformedVertices,
+    ) -> Result<()> {
         let temporal = &frame.temporal;
         let matrices = [
             temporal.clip_from_world.to_cols_array(),
@@ -446,21 +442,19 @@ impl MotionBindings {
         ];
         gpu.queue
             .write_buffer(&self.matrices, 0, bytemuck::cast_slice(&matrices));
-        let grew = self
-            .previous_world
+        self.previous_world
             .write(gpu, bytemuck::cast_slice(&temporal.previous_world));
-        if grew || self.group.is_none() {
-            self.group = Some(MOTION_BINDINGS.group(
-                gpu,
-                &self.layout,
-                vec![
-                    self.matrices.as_entire_binding(),
-                    self.previous_world.buffer.as_entire_binding(),
-                    self.placeholder.as_entire_binding(),
-                    self.sources[0].as_entire_binding(),
-                ],
-            )?);
-        }
+        self.group.get(
+            gpu,
+            &MOTION_BINDINGS,
+            &self.layout,
+            vec![
+                self.matrices.as_entire_binding(),
+                self.previous_world.buffer.as_entire_binding(),
+                self.placeholder.as_entire_binding(),
+                self.sources[0].as_entire_binding(),
+            ],
+        )?;
         self.deformed_groups.clear();
         for d in &frame.deformed.instances {
             let group = match deform.previous_vertices(d.entity) {
@@ -491,7 +485,7 @@ pub fn gbuffer_pass(
     targets: Res<RenderTargets>,
     frame: Res<ExtractedFrame>,
     plan: Res<FramePlan>,
-    deform: Res<DeformPass>,
+    deform: Res<DeformedVertices>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let Some(&GBufferVariants {
@@ -503,10 +497,10 @@ pub fn gbuffer_pass(
         return;
     };
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some((_, bind_group))) = (
+    let (Some(encoder), Some(t), Some(bind_group)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        pass.bind_group.as_ref(),
+        pass.bind_group.group(),
     ) else {
         return;
     };
@@ -516,7 +510,7 @@ pub fn gbuffer_pass(
         return;
     };
     // With motion vectors: their target and the group that holds the previous transforms.
-    let motion = match (motion, t.view(MOTION), pass.motion.group.as_ref()) {
+    let motion = match (motion, t.view(MOTION), pass.motion.group.group()) {
         (false, _, _) => None,
         (true, Some(view), Some(group)) => Some((view, group)),
         (true, _, _) => return,

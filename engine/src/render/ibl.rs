@@ -113,8 +113,6 @@ pub struct Ibl {
     pub uniform: wgpu::Buffer,
     /// The cube view the passes bind this frame: the prepared environment or a 1×1 dummy.
     pub bound_cube: Option<(u64, u32)>,
-    /// Bumped whenever the bound cube or table changes (passes rebuild bind groups).
-    pub generation: u64,
     /// Preprocessing steps run during the last frame, its probe captures included (ms);
     /// the app clears it before each frame.
     pub last_steps: Vec<(String, f64)>,
@@ -277,7 +275,6 @@ impl Ibl {
                 mapped_at_creation: false,
             }),
             bound_cube: None,
-            generation: 0,
             last_steps: Vec::new(),
             progress: None,
         })
@@ -672,7 +669,6 @@ impl Ibl {
             rp.draw(0..3, 0..1);
         })?;
         self.lut = Some((target, size, samples));
-        self.generation += 1;
         Ok(Some(start.elapsed().as_secs_f64() * 1e3))
     }
 }
@@ -747,10 +743,7 @@ pub fn prepare_ibl(
             env.background_blur * (mips - 1) as f32,
         ];
     }
-    if bound != ibl.bound_cube {
-        ibl.bound_cube = bound;
-        ibl.generation += 1;
-    }
+    ibl.bound_cube = bound;
     gpu.queue
         .write_buffer(&ibl.uniform, 0, bytemuck::bytes_of(&uniform));
 }

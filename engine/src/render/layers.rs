@@ -35,7 +35,7 @@
 //! (lighting variant, layer, double-sided, HDR format).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
@@ -44,10 +44,11 @@ use crate::render::forward::{
 };
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::indirect::light_groups::LightGroups;
 use crate::render::light_culling::LIGHT_TILES;
-use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::lighting::{LIGHTING, LightingPass, LightingVariant};
 use crate::render::lobe_tables::LobeTables;
 use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::scene_buffers::SceneBuffers;
@@ -125,12 +126,16 @@ impl FramePass for LayersPass {
         AMBIENT_OCCLUSION,
     ];
     const WRITES: &'static [Slot] = &[HDR];
+    const CONSULTS: &'static [FactId] = &[LIGHTING.id];
     type Variant = Option<LightingVariant>;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
-        let lighting = world.resource::<LightingPass>();
+        if !world.contains_resource::<LightGroups>() {
+            world.insert_resource(LightGroups::new(gpu));
+        }
+        let groups = world.resource::<LightGroups>();
         let maps = world.resource::<GpuMaterialMaps>();
-        Ok(LayersPass::new(gpu, lighting.layouts(), maps))
+        Ok(LayersPass::new(gpu, &groups.layouts, maps))
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<LightingVariant>> {
@@ -153,7 +158,7 @@ impl FramePass for LayersPass {
             Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
             None => String::new(),
         };
-        let lighting = plan.variant::<LightingPass>().copied();
+        let lighting = plan.fact(&LIGHTING).copied();
         let hdr = world
             .resource::<crate::quality::Quality>()
             .hdr_precision
@@ -222,8 +227,8 @@ pub struct LayersPass {
     pipelines: ForwardPipelines<(LightingVariant, Layer)>,
     /// The sheen's albedo table and the anisotropic lobe's split-sum table.
     tables: LobeTables,
-    /// The view group and the scene buffers' generation it was built from.
-    view_group: Option<(u64, wgpu::BindGroup)>,
+    /// The view group.
+    view_group: CachedGroup,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
     units: bool,
 }
@@ -233,13 +238,13 @@ impl LayersPass {
     /// material maps' (`maps`); and the lobe tables, filled on first use.
     pub fn new(
         gpu: &Gpu,
-        lighting: &[wgpu::BindGroupLayout; 4],
+        lighting: &[wgpu::BindGroupLayout; 3],
         maps: &GpuMaterialMaps,
     ) -> LayersPass {
         LayersPass {
             pipelines: ForwardPipelines::new(gpu, "layers", &VIEW, lighting, &maps.layout),
             tables: LobeTables::new(gpu),
-            view_group: None,
+            view_group: CachedGroup::default(),
             units: maps.units,
         }
     }
@@ -355,24 +360,19 @@ pub fn prepare_layers(
             return;
         }
     }
-    if pass
-        .view_group
-        .as_ref()
-        .is_some_and(|(k, _)| *k == buffers.generation)
-    {
-        return;
-    }
-    match VIEW.group(
-        &gpu,
-        &pass.pipelines.view_layout,
-        vec![
-            buffers.view.as_entire_binding(),
-            pass.tables.sheen_albedo.as_entire_binding(),
-            pass.tables.anisotropic_dfg.as_entire_binding(),
-        ],
-    ) {
-        Ok(group) => pass.view_group = Some((buffers.generation, group)),
-        Err(e) => errors.0.push(e),
+    let LayersPass {
+        pipelines,
+        tables,
+        view_group,
+        ..
+    } = &mut *pass;
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        tables.sheen_albedo.as_entire_binding(),
+        tables.anisotropic_dfg.as_entire_binding(),
+    ];
+    if let Err(e) = view_group.get(&gpu, &VIEW, &pipelines.view_layout, resources) {
+        errors.0.push(e);
     }
 }
 
@@ -385,12 +385,12 @@ pub fn layers_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
+    let (Some(encoder), Some(t), Some(Some(variant)), Some(view_group), Some(shared)) = (
         encoder.as_mut(),
         inputs.targets.current.as_ref(),
         plan.variant::<LayersPass>().copied(),
-        pass.view_group.as_ref(),
-        inputs.lighting.shared_groups(),
+        pass.view_group.group(),
+        inputs.lighting.groups(),
     ) else {
         return;
     };

@@ -7,12 +7,14 @@
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::LIGHT_CULLING;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    BufferDesc, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot,
+};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{Composed, ShaderDef};
@@ -45,8 +47,18 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The per-tile light lists (owned by [`LightCullingPass`]).
-pub const LIGHT_TILES: Slot = Slot::owned("light tiles");
+/// The per-tile light lists: [`TILE_STRIDE`] words per 16×16-pixel tile (16 bytes while
+/// culling does not run, for the passes that bind it without reading it).
+pub const LIGHT_TILES: Slot = Slot::buffer(
+    "light tiles",
+    BufferDesc {
+        usage: wgpu::BufferUsages::STORAGE,
+        history: false,
+    },
+);
+
+/// Whether light culling runs this frame: the lighting pass then reads the tile lists.
+pub const LIGHTS_CULLED: Fact<bool> = Fact::new("light culling runs");
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -67,6 +79,7 @@ impl FramePass for LightCullingPass {
     const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[DEPTH];
     const WRITES: &'static [Slot] = &[LIGHT_TILES];
+    const PUBLISHES: &'static [FactId] = &[LIGHTS_CULLED.id];
     type Variant = LightCullingVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -99,13 +112,25 @@ impl FramePass for LightCullingPass {
                 "{unshadowed} unshadowed point/spot light(s): fewer than {min_lights}, every pixel loops over all"
             )
         };
+        let runs = !capture && quality.light_culling && instances > 0 && unshadowed >= min_lights;
+        let output = world
+            .get_resource::<crate::render::frame::FrameOutput>()
+            .map_or((1, 1), |o| o.size);
+        let (x, y) = tile_count(output);
+        let bytes = if runs {
+            u64::from(x) * u64::from(y) * u64::from(TILE_STRIDE) * 4
+        } else {
+            16
+        };
         PassDecision::new(
-            !capture && quality.light_culling && instances > 0 && unshadowed >= min_lights,
+            runs,
             reason,
             LightCullingVariant {
                 uniform_lights: buffers.lights_fit_uniform(frame),
             },
         )
+        .sized(LIGHT_TILES, Sizing::Buffer(bytes))
+        .publishing(&LIGHTS_CULLED, runs)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -127,12 +152,8 @@ pub struct LightCullingPass {
     pipelines: [Option<wgpu::ComputePipeline>; 2],
     /// The variant this frame dispatches.
     uniform_lights: bool,
-    /// Tile lists, read by the lighting pass (a 16-byte placeholder until culling runs).
-    pub tiles: wgpu::Buffer,
-    /// Bumped whenever `tiles` is recreated.
-    pub generation: u64,
     tile_count: (u32, u32),
-    bind_group: Option<((u64, u64, u64), wgpu::BindGroup)>,
+    bind_group: CachedGroup,
 }
 
 impl LightCullingPass {
@@ -151,10 +172,8 @@ impl LightCullingPass {
             pipeline_layout,
             pipelines: [None, None],
             uniform_lights: false,
-            tiles: tile_buffer(gpu, 16),
-            generation: 0,
             tile_count: (0, 0),
-            bind_group: None,
+            bind_group: CachedGroup::default(),
         }
     }
 
@@ -194,15 +213,6 @@ impl LightCullingPass {
     }
 }
 
-fn tile_buffer(gpu: &Gpu, size: u64) -> wgpu::Buffer {
-    gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("light tiles"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE,
-        mapped_at_creation: false,
-    })
-}
-
 /// Tiles across and down a target of `size` pixels.
 pub fn tile_count(size: (u32, u32)) -> (u32, u32) {
     (size.0.div_ceil(TILE_SIZE), size.1.div_ceil(TILE_SIZE))
@@ -222,7 +232,7 @@ pub fn prepare_light_culling(
     else {
         return;
     };
-    let Some(depth) = t.view(DEPTH) else {
+    let (Some(depth), Some(tiles)) = (t.view(DEPTH), t.buffer(LIGHT_TILES)) else {
         return;
     };
     let uniform_lights = variant.uniform_lights;
@@ -231,43 +241,28 @@ pub fn prepare_light_culling(
         return;
     }
     pass.uniform_lights = uniform_lights;
-    let count = tile_count(t.size);
-    if pass.tile_count != count {
-        let words = u64::from(count.0) * u64::from(count.1) * u64::from(TILE_STRIDE);
-        pass.tiles = tile_buffer(&gpu, words * 4);
-        pass.tile_count = count;
-        pass.generation += 1;
+    pass.tile_count = tile_count(t.size);
+    let LightCullingPass {
+        layout, bind_group, ..
+    } = &mut *pass;
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        buffers.lights.buffer.as_entire_binding(),
+        wgpu::BindingResource::TextureView(depth),
+        tiles.as_entire_binding(),
+        buffers.lights_uniform.as_entire_binding(),
+    ];
+    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
+        errors.0.push(e);
     }
-    let key = (t.generation, buffers.generation, pass.generation);
-    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let group = match BINDINGS.group(
-        &gpu,
-        &pass.layout,
-        vec![
-            buffers.view.as_entire_binding(),
-            buffers.lights.buffer.as_entire_binding(),
-            wgpu::BindingResource::TextureView(depth),
-            pass.tiles.as_entire_binding(),
-            buffers.lights_uniform.as_entire_binding(),
-        ],
-    ) {
-        Ok(group) => group,
-        Err(e) => {
-            errors.0.push(e);
-            return;
-        }
-    };
-    pass.bind_group = Some((key, group));
 }
 
 /// Records the culling dispatch: one invocation per tile, in 8×8 workgroups.
 pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
     let pipeline = pass.pipelines[usize::from(pass.uniform_lights)].as_ref();
-    let (Some(encoder), Some((_, group)), Some(pipeline)) =
-        (encoder.as_mut(), pass.bind_group.as_ref(), pipeline)
+    let (Some(encoder), Some(group), Some(pipeline)) =
+        (encoder.as_mut(), pass.bind_group.group(), pipeline)
     else {
         return;
     };

@@ -8,25 +8,29 @@ use crate::brdf::VisibilityModel;
 use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
-use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    Decision, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot,
+};
 use crate::render::ibl::Ibl;
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
-use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, probe_bindings};
+use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::indirect::irradiance_volume::IrradianceVolumeGpu;
+use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::indirect::volume_irradiance::{VOLUME_IRRADIANCE, VolumeIrradiancePass};
-use crate::render::light_culling::{LIGHT_TILES, LightCullingPass};
+use crate::render::indirect::volume_irradiance::{HALF_VOLUME, VOLUME_IRRADIANCE};
+use crate::render::light_culling::{LIGHT_TILES, LIGHTS_CULLED};
 use crate::render::pipelines::{create_module, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{Composed, ShaderDef};
-use crate::render::shadow::mask::{SHADOW_MASK, ShadowMaskPass};
-use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
+use crate::render::shadow::atlas::ShadowAtlas;
+use crate::render::shadow::mask::{MASK, SHADOW_MASK};
+use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -126,9 +130,12 @@ impl FramePass for LightingPass {
         VOLUME_IRRADIANCE,
     ];
     const WRITES: &'static [Slot] = &[HDR];
+    const CONSULTS: &'static [FactId] = &[MASK.id, SCREEN_AO.id, LIGHTS_CULLED.id, HALF_VOLUME.id];
+    const PUBLISHES: &'static [FactId] = &[LIGHTING.id];
     type Variant = LightingVariant;
 
-    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        world.insert_resource(LightGroups::new(gpu));
         Ok(LightingPass::new(gpu))
     }
 
@@ -163,9 +170,10 @@ impl FramePass for LightingPass {
         let spot = kind("spot lights", counts.spot);
         let visibility = Decision::new("visibility term", true, quality.visibility.name());
         let (shadow_mask, shadow_mask_lights) = plan
-            .variant::<ShadowMaskPass>()
-            .filter(|_| plan.runs(PassId::ShadowMask))
-            .map_or((0, 0), |v| (v.scale, v.lights));
+            .fact(&MASK)
+            .copied()
+            .flatten()
+            .map_or((0, 0), |m| (m.scale, m.lights));
         let shadow_lookups = Decision::new(
             "shadow lookups",
             views > 0 && instances > 0,
@@ -230,7 +238,7 @@ impl FramePass for LightingPass {
                 )
             },
         );
-        let screen_ao = plan.runs(PassId::AmbientOcclusion) && environment.enabled;
+        let screen_ao = plan.fact(&SCREEN_AO).copied().unwrap_or(false) && environment.enabled;
         let ambient_occlusion = Decision::new(
             "ambient occlusion",
             screen_ao,
@@ -265,31 +273,28 @@ impl FramePass for LightingPass {
             } else {
                 0
             },
-            light_culling: plan.runs(PassId::LightCulling),
+            light_culling: plan.fact(&LIGHTS_CULLED).copied().unwrap_or(false),
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views_fit_uniform(frame),
             shadow_mask,
             shadow_mask_lights,
-            half_volume: irradiance_volume.enabled && plan.runs(PassId::VolumeIrradiance),
+            half_volume: irradiance_volume.enabled
+                && plan.fact(&HALF_VOLUME).copied().unwrap_or(false),
         };
-        PassDecision {
-            runs: true,
-            reason,
-            features: vec![
-                directional,
-                point,
-                spot,
-                visibility,
-                shadow_lookups,
-                environment,
-                irradiance_volume,
-                reflection_probes,
-                ambient_occlusion,
-                energy_compensation,
-            ],
-            variant,
-            writes: Vec::new(),
-        }
+        let mut decision = PassDecision::new(true, reason, variant).publishing(&LIGHTING, variant);
+        decision.features = vec![
+            directional,
+            point,
+            spot,
+            visibility,
+            shadow_lookups,
+            environment,
+            irradiance_volume,
+            reflection_probes,
+            ambient_occlusion,
+            energy_compensation,
+        ];
+        decision
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -301,11 +306,9 @@ impl FramePass for LightingPass {
     }
 }
 
-/// The generations of the resources a bind group was built from (unused places 0).
-type BindingGenerations = [u64; 4];
-
-/// Bind groups of the lighting pass, each with the generations it was built from.
-type BindGroups = [Option<(BindingGenerations, wgpu::BindGroup)>; 4];
+/// The lighting pass's variant this frame: the layer and transparent passes shade with
+/// the same lights, shadows and indirect light.
+pub const LIGHTING: Fact<LightingVariant> = Fact::new("lighting variant");
 
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
@@ -317,8 +320,11 @@ pub struct LightingPass {
     /// (`READ_ONLY_DEPTH_STENCIL`; GL cannot): background pixels are then rejected
     /// before shading.
     depth_test: bool,
-    /// Each group with the generations of the resources it was built from.
-    bind_groups: BindGroups,
+    /// Group 0 (the others are the [`LightGroups`]).
+    bind_group: CachedGroup,
+    /// What the pass gathers the shadow mask and the half-resolution volume with: clamped
+    /// to the edge, so a pixel on the last row or column reads the last texel twice.
+    sampler: wgpu::Sampler,
 }
 
 /// Group 0: the view and the G-buffer.
@@ -359,7 +365,7 @@ pub use crate::render::indirect::irradiance_volume::PROBES;
 pub const GROUPS: [BindGroupSpec; 4] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT, PROBES];
 
 impl LightingPass {
-    /// Creates the bind group layout; pipelines are compiled per variant on first use.
+    /// Creates the bind group layouts; pipelines are compiled per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
         let layouts = GROUPS.map(|spec| spec.layout(gpu));
         let pipeline_layout = gpu
@@ -383,22 +389,12 @@ impl LightingPass {
                 .get_downlevel_capabilities()
                 .flags
                 .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL),
-            bind_groups: [None, None, None, None],
+            bind_group: CachedGroup::default(),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("lighting upsample"),
+                ..Default::default()
+            }),
         }
-    }
-
-    /// The layouts of its four bind groups; the transparent pass shares groups 1 to 3.
-    pub fn layouts(&self) -> &[wgpu::BindGroupLayout; 4] {
-        &self.layouts
-    }
-
-    /// This frame's groups 1 to 3 (lights and shadows, indirect light, probes), once
-    /// prepared: the transparent pass binds them as they are.
-    pub fn shared_groups(&self) -> Option<[&wgpu::BindGroup; 3]> {
-        let [_, Some((_, g1)), Some((_, g2)), Some((_, g3))] = &self.bind_groups else {
-            return None;
-        };
-        Some([g1, g2, g3])
     }
 
     /// The shader defs of one variant, for a uniform light copy of `uniform_capacity`
@@ -481,50 +477,46 @@ impl LightingPass {
     }
 }
 
-/// Everything the lighting pass binds.
+/// Everything the lighting pass binds besides its own.
 #[derive(SystemParam)]
 pub struct LightingInputs<'w> {
     buffers: Res<'w, SceneBuffers>,
     targets: Res<'w, RenderTargets>,
-    shadows: Res<'w, ShadowPass>,
+    atlas: Res<'w, ShadowAtlas>,
     ibl: Res<'w, Ibl>,
-    culling: Res<'w, LightCullingPass>,
     volume: Res<'w, IrradianceVolumeGpu>,
     reflections: Res<'w, ReflectionProbesGpu>,
-    mask: Res<'w, ShadowMaskPass>,
-    volume_half: Res<'w, VolumeIrradiancePass>,
 }
 
-/// Compiles this frame's variant if needed and rebuilds the bind group when targets,
-/// buffers, the shadow atlas or the environment changed.
+/// Compiles this frame's variant if needed, and makes (or keeps) group 0 and the
+/// [`LightGroups`].
 pub fn prepare_lighting(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
     inputs: LightingInputs,
+    mut groups: ResMut<LightGroups>,
     mut pass: ResMut<LightingPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
     let LightingInputs {
         buffers,
         targets,
-        shadows,
+        atlas,
         ibl,
-        culling,
         volume,
         reflections,
-        mask,
-        volume_half,
     } = inputs;
     let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
     else {
         return;
     };
-    let Some([base_color, normal, emissive, depth, ao]) = t.views([
+    let Some([base_color, normal, emissive, depth, mask, volume_half]) = t.views([
         GBUFFER_BASE_COLOR,
         GBUFFER_NORMAL,
         GBUFFER_EMISSIVE,
         DEPTH,
-        AMBIENT_OCCLUSION,
+        SHADOW_MASK,
+        VOLUME_IRRADIANCE,
     ]) else {
         return;
     };
@@ -532,60 +524,33 @@ pub fn prepare_lighting(
         errors.0.push(e);
         return;
     }
-    let keys: [BindingGenerations; 4] = [
-        [
-            t.generation,
-            buffers.generation,
-            mask.mask.generation,
-            volume_half.output.generation,
-        ],
-        [
-            buffers.generation,
-            shadows.generation,
-            culling.generation,
-            0,
-        ],
-        [ibl.generation, t.generation, 0, 0],
-        {
-            let [v, r] = probe_bindings(&volume, &reflections).0;
-            [v, r, 0, 0]
-        },
+    use wgpu::BindingResource::{Sampler, TextureView};
+    let LightingPass {
+        layouts,
+        bind_group,
+        sampler,
+        ..
+    } = &mut *pass;
+    let group0 = vec![
+        buffers.view.as_entire_binding(),
+        TextureView(base_color),
+        TextureView(normal),
+        TextureView(emissive),
+        TextureView(depth),
+        TextureView(mask),
+        Sampler(sampler),
+        TextureView(volume_half),
     ];
-    let resources = |group: usize| -> Vec<wgpu::BindingResource<'_>> {
-        use wgpu::BindingResource::{Sampler, TextureView};
-        match group {
-            0 => vec![
-                buffers.view.as_entire_binding(),
-                TextureView(base_color),
-                TextureView(normal),
-                TextureView(emissive),
-                TextureView(depth),
-                TextureView(mask.view()),
-                Sampler(mask.sampler()),
-                TextureView(volume_half.view()),
-            ],
-            1 => lights_and_shadows(&buffers, &shadows, &culling),
-            2 => vec![
-                ibl.uniform.as_entire_binding(),
-                TextureView(ibl.cube_view()),
-                Sampler(&ibl.sampler),
-                TextureView(ibl.lut_view()),
-                TextureView(ao),
-            ],
-            _ => probe_bindings(&volume, &reflections).1,
-        }
-    };
-    for (i, key) in keys.into_iter().enumerate() {
-        if pass.bind_groups[i].as_ref().is_some_and(|(k, _)| *k == key) {
-            continue;
-        }
-        match GROUPS[i].group(&gpu, &pass.layouts[i], resources(i)) {
-            Ok(group) => pass.bind_groups[i] = Some((key, group)),
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        }
+    let made = bind_group
+        .get(&gpu, &VIEW_AND_GBUFFER, &layouts[0], group0)
+        .map(|_| ())
+        .and_then(|()| {
+            groups
+                .prepare(&gpu, t, &buffers, &atlas, &ibl, &volume, &reflections)
+                .map(|_| ())
+        });
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -595,15 +560,17 @@ pub fn prepare_lighting(
 pub fn lighting_pass(
     plan: Res<FramePlan>,
     pass: Res<LightingPass>,
+    groups: Res<LightGroups>,
     frame: Res<ExtractedFrame>,
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let Some(t) = targets.current.as_ref() else {
-        return;
-    };
-    let [Some((_, g0)), Some((_, g1)), Some((_, g2)), Some((_, g3))] = &pass.bind_groups else {
+    let (Some(t), Some(g0), Some([g1, g2, g3])) = (
+        targets.current.as_ref(),
+        pass.bind_group.group(),
+        groups.groups(),
+    ) else {
         return;
     };
     let (Some(encoder), Some([hdr, depth]), Some(pipeline)) = (

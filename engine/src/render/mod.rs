@@ -70,19 +70,38 @@ pub struct RenderSchedule;
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct CaptureSchedule;
 
+/// The output's size and the HDR format, which size the plan's resources.
+fn frame_shape(world: &World) -> ((u32, u32), wgpu::TextureFormat) {
+    let size = world
+        .get_resource::<FrameOutput>()
+        .map_or((1, 1), |o| o.size);
+    let hdr = world
+        .get_resource::<crate::quality::Quality>()
+        .map_or(wgpu::TextureFormat::Rgba16Float, |q| {
+            q.hdr_precision.format()
+        });
+    (size, hdr)
+}
+
 /// Asks every registered pass whether it runs this frame.
 fn plan_frame(world: &mut World) {
-    let plan = world.resource::<Registry>().plan(world);
+    let (size, hdr) = frame_shape(world);
+    let plan = world.resource::<Registry>().plan(world, size, hdr);
     *world.resource_mut::<FramePlan>() = plan;
 }
 
 /// Asks the capture passes whether they run in this capture.
 fn plan_capture(world: &mut World) {
-    let plan = world.resource::<Registry>().capture_subset().plan(world);
+    let (size, hdr) = frame_shape(world);
+    let plan = world
+        .resource::<Registry>()
+        .capture_subset()
+        .plan(world, size, hdr);
     *world.resource_mut::<FramePlan>() = plan;
 }
 
-/// Allocates the frame targets the passes that run this frame use, at the output size.
+/// Allocates the textures and buffers the passes that run this frame use, as the plan
+/// assigned them.
 fn prepare_targets(
     gpu: Res<Gpu>,
     output: Res<FrameOutput>,
@@ -90,11 +109,11 @@ fn prepare_targets(
     plan: Res<FramePlan>,
     mut targets: ResMut<targets::RenderTargets>,
 ) {
-    targets.ensure(
+    targets.allocate(
         &gpu,
         output.size,
         quality.hdr_precision.format(),
-        plan.lifetimes.iter().map(|l| l.slot),
+        &plan.resources,
     );
 }
 

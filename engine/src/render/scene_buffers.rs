@@ -59,9 +59,9 @@ impl GrowableBuffer {
         }
     }
 
-    /// Writes `data`, growing the buffer first if needed; returns whether it was recreated.
-    pub fn write(&mut self, gpu: &Gpu, data: &[u8]) -> bool {
-        let mut recreated = false;
+    /// Writes `data`, growing the buffer first if needed (a grown buffer is a new one:
+    /// bind groups that bound the old one are made again, [`crate::render::bindings::CachedGroup`]).
+    pub fn write(&mut self, gpu: &Gpu, data: &[u8]) {
         if data.len() as u64 > self.buffer.size() {
             *self = GrowableBuffer::with_usage(
                 gpu,
@@ -69,12 +69,10 @@ impl GrowableBuffer {
                 (data.len() as u64).next_power_of_two(),
                 self.usage,
             );
-            recreated = true;
         }
         if !data.is_empty() {
             gpu.queue.write_buffer(&self.buffer, 0, data);
         }
-        recreated
     }
 }
 
@@ -105,8 +103,6 @@ pub struct SceneBuffers {
     pub shadowed_light_capacity: u32,
     /// Uploaded meshes.
     pub meshes: HashMap<MeshHandle, GpuMesh>,
-    /// Bumped whenever a bound buffer is recreated, so passes rebuild their bind groups.
-    pub generation: u64,
 }
 
 impl SceneBuffers {
@@ -140,7 +136,6 @@ impl SceneBuffers {
             }),
             shadowed_light_capacity: shadowed_light_capacity(gpu),
             meshes: HashMap::new(),
-            generation: 0,
         }
     }
 }
@@ -230,10 +225,10 @@ pub fn prepare_scene_buffers(
     let buffers = &mut *buffers;
     gpu.queue
         .write_buffer(&buffers.view, 0, bytemuck::bytes_of(&frame.view));
-    let grew_instances = buffers
+    buffers
         .instances
         .write(&gpu, bytemuck::cast_slice(&frame.instances));
-    let grew_lights = buffers
+    buffers
         .lights
         .write(&gpu, bytemuck::cast_slice(&frame.lights));
     let in_uniform = frame
@@ -261,9 +256,6 @@ pub fn prepare_scene_buffers(
             0,
             bytemuck::cast_slice(&shadowed[..in_uniform]),
         );
-    }
-    if grew_instances || grew_lights {
-        buffers.generation += 1;
     }
     for batch in &frame.batches {
         if !buffers.meshes.contains_key(&batch.mesh)

@@ -2,7 +2,7 @@
 //! geometry (a depth test against the cleared depth, so no fragment runs elsewhere).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -94,7 +94,7 @@ pub struct SkyPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<(bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
-    bind_group: Option<((u64, u64), wgpu::BindGroup)>,
+    bind_group: CachedGroup,
 }
 
 impl SkyPass {
@@ -112,7 +112,7 @@ impl SkyPass {
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
-            bind_group: None,
+            bind_group: CachedGroup::default(),
         }
     }
 
@@ -164,27 +164,18 @@ pub fn prepare_sky(
         errors.0.push(e);
         return;
     }
-    let key = (buffers.generation, ibl.generation);
-    if pass.bind_group.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
+    let SkyPass {
+        layout, bind_group, ..
+    } = &mut *pass;
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        ibl.uniform.as_entire_binding(),
+        wgpu::BindingResource::TextureView(ibl.cube_view()),
+        wgpu::BindingResource::Sampler(&ibl.sampler),
+    ];
+    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
+        errors.0.push(e);
     }
-    let group = match BINDINGS.group(
-        &gpu,
-        &pass.layout,
-        vec![
-            buffers.view.as_entire_binding(),
-            ibl.uniform.as_entire_binding(),
-            wgpu::BindingResource::TextureView(ibl.cube_view()),
-            wgpu::BindingResource::Sampler(&ibl.sampler),
-        ],
-    ) {
-        Ok(group) => group,
-        Err(e) => {
-            errors.0.push(e);
-            return;
-        }
-    };
-    pass.bind_group = Some((key, group));
 }
 
 /// Records the sky pass into the HDR target.
@@ -198,10 +189,10 @@ pub fn sky_pass(
     let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<SkyPass>()) else {
         return;
     };
-    let (Some(encoder), Some([hdr, depth]), Some((_, bind_group)), Some(pipeline)) = (
+    let (Some(encoder), Some([hdr, depth]), Some(bind_group), Some(pipeline)) = (
         encoder.as_mut(),
         t.views([HDR, DEPTH]),
-        pass.bind_group.as_ref(),
+        pass.bind_group.group(),
         pass.pipelines.get(&(variant.env_map, t.hdr_format)),
     ) else {
         return;

@@ -4,7 +4,7 @@
 use crate::choice::Choice;
 use crate::color::Tonemapper;
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::debug_view::DebugView;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -88,7 +88,7 @@ pub struct TonemapPass {
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<TonemapVariant, wgpu::RenderPipeline>,
-    bind_group: Option<(u64, wgpu::BindGroup)>,
+    bind_group: CachedGroup,
     params: wgpu::Buffer,
 }
 
@@ -107,7 +107,7 @@ impl TonemapPass {
             layout,
             pipeline_layout,
             pipelines: HashMap::new(),
-            bind_group: None,
+            bind_group: CachedGroup::default(),
             params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("post params"),
                 size: 16,
@@ -154,11 +154,7 @@ pub fn prepare_tonemap(
         errors.0.push(e);
         return;
     }
-    let Some((t, hdr)) = targets
-        .current
-        .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?)))
-    else {
+    let Some(hdr) = targets.current.as_ref().and_then(|t| t.view(HDR)) else {
         return;
     };
     let params = frame.camera.as_ref().map_or([0.0; 4], |c| {
@@ -167,28 +163,19 @@ pub fn prepare_tonemap(
     });
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::cast_slice(&params));
-    if pass
-        .bind_group
-        .as_ref()
-        .is_some_and(|(g, _)| *g == t.generation)
-    {
-        return;
+    let TonemapPass {
+        layout,
+        bind_group,
+        params,
+        ..
+    } = &mut *pass;
+    let resources = vec![
+        wgpu::BindingResource::TextureView(hdr),
+        params.as_entire_binding(),
+    ];
+    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
+        errors.0.push(e);
     }
-    let group = match BINDINGS.group(
-        &gpu,
-        &pass.layout,
-        vec![
-            wgpu::BindingResource::TextureView(hdr),
-            pass.params.as_entire_binding(),
-        ],
-    ) {
-        Ok(group) => group,
-        Err(e) => {
-            errors.0.push(e);
-            return;
-        }
-    };
-    pass.bind_group = Some((t.generation, group));
 }
 
 /// Records the tone mapping pass into the frame's output view.
@@ -199,10 +186,10 @@ pub fn tonemap_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(view), Some((_, bind_group)), Some(pipeline)) = (
+    let (Some(encoder), Some(view), Some(bind_group), Some(pipeline)) = (
         encoder.as_mut(),
         output.view.as_ref(),
-        pass.bind_group.as_ref(),
+        pass.bind_group.group(),
         plan.variant::<TonemapPass>()
             .and_then(|v| pass.pipelines.get(v)),
     ) else {

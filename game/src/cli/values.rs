@@ -228,11 +228,6 @@ mod tests {
         );
         let err = parse(&choice::<Tonemapper>(), "filmic").expect_err("unknown");
         assert!(err.to_string().contains("pbr-neutral"), "{err}");
-        use crate::cli::ConvertTarget;
-        assert_eq!(
-            parse(&choice::<ConvertTarget>(), "metal-roughness").ok(),
-            Some(ConvertTarget::MetalRough)
-        );
     }
 
     #[test]

@@ -263,6 +263,7 @@ fn render_frame(args: &RenderArgs) -> Result<PathBuf> {
                 "features": report.plan.features.iter().map(|d| json!({
                     "name": d.name, "enabled": d.enabled, "reason": d.reason,
                 })).collect::<Vec<_>>(),
+                "memory": report.plan.memory(),
             },
             "accumulated": report.accumulated,
             "temporal_frames": report.temporal_frames,

@@ -12,13 +12,15 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::ACCUMULATE;
 use crate::render::antialiasing::copy::CopyToHdr;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    Extent, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat, TextureDesc,
+};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -29,8 +31,15 @@ impl PassId {
     pub const Accumulate: PassId = PassId::new("accumulate");
 }
 
-/// The running mean of the frame's jittered renders (two f32 targets the pass owns).
-pub const ACCUMULATION: Slot = Slot::owned("accumulation (running mean)");
+/// The running mean of an image's jittered renders, ping-ponged between two histories
+/// (kept from one render to the next) in the [`mean_format`].
+pub const ACCUMULATION: [Slot; 2] = [
+    Slot::texture("accumulation (running mean) a", MEAN),
+    Slot::texture("accumulation (running mean) b", MEAN),
+];
+
+/// A running mean: a history at the output's size, in the format the decision gives.
+const MEAN: TextureDesc = TextureDesc::full(TargetFormat::Decided).history();
 
 /// Format of the running mean: f32, so a mean of a thousand frames keeps 24 bits, where
 /// the adapter can render to it; else f16 (GL on llvmpipe), whose 11 bits hold a mean of
@@ -67,7 +76,7 @@ impl Default for SubFrame {
 impl FramePass for AccumulatePass {
     const ID: PassId = PassId::Accumulate;
     const READS: &'static [Slot] = &[HDR];
-    const WRITES: &'static [Slot] = &[HDR, ACCUMULATION];
+    const WRITES: &'static [Slot] = &[HDR, ACCUMULATION[0], ACCUMULATION[1]];
     type Variant = wgpu::TextureFormat;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -83,12 +92,15 @@ impl FramePass for AccumulatePass {
             .resource::<crate::quality::Quality>()
             .hdr_precision
             .format();
-        let precision = match world.get_resource::<AccumulatePass>() {
-            Some(p) if p.mean_format == wgpu::TextureFormat::Rgba16Float => {
-                ", an f16 mean: this adapter cannot render to f32"
-            }
-            _ => "",
+        let mean = world
+            .get_resource::<AccumulatePass>()
+            .map_or(wgpu::TextureFormat::Rgba32Float, |p| p.mean_format);
+        let precision = if mean == wgpu::TextureFormat::Rgba16Float {
+            ", an f16 mean: this adapter cannot render to f32"
+        } else {
+            ""
         };
+        let sizing = Sizing::Texture(Extent::Full, Some(mean));
         PassDecision::new(
             sub.count > 1,
             if sub.count > 1 {
@@ -105,6 +117,8 @@ impl FramePass for AccumulatePass {
             },
             format,
         )
+        .sized(ACCUMULATION[0], sizing)
+        .sized(ACCUMULATION[1], sizing)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -127,14 +141,6 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The two means (ping-pong), and their bind groups for even and odd renders.
-struct Means {
-    targets: [Target; 2],
-    key: u64,
-    /// Per parity: the update's group and the copy's group.
-    groups: [(wgpu::BindGroup, wgpu::BindGroup); 2],
-}
-
 /// The accumulation's pipelines, targets and bindings.
 #[derive(Resource)]
 pub struct AccumulatePass {
@@ -143,7 +149,9 @@ pub struct AccumulatePass {
     mean_format: wgpu::TextureFormat,
     copy: CopyToHdr,
     params: wgpu::Buffer,
-    means: Option<Means>,
+    /// Per parity: the update's group (it writes mean `parity`, reading the other) and
+    /// the copy's group (it copies mean `parity` into the HDR target).
+    groups: [[CachedGroup; 2]; 2],
     parity: usize,
 }
 
@@ -172,7 +180,7 @@ impl AccumulatePass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            means: None,
+            groups: Default::default(),
             parity: 0,
         })
     }
@@ -196,44 +204,30 @@ pub fn prepare_accumulate(
         errors.0.push(e);
         return;
     }
-    let Some((t, hdr)) = targets
-        .current
-        .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?)))
-    else {
+    let Some(t) = targets.current.as_ref() else {
         return;
     };
-    if pass.means.as_ref().is_none_or(|m| m.key != t.generation) {
-        let targets = [0, 1].map(|_| Target::new(&gpu, "accumulation", t.size, pass.mean_format));
-        let mut groups = Vec::with_capacity(2);
-        for parity in 0..2 {
-            let (write, read) = (&targets[parity], &targets[1 - parity]);
-            let update = BINDINGS.group(
+    let (Some(hdr), Some(means)) = (t.view(HDR), t.views(ACCUMULATION)) else {
+        return;
+    };
+    for (parity, [update, copy]) in pass.groups.iter_mut().enumerate() {
+        let made = update
+            .get(
                 &gpu,
+                &BINDINGS,
                 &pass.layout,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
-                    wgpu::BindingResource::TextureView(&read.view),
+                    wgpu::BindingResource::TextureView(means[1 - parity]),
                     pass.params.as_entire_binding(),
                 ],
-            );
-            let copy = pass.copy.group(&gpu, &write.view);
-            match (update, copy) {
-                (Ok(u), Ok(c)) => groups.push((u, c)),
-                (Err(e), _) | (_, Err(e)) => {
-                    errors.0.push(e);
-                    return;
-                }
-            }
-        }
-        let Ok(groups) = <[_; 2]>::try_from(groups) else {
+            )
+            .map(|_| ())
+            .and_then(|()| pass.copy.group(copy, &gpu, means[parity]).map(|_| ()));
+        if let Err(e) = made {
+            errors.0.push(e);
             return;
-        };
-        pass.means = Some(Means {
-            targets,
-            key: t.generation,
-            groups,
-        });
+        }
     }
     let index = sub.map_or(0, |s| s.index);
     pass.parity = (index % 2) as usize;
@@ -253,21 +247,24 @@ pub fn accumulate_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(means), Some(hdr), Some(copy)) = (
+    let t = targets.current.as_ref();
+    let [update_group, copy_group] = &pass.groups[pass.parity];
+    let (Some(encoder), Some(mean), Some(hdr), Some(copy), Some(update_group), Some(copy_group)) = (
         encoder.as_mut(),
-        pass.means.as_ref(),
-        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        t.and_then(|t| t.view(ACCUMULATION[pass.parity])),
+        t.and_then(|t| t.view(HDR)),
         plan.variant::<AccumulatePass>()
             .and_then(|f| pass.copy.pipeline(*f)),
+        update_group.group(),
+        copy_group.group(),
     ) else {
         return;
     };
-    let (update_group, copy_group) = &means.groups[pass.parity];
     draw_fullscreen(
         encoder,
         timer,
         PassId::Accumulate.name(),
-        &[&means.targets[pass.parity].view],
+        &[mean],
         &pass.update,
         update_group,
     );

@@ -4,7 +4,7 @@
 //! resolve, [`super::resolve`]).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::pipelines::PerFormat;
 
@@ -41,10 +41,16 @@ impl CopyToHdr {
         self.pipelines.get(format)
     }
 
-    /// A bind group that copies from `source`.
-    pub fn group(&self, gpu: &Gpu, source: &wgpu::TextureView) -> Result<wgpu::BindGroup> {
-        BINDINGS.group(
+    /// The bind group that copies from `source`, made (or kept) in `cache`.
+    pub fn group<'c>(
+        &self,
+        cache: &'c mut CachedGroup,
+        gpu: &Gpu,
+        source: &wgpu::TextureView,
+    ) -> Result<&'c wgpu::BindGroup> {
+        cache.get(
             gpu,
+            &BINDINGS,
             &self.layout,
             vec![wgpu::BindingResource::TextureView(source)],
         )

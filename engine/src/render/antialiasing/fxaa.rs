@@ -11,8 +11,8 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::antialiasing::prepare::{AA_PREPARED, MASK, Preparation};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
@@ -21,7 +21,7 @@ use crate::render::pipelines::{
     FullscreenDraw, MaskDepth, PerFormat, create_module, draw_fullscreen_pass, fullscreen_pipeline,
     mask_depth_state, one_group_layout,
 };
-use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -35,7 +35,7 @@ impl PassId {
 impl FramePass for FxaaPass {
     const ID: PassId = PassId::Fxaa;
     const READS: &'static [Slot] = &[HDR, DEPTH, GBUFFER_NORMAL];
-    const WRITES: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR, AA_PREPARED, FXAA_MASK];
     type Variant = wgpu::TextureFormat;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -94,14 +94,8 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The prepared image and the filter's bind group, for one set of frame targets.
-struct Prepared {
-    image: PreparedImage,
-    /// Depth 1 where the luma has an edge, 0 elsewhere.
-    mask: Target,
-    key: u64,
-    filter: wgpu::BindGroup,
-}
+/// Depth 1 where the luma has an edge, 0 elsewhere: the pixels the filter shades.
+pub const FXAA_MASK: Slot = Slot::texture("fxaa mask", MASK);
 
 /// FXAA's pipelines, target and bindings.
 #[derive(Resource)]
@@ -112,7 +106,7 @@ pub struct FxaaPass {
     mark: Option<wgpu::RenderPipeline>,
     filters: PerFormat,
     sampler: wgpu::Sampler,
-    prepared: Option<Prepared>,
+    filter: CachedGroup,
 }
 
 impl FxaaPass {
@@ -132,7 +126,7 @@ impl FxaaPass {
                 min_filter: wgpu::FilterMode::Linear,
                 ..Default::default()
             }),
-            prepared: None,
+            filter: CachedGroup::default(),
         })
     }
 }
@@ -176,41 +170,30 @@ pub fn prepare_fxaa(
             }
         }
     }
-    let Some((t, hdr, [depth, normal])) = targets
-        .current
-        .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?, t.views([DEPTH, GBUFFER_NORMAL])?)))
+    let Some(t) = targets.current.as_ref() else {
+        return;
+    };
+    let Some([hdr, prepared, depth, normal]) = t.views([HDR, AA_PREPARED, DEPTH, GBUFFER_NORMAL])
     else {
         return;
     };
-    if pass
-        .prepared
-        .as_ref()
-        .is_some_and(|c| c.key == t.generation)
-    {
-        return;
-    }
-    let built = pass.preparation.image(&gpu, t.size, hdr).and_then(|image| {
-        let filter = BINDINGS.group(
-            &gpu,
-            &pass.layout,
-            vec![
-                wgpu::BindingResource::TextureView(&image.target.view),
-                wgpu::BindingResource::Sampler(&pass.sampler),
-                wgpu::BindingResource::TextureView(depth),
-                wgpu::BindingResource::TextureView(normal),
-            ],
-        )?;
-        Ok(Prepared {
-            image,
-            mask: Target::new(&gpu, "fxaa mask", t.size, DEPTH_FORMAT),
-            key: t.generation,
-            filter,
-        })
+    let made = pass.preparation.prepare(&gpu, hdr).and_then(|()| {
+        pass.filter
+            .get(
+                &gpu,
+                &BINDINGS,
+                &pass.layout,
+                vec![
+                    wgpu::BindingResource::TextureView(prepared),
+                    wgpu::BindingResource::Sampler(&pass.sampler),
+                    wgpu::BindingResource::TextureView(depth),
+                    wgpu::BindingResource::TextureView(normal),
+                ],
+            )
+            .map(|_| ())
     });
-    match built {
-        Ok(c) => pass.prepared = Some(c),
-        Err(e) => errors.0.push(e),
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -222,18 +205,21 @@ pub fn fxaa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(c), Some(mark), Some(hdr), Some(filter)) = (
+    let (Some(encoder), Some(group), Some(mark), Some([hdr, prepared, mask]), Some(filter)) = (
         encoder.as_mut(),
-        pass.prepared.as_ref(),
+        pass.filter.group(),
         pass.mark.as_ref(),
-        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        targets
+            .current
+            .as_ref()
+            .and_then(|t| t.views([HDR, AA_PREPARED, FXAA_MASK])),
         plan.variant::<FxaaPass>()
             .and_then(|f| pass.filters.get(*f)),
     ) else {
         return;
     };
     pass.preparation
-        .record(encoder, timer, "fxaa prepare", &c.image);
+        .record(encoder, timer, "fxaa prepare", prepared);
     // The filter shades only the pixels the mark step marked; the others keep the HDR
     // target's exact value.
     draw_fullscreen_pass(
@@ -243,9 +229,9 @@ pub fn fxaa_pass(
             name: "fxaa mark",
             targets: &[],
             load: wgpu::LoadOp::Load,
-            depth: Some((&c.mask.view, wgpu::LoadOp::Clear(0.0))),
+            depth: Some((mask, wgpu::LoadOp::Clear(0.0))),
             pipeline: mark,
-            groups: &[&c.filter],
+            groups: &[group],
         },
     );
     draw_fullscreen_pass(
@@ -255,9 +241,9 @@ pub fn fxaa_pass(
             name: PassId::Fxaa.name(),
             targets: &[hdr],
             load: wgpu::LoadOp::Load,
-            depth: Some((&c.mask.view, wgpu::LoadOp::Load)),
+            depth: Some((mask, wgpu::LoadOp::Load)),
             pipeline: filter,
-            groups: &[&c.filter],
+            groups: &[group],
         },
     );
 }

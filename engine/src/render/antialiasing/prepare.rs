@@ -5,15 +5,23 @@
 //! filters can write their result into the HDR target they do not read.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
+use crate::render::graph::{Slot, TargetFormat, TextureDesc};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
-use crate::render::targets::Target;
 use crate::render::timing::GpuTimer;
 
 /// The prepared image's format: f16, 11 significant bits (a relative error of 2⁻¹²
 /// at most) up to 65504, far above a pre-exposed frame's highlights.
 pub const PREPARED_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// The prepared image: the linear colour (rgb) and its perceptual luma (a), at the
+/// output's size. FXAA and SMAA write it (one of them runs in a frame).
+pub const AA_PREPARED: Slot = Slot::target("aa prepared", TargetFormat::Fixed(PREPARED_FORMAT));
+
+/// A depth mask at the output's size, 1 where a filter's first step found an edge.
+pub const MASK: TextureDesc =
+    TextureDesc::full(TargetFormat::Fixed(crate::render::targets::DEPTH_FORMAT));
 
 /// The preparation step's input.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
@@ -22,17 +30,11 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     bindings: &[("hdr", Binding::TextureLoad)],
 };
 
-/// The preparation step's pipeline.
+/// The preparation step's pipeline and the bind group that reads the HDR target.
 pub struct Preparation {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
-}
-
-/// A prepared image and the bind group that fills it from one HDR target.
-pub struct PreparedImage {
-    /// The linear colour (rgb) and its perceptual luma (a).
-    pub target: Target,
-    group: wgpu::BindGroup,
+    group: CachedGroup,
 }
 
 impl Preparation {
@@ -47,40 +49,34 @@ impl Preparation {
             &[],
             PREPARED_FORMAT,
         )?;
-        Ok(Preparation { layout, pipeline })
+        Ok(Preparation {
+            layout,
+            pipeline,
+            group: CachedGroup::default(),
+        })
     }
 
-    /// A prepared image of `size` pixels, filled from `hdr`.
-    pub fn image(
-        &self,
-        gpu: &Gpu,
-        size: (u32, u32),
-        hdr: &wgpu::TextureView,
-    ) -> Result<PreparedImage> {
-        let target = Target::new(gpu, "aa prepared", size, PREPARED_FORMAT);
-        let group = BINDINGS.group(
+    /// Makes (or keeps) the group that prepares from `hdr`.
+    pub fn prepare(&mut self, gpu: &Gpu, hdr: &wgpu::TextureView) -> Result<()> {
+        self.group.get(
             gpu,
+            &BINDINGS,
             &self.layout,
             vec![wgpu::BindingResource::TextureView(hdr)],
         )?;
-        Ok(PreparedImage { target, group })
+        Ok(())
     }
 
-    /// Records the preparation of `image` from its HDR target, timed as `name`.
+    /// Records the preparation into `prepared` ([`AA_PREPARED`]), timed as `name`.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         timer: &mut GpuTimer,
         name: &'static str,
-        image: &PreparedImage,
+        prepared: &wgpu::TextureView,
     ) {
-        draw_fullscreen(
-            encoder,
-            timer,
-            name,
-            &[&image.target.view],
-            &self.pipeline,
-            &image.group,
-        );
+        if let Some(group) = self.group.group() {
+            draw_fullscreen(encoder, timer, name, &[prepared], &self.pipeline, group);
+        }
     }
 }

@@ -4,7 +4,7 @@
 //! format. The history is not sharpened, so sharpening never feeds back into later frames.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::pipelines::PerFormat;
 
@@ -58,10 +58,16 @@ impl TaaResolve {
         self.pipelines.get(format)
     }
 
-    /// A bind group that resolves `history`.
-    pub fn group(&self, gpu: &Gpu, history: &wgpu::TextureView) -> Result<wgpu::BindGroup> {
-        BINDINGS.group(
+    /// The bind group that resolves `history`, made (or kept) in `cache`.
+    pub fn group<'c>(
+        &self,
+        cache: &'c mut CachedGroup,
+        gpu: &Gpu,
+        history: &wgpu::TextureView,
+    ) -> Result<&'c wgpu::BindGroup> {
+        cache.get(
             gpu,
+            &BINDINGS,
             &self.layout,
             vec![
                 wgpu::BindingResource::TextureView(history),

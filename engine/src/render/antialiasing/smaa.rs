@@ -21,18 +21,18 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialiasing::prepare::{Preparation, PreparedImage};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::antialiasing::prepare::{AA_PREPARED, MASK, Preparation};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat};
 use crate::render::pipelines::{
     FullscreenDraw, MaskDepth, PerFormat, draw_fullscreen_pass, draw_fullscreen_with,
     fullscreen_masked_variant, mask_depth_state, one_group_layout,
 };
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -60,7 +60,7 @@ const WEIGHTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 impl FramePass for SmaaPass {
     const ID: PassId = PassId::Smaa;
     const READS: &'static [Slot] = &[HDR];
-    const WRITES: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR, AA_PREPARED, SMAA_EDGES, SMAA_MASK, SMAA_WEIGHTS];
     type Variant = wgpu::TextureFormat;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -130,18 +130,14 @@ pub const BLEND_BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The intermediate images and the steps' bind groups, for one set of frame targets.
-struct Images {
-    key: u64,
-    prepared: PreparedImage,
-    edges: Target,
-    /// Depth 1 on the pixels with an edge, 0 elsewhere.
-    mask: Target,
-    weights: Target,
-    edges_group: wgpu::BindGroup,
-    weights_group: wgpu::BindGroup,
-    blend_group: wgpu::BindGroup,
-}
+/// The edges found from luma.
+pub const SMAA_EDGES: Slot = Slot::target("smaa edges", TargetFormat::Fixed(EDGES_FORMAT));
+
+/// Depth 1 on the pixels with an edge, 0 elsewhere.
+pub const SMAA_MASK: Slot = Slot::texture("smaa mask", MASK);
+
+/// The coverages the blend mixes each edge pixel with.
+pub const SMAA_WEIGHTS: Slot = Slot::target("smaa weights", TargetFormat::Fixed(WEIGHTS_FORMAT));
 
 /// SMAA's pipelines and images.
 #[derive(Resource)]
@@ -153,7 +149,8 @@ pub struct SmaaPass {
     edges: wgpu::RenderPipeline,
     weights: wgpu::RenderPipeline,
     blends: PerFormat,
-    images: Option<Images>,
+    /// The edge, coverage and blend steps' groups.
+    groups: [CachedGroup; 3],
 }
 
 impl SmaaPass {
@@ -195,45 +192,10 @@ impl SmaaPass {
             edges_layout,
             weights_layout,
             blend_layout,
-            images: None,
-        })
-    }
-
-    /// The images and bind groups for frame targets of `size`, filled from `hdr`.
-    fn images(
-        &self,
-        gpu: &Gpu,
-        size: (u32, u32),
-        hdr: &wgpu::TextureView,
-        key: u64,
-    ) -> Result<Images> {
-        let prepared = self.preparation.image(gpu, size, hdr)?;
-        let edges = Target::new(gpu, "smaa edges", size, EDGES_FORMAT);
-        let mask = Target::new(gpu, "smaa mask", size, DEPTH_FORMAT);
-        let weights = Target::new(gpu, "smaa weights", size, WEIGHTS_FORMAT);
-        let view = wgpu::BindingResource::TextureView;
-        let edges_group =
-            EDGES_BINDINGS.group(gpu, &self.edges_layout, vec![view(&prepared.target.view)])?;
-        let weights_group =
-            WEIGHTS_BINDINGS.group(gpu, &self.weights_layout, vec![view(&edges.view)])?;
-        let blend_group = BLEND_BINDINGS.group(
-            gpu,
-            &self.blend_layout,
-            vec![view(&prepared.target.view), view(&weights.view)],
-        )?;
-        Ok(Images {
-            key,
-            prepared,
-            edges,
-            mask,
-            weights,
-            edges_group,
-            weights_group,
-            blend_group,
+            groups: Default::default(),
         })
     }
 }
-
 /// Compiles the blend for this frame's HDR format and (re)creates the images at the
 /// frame's size.
 pub fn prepare_smaa(
@@ -251,19 +213,50 @@ pub fn prepare_smaa(
         errors.0.push(e);
         return;
     }
-    let Some((t, hdr)) = targets
+    let Some([hdr, prepared, edges, weights]) = targets
         .current
         .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?)))
+        .and_then(|t| t.views([HDR, AA_PREPARED, SMAA_EDGES, SMAA_WEIGHTS]))
     else {
         return;
     };
-    if pass.images.as_ref().is_some_and(|i| i.key == t.generation) {
-        return;
-    }
-    match pass.images(&gpu, t.size, hdr, t.generation) {
-        Ok(images) => pass.images = Some(images),
-        Err(e) => errors.0.push(e),
+    let view = wgpu::BindingResource::TextureView;
+    let [edges_group, weights_group, blend_group] = &mut pass.groups;
+    let made = pass
+        .preparation
+        .prepare(&gpu, hdr)
+        .and_then(|()| {
+            edges_group
+                .get(
+                    &gpu,
+                    &EDGES_BINDINGS,
+                    &pass.edges_layout,
+                    vec![view(prepared)],
+                )
+                .map(|_| ())
+        })
+        .and_then(|()| {
+            weights_group
+                .get(
+                    &gpu,
+                    &WEIGHTS_BINDINGS,
+                    &pass.weights_layout,
+                    vec![view(edges)],
+                )
+                .map(|_| ())
+        })
+        .and_then(|()| {
+            blend_group
+                .get(
+                    &gpu,
+                    &BLEND_BINDINGS,
+                    &pass.blend_layout,
+                    vec![view(prepared), view(weights)],
+                )
+                .map(|_| ())
+        });
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -275,16 +268,27 @@ pub fn smaa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(i), Some(hdr), Some(blend)) = (
+    let [edges_group, weights_group, blend_group] = &pass.groups;
+    let (Some(encoder), Some(views), Some(blend)) = (
         encoder.as_mut(),
-        pass.images.as_ref(),
-        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        targets
+            .current
+            .as_ref()
+            .and_then(|t| t.views([HDR, AA_PREPARED, SMAA_EDGES, SMAA_MASK, SMAA_WEIGHTS])),
         plan.variant::<SmaaPass>().and_then(|f| pass.blends.get(*f)),
     ) else {
         return;
     };
+    let (Some(edges_group), Some(weights_group), Some(blend_group)) = (
+        edges_group.group(),
+        weights_group.group(),
+        blend_group.group(),
+    ) else {
+        return;
+    };
+    let [hdr, prepared, edges, mask, weights] = views;
     pass.preparation
-        .record(encoder, timer, "smaa prepare", &i.prepared);
+        .record(encoder, timer, "smaa prepare", prepared);
     // Pixels without an edge are discarded and stay 0 in both images; the coverage step
     // shades only the pixels the edge step marked.
     let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
@@ -293,11 +297,11 @@ pub fn smaa_pass(
         timer,
         &FullscreenDraw {
             name: "smaa edges",
-            targets: &[&i.edges.view],
+            targets: &[edges],
             load: clear,
-            depth: Some((&i.mask.view, wgpu::LoadOp::Clear(0.0))),
+            depth: Some((mask, wgpu::LoadOp::Clear(0.0))),
             pipeline: &pass.edges,
-            groups: &[&i.edges_group],
+            groups: &[edges_group],
         },
     );
     draw_fullscreen_pass(
@@ -305,11 +309,11 @@ pub fn smaa_pass(
         timer,
         &FullscreenDraw {
             name: "smaa weights",
-            targets: &[&i.weights.view],
+            targets: &[weights],
             load: clear,
-            depth: Some((&i.mask.view, wgpu::LoadOp::Load)),
+            depth: Some((mask, wgpu::LoadOp::Load)),
             pipeline: &pass.weights,
-            groups: &[&i.weights_group],
+            groups: &[weights_group],
         },
     );
     // Pixels no coverage reaches are discarded and keep the HDR target's exact value.
@@ -319,7 +323,7 @@ pub fn smaa_pass(
         PassId::Smaa.name(),
         &[hdr],
         blend,
-        &i.blend_group,
+        blend_group,
         wgpu::LoadOp::Load,
     );
 }

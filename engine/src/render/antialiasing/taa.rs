@@ -19,16 +19,18 @@ use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::render::antialiasing::accumulate::mean_format;
 use crate::render::antialiasing::resolve::TaaResolve;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR, MOTION};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    Extent, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat, TextureDesc,
+};
 use crate::render::pipelines::{
     create_module, draw_fullscreen, fullscreen_pipeline, one_group_layout,
 };
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -39,8 +41,29 @@ impl PassId {
     pub const Taa: PassId = PassId::new("taa");
 }
 
-/// The history of earlier frames (owned by the pass).
-pub const TAA_HISTORY: Slot = Slot::owned("taa history");
+/// The history of earlier frames, ping-ponged: the colour (in the [`mean_format`]) …
+pub const TAA_HISTORY: [Slot; 2] = [
+    Slot::texture(
+        "taa history a",
+        TextureDesc::full(TargetFormat::Decided).history(),
+    ),
+    Slot::texture(
+        "taa history b",
+        TextureDesc::full(TargetFormat::Decided).history(),
+    ),
+];
+
+/// … and each pixel's view depth and frame count.
+pub const TAA_HISTORY_DEPTH: [Slot; 2] = [
+    Slot::texture(
+        "taa history depth a",
+        TextureDesc::full(TargetFormat::Fixed(DEPTH_FRAMES_FORMAT)).history(),
+    ),
+    Slot::texture(
+        "taa history depth b",
+        TextureDesc::full(TargetFormat::Fixed(DEPTH_FRAMES_FORMAT)).history(),
+    ),
+];
 
 /// Frames the history of a moving pixel averages at most: its weight on each new frame
 /// is at least 1/16, so a change shows within a few frames.
@@ -89,7 +112,13 @@ pub struct TaaState {
 impl FramePass for TaaPass {
     const ID: PassId = PassId::Taa;
     const READS: &'static [Slot] = &[HDR, DEPTH, MOTION];
-    const WRITES: &'static [Slot] = &[HDR, TAA_HISTORY];
+    const WRITES: &'static [Slot] = &[
+        HDR,
+        TAA_HISTORY[0],
+        TAA_HISTORY[1],
+        TAA_HISTORY_DEPTH[0],
+        TAA_HISTORY_DEPTH[1],
+    ];
     type Variant = wgpu::TextureFormat;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -116,9 +145,10 @@ impl FramePass for TaaPass {
                 state.frame + 1
             ),
         };
-        let f16 = world
+        let color_format = world
             .get_resource::<TaaPass>()
-            .is_some_and(|p| p.color_format == wgpu::TextureFormat::Rgba16Float);
+            .map_or(wgpu::TextureFormat::Rgba32Float, |p| p.color_format);
+        let f16 = color_format == wgpu::TextureFormat::Rgba16Float;
         let mut reason = reason;
         if taa && f16 {
             reason += "; an f16 history: this adapter cannot render to f32";
@@ -126,7 +156,10 @@ impl FramePass for TaaPass {
         if taa && quality.aa.taa_sharpen > 0.0 {
             reason += &format!("; sharpened {}", quality.aa.taa_sharpen);
         }
+        let sizing = Sizing::Texture(Extent::Full, Some(color_format));
         PassDecision::new(taa, reason, quality.hdr_precision.format())
+            .sized(TAA_HISTORY[0], sizing)
+            .sized(TAA_HISTORY[1], sizing)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -163,15 +196,6 @@ struct TaaParams {
     still: [f32; 4],
 }
 
-/// The two histories, and per parity (which one this frame writes) the TAA and resolve
-/// bind groups.
-struct History {
-    color: [Target; 2],
-    depth_frames: [Target; 2],
-    key: u64,
-    groups: [(wgpu::BindGroup, wgpu::BindGroup); 2],
-}
-
 /// TAA's pipelines, history and bindings.
 #[derive(Resource)]
 pub struct TaaPass {
@@ -183,7 +207,8 @@ pub struct TaaPass {
     /// f16 otherwise ([`mean_format`]).
     color_format: wgpu::TextureFormat,
     params: wgpu::Buffer,
-    history: Option<History>,
+    /// Per parity (the history this frame writes): the TAA group and the resolve's.
+    groups: [[CachedGroup; 2]; 2],
     parity: usize,
 }
 
@@ -214,7 +239,7 @@ impl TaaPass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            history: None,
+            groups: Default::default(),
             parity: 0,
         })
     }
@@ -241,52 +266,43 @@ pub fn prepare_taa(
         errors.0.push(e);
         return;
     }
-    let Some((t, [hdr, depth, motion])) = targets
-        .current
-        .as_ref()
-        .and_then(|t| Some((t, t.views([HDR, DEPTH, MOTION])?)))
-    else {
+    let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let mut fresh = false;
-    if pass.history.as_ref().is_none_or(|h| h.key != t.generation) {
-        let color = [0, 1].map(|_| Target::new(&gpu, "taa history", t.size, pass.color_format));
-        let depth_frames =
-            [0, 1].map(|_| Target::new(&gpu, "taa history depth", t.size, DEPTH_FRAMES_FORMAT));
-        let mut groups = Vec::with_capacity(2);
-        for write in 0..2 {
-            let read = 1 - write;
-            let taa = BINDINGS.group(
+    let (Some([hdr, depth, motion]), Some(color), Some(depth_frames)) = (
+        t.views([HDR, DEPTH, MOTION]),
+        t.views(TAA_HISTORY),
+        t.views(TAA_HISTORY_DEPTH),
+    ) else {
+        return;
+    };
+    // A history the graph made anew holds nothing: this frame starts over.
+    let fresh = TAA_HISTORY
+        .iter()
+        .chain(&TAA_HISTORY_DEPTH)
+        .any(|s| t.fresh(*s));
+    for (write, [taa, resolve]) in pass.groups.iter_mut().enumerate() {
+        let read = 1 - write;
+        let made = taa
+            .get(
                 &gpu,
+                &BINDINGS,
                 &pass.layout,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
                     wgpu::BindingResource::TextureView(depth),
                     wgpu::BindingResource::TextureView(motion),
-                    wgpu::BindingResource::TextureView(&color[read].view),
-                    wgpu::BindingResource::TextureView(&depth_frames[read].view),
+                    wgpu::BindingResource::TextureView(color[read]),
+                    wgpu::BindingResource::TextureView(depth_frames[read]),
                     pass.params.as_entire_binding(),
                 ],
-            );
-            let resolve = pass.resolve.group(&gpu, &color[write].view);
-            match (taa, resolve) {
-                (Ok(a), Ok(b)) => groups.push((a, b)),
-                (Err(e), _) | (_, Err(e)) => {
-                    errors.0.push(e);
-                    return;
-                }
-            }
-        }
-        let Ok(groups) = <[_; 2]>::try_from(groups) else {
+            )
+            .map(|_| ())
+            .and_then(|()| pass.resolve.group(resolve, &gpu, color[write]).map(|_| ()));
+        if let Err(e) = made {
+            errors.0.push(e);
             return;
-        };
-        pass.history = Some(History {
-            color,
-            depth_frames,
-            key: t.generation,
-            groups,
-        });
-        fresh = true;
+        }
     }
     let state = state.map(|s| s.clone()).unwrap_or_default();
     let valid = !fresh && state.reset.is_none() && state.frame > 0;
@@ -323,24 +339,29 @@ pub fn taa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(history), Some(hdr), Some(resolve)) = (
+    let t = targets.current.as_ref();
+    let [taa_group, resolve_group] = &pass.groups[pass.parity];
+    let (Some(encoder), Some(hdr), Some(resolve), Some(taa_group), Some(resolve_group)) = (
         encoder.as_mut(),
-        pass.history.as_ref(),
-        targets.current.as_ref().and_then(|t| t.view(HDR)),
+        t.and_then(|t| t.view(HDR)),
         plan.variant::<TaaPass>()
             .and_then(|f| pass.resolve.pipeline(*f)),
+        taa_group.group(),
+        resolve_group.group(),
     ) else {
         return;
     };
-    let (taa_group, resolve_group) = &history.groups[pass.parity];
+    let (Some(color), Some(depth_frames)) = (
+        t.and_then(|t| t.view(TAA_HISTORY[pass.parity])),
+        t.and_then(|t| t.view(TAA_HISTORY_DEPTH[pass.parity])),
+    ) else {
+        return;
+    };
     draw_fullscreen(
         encoder,
         timer,
         PassId::Taa.name(),
-        &[
-            &history.color[pass.parity].view,
-            &history.depth_frames[pass.parity].view,
-        ],
+        &[color, depth_frames],
         &pass.pipeline,
         taa_group,
     );

@@ -39,6 +39,7 @@
 //! is each pass's `decide`, which can say *why* in words.
 
 pub mod registry;
+pub mod resources;
 pub mod slots;
 
 use crate::error::Result;
@@ -47,60 +48,40 @@ use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use std::any::Any;
+use std::marker::PhantomData;
 use std::sync::Arc;
+
+pub use resources::{
+    Assignment, BufferDesc, Extent, Memory, Mips, Sizing, Slot, SlotKind, TargetFormat, TextureDesc,
+};
 
 pub use crate::pass_id::PassId;
 
-/// How a [`Slot`] comes to exist.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum SlotKind {
-    /// A texture at the output's size that the graph allocates when a pass that runs
-    /// this frame uses it.
-    Target(TargetFormat),
-    /// A resource a pass owns and keeps between frames (the shadow atlas, the light
-    /// tiles, the exposure state); the graph only orders its users.
-    Owned,
-    /// The frame's output view, given to the renderer from outside.
-    Output,
+/// A fact a pass decides and later passes read in their own decisions (does AO run?
+/// which shadow-mask scale?), typed. The pass that decides it declares it in
+/// [`FramePass::PUBLISHES`] and gives its value in its decision
+/// ([`PassDecision::publishing`]); a pass that reads it declares it in
+/// [`FramePass::CONSULTS`], and the registry orders the two and refuses a read that no
+/// earlier pass publishes.
+pub struct Fact<T> {
+    /// Its name.
+    pub id: FactId,
+    marker: PhantomData<fn() -> T>,
 }
 
-/// The format of a [`SlotKind::Target`].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum TargetFormat {
-    /// Always this format.
-    Fixed(wgpu::TextureFormat),
-    /// The HDR colour format that [`crate::quality::Quality::hdr_precision`] selects.
-    Hdr,
-}
-
-/// A frame resource that passes read and write: a G-buffer channel, depth, HDR colour,
-/// the shadow atlas, … The core slots are in [`slots`]; a pass that brings a resource of
-/// its own defines its slot in its module.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Slot {
-    /// Name, as `--explain`'s lifetimes and error messages give it.
-    pub name: &'static str,
-    /// How it is allocated.
-    pub kind: SlotKind,
-}
-
-impl Slot {
-    /// A texture allocated by the graph at the output's size.
-    pub const fn target(name: &'static str, format: TargetFormat) -> Slot {
-        Slot {
-            name,
-            kind: SlotKind::Target(format),
-        }
-    }
-
-    /// A resource its pass owns.
-    pub const fn owned(name: &'static str) -> Slot {
-        Slot {
-            name,
-            kind: SlotKind::Owned,
+impl<T> Fact<T> {
+    /// A fact called `name`.
+    pub const fn new(name: &'static str) -> Fact<T> {
+        Fact {
+            id: FactId(name),
+            marker: PhantomData,
         }
     }
 }
+
+/// A fact's name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct FactId(pub &'static str);
 
 /// One pass of the frame. Implemented by a pass's resource (its pipelines and bindings);
 /// see the [module documentation](self) for what the registry derives from it.
@@ -115,6 +96,10 @@ pub trait FramePass: Resource + Sized {
     /// ([`PassDecision::writing`]): ordered like [`FramePass::WRITES`], allocated only
     /// in those frames (the G-buffer's motion vectors exist only while TAA runs).
     const OPTIONAL_WRITES: &'static [Slot] = &[];
+    /// The facts its decision gives ([`Fact`]).
+    const PUBLISHES: &'static [FactId] = &[];
+    /// The facts of earlier passes its decision reads.
+    const CONSULTS: &'static [FactId] = &[];
     /// Whether it also runs when a probe captures the lit scene around it
     /// ([`crate::render::indirect::irradiance_volume`]): the passes that make lit HDR
     /// radiance (shadows, G-buffer, light culling, lighting, sky) do; screen-space,
@@ -128,7 +113,8 @@ pub trait FramePass: Resource + Sized {
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self>;
 
     /// Whether it runs this frame, why, which shader features it compiles in and its
-    /// variant. `plan` holds the decisions of the passes before it.
+    /// variant. `plan` holds the decisions of the passes before it: it reads their
+    /// [`FramePass::CONSULTS`] facts with [`FramePlan::fact`].
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Self::Variant>;
 
     /// The systems that compile this frame's variant and update bindings; they run only
@@ -171,7 +157,7 @@ impl Decision {
 }
 
 /// What a pass's `decide` returns.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PassDecision<V> {
     /// Whether it runs, and why.
     pub runs: bool,
@@ -183,6 +169,10 @@ pub struct PassDecision<V> {
     pub variant: V,
     /// The slots of its [`FramePass::OPTIONAL_WRITES`] it writes this frame.
     pub writes: Vec<Slot>,
+    /// The extent, format or bytes of its slots that the frame decides.
+    pub sizes: Vec<(Slot, Sizing)>,
+    /// The values of its [`FramePass::PUBLISHES`] facts.
+    pub facts: Vec<(FactId, Arc<dyn Any + Send + Sync>)>,
 }
 
 impl<V> PassDecision<V> {
@@ -194,7 +184,21 @@ impl<V> PassDecision<V> {
             features: Vec::new(),
             variant,
             writes: Vec::new(),
+            sizes: Vec::new(),
+            facts: Vec::new(),
         }
+    }
+
+    /// The same decision, giving slot `slot` this frame's extent (and format) or bytes.
+    pub fn sized(mut self, slot: Slot, sizing: Sizing) -> Self {
+        self.sizes.push((slot, sizing));
+        self
+    }
+
+    /// The same decision, giving fact `fact` the value `value`.
+    pub fn publishing<T: Send + Sync + 'static>(mut self, fact: &Fact<T>, value: T) -> Self {
+        self.facts.push((fact.id, Arc::new(value)));
+        self
     }
 
     /// The same decision, writing the optional slot `slot` when `writes` holds.
@@ -227,9 +231,16 @@ pub struct FramePlan {
     pub features: Vec<Decision>,
     /// The slots the passes that run use, with their lifetimes, in order of first use.
     pub lifetimes: Vec<Lifetime>,
+    /// The frame's textures and buffers, their sizes and the physical resources that hold
+    /// them ([`resources`]).
+    pub resources: Assignment,
     variants: Vec<(PassId, Arc<dyn Any + Send + Sync>)>,
     /// The optional slots each pass writes this frame.
     optional_writes: Vec<(PassId, Vec<Slot>)>,
+    /// The decided sizes of slots.
+    sizes: Vec<(Slot, Sizing)>,
+    /// The facts the passes decided.
+    facts: Vec<(FactId, Arc<dyn Any + Send + Sync>)>,
 }
 
 impl FramePlan {
@@ -258,8 +269,26 @@ impl FramePlan {
             .any(|(p, slots)| *p == pass && slots.contains(&slot))
     }
 
-    /// Records pass `P`'s decision. Optional writes it did not declare in
-    /// [`FramePass::OPTIONAL_WRITES`] are dropped.
+    /// The value an earlier pass gave fact `fact` this frame, if it gave one.
+    pub fn fact<T: 'static>(&self, fact: &Fact<T>) -> Option<&T> {
+        self.facts
+            .iter()
+            .find(|(id, _)| *id == fact.id)
+            .and_then(|(_, v)| v.downcast_ref::<T>())
+    }
+
+    /// The sizing a decision gave `slot` this frame.
+    pub fn sizing(&self, slot: Slot) -> Option<Sizing> {
+        self.sizes.iter().find(|(s, _)| *s == slot).map(|(_, z)| *z)
+    }
+
+    /// Bytes this frame's resources take.
+    pub fn memory(&self) -> Memory {
+        self.resources.memory()
+    }
+
+    /// Records pass `P`'s decision. Optional writes, sizes and facts it did not declare
+    /// ([`FramePass::OPTIONAL_WRITES`], its slots, [`FramePass::PUBLISHES`]) are dropped.
     pub fn push<P: FramePass>(&mut self, decision: PassDecision<P::Variant>) {
         let PassDecision {
             runs,
@@ -267,7 +296,19 @@ impl FramePlan {
             features,
             variant,
             writes,
+            sizes,
+            facts,
         } = decision;
+        self.sizes.extend(
+            sizes
+                .into_iter()
+                .filter(|(s, _)| P::WRITES.contains(s) || P::OPTIONAL_WRITES.contains(s)),
+        );
+        self.facts.extend(
+            facts
+                .into_iter()
+                .filter(|(id, _)| P::PUBLISHES.contains(id)),
+        );
         self.passes
             .push((P::ID, Decision::new(P::ID.name(), runs, reason)));
         self.features.extend(features);
@@ -299,6 +340,50 @@ impl FramePlan {
                 d.reason
             ));
         }
+        out.push_str(&self.explain_resources());
+        out
+    }
+
+    /// The `resources:` part of [`FramePlan::explain`]: each physical texture or buffer,
+    /// what it holds and the bytes, with and without sharing.
+    fn explain_resources(&self) -> String {
+        let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+        let mut out = String::from("resources:\n");
+        for p in &self.resources.physical {
+            let what = match p.shape {
+                resources::Shape::Texture(class, levels, _) => format!(
+                    "{:?} {}x{}{}",
+                    class.format,
+                    class.size.0,
+                    class.size.1,
+                    if levels > 1 {
+                        format!(" ({levels} mips)")
+                    } else {
+                        String::new()
+                    }
+                ),
+                resources::Shape::Buffer(bytes, _) => format!("buffer of {bytes} B"),
+            };
+            out.push_str(&format!(
+                "  {:<36} {:>8.2} MiB  {}{}\n",
+                what,
+                mib(p.shape.bytes()),
+                p.holds.join(", "),
+                if p.kept.is_some() { " (kept)" } else { "" }
+            ));
+        }
+        let m = self.memory();
+        let saved = if m.texture_bytes_unaliased > 0 {
+            100.0 * (1.0 - m.texture_bytes as f64 / m.texture_bytes_unaliased as f64)
+        } else {
+            0.0
+        };
+        out.push_str(&format!(
+            "  textures {:.2} MiB ({:.2} MiB without aliasing, {saved:.1} % less); buffers {:.2} MiB\n",
+            mib(m.texture_bytes),
+            mib(m.texture_bytes_unaliased),
+            mib(m.buffer_bytes)
+        ));
         out
     }
 }

@@ -15,11 +15,24 @@
 //! decision says in which frames it makes them, and only then does the slot get a
 //! lifetime (and a target).
 //!
+//! A fact ([`super::Fact`]) orders its readers the same way: a pass that consults a fact
+//! depends on the last pass before it that publishes it; a fact that only a later pass
+//! publishes is an error that names both, and a fact no pass of the registry publishes
+//! is absent from every plan (a frame without a shadow mask pass has no mask).
+//!
 //! The execution order is a topological order of those dependencies (Kahn's algorithm,
 //! ties broken by registration order), and a pass's prepare and record systems are
 //! chained in that order in the render schedule.
+//!
+//! # Resources
+//!
+//! Each frame, [`Registry::plan`] collects the texture and buffer slots the running passes
+//! use, with their lifetimes and the sizes their decisions give, and assigns them physical
+//! resources ([`super::resources::assign`]); the frame's targets are then allocated from
+//! that assignment ([`crate::render::targets`]).
 
-use super::{FramePass, FramePlan, Lifetime, PassId, Slot};
+use super::resources::{self, Extent, Planned, Shape, Sizing, TargetFormat, TextureClass};
+use super::{FactId, FramePass, FramePlan, Lifetime, PassId, Slot, SlotKind};
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use bevy_ecs::prelude::*;
@@ -40,6 +53,10 @@ pub struct PassEntry {
     pub writes: &'static [Slot],
     /// The slots it writes in the frames its decision says so.
     pub optional_writes: &'static [Slot],
+    /// The facts it publishes.
+    pub publishes: &'static [FactId],
+    /// The facts it consults.
+    pub consults: &'static [FactId],
     /// Whether it runs in probe captures ([`FramePass::CAPTURE`]).
     pub capture: bool,
     create: fn(&mut World, &Gpu) -> Result<()>,
@@ -68,6 +85,8 @@ impl PassEntry {
             reads: P::READS,
             writes: P::WRITES,
             optional_writes: P::OPTIONAL_WRITES,
+            publishes: P::PUBLISHES,
+            consults: P::CONSULTS,
             capture: P::CAPTURE,
             create: |world, gpu| {
                 let pass = P::create(world, gpu)?;
@@ -151,6 +170,29 @@ impl Registry {
                 }
             }
         }
+        for (i, e) in self.entries.iter().enumerate() {
+            for fact in e.consults {
+                match self.entries[..i]
+                    .iter()
+                    .rposition(|p| p.publishes.contains(fact))
+                {
+                    Some(publisher) => after[i].push(publisher),
+                    None => {
+                        if let Some(later) = self.entries[i..]
+                            .iter()
+                            .find(|p| p.publishes.contains(fact))
+                        {
+                            return Err(Error::InvalidArgument(format!(
+                                "frame graph: pass '{}' consults fact '{}', which only '{}', registered after it, publishes",
+                                e.id.name(),
+                                fact.0,
+                                later.id.name()
+                            )));
+                        }
+                    }
+                }
+            }
+        }
         let mut done = vec![false; n];
         let mut order = Vec::with_capacity(n);
         while order.len() < n {
@@ -188,14 +230,24 @@ impl Registry {
     }
 
     /// This frame's plan: every pass's decision in execution order, then the lifetimes of
-    /// the slots the passes that run use.
-    pub fn plan(&self, world: &World) -> FramePlan {
+    /// the slots the passes that run use, and the textures and buffers among them, sized
+    /// for an output of `output` pixels with HDR colour in `hdr_format`, with the physical
+    /// resources that hold them.
+    pub fn plan(
+        &self,
+        world: &World,
+        output: (u32, u32),
+        hdr_format: wgpu::TextureFormat,
+    ) -> FramePlan {
         let mut plan = FramePlan::default();
         for e in &self.entries {
             (e.decide)(world, &mut plan);
         }
+        // Per slot: its lifetime, by pass and by index among the running passes, and
+        // whether a write comes before every read.
+        let mut uses: Vec<(Slot, usize, usize, bool)> = Vec::new();
         let running: Vec<&PassEntry> = self.entries.iter().filter(|e| plan.runs(e.id)).collect();
-        for e in running {
+        for (index, e) in running.iter().enumerate() {
             let optional: Vec<Slot> = e
                 .optional_writes
                 .iter()
@@ -203,6 +255,7 @@ impl Registry {
                 .filter(|s| plan.writes_optional(e.id, *s))
                 .collect();
             for slot in e.reads.iter().chain(e.writes).chain(&optional) {
+                let writes = !e.reads.contains(slot);
                 match plan.lifetimes.iter_mut().find(|l| l.slot == *slot) {
                     Some(l) => l.last = e.id,
                     None => plan.lifetimes.push(Lifetime {
@@ -211,8 +264,29 @@ impl Registry {
                         last: e.id,
                     }),
                 }
+                match uses.iter_mut().find(|u| u.0 == *slot) {
+                    Some(u) => u.2 = index,
+                    None => uses.push((*slot, index, index, writes)),
+                }
             }
         }
+        let planned = uses
+            .into_iter()
+            .filter_map(|(slot, first, last, written_first)| {
+                let (shape, history) = shape_of(&plan, slot, output, hdr_format)?;
+                Some(Planned {
+                    slot,
+                    shape,
+                    first,
+                    last,
+                    passes: (running[first].id, running[last].id),
+                    written_first,
+                    history,
+                    physical: usize::MAX,
+                })
+            })
+            .collect();
+        plan.resources = resources::assign(planned);
         plan
     }
 
@@ -258,4 +332,195 @@ struct Step(usize);
 /// Run condition: `pass` runs this frame.
 pub fn pass_runs(pass: PassId) -> impl Fn(Res<FramePlan>) -> bool + Clone {
     move |plan: Res<FramePlan>| plan.runs(pass)
+}
+
+/// The shape of a texture or buffer slot this frame, and whether it is a history; `None`
+/// for other slots, for a buffer whose size no decision gave and for a texture whose
+/// format no decision gave.
+fn shape_of(
+    plan: &FramePlan,
+    slot: Slot,
+    output: (u32, u32),
+    hdr_format: wgpu::TextureFormat,
+) -> Option<(Shape, bool)> {
+    match slot.kind {
+        SlotKind::Texture(desc) => {
+            let decided = match plan.sizing(slot) {
+                Some(Sizing::Texture(extent, format)) => Some((extent, format)),
+                _ => None,
+            };
+            // A slot no decision sized (its writer is not registered, as in a probe
+            // capture, or does not run) is one texel for the passes that bind it.
+            let extent = desc
+                .extent
+                .or(decided.map(|d| d.0))
+                .unwrap_or(Extent::Fixed(1, 1));
+            let format = match desc.format {
+                TargetFormat::Fixed(f) => f,
+                TargetFormat::Hdr => hdr_format,
+                TargetFormat::Decided => decided.and_then(|d| d.1)?,
+            };
+            let size = extent.texels(output);
+            let class = TextureClass { format, size };
+            Some((
+                Shape::Texture(class, desc.mips.levels(size), desc.usage),
+                desc.history || desc.exported,
+            ))
+        }
+        SlotKind::Buffer(desc) => match plan.sizing(slot) {
+            Some(Sizing::Buffer(bytes)) => {
+                Some((Shape::Buffer(bytes.max(16), desc.usage), desc.history))
+            }
+            _ => None,
+        },
+        SlotKind::Owned | SlotKind::Output => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::graph::{Extent, Fact, PassDecision, SlotKind, TargetFormat, TextureDesc};
+    use bevy_ecs::schedule::IntoScheduleConfigs;
+
+    const RGBA8: TargetFormat = TargetFormat::Fixed(wgpu::TextureFormat::Rgba8Unorm);
+    const X: Slot = Slot::texture("x", TextureDesc::full(RGBA8));
+    const Y: Slot = Slot::texture("y", TextureDesc::full(RGBA8).at(None));
+    const Z: Slot = Slot::texture("z", TextureDesc::full(RGBA8));
+    const DIVISOR: Fact<u32> = Fact::new("divisor");
+
+    macro_rules! test_pass {
+        ($name:ident, $id:literal, $reads:expr, $writes:expr, $publishes:expr, $consults:expr, $decide:expr) => {
+            #[derive(Resource)]
+            struct $name;
+            impl FramePass for $name {
+                const ID: PassId = PassId::new($id);
+                const READS: &'static [Slot] = $reads;
+                const WRITES: &'static [Slot] = $writes;
+                const PUBLISHES: &'static [FactId] = $publishes;
+                const CONSULTS: &'static [FactId] = $consults;
+                type Variant = u32;
+                fn create(_: &mut World, _: &Gpu) -> Result<Self> {
+                    Ok($name)
+                }
+                fn decide(_: &World, plan: &FramePlan) -> PassDecision<u32> {
+                    $decide(plan)
+                }
+                fn record() -> ScheduleConfigs<ScheduleSystem> {
+                    (|| {}).into_configs()
+                }
+            }
+        };
+    }
+
+    test_pass!(
+        Writer,
+        "writer",
+        &[],
+        &[X],
+        &[DIVISOR.id],
+        &[],
+        |_: &FramePlan| { PassDecision::new(true, "writes x", 0).publishing(&DIVISOR, 4) }
+    );
+    test_pass!(
+        Reader,
+        "reader",
+        &[X],
+        &[Y],
+        &[],
+        &[DIVISOR.id],
+        |plan: &FramePlan| {
+            let d = plan.fact(&DIVISOR).copied().unwrap_or(1);
+            PassDecision::new(true, "reads x", d)
+                .sized(Y, Sizing::Texture(Extent::Divided(d), None))
+        }
+    );
+    test_pass!(
+        Consumer,
+        "consumer",
+        &[],
+        &[Z],
+        &[],
+        &[DIVISOR.id],
+        |plan: &FramePlan| {
+            PassDecision::new(
+                true,
+                "reads the divisor",
+                plan.fact(&DIVISOR).copied().unwrap_or(1),
+            )
+        }
+    );
+    test_pass!(Late, "late", &[], &[Z], &[], &[], |_: &FramePlan| {
+        PassDecision::new(true, "writes z", 0)
+    });
+    test_pass!(Idle, "idle", &[Z], &[Z], &[], &[], |_: &FramePlan| {
+        PassDecision::new(false, "never", 0)
+    });
+
+    #[test]
+    fn a_fact_orders_its_reader_after_its_publisher_and_only_a_later_publisher_is_refused() {
+        let ordered = Registry::new()
+            .with::<Writer>()
+            .with::<Reader>()
+            .ordered()
+            .expect("in order");
+        assert_eq!(ordered.ids(), [Writer::ID, Reader::ID]);
+        let err = Registry::new()
+            .with::<Consumer>()
+            .with::<Writer>()
+            .ordered()
+            .expect_err("the consumer comes first");
+        let message = err.to_string();
+        assert!(
+            message.contains("'consumer' consults fact 'divisor'") && message.contains("'writer'"),
+            "{message}"
+        );
+        // No publisher at all: the fact is absent, and the consumer decides without it.
+        let alone = Registry::new().with::<Consumer>().ordered().expect("alone");
+        let plan = alone.plan(&World::new(), (8, 8), wgpu::TextureFormat::Rgba16Float);
+        assert_eq!(plan.variant::<Consumer>(), Some(&1));
+    }
+
+    #[test]
+    fn the_plan_sizes_resources_from_decisions_and_shares_memory_between_lifetimes() {
+        let registry = Registry::new()
+            .with::<Writer>()
+            .with::<Reader>()
+            .with::<Late>()
+            .with::<Idle>()
+            .ordered()
+            .expect("in order");
+        let plan = registry.plan(&World::new(), (64, 48), wgpu::TextureFormat::Rgba16Float);
+        assert_eq!(
+            plan.variant::<Reader>(),
+            Some(&4),
+            "the fact reached the reader"
+        );
+        let y = plan.resources.get(Y).expect("y is planned");
+        assert!(
+            matches!(y.shape, Shape::Texture(c, 1, _) if c.size == (16, 12)),
+            "{y:?}"
+        );
+        let lifetime = |slot: Slot| {
+            let l = plan
+                .lifetimes
+                .iter()
+                .find(|l| l.slot == slot)
+                .expect("lifetime");
+            (l.first, l.last)
+        };
+        assert_eq!(lifetime(X), (Writer::ID, Reader::ID));
+        assert_eq!(lifetime(Z), (Late::ID, Late::ID));
+        // x ends at the reader, z starts after it: one texture holds both; y is smaller.
+        let x = plan.resources.get(X).expect("x");
+        let z = plan.resources.get(Z).expect("z");
+        assert_eq!(x.physical, z.physical);
+        assert_ne!(x.physical, y.physical);
+        let m = plan.memory();
+        assert_eq!(m.texture_bytes_unaliased, 64 * 48 * 4 * 2 + 16 * 12 * 4);
+        assert_eq!(m.texture_bytes, 64 * 48 * 4 + 16 * 12 * 4);
+        // A pass that does not run uses nothing: its slot's lifetime is the others'.
+        assert!(plan.explain().contains("idle        skip never"));
+        assert!(matches!(Z.kind, SlotKind::Texture(_)));
+    }
 }

@@ -1,6 +1,6 @@
 //! The frame's core slots, shared by many passes, and their formats.
 
-use super::{Slot, SlotKind, TargetFormat};
+use super::{Slot, SlotKind, TargetFormat, TextureDesc};
 
 /// G-buffer target 0: base colour and AO. The base colour is sRGB-encoded by the shader
 /// with the exact curve (`srgb_encode`) rather than by an `*Srgb` format, because
@@ -17,27 +17,33 @@ pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// G-buffer 0: base colour (sRGB-encoded) and ambient occlusion.
-pub const GBUFFER_BASE_COLOR: Slot = Slot::target(
+pub const GBUFFER_BASE_COLOR: Slot = Slot::texture(
     "gbuffer0 base colour + AO",
-    TargetFormat::Fixed(GBUFFER0_FORMAT),
+    TextureDesc::full(TargetFormat::Fixed(GBUFFER0_FORMAT)).exported(),
 );
 /// G-buffer 1: octahedral normal, perceptual roughness, metallic.
-pub const GBUFFER_NORMAL: Slot = Slot::target(
+pub const GBUFFER_NORMAL: Slot = Slot::texture(
     "gbuffer1 normal + roughness + metallic",
-    TargetFormat::Fixed(GBUFFER1_FORMAT),
+    TextureDesc::full(TargetFormat::Fixed(GBUFFER1_FORMAT)).exported(),
 );
 /// G-buffer 2: pre-exposed emissive luminance, specular level.
-pub const GBUFFER_EMISSIVE: Slot = Slot::target(
+pub const GBUFFER_EMISSIVE: Slot = Slot::texture(
     "gbuffer2 emissive + specular level",
-    TargetFormat::Fixed(GBUFFER2_FORMAT),
+    TextureDesc::full(TargetFormat::Fixed(GBUFFER2_FORMAT)).exported(),
 );
 /// Screen motion in pixels since the previous frame (rg, y down), without jitter, of
 /// every surface the G-buffer drew; 0 on the background. Written only while TAA runs.
-pub const MOTION: Slot = Slot::target("motion vectors", TargetFormat::Fixed(MOTION_FORMAT));
+pub const MOTION: Slot = Slot::texture(
+    "motion vectors",
+    TextureDesc::full(TargetFormat::Fixed(MOTION_FORMAT)).exported(),
+);
 /// Depth, reversed Z (1 at the near plane, 0 at the far plane and background).
-pub const DEPTH: Slot = Slot::target("depth", TargetFormat::Fixed(DEPTH_FORMAT));
+pub const DEPTH: Slot = Slot::texture(
+    "depth",
+    TextureDesc::full(TargetFormat::Fixed(DEPTH_FORMAT)).exported(),
+);
 /// Pre-exposed HDR luminance (rgb, cd/m² × exposure) and coverage (a).
-pub const HDR: Slot = Slot::target("hdr", TargetFormat::Hdr);
+pub const HDR: Slot = Slot::texture("hdr", TextureDesc::full(TargetFormat::Hdr).exported());
 /// The display image (the window's surface or the headless output texture).
 pub const DISPLAY: Slot = Slot {
     name: "display",

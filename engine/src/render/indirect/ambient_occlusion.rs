@@ -12,16 +12,19 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AO;
 use crate::quality::{AoResolution, AoSettings, Quality};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat};
+use crate::render::graph::{
+    Extent, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat,
+    TextureDesc,
+};
 use crate::render::pipelines::{create_module, draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{RenderTargets, Target};
+use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
@@ -47,6 +50,17 @@ pub const RAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// cosine-weighted indirect light that reaches each pixel.
 pub const AMBIENT_OCCLUSION: Slot =
     Slot::target("ambient occlusion", TargetFormat::Fixed(AO_FORMAT));
+
+/// Whether the AO pass runs this frame: the passes that shade indirect light then apply
+/// [`AMBIENT_OCCLUSION`].
+pub const SCREEN_AO: Fact<bool> = Fact::new("screen-space AO");
+
+/// The traced AO at the AO resolution (half or full, the decision's), which the resolve
+/// reads.
+pub const AO_RAW: Slot = Slot::texture(
+    "ao raw",
+    TextureDesc::full(TargetFormat::Fixed(RAW_FORMAT)).at(None),
+);
 
 /// Largest screen radius a slice marches, as a fraction of the target's height: a
 /// surface close to the camera would otherwise march across the whole frame.
@@ -117,7 +131,8 @@ pub fn skip_reason(quality: &AoSettings, frame: &ExtractedFrame) -> Option<Strin
 impl FramePass for AoPass {
     const ID: PassId = PassId::AmbientOcclusion;
     const READS: &'static [Slot] = &[DEPTH, GBUFFER_NORMAL];
-    const WRITES: &'static [Slot] = &[AMBIENT_OCCLUSION];
+    const WRITES: &'static [Slot] = &[AMBIENT_OCCLUSION, AO_RAW];
+    const PUBLISHES: &'static [FactId] = &[SCREEN_AO.id];
     type Variant = AoVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -144,7 +159,10 @@ impl FramePass for AoPass {
                 if ao.denoise { "denoised" } else { "raw" }
             )
         });
+        let scale = ao.resolution.scale().max(1);
         PassDecision::new(runs, reason, variant)
+            .sized(AO_RAW, Sizing::Texture(Extent::Divided(scale), None))
+            .publishing(&SCREEN_AO, runs)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -163,10 +181,7 @@ pub struct AoPass {
     pipeline_layouts: [wgpu::PipelineLayout; 2],
     pipelines: HashMap<AoVariant, [wgpu::RenderPipeline; 2]>,
     params: wgpu::Buffer,
-    /// The AO-resolution target and the full-resolution size it was made for, with its
-    /// scale.
-    raw: Option<((u32, u32), u32, Target)>,
-    bind_groups: Option<(u64, [wgpu::BindGroup; 2])>,
+    bind_groups: [CachedGroup; 2],
 }
 
 impl AoPass {
@@ -192,8 +207,7 @@ impl AoPass {
                     contents: &[0; std::mem::size_of::<Params>()],
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
-            raw: None,
-            bind_groups: None,
+            bind_groups: Default::default(),
         }
     }
 
@@ -260,15 +274,6 @@ pub fn prepare_ao(
         return;
     }
     let scale = quality.ao.resolution.scale().max(1);
-    if pass
-        .raw
-        .as_ref()
-        .is_none_or(|(size, s, _)| *size != t.size || *s != scale)
-    {
-        let size = (t.size.0.div_ceil(scale), t.size.1.div_ceil(scale));
-        pass.raw = Some((t.size, scale, Target::new(&gpu, "ao raw", size, RAW_FORMAT)));
-        pass.bind_groups = None;
-    }
     let height = t.size.1 as f32;
     let params = Params {
         radius_m: if quality.ao.radius_m.is_finite() {
@@ -282,32 +287,36 @@ pub fn prepare_ao(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    let key = t.generation + (buffers.generation << 32);
-    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let (Some([depth, normal]), Some((_, _, raw))) =
-        (t.views([DEPTH, GBUFFER_NORMAL]), pass.raw.as_ref())
-    else {
+    let Some([depth, normal, raw]) = t.views([DEPTH, GBUFFER_NORMAL, AO_RAW]) else {
         return;
     };
     use wgpu::BindingResource::TextureView;
+    let AoPass {
+        layouts,
+        params,
+        bind_groups: [trace, resolve],
+        ..
+    } = &mut *pass;
     let common = || {
         vec![
             buffers.view.as_entire_binding(),
-            pass.params.as_entire_binding(),
+            params.as_entire_binding(),
             TextureView(depth),
             TextureView(normal),
         ]
     };
     let mut with_raw = common();
-    with_raw.push(TextureView(&raw.view));
-    let groups = TRACE
-        .group(&gpu, &pass.layouts[0], common())
-        .and_then(|trace| Ok([trace, RESOLVE.group(&gpu, &pass.layouts[1], with_raw)?]));
-    match groups {
-        Ok(groups) => pass.bind_groups = Some((key, groups)),
-        Err(e) => errors.0.push(e),
+    with_raw.push(TextureView(raw));
+    let made = trace
+        .get(&gpu, &TRACE, &layouts[0], common())
+        .map(|_| ())
+        .and_then(|()| {
+            resolve
+                .get(&gpu, &RESOLVE, &layouts[1], with_raw)
+                .map(|_| ())
+        });
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -319,28 +328,22 @@ pub fn ao_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some((_, _, raw)), Some((_, [trace, resolve]))) = (
+    let [trace, resolve] = &pass.bind_groups;
+    let (Some(encoder), Some(t), Some(trace), Some(resolve)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        pass.raw.as_ref(),
-        pass.bind_groups.as_ref(),
+        trace.group(),
+        resolve.group(),
     ) else {
         return;
     };
-    let (Some(out), Some([trace_pipeline, resolve_pipeline])) = (
-        t.view(AMBIENT_OCCLUSION),
+    let (Some([out, raw]), Some([trace_pipeline, resolve_pipeline])) = (
+        t.views([AMBIENT_OCCLUSION, AO_RAW]),
         plan.variant::<AoPass>().and_then(|v| pass.pipelines.get(v)),
     ) else {
         return;
     };
-    draw_fullscreen(
-        encoder,
-        timer,
-        "ao trace",
-        &[&raw.view],
-        trace_pipeline,
-        trace,
-    );
+    draw_fullscreen(encoder, timer, "ao trace", &[raw], trace_pipeline, trace);
     draw_fullscreen(
         encoder,
         timer,

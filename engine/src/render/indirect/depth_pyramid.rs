@@ -18,12 +18,12 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SSR;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{BufferDesc, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot};
 use crate::render::pipelines::create_module;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -40,8 +40,24 @@ impl PassId {
 /// The most levels a pyramid has (a side of up to 32768 pixels).
 pub const MAX_LEVELS: usize = 16;
 
-/// The pyramid, which the pass owns and keeps between frames.
-pub const DEPTH_PYRAMID: Slot = Slot::owned("depth pyramid");
+/// The pyramid's levels above level 0 (the depth buffer): u32 depth bits, packed as
+/// [`DEPTH_PYRAMID_LAYOUT`] says.
+pub const DEPTH_PYRAMID: Slot = Slot::buffer(
+    "depth pyramid",
+    BufferDesc {
+        usage: wgpu::BufferUsages::STORAGE,
+        history: false,
+    },
+);
+
+/// Where each level lies in [`DEPTH_PYRAMID`]: a uniform [`PyramidLayout`].
+pub const DEPTH_PYRAMID_LAYOUT: Slot = Slot::buffer(
+    "depth pyramid layout",
+    BufferDesc {
+        usage: wgpu::BufferUsages::UNIFORM,
+        history: false,
+    },
+);
 
 /// The bindings of the build: the depth buffer, the layout, the level a dispatch writes
 /// and the pyramid.
@@ -94,19 +110,6 @@ impl PyramidLayout {
     }
 }
 
-/// The pyramid's buffers and the groups that build each level above level 0.
-pub struct Pyramid {
-    /// Size of level 0 (the frame's).
-    pub size: (u32, u32),
-    /// The levels' layout (a uniform buffer of [`PyramidLayout`]).
-    pub layout: wgpu::Buffer,
-    /// The levels (u32 depth bits).
-    pub buffer: wgpu::Buffer,
-    /// Where each level lies in `buffer`.
-    levels: PyramidLayout,
-    groups: Vec<wgpu::BindGroup>,
-}
-
 /// The depth pyramid pass.
 #[derive(Resource)]
 pub struct DepthPyramidPass {
@@ -117,17 +120,16 @@ pub struct DepthPyramidPass {
     pipelines: Option<[wgpu::ComputePipeline; 2]>,
     /// One uniform per level: the level its dispatch writes.
     steps: Vec<wgpu::Buffer>,
-    /// The pyramid, once a frame has needed it.
-    pub pyramid: Option<Pyramid>,
-    /// Bumped when the pyramid is remade, so users rebuild their bind groups.
-    pub generation: u64,
-    depth_generation: u64,
+    /// This frame's levels.
+    levels: Option<PyramidLayout>,
+    /// The group that builds each level above level 0.
+    groups: Vec<CachedGroup>,
 }
 
 impl FramePass for DepthPyramidPass {
     const ID: PassId = PassId::DepthPyramid;
     const READS: &'static [Slot] = &[DEPTH];
-    const WRITES: &'static [Slot] = &[DEPTH_PYRAMID];
+    const WRITES: &'static [Slot] = &[DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT];
     type Variant = ();
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -135,7 +137,12 @@ impl FramePass for DepthPyramidPass {
     }
 
     fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
-        match reflections_skip_reason(world) {
+        let output = world
+            .get_resource::<crate::render::frame::FrameOutput>()
+            .map_or((1, 1), |o| o.size);
+        // At least one element: a 1×1 frame has no level above the depth buffer.
+        let elements = PyramidLayout::new(output).1.max(1);
+        let decision = match reflections_skip_reason(world) {
             Some(reason) => {
                 PassDecision::new(false, format!("no reflections to trace: {reason}"), ())
             }
@@ -144,7 +151,13 @@ impl FramePass for DepthPyramidPass {
                 "nearest depth per level, for the reflection tracer",
                 (),
             ),
-        }
+        };
+        decision
+            .sized(DEPTH_PYRAMID, Sizing::Buffer(elements * 4))
+            .sized(
+                DEPTH_PYRAMID_LAYOUT,
+                Sizing::Buffer(std::mem::size_of::<PyramidLayout>() as u64),
+            )
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -183,9 +196,8 @@ impl DepthPyramidPass {
             pipeline_layout,
             pipelines: None,
             steps,
-            pyramid: None,
-            generation: 0,
-            depth_generation: 0,
+            levels: None,
+            groups: Vec::new(),
         }
     }
 
@@ -258,7 +270,7 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
     None
 }
 
-/// (Re)creates the pyramid at the frame's size and the groups that build each level.
+/// Writes the levels' layout and makes (or keeps) the groups that build each level.
 pub fn prepare_pyramid(
     gpu: Res<Gpu>,
     targets: Res<RenderTargets>,
@@ -268,38 +280,29 @@ pub fn prepare_pyramid(
     let Some(t) = targets.current.as_ref() else {
         return;
     };
-    let Some(depth) = t.view(DEPTH) else {
+    let (Some(depth), Some(buffer), Some(layout_buffer)) = (
+        t.view(DEPTH),
+        t.buffer(DEPTH_PYRAMID),
+        t.buffer(DEPTH_PYRAMID_LAYOUT),
+    ) else {
         return;
     };
     if let Err(e) = pass.pipeline(&gpu) {
         errors.0.push(e);
         return;
     }
-    if pass.pyramid.as_ref().is_some_and(|p| p.size == t.size)
-        && pass.depth_generation == t.generation
-    {
-        return;
-    }
-    let (layout, elements) = PyramidLayout::new(t.size);
-    let layout_buffer = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("depth pyramid layout"),
-            contents: bytemuck::bytes_of(&layout),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("depth pyramid"),
-        // At least one element: a 1×1 frame has no level above the depth buffer.
-        size: elements.max(1) * 4,
-        usage: wgpu::BufferUsages::STORAGE,
-        mapped_at_creation: false,
-    });
+    let (layout, _) = PyramidLayout::new(t.size);
+    gpu.queue
+        .write_buffer(layout_buffer, 0, bytemuck::bytes_of(&layout));
     let count = layout.count[0] as usize;
-    let mut groups = Vec::with_capacity(count);
-    for step in &pass.steps[1..count] {
-        match BINDINGS.group(
+    let pass = &mut *pass;
+    pass.levels = Some(layout);
+    pass.groups
+        .resize_with(count.saturating_sub(1), CachedGroup::default);
+    for (step, group) in pass.steps[1..count].iter().zip(&mut pass.groups) {
+        let made = group.get(
             &gpu,
+            &BINDINGS,
             &pass.layout,
             vec![
                 wgpu::BindingResource::TextureView(depth),
@@ -307,31 +310,20 @@ pub fn prepare_pyramid(
                 step.as_entire_binding(),
                 buffer.as_entire_binding(),
             ],
-        ) {
-            Ok(g) => groups.push(g),
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
+        );
+        if let Err(e) = made {
+            errors.0.push(e);
+            return;
         }
     }
-    pass.pyramid = Some(Pyramid {
-        size: t.size,
-        layout: layout_buffer,
-        buffer,
-        levels: layout,
-        groups,
-    });
-    pass.depth_generation = t.generation;
-    pass.generation += 1;
 }
 
 /// Records one dispatch per level from level 1 up (each reads the one below it).
 pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(p), Some([first, above])) = (
+    let (Some(encoder), Some(levels), Some([first, above])) = (
         encoder.as_mut(),
-        pass.pyramid.as_ref(),
+        pass.levels.as_ref(),
         pass.pipelines.as_ref(),
     ) else {
         return;
@@ -342,7 +334,10 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
             label: Some("depth pyramid"),
             timestamp_writes: timer.compute_writes(&scope),
         });
-        for (k, (group, level)) in p.groups.iter().zip(&p.levels.levels[1..]).enumerate() {
+        for (k, (group, level)) in pass.groups.iter().zip(&levels.levels[1..]).enumerate() {
+            let Some(group) = group.group() else {
+                continue;
+            };
             cp.set_pipeline(if k == 0 { first } else { above });
             cp.set_bind_group(0, group, &[]);
             cp.dispatch_workgroups(level[1].div_ceil(8), level[2].div_ceil(8), 1);

@@ -18,7 +18,7 @@ use crate::irradiance_volume::{
 use crate::quality::GiSettings;
 use crate::quality::knob::Value;
 use crate::quality::knobs::GI;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
@@ -68,25 +68,22 @@ pub const PROBES: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The resources of [`PROBES`], in order, and the generations they were made from.
+/// The resources of [`PROBES`], in order.
 pub fn probe_bindings<'a>(
     volume: &'a IrradianceVolumeGpu,
     reflections: &'a crate::render::indirect::reflection_probes::ReflectionProbesGpu,
-) -> ([u64; 2], Vec<wgpu::BindingResource<'a>>) {
+) -> Vec<wgpu::BindingResource<'a>> {
     use wgpu::BindingResource::{Sampler, TextureView};
-    (
-        [volume.generation, reflections.generation],
-        vec![
-            volume.uniform.as_entire_binding(),
-            TextureView(volume.irradiance_atlas()),
-            TextureView(volume.moment_atlas()),
-            Sampler(&volume.sampler),
-            reflections.uniform.as_entire_binding(),
-            TextureView(reflections.cube(0)),
-            TextureView(reflections.cube(1)),
-            Sampler(&reflections.sampler),
-        ],
-    )
+    vec![
+        volume.uniform.as_entire_binding(),
+        TextureView(volume.irradiance_atlas()),
+        TextureView(volume.moment_atlas()),
+        Sampler(&volume.sampler),
+        reflections.uniform.as_entire_binding(),
+        TextureView(reflections.cube(0)),
+        TextureView(reflections.cube(1)),
+        Sampler(&reflections.sampler),
+    ]
 }
 
 /// The bindings of the bake of the records into the atlases.
@@ -328,8 +325,6 @@ pub struct IrradianceVolumeGpu {
     /// A linear, clamped sampler for the atlases.
     pub sampler: wgpu::Sampler,
     capacity: u32,
-    /// Bumped whenever the records or atlases are recreated.
-    pub generation: u64,
     /// The grid in use, if any.
     pub grid: Option<Grid>,
     /// Why there is no grid, when there is none.
@@ -349,7 +344,7 @@ pub struct IrradianceVolumeGpu {
     baked_exposure: f32,
     /// The targets captures render into (swapped with the frame's while one runs).
     pub capture_targets: RenderTargets,
-    capture_group: Option<([u64; 3], wgpu::BindGroup)>,
+    capture_group: CachedGroup,
     /// Cube faces captured since the renderer was installed.
     pub faces_captured: u64,
 }
@@ -439,7 +434,6 @@ impl IrradianceVolumeGpu {
                 ..Default::default()
             }),
             capacity: 1,
-            generation: 1,
             grid: None,
             skip_reason: "not placed yet".into(),
             completed_passes: 0,
@@ -448,7 +442,7 @@ impl IrradianceVolumeGpu {
             capturing: false,
             baked_exposure: 1.0,
             capture_targets: RenderTargets::default(),
-            capture_group: None,
+            capture_group: CachedGroup::default(),
             faces_captured: 0,
         };
         volume.write_uniform(gpu);
@@ -473,7 +467,6 @@ impl IrradianceVolumeGpu {
             self.capacity = self.capacity.max(probes);
             self.records = record_buffer(gpu, self.capacity);
             self.atlases = Atlases::new(gpu, probes);
-            self.generation += 1;
         }
         self.grid = grid;
         self.ready = false;
@@ -613,26 +606,20 @@ pub fn record_capture_reduce(
     let Some([hdr, depth]) = t.views([HDR, DEPTH]) else {
         return;
     };
-    let key = [t.generation, buffers.generation, volume.generation];
-    if volume.capture_group.as_ref().is_none_or(|(k, _)| *k != key) {
-        let group = CAPTURE.group(
-            &gpu,
-            &volume.capture_layout,
-            vec![
-                buffers.view.as_entire_binding(),
-                wgpu::BindingResource::TextureView(hdr),
-                wgpu::BindingResource::TextureView(depth),
-                volume.params.as_entire_binding(),
-                volume.records.as_entire_binding(),
-            ],
-        );
-        match group {
-            Ok(g) => volume.capture_group = Some((key, g)),
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        }
+    let volume = &mut *volume;
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        wgpu::BindingResource::TextureView(hdr),
+        wgpu::BindingResource::TextureView(depth),
+        volume.params.as_entire_binding(),
+        volume.records.as_entire_binding(),
+    ];
+    if let Err(e) = volume
+        .capture_group
+        .get(&gpu, &CAPTURE, &volume.capture_layout, resources)
+    {
+        errors.0.push(e);
+        return;
     }
     let params = CaptureParams {
         probe_face_stride: [probe, face, RECORD_STRIDE, 0],
@@ -640,7 +627,7 @@ pub fn record_capture_reduce(
     };
     gpu.queue
         .write_buffer(&volume.params, 0, bytemuck::bytes_of(&params));
-    let (Some(encoder), Some((_, group))) = (encoder.encoder.as_mut(), &volume.capture_group)
+    let (Some(encoder), Some(group)) = (encoder.encoder.as_mut(), volume.capture_group.group())
     else {
         return;
     };

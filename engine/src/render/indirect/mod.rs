@@ -3,11 +3,13 @@
 //! Screen-space ambient occlusion ([`ambient_occlusion`]), screen-space reflections
 //! ([`reflections`]) over the [`depth_pyramid`], diffuse global illumination from the
 //! probes of an [`irradiance_volume`] (looked up at half resolution by
-//! [`volume_irradiance`]), and [`reflection_probes`].
+//! [`volume_irradiance`]), and [`reflection_probes`]. The groups every pass that shades
+//! surfaces binds for lights, shadows and indirect light are [`light_groups`].
 
 pub mod ambient_occlusion;
 pub mod depth_pyramid;
 pub mod irradiance_volume;
+pub mod light_groups;
 pub mod reflection_probes;
 pub mod reflections;
 pub mod volume_irradiance;

@@ -153,8 +153,6 @@ pub struct ReflectionProbesGpu {
     pub stale: Vec<bool>,
     /// The strip the capture in progress writes.
     pub strip: Option<wgpu::Texture>,
-    /// Bumped whenever a cube or the uniform changes.
-    pub generation: u64,
     /// Why there are no probes, when there are none.
     pub skip_reason: String,
     /// Probes captured since the renderer was installed.
@@ -212,7 +210,6 @@ impl ReflectionProbesGpu {
             captured: Vec::new(),
             stale: Vec::new(),
             strip: None,
-            generation: 1,
             skip_reason: "not placed yet".into(),
             captures: 0,
         };
@@ -236,7 +233,6 @@ impl ReflectionProbesGpu {
         self.captured = placed.iter().map(|_| None).collect();
         self.stale = vec![true; placed.len()];
         self.placed = placed;
-        self.generation += 1;
         self.write_uniform(gpu);
     }
 
@@ -252,7 +248,6 @@ impl ReflectionProbesGpu {
             *s = false;
         }
         self.captures += 1;
-        self.generation += 1;
         self.write_uniform(gpu);
     }
 

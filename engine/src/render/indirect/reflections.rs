@@ -12,20 +12,22 @@
 
 use crate::error::Result;
 use crate::quality::Quality;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
-use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::ibl::{ENVIRONMENT, Ibl};
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
-use crate::render::indirect::depth_pyramid::{
-    DEPTH_PYRAMID, DepthPyramidPass, reflections_skip_reason,
+use crate::render::graph::{
+    Decision, Extent, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot,
+    TargetFormat, TextureDesc,
 };
-use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
+use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::indirect::depth_pyramid::{
+    DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT, reflections_skip_reason,
+};
+use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::pipelines::{
     MaskDepth, color_attachment, create_module, depth_attachment, fullscreen_pipeline,
@@ -33,7 +35,7 @@ use crate::render::pipelines::{
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{DEPTH_FORMAT, RenderTargets, Target};
+use crate::render::targets::{DEPTH_FORMAT, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
@@ -116,14 +118,19 @@ impl FramePass for SsrPass {
         GBUFFER_NORMAL,
         GBUFFER_EMISSIVE,
         DEPTH_PYRAMID,
+        DEPTH_PYRAMID_LAYOUT,
         AMBIENT_OCCLUSION,
         HDR,
     ];
-    const WRITES: &'static [Slot] = &[HDR];
+    const WRITES: &'static [Slot] = &[HDR, SSR_COLOR, SSR_HALF_HITS, SSR_HALF_MASK, SSR_MASK];
+    const CONSULTS: &'static [FactId] = &[SCREEN_AO.id];
     type Variant = SsrVariant;
 
-    fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
-        Ok(SsrPass::new(gpu))
+    fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        if !world.contains_resource::<LightGroups>() {
+            world.insert_resource(LightGroups::new(gpu));
+        }
+        Ok(SsrPass::new(gpu, &world.resource::<LightGroups>().layouts))
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<SsrVariant> {
@@ -137,7 +144,7 @@ impl FramePass for SsrPass {
             environment: env.is_some(),
             env_map: env.is_some_and(|e| e.image.is_some()),
             energy_compensation: quality.energy_compensation,
-            screen_ao: plan.runs(PassId::AmbientOcclusion),
+            screen_ao: plan.fact(&SCREEN_AO).copied().unwrap_or(false),
             reflection_probes: world.resource::<ReflectionProbesGpu>().slots(),
             format: quality.hdr_precision.format(),
             half: ssr.half_resolution,
@@ -162,13 +169,19 @@ impl FramePass for SsrPass {
                 (false, false) => "no probe or environment: a ray that misses reflects nothing",
             },
         );
-        PassDecision {
-            runs: skip.is_none(),
-            reason,
-            features: vec![fallback],
-            variant,
-            writes: Vec::new(),
-        }
+        let half = Sizing::Texture(
+            if variant.half {
+                Extent::HALF
+            } else {
+                Extent::Fixed(1, 1)
+            },
+            None,
+        );
+        let mut decision = PassDecision::new(skip.is_none(), reason, variant)
+            .sized(SSR_HALF_HITS, half)
+            .sized(SSR_HALF_MASK, half);
+        decision.features = vec![fallback];
+        decision
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -180,8 +193,26 @@ impl FramePass for SsrPass {
     }
 }
 
-/// The generations of what the bind groups were built from.
-type Generations = [u64; 6];
+/// The lit frame as the trace reads it: a copy of the HDR target, made before the pass
+/// writes the reflections into it.
+pub const SSR_COLOR: Slot = Slot::target("ssr lit frame", TargetFormat::Hdr);
+
+/// The half-resolution trace's hits (1×1 at full resolution).
+pub const SSR_HALF_HITS: Slot = Slot::texture(
+    "ssr half",
+    TextureDesc::full(TargetFormat::Fixed(HALF_FORMAT)).at(None),
+);
+
+/// The blocks the half-resolution trace shades: depth 1 where the block's pixel traces
+/// (1×1 at full resolution).
+pub const SSR_HALF_MASK: Slot = Slot::texture(
+    "ssr half mask",
+    TextureDesc::full(TargetFormat::Fixed(DEPTH_FORMAT)).at(None),
+);
+
+/// The pixels the last step shades: depth 1 where a pixel traces (full resolution) or
+/// its block has a hit (half), 0 elsewhere.
+pub const SSR_MASK: Slot = Slot::target("ssr mask", TargetFormat::Fixed(DEPTH_FORMAT));
 
 /// An empty group: group 2 of the steps that do not read the half-resolution hits.
 const NO_GROUP: BindGroupSpec = BindGroupSpec {
@@ -190,10 +221,12 @@ const NO_GROUP: BindGroupSpec = BindGroupSpec {
     bindings: &[],
 };
 
-/// The reflection pass's pipelines, the copy of the lit frame it reads and its bindings.
+/// The reflection pass's pipelines and bind groups (groups 1 and 3 are the
+/// [`LightGroups`]' 2 and 3).
 #[derive(Resource)]
 pub struct SsrPass {
-    layouts: [wgpu::BindGroupLayout; 5],
+    /// The layouts of groups 0 (its own), 2 (the half-resolution hits) and the empty one.
+    layouts: [wgpu::BindGroupLayout; 3],
     /// Groups 0, 1, nothing and 3 (full resolution, half-resolution trace); 0 to 3
     /// (composite).
     pipeline_layouts: [wgpu::PipelineLayout; 2],
@@ -201,31 +234,24 @@ pub struct SsrPass {
     /// trace mark, trace, composite mark and composite pipelines.
     pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
-    color: Option<Target>,
-    /// The half-resolution trace's hits, at half size.
-    half: Option<Target>,
-    /// The pixels the last step shades: depth 1 where a pixel traces (full resolution) or
-    /// its block has a hit (half), 0 elsewhere; at full size.
-    mask: Option<Target>,
-    /// The blocks the half-resolution trace shades: depth 1 where the block's pixel
-    /// traces; at half size.
-    half_mask: Option<Target>,
-    bind_groups: Option<(Generations, [wgpu::BindGroup; 5])>,
+    /// Group 0, the hits' group and the empty group.
+    bind_groups: [CachedGroup; 3],
 }
 
 impl SsrPass {
     /// Creates the layouts; pipelines compile per variant on first use.
-    pub fn new(gpu: &Gpu) -> Self {
-        let layouts = [
-            SSR.layout(gpu),
-            ENVIRONMENT.layout(gpu),
-            SSR_HALF.layout(gpu),
-            PROBES.layout(gpu),
-            NO_GROUP.layout(gpu),
-        ];
-        let pipeline_layouts = [[0, 1, 4, 3], [0, 1, 2, 3]].map(|groups| {
+    /// `light` are the [`LightGroups`]' layouts (groups 1 to 3 of the lighting pass).
+    pub fn new(gpu: &Gpu, light: &[wgpu::BindGroupLayout; 3]) -> Self {
+        let layouts = [SSR.layout(gpu), SSR_HALF.layout(gpu), NO_GROUP.layout(gpu)];
+        let [own, hits, none] = &layouts;
+        let [_, environment, probes] = light;
+        let pipeline_layouts = [
+            [own, environment, none, probes],
+            [own, environment, hits, probes],
+        ]
+        .map(|groups| {
             let bind_group_layouts: Vec<Option<&wgpu::BindGroupLayout>> =
-                groups.iter().map(|&g| Some(&layouts[g])).collect();
+                groups.iter().map(|&g| Some(g)).collect();
             gpu.device
                 .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                     label: Some("ssr"),
@@ -244,11 +270,7 @@ impl SsrPass {
                     contents: &[0; std::mem::size_of::<Params>()],
                     usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 }),
-            color: None,
-            half: None,
-            mask: None,
-            half_mask: None,
-            bind_groups: None,
+            bind_groups: Default::default(),
         }
     }
 
@@ -339,10 +361,6 @@ pub struct SsrInputs<'w> {
     quality: Res<'w, Quality>,
     buffers: Res<'w, SceneBuffers>,
     targets: Res<'w, RenderTargets>,
-    ibl: Res<'w, Ibl>,
-    pyramid: Res<'w, DepthPyramidPass>,
-    volume: Res<'w, IrradianceVolumeGpu>,
-    reflections: Res<'w, ReflectionProbesGpu>,
 }
 
 /// Compiles the variant, sizes the copy of the lit frame, writes the parameters and
@@ -358,38 +376,13 @@ pub fn prepare_ssr(
         quality,
         buffers,
         targets,
-        ibl,
-        pyramid,
-        volume,
-        reflections,
     } = inputs;
-    let (Some(&variant), Some(t), Some(p)) = (
-        plan.variant::<SsrPass>(),
-        targets.current.as_ref(),
-        pyramid.pyramid.as_ref(),
-    ) else {
+    let (Some(&variant), Some(t)) = (plan.variant::<SsrPass>(), targets.current.as_ref()) else {
         return;
     };
     if let Err(e) = pass.pipeline(&gpu, variant) {
         errors.0.push(e);
         return;
-    }
-    let size = wgpu::Extent3d {
-        width: t.size.0,
-        height: t.size.1,
-        depth_or_array_layers: 1,
-    };
-    if pass
-        .color
-        .as_ref()
-        .is_none_or(|c| c.texture.size() != size || c.texture.format() != t.hdr_format)
-    {
-        pass.color = Some(Target::new(&gpu, "ssr lit frame", t.size, t.hdr_format));
-        let half = (t.size.0.div_ceil(2), t.size.1.div_ceil(2));
-        pass.half = Some(Target::new(&gpu, "ssr half", half, HALF_FORMAT));
-        pass.half_mask = Some(Target::new(&gpu, "ssr half mask", half, DEPTH_FORMAT));
-        pass.mask = Some(Target::new(&gpu, "ssr mask", t.size, DEPTH_FORMAT));
-        pass.bind_groups = None;
     }
     let ssr = quality.ssr;
     let params = Params {
@@ -403,64 +396,55 @@ pub fn prepare_ssr(
     };
     gpu.queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    let (probe_generations, probe_resources) = probe_bindings(&volume, &reflections);
-    let key = [
-        t.generation,
-        buffers.generation,
-        pyramid.generation,
-        ibl.generation,
-        probe_generations[0],
-        probe_generations[1],
-    ];
-    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let (Some([depth, g0, g1, g2, ao]), Some(color), Some(half)) = (
+    let (Some([depth, g0, g1, g2, color, half]), Some(pyramid), Some(layout)) = (
         t.views([
             DEPTH,
             GBUFFER_BASE_COLOR,
             GBUFFER_NORMAL,
             GBUFFER_EMISSIVE,
-            AMBIENT_OCCLUSION,
+            SSR_COLOR,
+            SSR_HALF_HITS,
         ]),
-        pass.color.as_ref(),
-        pass.half.as_ref(),
+        t.buffer(DEPTH_PYRAMID),
+        t.buffer(DEPTH_PYRAMID_LAYOUT),
     ) else {
         return;
     };
-    use wgpu::BindingResource::{Sampler, TextureView};
-    let main = SSR.group(
-        &gpu,
-        &pass.layouts[0],
-        vec![
-            buffers.view.as_entire_binding(),
-            pass.params.as_entire_binding(),
-            TextureView(depth),
-            TextureView(g0),
-            TextureView(g1),
-            TextureView(g2),
-            p.buffer.as_entire_binding(),
-            TextureView(&color.view),
-            p.layout.as_entire_binding(),
-        ],
-    );
-    let environment = ENVIRONMENT.group(
-        &gpu,
-        &pass.layouts[1],
-        vec![
-            ibl.uniform.as_entire_binding(),
-            TextureView(ibl.cube_view()),
-            Sampler(&ibl.sampler),
-            TextureView(ibl.lut_view()),
-            TextureView(ao),
-        ],
-    );
-    let half = SSR_HALF.group(&gpu, &pass.layouts[2], vec![TextureView(&half.view)]);
-    let probes = PROBES.group(&gpu, &pass.layouts[3], probe_resources);
-    let none = NO_GROUP.group(&gpu, &pass.layouts[4], Vec::new());
-    match main.and_then(|m| Ok([m, environment?, half?, probes?, none?])) {
-        Ok(groups) => pass.bind_groups = Some((key, groups)),
-        Err(e) => errors.0.push(e),
+    use wgpu::BindingResource::TextureView;
+    let SsrPass {
+        layouts,
+        params,
+        bind_groups: [main, hits, none],
+        ..
+    } = &mut *pass;
+    let made = main
+        .get(
+            &gpu,
+            &SSR,
+            &layouts[0],
+            vec![
+                buffers.view.as_entire_binding(),
+                params.as_entire_binding(),
+                TextureView(depth),
+                TextureView(g0),
+                TextureView(g1),
+                TextureView(g2),
+                pyramid.as_entire_binding(),
+                TextureView(color),
+                layout.as_entire_binding(),
+            ],
+        )
+        .map(|_| ())
+        .and_then(|()| {
+            hits.get(&gpu, &SSR_HALF, &layouts[1], vec![TextureView(half)])
+                .map(|_| ())
+        })
+        .and_then(|()| {
+            none.get(&gpu, &NO_GROUP, &layouts[2], Vec::new())
+                .map(|_| ())
+        });
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -482,48 +466,43 @@ struct Step<'a> {
 pub fn ssr_pass(
     plan: Res<FramePlan>,
     pass: Res<SsrPass>,
+    light: Res<LightGroups>,
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
+    let [main, hits, none] = &pass.bind_groups;
     let (
         Some(encoder),
         Some(t),
-        Some(color),
-        Some(half),
-        Some(mask),
-        Some(half_mask),
-        Some((_, groups)),
+        Some(main),
+        Some(hits),
+        Some(none),
+        Some([_, environment, probes]),
     ) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        pass.color.as_ref(),
-        pass.half.as_ref(),
-        pass.mask.as_ref(),
-        pass.half_mask.as_ref(),
-        pass.bind_groups.as_ref(),
+        main.group(),
+        hits.group(),
+        none.group(),
+        light.groups(),
     )
     else {
         return;
     };
-    let (Some(hdr), Some(pipelines)) = (
-        t.get(HDR),
+    let (Some([hdr, half, mask, half_mask]), Some(pipelines)) = (
+        t.views([HDR, SSR_HALF_HITS, SSR_MASK, SSR_HALF_MASK]),
         plan.variant::<SsrPass>()
             .and_then(|v| pass.pipelines.get(v)),
     ) else {
         return;
     };
-    encoder.copy_texture_to_texture(
-        hdr.texture.as_image_copy(),
-        color.texture.as_image_copy(),
-        hdr.texture.size(),
-    );
-    let [main, environment, hits, probes, none] = groups;
+    t.copy(encoder, HDR, SSR_COLOR);
     let without_hits = [main, environment, none, probes];
     let with_hits = [main, environment, hits, probes];
     let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
-    let marked = Some((&mask.view, wgpu::LoadOp::Clear(0.0)));
-    let tested = Some((&mask.view, wgpu::LoadOp::Load));
+    let marked = Some((mask, wgpu::LoadOp::Clear(0.0)));
+    let tested = Some((mask, wgpu::LoadOp::Load));
     let steps = match pipelines.as_slice() {
         [mark, full] => vec![
             Step {
@@ -534,7 +513,7 @@ pub fn ssr_pass(
             },
             Step {
                 pipeline: full,
-                color: Some((&hdr.view, wgpu::LoadOp::Load)),
+                color: Some((hdr, wgpu::LoadOp::Load)),
                 mask: tested,
                 groups: without_hits,
             },
@@ -543,13 +522,13 @@ pub fn ssr_pass(
             Step {
                 pipeline: mark_trace,
                 color: None,
-                mask: Some((&half_mask.view, wgpu::LoadOp::Clear(0.0))),
+                mask: Some((half_mask, wgpu::LoadOp::Clear(0.0))),
                 groups: without_hits,
             },
             Step {
                 pipeline: trace,
-                color: Some((&half.view, clear)),
-                mask: Some((&half_mask.view, wgpu::LoadOp::Load)),
+                color: Some((half, clear)),
+                mask: Some((half_mask, wgpu::LoadOp::Load)),
                 groups: without_hits,
             },
             Step {
@@ -560,7 +539,7 @@ pub fn ssr_pass(
             },
             Step {
                 pipeline: composite,
-                color: Some((&hdr.view, wgpu::LoadOp::Load)),
+                color: Some((hdr, wgpu::LoadOp::Load)),
                 mask: tested,
                 groups: with_hits,
             },

@@ -16,16 +16,16 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::GI_RESOLUTION;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
-use crate::render::scaled_output::ScaledOutput;
+use crate::render::scaled_output;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -46,9 +46,20 @@ pub const VOLUME_IRRADIANCE_SCALE: u32 = 2;
 /// mask's depth).
 pub const VOLUME_IRRADIANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
-/// The irradiance at half resolution (⌈width/2⌉ × ⌈height/2⌉), owned by the pass
-/// ([`VolumeIrradiancePass::view`]).
-pub const VOLUME_IRRADIANCE: Slot = Slot::owned("volume irradiance");
+/// The irradiance at half resolution (⌈width/2⌉ × ⌈height/2⌉; 1×1 while the pass does
+/// not run).
+pub const VOLUME_IRRADIANCE: Slot = Slot::texture(
+    "volume irradiance",
+    scaled_output::scaled(VOLUME_IRRADIANCE_FORMAT),
+);
+
+/// The depth of each texel's pixel, which the lookups are depth-tested against.
+pub const VOLUME_IRRADIANCE_DEPTH: Slot =
+    Slot::texture("volume irradiance depth", scaled_output::DEPTH_COPY);
+
+/// Whether the volume is looked up at half resolution this frame (the lighting pass then
+/// upsamples [`VOLUME_IRRADIANCE`]).
+pub const HALF_VOLUME: Fact<bool> = Fact::new("half-resolution volume");
 
 /// Group 0: the view, depth and the G-buffer's normals; group 3 is the lighting pass's
 /// [`PROBES`], groups 1 and 2 are empty.
@@ -88,7 +99,8 @@ pub fn skip_reason(quality: &Quality, frame: &ExtractedFrame, volume: bool) -> O
 impl FramePass for VolumeIrradiancePass {
     const ID: PassId = PassId::VolumeIrradiance;
     const READS: &'static [Slot] = &[DEPTH, GBUFFER_NORMAL];
-    const WRITES: &'static [Slot] = &[VOLUME_IRRADIANCE];
+    const WRITES: &'static [Slot] = &[VOLUME_IRRADIANCE, VOLUME_IRRADIANCE_DEPTH];
+    const PUBLISHES: &'static [FactId] = &[HALF_VOLUME.id];
     type Variant = ();
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -105,7 +117,12 @@ impl FramePass for VolumeIrradiancePass {
         let reason = skip
             .clone()
             .unwrap_or_else(|| "one lookup per 2×2 pixels, upsampled by depth and normal".into());
-        PassDecision::new(skip.is_none(), reason, ())
+        let runs = skip.is_none();
+        let sizing = scaled_output::sizing(runs, VOLUME_IRRADIANCE_SCALE);
+        PassDecision::new(runs, reason, ())
+            .sized(VOLUME_IRRADIANCE, sizing)
+            .sized(VOLUME_IRRADIANCE_DEPTH, sizing)
+            .publishing(&HALF_VOLUME, runs)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -126,12 +143,8 @@ pub struct VolumeIrradiancePass {
     /// The depth copy at half resolution, then the lookups, depth-tested against it,
     /// compiled the first time the pass runs.
     pipelines: Option<[wgpu::RenderPipeline; 2]>,
-    /// The output and the depth of each texel's pixel it is depth-tested against. Its
-    /// generation is bumped whenever the output is made anew, so the lighting pass
-    /// rebuilds its bind group.
-    pub output: ScaledOutput,
-    /// Groups 0 to 3, with the generations they were built from.
-    bind_groups: Option<([u64; 4], [wgpu::BindGroup; 4])>,
+    /// Groups 0, 1 (also bound as 2) and 3.
+    bind_groups: [CachedGroup; 3],
 }
 
 impl VolumeIrradiancePass {
@@ -158,12 +171,7 @@ impl VolumeIrradiancePass {
             layouts,
             pipeline_layout,
             pipelines: None,
-            output: ScaledOutput::new(
-                gpu,
-                ["volume irradiance depth", "volume irradiance"],
-                VOLUME_IRRADIANCE_FORMAT,
-            ),
-            bind_groups: None,
+            bind_groups: Default::default(),
         }
     }
 
@@ -198,15 +206,9 @@ impl VolumeIrradiancePass {
         self.pipelines = Some([depth, lookups]);
         Ok(())
     }
-
-    /// The output's view, for the lighting pass to bind.
-    pub fn view(&self) -> &wgpu::TextureView {
-        self.output.view()
-    }
 }
 
-/// Makes the half-resolution targets for this frame's size and builds the bind groups
-/// when the targets, buffers or probes changed.
+/// Compiles the pass and builds its bind groups.
 pub fn prepare_volume_irradiance(
     gpu: Res<Gpu>,
     buffers: Res<SceneBuffers>,
@@ -223,46 +225,69 @@ pub fn prepare_volume_irradiance(
         errors.0.push(e);
         return;
     }
-    pass.output.fit(&gpu, t.size, VOLUME_IRRADIANCE_SCALE);
-    let ([v, r], probes) = probe_bindings(&volume, &reflections);
-    let key = [t.generation, buffers.generation, v, r];
-    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
     let Some([depth, normal]) = t.views([DEPTH, GBUFFER_NORMAL]) else {
         return;
     };
     use wgpu::BindingResource::TextureView;
-    let groups = VIEW_AND_GBUFFER
-        .group(
+    let VolumeIrradiancePass {
+        layouts,
+        bind_groups: [g0, unused, g3],
+        ..
+    } = &mut *pass;
+    let made = g0
+        .get(
             &gpu,
-            &pass.layouts[0],
+            &VIEW_AND_GBUFFER,
+            &layouts[0],
             vec![
                 buffers.view.as_entire_binding(),
                 TextureView(depth),
                 TextureView(normal),
             ],
         )
-        .and_then(|g0| {
-            let unused = UNUSED.group(&gpu, &pass.layouts[1], Vec::new())?;
-            let g3 = PROBES.group(&gpu, &pass.layouts[2], probes)?;
-            Ok([g0, unused.clone(), unused, g3])
+        .map(|_| ())
+        .and_then(|()| {
+            unused
+                .get(&gpu, &UNUSED, &layouts[1], Vec::new())
+                .map(|_| ())
+        })
+        .and_then(|()| {
+            g3.get(
+                &gpu,
+                &PROBES,
+                &layouts[2],
+                probe_bindings(&volume, &reflections),
+            )
+            .map(|_| ())
         });
-    match groups {
-        Ok(groups) => pass.bind_groups = Some((key, groups)),
-        Err(e) => errors.0.push(e),
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
 /// Records the pass: the depth of each texel's pixel, then the lookups, depth-tested
 /// against it.
-pub fn volume_irradiance_pass(pass: Res<VolumeIrradiancePass>, mut encoder: ResMut<FrameEncoder>) {
+pub fn volume_irradiance_pass(
+    pass: Res<VolumeIrradiancePass>,
+    targets: Res<RenderTargets>,
+    mut encoder: ResMut<FrameEncoder>,
+) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, [g0, g1, g2, g3])), Some([depth, lookups])) = (
+    let [g0, unused, g3] = &pass.bind_groups;
+    let (Some(encoder), Some(g0), Some(unused), Some(g3), Some([depth, lookups])) = (
         encoder.as_mut(),
-        pass.bind_groups.as_ref(),
+        g0.group(),
+        unused.group(),
+        g3.group(),
         pass.pipelines.as_ref(),
     ) else {
+        return;
+    };
+    let Some([output, depth_copy]) = targets
+        .current
+        .as_ref()
+        .and_then(|t| t.views([VOLUME_IRRADIANCE, VOLUME_IRRADIANCE_DEPTH]))
+    else {
         return;
     };
     // The background keeps (0, 0, 0, −1): no irradiance, no depth.
@@ -272,11 +297,14 @@ pub fn volume_irradiance_pass(pass: Res<VolumeIrradiancePass>, mut encoder: ResM
         b: 0.0,
         a: -1.0,
     };
-    pass.output.record(
+    scaled_output::record(
         encoder,
         timer,
+        ["volume irradiance depth", "volume irradiance"],
+        output,
+        depth_copy,
         [depth, lookups],
-        &[g0, g1, g2, g3],
+        &[g0, unused, unused, g3],
         background,
     );
 }

@@ -1,8 +1,88 @@
-//! Packing square shadow views of power-of-two sizes into one square atlas.
+//! The shadow atlas, and packing square shadow views of power-of-two sizes into it.
 //!
 //! Sorted from largest to smallest, power-of-two squares laid out along a Z-order (Morton)
 //! curve never overlap and leave no holes: the atlas side is the smallest power of two
 //! whose area holds them all.
+//!
+//! The atlas ([`ShadowAtlas`]) is not a graph resource: it is a cache that the frame and
+//! the probe captures share (each capture's sun view is the frame's, so the frame keeps
+//! what a capture drew, [`super::pass`]), and the graph allocates per frame and per
+//! capture. It lives beside the scene buffers: the shadow pass writes it, the passes that
+//! look shadows up bind it ([`super::lookups`]).
+
+use crate::render::device::Gpu;
+use crate::render::gpu_types::GpuShadowView;
+use crate::render::scene_buffers::GrowableBuffer;
+use crate::render::targets::Target;
+use bevy_ecs::prelude::Resource;
+
+/// Format of the shadow atlas.
+pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Shadow views the uniform copy holds (96 bytes each: 12 KiB).
+pub const UNIFORM_SHADOW_VIEWS: u32 = 128;
+
+/// The shadow atlas and the views it holds: what the passes that look shadows up bind.
+#[derive(Resource)]
+pub struct ShadowAtlas {
+    /// The depth atlas (1×1 until a frame has shadows).
+    pub atlas: Target,
+    /// A comparison sampler (less-equal, bilinear: hardware 2×2 PCF) for the atlas.
+    pub sampler: wgpu::Sampler,
+    /// [`GpuShadowView`] per view.
+    pub gpu_views: GrowableBuffer,
+    /// The first [`UNIFORM_SHADOW_VIEWS`] views again, as a uniform buffer, read when every
+    /// view fits (uniform loads are cheaper on lavapipe, as for the lights).
+    pub views_uniform: wgpu::Buffer,
+    /// The atlas layout of the frame that last drew it.
+    pub layout: AtlasLayout,
+}
+
+impl ShadowAtlas {
+    /// An empty 1×1 atlas and room for 16 views.
+    pub fn new(gpu: &Gpu) -> ShadowAtlas {
+        ShadowAtlas {
+            atlas: atlas_target(gpu, 1),
+            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow comparison"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            }),
+            gpu_views: GrowableBuffer::new(
+                gpu,
+                "shadow views",
+                16 * std::mem::size_of::<GpuShadowView>() as u64,
+            ),
+            views_uniform: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shadow views (uniform)"),
+                size: u64::from(UNIFORM_SHADOW_VIEWS) * std::mem::size_of::<GpuShadowView>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            layout: AtlasLayout {
+                side: 1,
+                rects: Vec::new(),
+                halvings: 0,
+            },
+        }
+    }
+
+    /// Makes the atlas `side` texels square, unless it is; returns whether it made it anew
+    /// (what it held is gone).
+    pub fn fit(&mut self, gpu: &Gpu, side: u32) -> bool {
+        if self.atlas.texture.width() == side {
+            return false;
+        }
+        self.atlas = atlas_target(gpu, side);
+        true
+    }
+}
+
+fn atlas_target(gpu: &Gpu, side: u32) -> Target {
+    Target::new(gpu, "shadow atlas", (side, side), ATLAS_FORMAT)
+}
 
 /// Where one view landed in the atlas, in texels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

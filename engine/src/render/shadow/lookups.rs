@@ -6,10 +6,9 @@
 use crate::quality::ShadowFilter;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::extract::ExtractedFrame;
-use crate::render::light_culling::LightCullingPass;
 use crate::render::scene_buffers::{SHADOWED_LIGHT_CAPACITY, SceneBuffers};
 use crate::render::shaders::ShaderDef;
-use crate::render::shadow::pass::{ShadowPass, UNIFORM_SHADOW_VIEWS};
+use crate::render::shadow::atlas::{ShadowAtlas, UNIFORM_SHADOW_VIEWS};
 
 /// Group 1: the lights, their tile lists and their shadows.
 pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
@@ -28,19 +27,20 @@ pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The resources of [`LIGHTS_AND_SHADOWS`], in its order: the lighting pass and the
-/// shadow-mask pass bind the same.
+/// The resources of [`LIGHTS_AND_SHADOWS`], in its order, with the frame's light `tiles`
+/// ([`crate::render::light_culling::LIGHT_TILES`]): the lighting pass and the shadow-mask
+/// pass bind the same.
 pub fn lights_and_shadows<'a>(
     buffers: &'a SceneBuffers,
-    shadows: &'a ShadowPass,
-    culling: &'a LightCullingPass,
+    shadows: &'a ShadowAtlas,
+    tiles: &'a wgpu::Buffer,
 ) -> Vec<wgpu::BindingResource<'a>> {
     use wgpu::BindingResource::{Sampler, TextureView};
     vec![
         buffers.lights.buffer.as_entire_binding(),
         buffers.lights_uniform.as_entire_binding(),
         buffers.shadowed_lights_uniform.as_entire_binding(),
-        culling.tiles.as_entire_binding(),
+        tiles.as_entire_binding(),
         shadows.gpu_views.buffer.as_entire_binding(),
         TextureView(&shadows.atlas.view),
         Sampler(&shadows.sampler),

@@ -15,21 +15,22 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs;
 use crate::quality::{Quality, ShadowMask};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::light_culling::LightCullingPass;
+use crate::render::graph::{Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::light_culling::LIGHT_TILES;
 use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
-use crate::render::scaled_output::ScaledOutput;
+use crate::render::scaled_output;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
+use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::lookups::{
     LIGHTS_AND_SHADOWS, lights_and_shadows, lookup_defs, views_fit_uniform,
 };
-use crate::render::shadow::pass::{SHADOW_ATLAS, ShadowPass};
+use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
@@ -52,8 +53,23 @@ pub const MASK_LIGHTS: u32 = 3;
 pub const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// The shadow mask, one texel per `scale` × `scale` pixels (⌈width/scale⌉ ×
-/// ⌈height/scale⌉), owned by the pass ([`ShadowMaskPass::view`]).
-pub const SHADOW_MASK: Slot = Slot::owned("shadow mask");
+/// ⌈height/scale⌉; 1×1 while the pass does not run).
+pub const SHADOW_MASK: Slot = Slot::texture("shadow mask", scaled_output::scaled(MASK_FORMAT));
+
+/// The depth of each mask texel's pixel, which the lookups are depth-tested against.
+pub const SHADOW_MASK_DEPTH: Slot = Slot::texture("shadow mask depth", scaled_output::DEPTH_COPY);
+
+/// The shape of the mask the lighting pass upsamples, while the mask pass runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MaskShape {
+    /// Pixels per mask texel along each axis.
+    pub scale: u32,
+    /// The shadowed directional lights it holds.
+    pub lights: u32,
+}
+
+/// The mask the lighting pass reads this frame: `None` while the mask pass does not run.
+pub const MASK: Fact<Option<MaskShape>> = Fact::new("shadow mask");
 
 /// Group 0: the view, depth and the G-buffer channels the lookups need (the normal, and
 /// whether the surface receives shadows); group 1 is the lighting pass's
@@ -109,8 +125,15 @@ pub struct MaskVariant {
 
 impl FramePass for ShadowMaskPass {
     const ID: PassId = PassId::ShadowMask;
-    const READS: &'static [Slot] = &[DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL, SHADOW_ATLAS];
-    const WRITES: &'static [Slot] = &[SHADOW_MASK];
+    const READS: &'static [Slot] = &[
+        DEPTH,
+        GBUFFER_BASE_COLOR,
+        GBUFFER_NORMAL,
+        SHADOW_ATLAS,
+        LIGHT_TILES,
+    ];
+    const WRITES: &'static [Slot] = &[SHADOW_MASK, SHADOW_MASK_DEPTH];
+    const PUBLISHES: &'static [FactId] = &[MASK.id];
     type Variant = MaskVariant;
 
     fn create(_: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -137,7 +160,18 @@ impl FramePass for ShadowMaskPass {
                 quality.shadow_filter.name()
             )
         });
-        PassDecision::new(skip.is_none(), reason, variant)
+        let runs = skip.is_none();
+        let shape = runs.then_some(MaskShape {
+            scale: variant.scale,
+            lights: variant.lights,
+        });
+        PassDecision::new(runs, reason, variant)
+            .sized(SHADOW_MASK, scaled_output::sizing(runs, variant.scale))
+            .sized(
+                SHADOW_MASK_DEPTH,
+                scaled_output::sizing(runs, variant.scale),
+            )
+            .publishing(&MASK, shape)
     }
 
     fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -171,16 +205,8 @@ pub struct ShadowMaskPass {
     layouts: [wgpu::BindGroupLayout; 2],
     pipeline_layout: wgpu::PipelineLayout,
     pipelines: HashMap<MaskVariant, MaskPipelines>,
-    /// The mask and the depth of each texel's pixel it is depth-tested against (software
-    /// rasterizers shade a masked-off lane as dearly as a live one: the depth test is
-    /// what spares the background). Its generation is bumped whenever the mask is made
-    /// anew, so the lighting pass rebuilds its bind group.
-    pub mask: ScaledOutput,
-    /// What the lighting pass gathers the mask with: clamped to its edge, so a pixel on
-    /// the last row or column reads the last texel twice.
-    sampler: wgpu::Sampler,
-    /// Group 0 and group 1, with the generations they were built from.
-    bind_groups: Option<([u64; 4], [wgpu::BindGroup; 2])>,
+    /// Group 0 and group 1.
+    bind_groups: [CachedGroup; 2],
 }
 
 impl ShadowMaskPass {
@@ -198,23 +224,8 @@ impl ShadowMaskPass {
             layouts,
             pipeline_layout,
             pipelines: HashMap::new(),
-            mask: ScaledOutput::new(gpu, ["shadow mask depth", "shadow mask"], MASK_FORMAT),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("shadow mask"),
-                ..Default::default()
-            }),
-            bind_groups: None,
+            bind_groups: Default::default(),
         }
-    }
-
-    /// The mask's view, for the lighting pass to bind.
-    pub fn view(&self) -> &wgpu::TextureView {
-        self.mask.view()
-    }
-
-    /// The sampler the lighting pass gathers the mask with.
-    pub fn sampler(&self) -> &wgpu::Sampler {
-        &self.sampler
     }
 
     /// The shader defs of `variant`, for a uniform light copy of `uniform_capacity` lights.
@@ -268,16 +279,13 @@ impl ShadowMaskPass {
     }
 }
 
-/// Compiles the variant and builds the bind groups when the targets, buffers, the shadow
-/// atlas or the light tiles changed.
-#[allow(clippy::too_many_arguments)]
+/// Compiles the variant and builds the bind groups.
 pub fn prepare_shadow_mask(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
     buffers: Res<SceneBuffers>,
     targets: Res<RenderTargets>,
-    shadows: Res<ShadowPass>,
-    culling: Res<LightCullingPass>,
+    atlas: Res<ShadowAtlas>,
     mut pass: ResMut<ShadowMaskPass>,
     mut errors: ResMut<FrameErrors>,
 ) {
@@ -289,25 +297,23 @@ pub fn prepare_shadow_mask(
         errors.0.push(e);
         return;
     }
-    pass.mask.fit(&gpu, t.size, variant.scale);
-    let key = [
-        t.generation,
-        buffers.generation,
-        shadows.generation,
-        culling.generation,
-    ];
-    if pass.bind_groups.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let Some([depth, base_color, normal]) = t.views([DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL])
-    else {
+    let (Some([depth, base_color, normal]), Some(tiles)) = (
+        t.views([DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL]),
+        t.buffer(LIGHT_TILES),
+    ) else {
         return;
     };
     use wgpu::BindingResource::TextureView;
-    let groups = VIEW_AND_GBUFFER
-        .group(
+    let ShadowMaskPass {
+        layouts,
+        bind_groups: [g0, g1],
+        ..
+    } = &mut *pass;
+    let made = g0
+        .get(
             &gpu,
-            &pass.layouts[0],
+            &VIEW_AND_GBUFFER,
+            &layouts[0],
             vec![
                 buffers.view.as_entire_binding(),
                 TextureView(depth),
@@ -315,17 +321,18 @@ pub fn prepare_shadow_mask(
                 TextureView(normal),
             ],
         )
-        .and_then(|g0| {
-            let g1 = LIGHTS_AND_SHADOWS.group(
+        .map(|_| ())
+        .and_then(|()| {
+            g1.get(
                 &gpu,
-                &pass.layouts[1],
-                lights_and_shadows(&buffers, &shadows, &culling),
-            )?;
-            Ok([g0, g1])
+                &LIGHTS_AND_SHADOWS,
+                &layouts[1],
+                lights_and_shadows(&buffers, &atlas, tiles),
+            )
+            .map(|_| ())
         });
-    match groups {
-        Ok(groups) => pass.bind_groups = Some((key, groups)),
-        Err(e) => errors.0.push(e),
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -334,10 +341,20 @@ pub fn prepare_shadow_mask(
 pub fn shadow_mask_pass(
     plan: Res<FramePlan>,
     pass: Res<ShadowMaskPass>,
+    targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, [g0, g1]))) = (encoder.as_mut(), pass.bind_groups.as_ref()) else {
+    let [g0, g1] = &pass.bind_groups;
+    let (Some(encoder), Some(g0), Some(g1), Some([output, depth])) = (
+        encoder.as_mut(),
+        g0.group(),
+        g1.group(),
+        targets
+            .current
+            .as_ref()
+            .and_then(|t| t.views([SHADOW_MASK, SHADOW_MASK_DEPTH])),
+    ) else {
         return;
     };
     let Some(pipelines) = plan
@@ -353,9 +370,12 @@ pub fn shadow_mask_pass(
         b: 1.0,
         a: -1.0,
     };
-    pass.mask.record(
+    scaled_output::record(
         encoder,
         timer,
+        ["shadow mask depth", "shadow mask"],
+        output,
+        depth,
         [&pipelines.depth, &pipelines.mask],
         &[g0, g1],
         background,

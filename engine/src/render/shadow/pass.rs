@@ -6,12 +6,12 @@
 //! pipeline that samples their base colour and drops the texels the G-buffer drops, so
 //! their shadows have the mask's shape; opaque casters write depth only.
 
-use super::atlas::{AtlasLayout, AtlasRect, pack};
+use super::atlas::{AtlasRect, ShadowAtlas, UNIFORM_SHADOW_VIEWS, pack};
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::{SHADOW_CACHE, SHADOWS};
-use crate::render::bindings::{BindGroupSpec, Binding};
-use crate::render::deform::{DEFORMED_VERTICES, DeformPass};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::deform::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -21,14 +21,12 @@ use crate::render::material_maps::GpuMaterialMaps;
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
-use crate::render::targets::Target;
 use crate::scene::{MeshHandle, TextureSlot, Vertex};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 
-/// Format of the shadow atlas.
-pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub use super::atlas::ATLAS_FORMAT;
 
 /// Largest atlas side; views are halved until they fit (README, "Shadows").
 pub const MAX_ATLAS_SIDE: u32 = 8192;
@@ -69,7 +67,8 @@ type MaskKey = (Option<TextureSlot>, u32, [u32; 2]);
 /// deformed, its pose's hash.
 type CasterKey = (MeshHandle, [[f32; 4]; 4], Option<MaskKey>, Option<u64>);
 
-/// The shadow pass's pipelines, atlas and buffers.
+/// The shadow pass's pipelines and per-view draws; the atlas it draws is the
+/// [`ShadowAtlas`] resource.
 #[derive(Resource)]
 pub struct ShadowPass {
     pipeline: wgpu::RenderPipeline,
@@ -78,23 +77,8 @@ pub struct ShadowPass {
     caster_layout: wgpu::BindGroupLayout,
     caster_views: wgpu::Buffer,
     visible: GrowableBuffer,
-    /// [`GpuShadowView`] per view, read by the lighting pass.
-    pub gpu_views: GrowableBuffer,
-    /// The first [`UNIFORM_SHADOW_VIEWS`] views again, as a uniform buffer the lighting
-    /// pass reads when every view fits (uniform loads are cheaper on lavapipe, as for
-    /// the lights).
-    pub views_uniform: wgpu::Buffer,
-    /// The depth atlas (1×1 until a frame has shadows).
-    pub atlas: Target,
-    /// A comparison sampler (less-equal, bilinear: hardware 2×2 PCF) for the atlas.
-    pub sampler: wgpu::Sampler,
-    caster_bind_group: Option<(u64, wgpu::BindGroup)>,
-    caster_generation: u64,
+    caster_bind_group: CachedGroup,
     views: Vec<ViewDraws>,
-    /// This frame's atlas layout.
-    pub layout: AtlasLayout,
-    /// Bumped whenever the atlas or the view buffer is recreated.
-    pub generation: u64,
     /// What the atlas holds since the pass last drew it (a frame's or a probe capture's),
     /// `None` after it was recreated: a frame whose views and casters are the same reuses
     /// it instead of drawing it again.
@@ -199,7 +183,8 @@ pub const CASTERS: BindGroupSpec = BindGroupSpec {
     bindings: &[("caster_view", Binding::DynamicUniform(64))],
 };
 
-/// The shadow atlas: every shadow view's depth (owned by [`ShadowPass`]).
+/// The shadow atlas: every shadow view's depth (the [`ShadowAtlas`] resource, which the
+/// frame and the probe captures share).
 pub const SHADOW_ATLAS: Slot = Slot::owned("shadow atlas");
 
 #[allow(non_upper_case_globals)]
@@ -220,6 +205,7 @@ impl FramePass for ShadowPass {
     type Variant = ShadowVariant;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
+        world.insert_resource(ShadowAtlas::new(gpu));
         ShadowPass::new(gpu, &world.resource::<GpuMaterialMaps>().layout)
     }
 
@@ -267,13 +253,6 @@ impl FramePass for ShadowPass {
     fn record() -> ScheduleConfigs<ScheduleSystem> {
         shadow_pass.into_configs()
     }
-}
-
-/// Shadow views the uniform copy holds (96 bytes each: 12 KiB).
-pub const UNIFORM_SHADOW_VIEWS: u32 = 128;
-
-fn atlas_target(gpu: &Gpu, side: u32) -> Target {
-    Target::new(gpu, "shadow atlas", (side, side), ATLAS_FORMAT)
 }
 
 impl ShadowPass {
@@ -396,34 +375,8 @@ impl ShadowPass {
             caster_layout,
             caster_views: caster_view_buffer(gpu, 16),
             visible: GrowableBuffer::new(gpu, "shadow visible casters", 1024),
-            gpu_views: GrowableBuffer::new(
-                gpu,
-                "shadow views",
-                16 * std::mem::size_of::<GpuShadowView>() as u64,
-            ),
-            views_uniform: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shadow views (uniform)"),
-                size: u64::from(UNIFORM_SHADOW_VIEWS) * std::mem::size_of::<GpuShadowView>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            atlas: atlas_target(gpu, 1),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("shadow comparison"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                compare: Some(wgpu::CompareFunction::LessEqual),
-                ..Default::default()
-            }),
-            caster_bind_group: None,
-            caster_generation: 0,
+            caster_bind_group: CachedGroup::default(),
             views: Vec::new(),
-            layout: AtlasLayout {
-                side: 1,
-                rects: Vec::new(),
-                halvings: 0,
-            },
-            generation: 0,
             holds: None,
         })
     }
@@ -443,14 +396,16 @@ pub fn prepare_shadows(
     gpu: Res<Gpu>,
     frame: Res<ExtractedFrame>,
     mut pass: ResMut<ShadowPass>,
+    mut atlas: ResMut<ShadowAtlas>,
     mut errors: ResMut<FrameErrors>,
 ) {
     let pass = &mut *pass;
+    let atlas = &mut *atlas;
     pass.views.clear();
     let requests: Vec<u32> = frame.shadow_views.iter().map(|v| v.resolution).collect();
     let max_side = MAX_ATLAS_SIDE.min(gpu.max_texture_size());
     let (layout, placed) = pack(&requests, max_side);
-    if layout.halvings > 0 && pass.layout.halvings != layout.halvings {
+    if layout.halvings > 0 && atlas.layout.halvings != layout.halvings {
         log::warn!(
             "{} shadow views do not fit a {max_side}² atlas: every view was halved {} time(s)",
             requests.len(),
@@ -464,11 +419,10 @@ pub fn prepare_shadows(
     }
     // Whatever the atlas held, this frame draws it again.
     pass.holds = None;
-    if !frame.shadow_views.is_empty() && pass.atlas.texture.width() != layout.side {
-        pass.atlas = atlas_target(&gpu, layout.side);
-        pass.generation += 1;
+    if !frame.shadow_views.is_empty() {
+        atlas.fit(&gpu, layout.side);
     }
-    let side = pass.atlas.texture.width() as f32;
+    let side = atlas.atlas.texture.width() as f32;
     let gpu_views: Vec<GpuShadowView> = frame
         .shadow_views
         .iter()
@@ -499,14 +453,12 @@ pub fn prepare_shadows(
     } else {
         bytemuck::cast_slice(&gpu_views)
     };
-    if pass.gpu_views.write(&gpu, data) {
-        pass.generation += 1;
-    }
+    atlas.gpu_views.write(&gpu, data);
     let in_uniform = data
         .len()
         .min(UNIFORM_SHADOW_VIEWS as usize * std::mem::size_of::<GpuShadowView>());
     gpu.queue
-        .write_buffer(&pass.views_uniform, 0, &data[..in_uniform]);
+        .write_buffer(&atlas.views_uniform, 0, &data[..in_uniform]);
 
     // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh
     // and mask.
@@ -548,61 +500,46 @@ pub fn prepare_shadows(
         });
         pass.views.push(ViewDraws { rect: *rect, draws });
     }
-    pass.layout = layout;
+    atlas.layout = layout;
     if caster_views.is_empty() {
         return;
     }
     let needed = (caster_views.len() * std::mem::size_of::<GpuCasterView>()) as u64;
     if needed > pass.caster_views.size() {
         pass.caster_views = caster_view_buffer(&gpu, caster_views.len().next_power_of_two());
-        pass.caster_generation += 1;
     }
     gpu.queue
         .write_buffer(&pass.caster_views, 0, bytemuck::cast_slice(&caster_views));
     if visible.is_empty() {
         visible.push(<CasterInstance as bytemuck::Zeroable>::zeroed());
     }
-    if pass.visible.write(&gpu, bytemuck::cast_slice(&visible)) {
-        pass.caster_generation += 1;
-    }
-    let key = pass.caster_generation;
-    if pass
+    pass.visible.write(&gpu, bytemuck::cast_slice(&visible));
+    let resources = vec![wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer: &pass.caster_views,
+        offset: 0,
+        size: wgpu::BufferSize::new(64),
+    })];
+    if let Err(e) = pass
         .caster_bind_group
-        .as_ref()
-        .is_none_or(|(k, _)| *k != key)
+        .get(&gpu, &CASTERS, &pass.caster_layout, resources)
     {
-        let group = match CASTERS.group(
-            &gpu,
-            &pass.caster_layout,
-            vec![wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &pass.caster_views,
-                offset: 0,
-                size: wgpu::BufferSize::new(64),
-            })],
-        ) {
-            Ok(group) => group,
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        };
-        pass.caster_bind_group = Some((key, group));
+        errors.0.push(e);
     }
 }
 
 /// Records the shadow pass: one render pass over the atlas, one viewport per view.
 pub fn shadow_pass(
     mut pass: ResMut<ShadowPass>,
+    atlas: Res<ShadowAtlas>,
     buffers: Res<SceneBuffers>,
     maps: Res<GpuMaterialMaps>,
     frame: Res<ExtractedFrame>,
-    deform: Res<DeformPass>,
+    deform: Res<DeformedVertices>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let pass = &mut *pass;
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some((_, bind_group))) =
-        (encoder.as_mut(), pass.caster_bind_group.as_ref())
+    let (Some(encoder), Some(bind_group)) = (encoder.as_mut(), pass.caster_bind_group.group())
     else {
         return;
     };
@@ -613,7 +550,7 @@ pub fn shadow_pass(
             label: Some("shadow"),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &pass.atlas.view,
+                view: &atlas.atlas.view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
                     store: wgpu::StoreOp::Store,

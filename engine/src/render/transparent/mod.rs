@@ -23,6 +23,7 @@
 
 use crate::error::Result;
 use crate::quality::Transparency;
+use crate::render::bindings::CachedGroup;
 use crate::render::deform::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
@@ -31,10 +32,11 @@ use crate::render::forward::{
 };
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
 use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::indirect::light_groups::LightGroups;
 use crate::render::light_culling::LIGHT_TILES;
-use crate::render::lighting::{LightingPass, LightingVariant};
+use crate::render::lighting::{LIGHTING, LightingPass, LightingVariant};
 use crate::render::lobe_tables::LobeTables;
 use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::pipelines::{color_attachment, draw_fullscreen_with};
@@ -44,7 +46,7 @@ use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::{ScheduleSystem, SystemParam};
-use transmission_source::{TRANSMISSION_SOURCE, TransmissionSourcePass};
+use transmission_source::TRANSMISSION_SOURCE;
 use weighted::{OIT_ACCUM, OIT_REVEAL, OVER, WeightedResolve};
 
 pub mod transmission_source;
@@ -171,12 +173,16 @@ impl FramePass for TransparentPass {
     ];
     const WRITES: &'static [Slot] = &[HDR];
     const OPTIONAL_WRITES: &'static [Slot] = &[OIT_ACCUM, OIT_REVEAL];
+    const CONSULTS: &'static [FactId] = &[LIGHTING.id];
     type Variant = Option<TransparentVariant>;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
-        let lighting = world.resource::<LightingPass>();
+        if !world.contains_resource::<LightGroups>() {
+            world.insert_resource(LightGroups::new(gpu));
+        }
+        let groups = world.resource::<LightGroups>();
         let maps = world.resource::<GpuMaterialMaps>();
-        Ok(TransparentPass::new(gpu, lighting.layouts(), maps))
+        Ok(TransparentPass::new(gpu, &groups.layouts, maps))
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<Option<TransparentVariant>> {
@@ -213,7 +219,7 @@ impl FramePass for TransparentPass {
             true => format!("{blended} surface(s)"),
             false => format!("{blended} surface(s) ({})", drawn_with.join(", ")),
         };
-        let lighting = plan.variant::<LightingPass>().copied();
+        let lighting = plan.fact(&LIGHTING).copied();
         let quality = world.resource::<crate::quality::Quality>();
         let hdr = quality.hdr_precision.format();
         let mode = quality.transparency;
@@ -282,11 +288,12 @@ impl FramePass for TransparentPass {
 #[derive(Resource)]
 pub struct TransparentPass {
     pipelines: ForwardPipelines<(TransparentVariant, BlendedLobes)>,
-    /// The view group and what it was built from: the scene buffers' generation and the
-    /// chain's (`None`: the black stand-in).
-    view_group: Option<((u64, Option<u64>), wgpu::BindGroup)>,
+    /// The view group.
+    view_group: CachedGroup,
     /// 1 × 1 black, bound in the chain's place when no surface transmits.
     no_frame: wgpu::TextureView,
+    /// Trilinear and clamped: what the transmission source is sampled with.
+    sampler: wgpu::Sampler,
     resolve: WeightedResolve,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
     units: bool,
@@ -300,7 +307,7 @@ impl TransparentPass {
     /// material maps' (`maps`).
     pub fn new(
         gpu: &Gpu,
-        lighting: &[wgpu::BindGroupLayout; 4],
+        lighting: &[wgpu::BindGroupLayout; 3],
         maps: &GpuMaterialMaps,
     ) -> TransparentPass {
         let no_frame = gpu
@@ -322,8 +329,9 @@ impl TransparentPass {
             .create_view(&wgpu::TextureViewDescriptor::default());
         TransparentPass {
             pipelines: ForwardPipelines::new(gpu, "transparent", &VIEW, lighting, &maps.layout),
-            view_group: None,
+            view_group: CachedGroup::default(),
             no_frame,
+            sampler: transmission_source::sampler(gpu),
             resolve: WeightedResolve::new(gpu),
             units: maps.units,
             tables: LobeTables::new(gpu),
@@ -403,7 +411,6 @@ pub struct PrepareInputs<'w> {
     frame: Res<'w, ExtractedFrame>,
     buffers: Res<'w, SceneBuffers>,
     targets: Res<'w, RenderTargets>,
-    source: Res<'w, TransmissionSourcePass>,
 }
 
 /// Compiles the pipelines this frame's blended and transmissive batches need and rebuilds the view group
@@ -419,7 +426,6 @@ pub fn prepare_transparent(
         frame,
         buffers,
         targets,
-        source,
     } = inputs;
     let (Some(Some(variant)), Some(t)) = (
         plan.variant::<TransparentPass>().copied(),
@@ -455,31 +461,30 @@ pub fn prepare_transparent(
             .resolve
             .pipelines
             .ensure(&gpu, t.hdr_format)
-            .and_then(|()| pass.resolve.prepare(&gpu, t.generation, accum, reveal))
+            .and_then(|()| pass.resolve.prepare(&gpu, accum, reveal))
         {
             errors.0.push(e);
             return;
         }
     }
-    let chain = source.chain.as_ref().filter(|_| variant.transmission);
-    let key = (buffers.generation, chain.map(|c| c.key));
-    if pass.view_group.as_ref().is_some_and(|(k, _)| *k == key) {
-        return;
-    }
-    let frame_view = chain.map_or(&pass.no_frame, |c| &c.view);
-    match VIEW.group(
-        &gpu,
-        &pass.pipelines.view_layout,
-        vec![
-            buffers.view.as_entire_binding(),
-            wgpu::BindingResource::TextureView(frame_view),
-            pass.tables.anisotropic_dfg.as_entire_binding(),
-            wgpu::BindingResource::Sampler(source.sampler()),
-            pass.tables.sheen_albedo.as_entire_binding(),
-        ],
-    ) {
-        Ok(group) => pass.view_group = Some((key, group)),
-        Err(e) => errors.0.push(e),
+    let TransparentPass {
+        pipelines,
+        view_group,
+        no_frame,
+        sampler,
+        tables,
+        ..
+    } = &mut *pass;
+    let chain = t.view(TRANSMISSION_SOURCE).filter(|_| variant.transmission);
+    let resources = vec![
+        buffers.view.as_entire_binding(),
+        wgpu::BindingResource::TextureView(chain.unwrap_or(no_frame)),
+        tables.anisotropic_dfg.as_entire_binding(),
+        wgpu::BindingResource::Sampler(sampler),
+        tables.sheen_albedo.as_entire_binding(),
+    ];
+    if let Err(e) = view_group.get(&gpu, &VIEW, &pipelines.view_layout, resources) {
+        errors.0.push(e);
     }
 }
 
@@ -492,12 +497,12 @@ pub fn transparent_pass(
 ) {
     let targets = &inputs.targets;
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(t), Some(Some(variant)), Some((_, view_group)), Some(shared)) = (
+    let (Some(encoder), Some(t), Some(Some(variant)), Some(view_group), Some(shared)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
         plan.variant::<TransparentPass>().copied(),
-        pass.view_group.as_ref(),
-        inputs.lighting.shared_groups(),
+        pass.view_group.group(),
+        inputs.lighting.groups(),
     ) else {
         return;
     };
@@ -508,10 +513,10 @@ pub fn transparent_pass(
     let oit = if variant.weighted {
         match (
             t.views([OIT_ACCUM, OIT_REVEAL]),
-            pass.resolve.group.as_ref(),
+            pass.resolve.group.group(),
             pass.resolve.pipelines.get(t.hdr_format),
         ) {
-            (Some(views), Some((_, group)), Some(pipeline)) => Some((views, group, pipeline)),
+            (Some(views), Some(group), Some(pipeline)) => Some((views, group, pipeline)),
             _ => return,
         }
     } else {

@@ -8,16 +8,20 @@
 //! screen-space refraction.
 //!
 //! It runs only when a transmissive surface is in view; otherwise the transparent pass
-//! binds a 1 × 1 black texture in its place.
+//! binds a 1 × 1 black texture in its place. The chain is a graph resource
+//! ([`TRANSMISSION_SOURCE`]): the graph may give its memory to another full-size f16
+//! texture used at another time of the frame.
 
 use crate::error::Result;
 use crate::render::antialiasing::copy::CopyToHdr;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat, TextureDesc,
+};
 use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -30,8 +34,11 @@ impl PassId {
     pub const TransmissionSource: PassId = PassId::new("transmission source");
 }
 
-/// The opaque frame and its mip chain, which the pass owns.
-pub const TRANSMISSION_SOURCE: Slot = Slot::owned("transmission source");
+/// The opaque frame and its mip chain, at the output's size.
+pub const TRANSMISSION_SOURCE: Slot = Slot::texture(
+    "transmission source",
+    TextureDesc::full(TargetFormat::Fixed(FORMAT)).with_mips(),
+);
 
 /// The chain's format: f16 renders and filters on every backend, and the frame is
 /// pre-exposed, so its range suffices.
@@ -47,35 +54,28 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The number of levels of a chain over a frame of `size`: down to 1 × 1.
-pub fn level_count(size: (u32, u32)) -> u32 {
-    32 - size.0.max(size.1).max(1).leading_zeros()
+/// What the chain is made and read with: trilinear, clamped to the frame's edges.
+pub fn sampler(gpu: &Gpu) -> wgpu::Sampler {
+    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("frame mips"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        mipmap_filter: wgpu::MipmapFilterMode::Linear,
+        ..Default::default()
+    })
 }
 
-/// The chain at one frame size: the texture, a view of all its levels (what the
-/// transparent pass samples), one view per level (the targets) and the groups that read
-/// them (level 0's copies the HDR target).
-pub struct Chain {
-    /// The targets' generation it was made for.
-    pub key: u64,
-    /// Every level, for sampling.
-    pub view: wgpu::TextureView,
-    /// Width of level 0 in texels.
-    pub width: u32,
-    levels: Vec<wgpu::TextureView>,
-    copy_group: wgpu::BindGroup,
-    groups: Vec<wgpu::BindGroup>,
-}
-
-/// The pass: the copy, the downsampling pipeline, its sampler, and the chain.
+/// The pass: the copy, the downsampling pipeline, its sampler, and the groups that read
+/// each level (level 0's copies the HDR target).
 #[derive(Resource)]
 pub struct TransmissionSourcePass {
     layout: wgpu::BindGroupLayout,
     downsample: wgpu::RenderPipeline,
     copy: CopyToHdr,
     sampler: wgpu::Sampler,
-    /// The chain, once a frame with a transmissive surface has needed it.
-    pub chain: Option<Chain>,
+    copy_group: CachedGroup,
+    /// Level `i`'s group reads level `i` (to make level `i + 1`).
+    level_groups: Vec<CachedGroup>,
 }
 
 impl TransmissionSourcePass {
@@ -92,80 +92,13 @@ impl TransmissionSourcePass {
         )?;
         let mut copy = CopyToHdr::new(gpu);
         copy.ensure(gpu, FORMAT)?;
-        let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("frame mips"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            mipmap_filter: wgpu::MipmapFilterMode::Linear,
-            ..Default::default()
-        });
         Ok(TransmissionSourcePass {
             layout,
             downsample,
             copy,
-            sampler,
-            chain: None,
-        })
-    }
-
-    /// The sampler the transparent pass reads the chain with: trilinear, clamped to the
-    /// frame's edges.
-    pub fn sampler(&self) -> &wgpu::Sampler {
-        &self.sampler
-    }
-
-    fn make_chain(
-        &self,
-        gpu: &Gpu,
-        key: u64,
-        size: (u32, u32),
-        hdr: &wgpu::TextureView,
-    ) -> Result<Chain> {
-        let count = level_count(size);
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("transmission source"),
-            size: wgpu::Extent3d {
-                width: size.0.max(1),
-                height: size.1.max(1),
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: count,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
-        let levels: Vec<wgpu::TextureView> = (0..count)
-            .map(|level| {
-                texture.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("transmission source level"),
-                    base_mip_level: level,
-                    mip_level_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let groups = levels[..levels.len() - 1]
-            .iter()
-            .map(|below| {
-                BINDINGS.group(
-                    gpu,
-                    &self.layout,
-                    vec![
-                        wgpu::BindingResource::TextureView(below),
-                        wgpu::BindingResource::Sampler(&self.sampler),
-                    ],
-                )
-            })
-            .collect::<Result<Vec<_>>>()?;
-        Ok(Chain {
-            key,
-            view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
-            width: size.0.max(1),
-            copy_group: self.copy.group(gpu, hdr)?,
-            levels,
-            groups,
+            sampler: sampler(gpu),
+            copy_group: CachedGroup::default(),
+            level_groups: Vec::new(),
         })
     }
 }
@@ -206,7 +139,7 @@ impl FramePass for TransmissionSourcePass {
     }
 }
 
-/// (Re)makes the chain at the frame's size.
+/// Makes (or keeps) the copy's group and each level's.
 pub fn prepare_transmission_source(
     gpu: Res<Gpu>,
     plan: Res<FramePlan>,
@@ -214,22 +147,40 @@ pub fn prepare_transmission_source(
     mut pass: ResMut<TransmissionSourcePass>,
     mut errors: ResMut<FrameErrors>,
 ) {
-    if plan.variant::<TransmissionSourcePass>().is_none() {
-        return;
-    }
-    let Some((t, hdr)) = targets
-        .current
-        .as_ref()
-        .and_then(|t| Some((t, t.view(HDR)?)))
-    else {
+    let (Some(()), Some(t)) = (
+        plan.variant::<TransmissionSourcePass>(),
+        targets.current.as_ref(),
+    ) else {
         return;
     };
-    if pass.chain.as_ref().is_some_and(|c| c.key == t.generation) {
+    let Some(hdr) = t.view(HDR) else {
         return;
+    };
+    let levels = t.level_count(TRANSMISSION_SOURCE) as usize;
+    let pass = &mut *pass;
+    pass.level_groups
+        .resize_with(levels.saturating_sub(1), CachedGroup::default);
+    let mut made = pass.copy.group(&mut pass.copy_group, &gpu, hdr).map(|_| ());
+    for (level, group) in pass.level_groups.iter_mut().enumerate() {
+        let Some(below) = t.level(TRANSMISSION_SOURCE, level as u32) else {
+            continue;
+        };
+        made = made.and_then(|()| {
+            group
+                .get(
+                    &gpu,
+                    &BINDINGS,
+                    &pass.layout,
+                    vec![
+                        wgpu::BindingResource::TextureView(below),
+                        wgpu::BindingResource::Sampler(&pass.sampler),
+                    ],
+                )
+                .map(|_| ())
+        });
     }
-    match pass.make_chain(&gpu, t.generation, t.size, hdr) {
-        Ok(chain) => pass.chain = Some(chain),
-        Err(e) => errors.0.push(e),
+    if let Err(e) = made {
+        errors.0.push(e);
     }
 }
 
@@ -237,26 +188,37 @@ pub fn prepare_transmission_source(
 pub fn transmission_source_pass(
     pass: Res<TransmissionSourcePass>,
     plan: Res<FramePlan>,
+    targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(()), Some(chain), Some(copy)) = (
+    let (Some(encoder), Some(()), Some(t), Some(copy), Some(copy_group)) = (
         encoder.as_mut(),
         plan.variant::<TransmissionSourcePass>(),
-        pass.chain.as_ref(),
+        targets.current.as_ref(),
         pass.copy.pipeline(FORMAT),
+        pass.copy_group.group(),
     ) else {
+        return;
+    };
+    let Some(level0) = t.level(TRANSMISSION_SOURCE, 0) else {
         return;
     };
     draw_fullscreen(
         encoder,
         timer,
         "transmission source",
-        &[&chain.levels[0]],
+        &[level0],
         copy,
-        &chain.copy_group,
+        copy_group,
     );
-    for (target, group) in chain.levels[1..].iter().zip(&chain.groups) {
+    for (level, group) in pass.level_groups.iter().enumerate() {
+        let (Some(target), Some(group)) = (
+            t.level(TRANSMISSION_SOURCE, level as u32 + 1),
+            group.group(),
+        ) else {
+            continue;
+        };
         draw_fullscreen(
             encoder,
             timer,
@@ -265,18 +227,5 @@ pub fn transmission_source_pass(
             &pass.downsample,
             group,
         );
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn chains_end_at_one_texel() {
-        assert_eq!(level_count((1, 1)), 1);
-        assert_eq!(level_count((256, 256)), 9);
-        assert_eq!(level_count((1280, 720)), 11);
-        assert_eq!(level_count((0, 0)), 1);
     }
 }

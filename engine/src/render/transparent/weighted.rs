@@ -4,7 +4,7 @@
 //! (`shaders/transparent_resolve.wgsl`) composites them over the HDR target with "over".
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::graph::{Slot, TargetFormat};
 use crate::render::pipelines::PerFormat;
@@ -76,14 +76,13 @@ pub fn accumulate_targets() -> [Option<wgpu::ColorTargetState>; 2] {
     ]
 }
 
-/// The resolve: its layout, its pipeline per HDR format, and its bind group with the
-/// generation of the targets it was built from.
+/// The resolve: its layout, its pipeline per HDR format, and its bind group.
 pub struct WeightedResolve {
     layout: wgpu::BindGroupLayout,
     /// One pipeline per HDR format, blending with [`OVER`].
     pub pipelines: PerFormat,
-    /// The bind group and the targets' generation it reads.
-    pub group: Option<(u64, wgpu::BindGroup)>,
+    /// The bind group.
+    pub group: CachedGroup,
 }
 
 impl WeightedResolve {
@@ -99,30 +98,26 @@ impl WeightedResolve {
             )
             .blending(OVER),
             layout,
-            group: None,
+            group: CachedGroup::default(),
         }
     }
 
-    /// Rebuilds the bind group unless it reads the targets of `generation` already.
+    /// Makes (or keeps) the bind group of the sums `accum` and `reveal`.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
-        generation: u64,
         accum: &wgpu::TextureView,
         reveal: &wgpu::TextureView,
     ) -> Result<()> {
-        if self.group.as_ref().is_some_and(|(g, _)| *g == generation) {
-            return Ok(());
-        }
-        let group = RESOLVE_BINDINGS.group(
+        self.group.get(
             gpu,
+            &RESOLVE_BINDINGS,
             &self.layout,
             vec![
                 wgpu::BindingResource::TextureView(accum),
                 wgpu::BindingResource::TextureView(reveal),
             ],
         )?;
-        self.group = Some((generation, group));
         Ok(())
     }
 }

@@ -70,6 +70,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         timestamps: last.gpu_ms().is_some(),
         warmup: args.warmup,
         scene_stats: scene_stats(&app),
+        memory: app
+            .world()
+            .resource::<lumen::render::graph::FramePlan>()
+            .memory(),
         started_unix_s,
     };
     let json = report::to_json(&info, &samples);

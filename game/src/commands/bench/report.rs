@@ -32,6 +32,8 @@ pub struct RunInfo {
     pub scene_stats: [usize; 4],
     /// Seconds since the Unix epoch when measuring began.
     pub started_unix_s: u64,
+    /// The bytes the last frame's graph resources took.
+    pub memory: lumen::render::graph::Memory,
 }
 
 /// Names in first-seen order across `samples`.
@@ -101,6 +103,7 @@ pub fn to_json(info: &RunInfo, samples: &[FrameSample]) -> Value {
         "frames": samples.len(),
         "started_unix_s": info.started_unix_s,
         "scene_stats": {"instances": instances, "draws": draws, "triangles": triangles, "lights": lights},
+        "memory": info.memory,
         "frame_ms": summary_json(&frame),
         "gpu_ms": gpu.as_deref().map_or(Value::Null, summary_json),
         "cpu_stages": stage_names(samples).iter().map(|n| json!({
@@ -229,6 +232,11 @@ mod tests {
             warmup: 1,
             scene_stats: [1, 1, 2, 1],
             started_unix_s: 0,
+            memory: lumen::render::graph::Memory {
+                texture_bytes: 300,
+                texture_bytes_unaliased: 400,
+                buffer_bytes: 16,
+            },
         }
     }
 
@@ -237,6 +245,7 @@ mod tests {
         let samples = [sample(10.0, [2.0, 5.0]), sample(12.0, [3.0, 6.0])];
         let v = to_json(&info(), &samples);
         assert_eq!(v["frames"], 2);
+        assert_eq!(v["memory"]["texture_bytes_unaliased"], 400);
         assert_eq!(v["frame_ms"]["mean"], 11.0);
         assert_eq!(v["gpu_ms"]["median"], 8.0);
         assert_eq!(v["passes"][1]["name"], "lighting");
