@@ -7,7 +7,7 @@
 //! - Primitives: u8/u16/u32 or no indices; `KHR_draco_mesh_compression` (decoded with
 //!   `draco-core`). Joints, weights and morph targets make a deformable mesh, and a node
 //!   with a skin gets a [`crate::scene::SkinnedMesh`], a mesh with morph targets
-//!   [`crate::scene::MorphWeights`] on its node ([`gltf_skin`]). Every accessor's byte range is checked against its buffer before it
+//!   [`crate::scene::MorphWeights`] on its node (`gltf_skin`). Every accessor's byte range is checked against its buffer before it
 //!   is read. Missing normals are computed (area-weighted); missing tangents are
 //!   generated with MikkTSpace from texture coordinate set 0.
 //! - Materials: the metal/roughness factors; `KHR_materials_pbrSpecularGlossiness`
@@ -19,9 +19,9 @@
 //!   their base colour unlit ([`crate::scene::Material::unlit`]).
 //!
 //! Textures (base colour, metallic-roughness, normal, occlusion, emissive) are decoded
-//! within the texture budget ([`gltf_material`]). Every file and URI is read through
+//! within the texture budget (`gltf_material`). Every file and URI is read through
 //! [`files::read`] (regular files only, capped by kind); indices are checked before the
-//! `gltf` crate uses them ([`gltf_checks`]) and its panics become errors.
+//! `gltf` crate uses them (`gltf_checks`) and its panics become errors.
 
 pub use super::gltf_buffers::external_files;
 use super::gltf_buffers::{check_accessor, load_buffers, view_bytes};

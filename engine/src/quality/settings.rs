@@ -131,8 +131,8 @@ pub struct SsrSettings {
     pub half_resolution: bool,
 }
 
-/// The renderer's quality settings. Every field is a [`Knob`] (the built-in ones are in
-/// [`knobs`]); its default is the knob's, which is the `high` preset.
+/// The renderer's quality settings. Every field is a [`crate::quality::Knob`] (the built-in ones are
+/// in [`crate::quality::knobs`]); its default is the knob's, which is the `high` preset.
 #[derive(Resource, Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Quality {
@@ -197,7 +197,7 @@ pub struct Quality {
     pub aa: AaSettings,
     /// How blended surfaces are composited.
     pub transparency: Transparency,
-    /// The values of knobs that scripts and plugins register ([`Knobs::with`]), by knob
+    /// The values of knobs that scripts and plugins register ([`crate::quality::Knobs::with`]), by knob
     /// name: a knob whose path is `extensions.NAME` lives here, and reads its default
     /// while it is absent.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -205,7 +205,7 @@ pub struct Quality {
 }
 
 impl Quality {
-    /// The settings as a TOML tree of their serde form (the tree a [`Knob::path`] names
+    /// The settings as a TOML tree of their serde form (the tree a [`crate::quality::Knob::path`] names
     /// a field of).
     pub fn to_tree(&self) -> toml::Table {
         toml::Table::try_from(self)
@@ -449,7 +449,7 @@ impl HdrPrecision {
 }
 
 choices! {
-/// Named sets of every knob, cheapest first, each a TOML file ([`preset`]). `High` is
+/// Named sets of every knob, cheapest first, each a TOML file ([`crate::quality::preset`]). `High` is
 /// [`Quality::default`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum QualityPreset: "quality preset" {

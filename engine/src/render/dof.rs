@@ -83,7 +83,7 @@ const TILE: u32 = 8;
 pub const DOF_SHARP: Slot = Slot::target("dof sharp", TargetFormat::Hdr);
 /// The prepared half-resolution colour and CoC.
 pub const DOF_INPUT: Slot = half("dof input", DOF_FORMAT);
-/// The largest near CoC per tile of [`TILE`]² half-resolution pixels.
+/// The largest near CoC per tile of `TILE`² half-resolution pixels.
 pub const DOF_TILES: Slot = Slot::texture(
     "dof near tiles",
     TextureDesc::full(TargetFormat::Fixed(TILE_FORMAT)).at(Some(Extent::Divided(2 * TILE))),

@@ -47,7 +47,7 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
-/// The per-tile light lists: [`TILE_STRIDE`] words per 16×16-pixel tile (16 bytes while
+/// The per-tile light lists: `TILE_STRIDE` words per 16×16-pixel tile (16 bytes while
 /// culling does not run, for the passes that bind it without reading it).
 pub const LIGHT_TILES: Slot = Slot::buffer(
     "light tiles",

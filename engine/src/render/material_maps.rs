@@ -1,4 +1,4 @@
-//! Textured materials on the GPU: every [`TextureData`] a frame's [`MaterialMaps`] use is
+//! Textured materials on the GPU: every [`TextureData`] a frame's [`crate::scene::MaterialMaps`] use is
 //! uploaded once with a full mip chain (built on the CPU with a 2 × 2 box filter, in
 //! linear light for sRGB textures), samplers are shared, and each distinct
 //! `MaterialMaps` gets one bind group (group 1 of the G-buffer's textured variant).
@@ -202,7 +202,7 @@ fn mipmap_filter(f: Filter) -> wgpu::MipmapFilterMode {
 }
 
 /// The material maps' bind group (the G-buffer pass's group 1): the factors, then the five
-/// textures, then their samplers, in the order of [`MaterialMaps::slots`], then the
+/// textures, then their samplers, in the order of [`crate::scene::MaterialMaps::slots`], then the
 /// [`EXTENSION_UNITS`] extension textures and their samplers
 /// ([`crate::scene::ExtensionMaps::units`]).
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {

@@ -1,7 +1,7 @@
 //! The renderer: device choice, the frame graph, and one module per pass.
 //!
 //! A frame runs the [`ExtractSchedule`] (components → [`extract::ExtractedFrame`]) and
-//! then the [`RenderSchedule`], which the [`graph::Registry`] builds from the passes'
+//! then the [`RenderSchedule`], which the [`graph::registry::Registry`] builds from the passes'
 //! declarations: plan (every pass decides whether it runs, and why), the shared
 //! preparation (targets, scene buffers, material maps, the environment), each running
 //! pass's prepare systems, then each running pass's record systems in execution order —

@@ -19,7 +19,7 @@ pub struct IrradianceVolume {
     /// The opposite corner (m). A box of zero size holds one probe.
     pub max: Vec3,
     /// Distance between neighbouring probes (m); `None` takes
-    /// [`crate::quality::GiSettings::spacing_m`]. At most
+    /// [`crate::quality::GiSettings::density`]. At most
     /// [`crate::irradiance_volume::MAX_PROBES_PER_AXIS`] probes per axis: a box that would
     /// need more spreads them wider.
     pub spacing_m: Option<f32>,

@@ -1,5 +1,5 @@
 //! The `lumen` subcommands, one module each, named after the command (`lumen bench` is
-//! [`bench`]). What several commands share — scene setup, frame measurement, output and
+//! [`mod@bench`]). What several commands share — scene setup, frame measurement, output and
 //! progress — lives beside this module.
 
 pub mod bench;

@@ -496,7 +496,7 @@ impl TraceScene {
         None
     }
 
-    /// Whether a surface that stops the ray ([`TraceScene::trace`]) lies along it from
+    /// Whether a surface that stops the ray (`TraceScene::trace`) lies along it from
     /// `origin` closer than `t_max`: masked-out texels let light through, as the shadow
     /// pass drops them, and blended surfaces 1 − α of it on average. Any hit is enough
     /// where no material masks or blends.

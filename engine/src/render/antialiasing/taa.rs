@@ -2,7 +2,7 @@
 //! Salvi 2016, "An Excursion in Temporal Supersampling"): every frame is jittered inside
 //! the pixel (Halton 2, 3 over [`TAA_JITTER_PERIOD`] frames), and `taa.wgsl` blends this frame
 //! with the history of the earlier ones, reprojected by the motion vectors
-//! ([`super::motion`]), rejected where the surface was not visible then, and clipped to the
+//! ([`crate::render::graph::slots::MOTION`]), rejected where the surface was not visible then, and clipped to the
 //! colour range of this frame's neighbourhood. The history is two colour targets and two
 //! depth-and-count targets the pass owns (ping-pong); [`TaaResolve`] writes the result
 //! into the HDR target, sharpened if asked.

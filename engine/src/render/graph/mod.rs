@@ -11,9 +11,10 @@
 //! - the execution order: a topological order of the dependencies that the declared reads
 //!   and writes imply (see [`registry`]);
 //! - the run conditions: each pass's systems run only when its decision says so;
-//! - the frame targets: a [`SlotKind::Target`] is allocated at the output size when a pass
-//!   that runs this frame uses it, and the plan records each slot's lifetime (first and
-//!   last pass that touch it);
+//! - the frame resources: a [`SlotKind::Texture`] or [`SlotKind::Buffer`] exists when a
+//!   pass that runs this frame uses it, sized as its description says; the plan records
+//!   each one's lifetime (first and last pass that touch it), and textures whose lifetimes
+//!   do not overlap share memory (see [`resources`]);
 //! - the timer labels (the pass's name), the `--explain` text and the JSON plan
 //!   ([`FramePlan`]).
 //!

@@ -49,7 +49,7 @@ impl PassId {
 }
 
 /// Group 0 of the reflection pass: the view, its parameters, the G-buffer, the pyramid
-/// and the copy of the lit frame. Group 1 is the lighting pass's [`ENVIRONMENT`].
+/// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::ibl::ENVIRONMENT`].
 pub const SSR: BindGroupSpec = BindGroupSpec {
     label: "ssr",
     visibility: wgpu::ShaderStages::FRAGMENT,
