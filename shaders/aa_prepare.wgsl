@@ -1,4 +1,4 @@
-// The one-frame filters' first step (engine/src/render/antialiasing/prepare.rs): the HDR
+// The one-frame filters' first step (engine/src/render/antialias/prepare.rs): the HDR
 // image copied as it is (rgb, linear, so that a blend of neighbours is the mean the
 // reference's pixel filter takes), with the perceptual luma the filters compare in a:
 // √Y of the compressed colour (compress_hdr, perceptual_luma), so an edge's contrast is

@@ -1,4 +1,4 @@
-// Accumulation: the running mean of jittered renders (engine/src/render/antialiasing/
+// Accumulation: the running mean of jittered renders (engine/src/render/antialias/
 // accumulate.rs). Writes the new mean into an f32 target; copy.wgsl puts it back into
 // the HDR target.
 #import color

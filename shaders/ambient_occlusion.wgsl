@@ -1,5 +1,5 @@
 // Ambient occlusion's formulas (GTAO, Jimenez et al. 2016), the same as the functions in
-// engine/src/ambient_occlusion.rs (same names), where each is documented.
+// engine/src/shading/ambient_occlusion.rs (same names), where each is documented.
 #import common
 
 const FALLOFF_RANGE: f32 = 0.4;

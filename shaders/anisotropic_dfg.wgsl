@@ -1,4 +1,4 @@
-// The anisotropic lobe's split sum (engine/src/anisotropy.rs, `dfg_table` and
+// The anisotropic lobe's split sum (engine/src/shading/anisotropy.rs, `dfg_table` and
 // `anisotropic_dfg`, same names): (A, B) of the anisotropic GGX lobe with the
 // height-correlated Smith term, tabulated over n·v, the view's azimuth from the
 // anisotropy direction, the perceptual roughness and the squared strength, read from a

@@ -1,4 +1,4 @@
-// Anisotropic GGX (KHR_materials_anisotropy): the WGSL twins of engine/src/anisotropy.rs,
+// Anisotropic GGX (KHR_materials_anisotropy): the WGSL twins of engine/src/shading/anisotropy.rs,
 // with the same names. Widths α_t = mix(α, 1, s²) along the anisotropy direction t and
 // α_b = α across it; D and the height-correlated Smith V in their anisotropic forms
 // (Heitz 2014, Burley 2012); the environment read about a bent normal (McAuley 2015).
@@ -57,7 +57,7 @@ fn anisotropy_direction(n: vec3<f32>, tangent: vec3<f32>, handedness: f32, rotat
     return safe_normalize(t * rotation.x + b * rotation.y, t);
 }
 
-// The anisotropy at a texel of anisotropyTexture (engine/src/anisotropy.rs,
+// The anisotropy at a texel of anisotropyTexture (engine/src/shading/anisotropy.rs,
 // `textured_anisotropy`): x the strength × blue; y, z the cosine and sine of the
 // direction (red and green × 2 − 1, the tangent where 0) turned by `rotation`.
 fn textured_anisotropy(strength: f32, rotation: vec2<f32>, texel: vec3<f32>) -> vec3<f32> {

@@ -1,5 +1,5 @@
 // Anti-aliasing formulas; each has a Rust twin with the same name in
-// engine/src/antialiasing.rs (tests/shader_parity.rs holds them together).
+// engine/src/shading/antialiasing.rs (tests/shader_parity.rs holds them together).
 // Needs color.wgsl.
 
 // Whether every channel is finite, from the exponent bits: WGSL lets a compiler assume

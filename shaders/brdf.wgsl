@@ -1,4 +1,4 @@
-// The Cook-Torrance BRDF, term for term the same as engine/src/brdf.rs (same names).
+// The Cook-Torrance BRDF, term for term the same as engine/src/shading/brdf.rs (same names).
 // Units: BRDF values in 1/sr; cosines dimensionless. Formulas and sources: see brdf.rs
 // and docs/src/formulas.md#the-brdf, guards in #numerical-guards.
 #import common

@@ -1,4 +1,4 @@
-// The clearcoat layer (KHR_materials_clearcoat): the WGSL twins of engine/src/clearcoat.rs,
+// The clearcoat layer (KHR_materials_clearcoat): the WGSL twins of engine/src/shading/clearcoat.rs,
 // with the same names. L = factor · L_coat + (1 − factor · E_coat(n_c·v)) · L_base.
 #import brdf
 

@@ -1,4 +1,4 @@
-// Colour: sRGB curve and tone mappers, the same as engine/src/color.rs (same names).
+// Colour: sRGB curve and tone mappers, the same as engine/src/shading/color.rs (same names).
 
 const TONEMAP_NONE: u32 = 0u;
 const TONEMAP_REINHARD: u32 = 1u;

@@ -1,4 +1,4 @@
-// Shared constants and helpers. Twin of the helpers in engine/src/brdf.rs.
+// Shared constants and helpers. Twin of the helpers in engine/src/shading/brdf.rs.
 
 const PI: f32 = 3.14159265358979;
 

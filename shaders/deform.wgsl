@@ -1,4 +1,4 @@
-// The deformation pass (engine/src/render/deform.rs): one invocation per vertex of one
+// The deformation pass (engine/src/render/deform_pass.rs): one invocation per vertex of one
 // deformed instance morphs its rest vertex by the weighted target offsets, then, for a
 // skinned mesh, carries it into world space by its skin matrix (the formulas of
 // engine/src/scene/deform.rs). The result has the mesh's vertex layout and is drawn by the

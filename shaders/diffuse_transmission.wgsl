@@ -1,5 +1,5 @@
 // Diffuse transmission (KHR_materials_diffuse_transmission): the WGSL twin of
-// engine/src/diffuse_transmission.rs, with the same names. The factor d moves that share
+// engine/src/shading/diffuse_transmission.rs, with the same names. The factor d moves that share
 // of the diffuse lobe from reflection (of the base colour) to a Lambertian transmission
 // of the transmission colour; a light behind the surface is weighted by the Fresnel of
 // its mirror image through the surface (l' = l − 2 (n·l) n).

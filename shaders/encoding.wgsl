@@ -1,4 +1,4 @@
-// G-buffer encodings, the same as engine/src/encoding.rs (same names).
+// G-buffer encodings, the same as engine/src/shading/encoding.rs (same names).
 // Octahedral normals (Cigolle et al. 2014).
 
 fn sign_not_zero(v: vec2<f32>) -> vec2<f32> {

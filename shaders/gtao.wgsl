@@ -1,6 +1,6 @@
 // Screen-space ambient occlusion: ground-truth ambient occlusion (GTAO, Jimenez et al.
 // 2016) from the depth buffer and the G-buffer's normals
-// (engine/src/render/indirect/ambient_occlusion.rs; the formulas are in
+// (engine/src/render/indirect/gtao.rs; the formulas are in
 // ambient_occlusion.wgsl and docs/src/indirect.md).
 //
 // fs_trace runs at AO resolution (one texel per `scale` × `scale` pixels). For SLICES

@@ -1,4 +1,4 @@
-// Image-based lighting, the same as engine/src/ibl.rs (same names). Needs common.wgsl and
+// Image-based lighting, the same as engine/src/shading/ibl.rs (same names). Needs common.wgsl and
 // brdf.wgsl.
 #import common
 #import brdf

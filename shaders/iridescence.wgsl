@@ -1,5 +1,5 @@
 // Thin-film iridescence (KHR_materials_iridescence): the WGSL twins of
-// engine/src/iridescence.rs, with the same names. Belcour & Barla 2017: the Airy series
+// engine/src/shading/iridescence.rs, with the same names. Belcour & Barla 2017: the Airy series
 // of an air–film–base stack to second order, integrated against Gaussian fits of the
 // colour-matching functions; F = mix(F_Schlick, F_film, factor).
 #import common
@@ -112,7 +112,7 @@ fn schlick_f0_of(fresnel: vec3<f32>, cos_theta: f32) -> vec3<f32> {
 }
 
 // The film's thickness (nm) at green `g` of iridescenceThicknessTexture
-// (engine/src/iridescence.rs, `film_thickness`): the minimum at 0, the maximum at 1.
+// (engine/src/shading/iridescence.rs, `film_thickness`): the minimum at 0, the maximum at 1.
 fn film_thickness(min_nm: f32, max_nm: f32, g: f32) -> f32 {
     return min_nm + (max_nm - min_nm) * clamp(g, 0.0, 1.0);
 }

@@ -1,4 +1,4 @@
-// Irradiance-volume formulas, the same as engine/src/irradiance_volume.rs (same names):
+// Irradiance-volume formulas, the same as engine/src/shading/irradiance_volume.rs (same names):
 // DDGI's probe weights (Majercik et al. 2019) and the cube and octahedral bookkeeping of
 // probe captures.
 #import encoding

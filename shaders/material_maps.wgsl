@@ -1,4 +1,4 @@
-// A textured material's maps (engine/src/render/material_maps.rs, `BINDINGS`) and the
+// A textured material's maps (engine/src/render/gpu_material_maps.rs, `BINDINGS`) and the
 // texture coordinates of each slot. They are group MAPS_GROUP, a header constant
 // (`material_maps::group_def`): group 1 of the G-buffer's textured variants and of the
 // shadow pass's alpha-masked casters, group 4 of the transparent and layers passes.

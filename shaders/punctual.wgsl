@@ -1,4 +1,4 @@
-// Falloff of punctual lights, the same as engine/src/punctual.rs (same names).
+// Falloff of punctual lights, the same as engine/src/shading/punctual.rs (same names).
 // Intensity in candela; E = I / d² lux (docs/src/formulas.md#photometric-lights).
 
 const MIN_DISTANCE_SQUARED: f32 = 1e-4;

@@ -1,4 +1,4 @@
-// Reflection-probe formulas, the same as engine/src/reflection_probe.rs (same names):
+// Reflection-probe formulas, the same as engine/src/shading/reflection_probe.rs (same names):
 // parallax correction against the probe's box (Lagarde & Zanuttini 2012) and the box's
 // weight.
 

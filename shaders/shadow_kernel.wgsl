@@ -1,4 +1,4 @@
-// The taps of the `tent` shadow filter (CPU twin: engine/src/shadow_kernel.rs; Castaño
+// The taps of the `tent` shadow filter (CPU twin: engine/src/shading/shadow_kernel.rs; Castaño
 // 2013, "Shadow Mapping Summary – Part 1"): per axis the kernel [1 3 4 3 1] / 12 moved
 // continuously with the receiver, whose weights over 6 texels are
 // (1 − s, 3 − 2s, 4 − s, 3 + s, 1 + 2s, s) / 12, read with 3 bilinear taps per axis.

@@ -1,4 +1,4 @@
-// The sheen layer (KHR_materials_sheen): the WGSL twins of engine/src/sheen.rs, with the
+// The sheen layer (KHR_materials_sheen): the WGSL twins of engine/src/shading/sheen.rs, with the
 // same names. f_sheen = colour · D_Charlie · V_Neubelt; L = L_sheen + (1 − max(colour) ·
 // E_sheen(n·v, r)) · L_base. The albedo table E_sheen is bound by the layers pass
 // (layers.wgsl), which looks it up.

@@ -1,4 +1,4 @@
-// The sheen lobe's directional albedo table on the GPU (engine/src/sheen.rs,
+// The sheen lobe's directional albedo table on the GPU (engine/src/shading/sheen.rs,
 // `albedo_table`; engine/src/render/lobe_tables.rs uploads it): 32 × 32 entries, n·v
 // along a row, packed four to a vec4. The entry module declares the uniform
 // `sheen_table: SheenTable` (binding 1 of the layers pass's group 0, binding 4 of the
@@ -17,7 +17,7 @@ fn sheen_table_at(i: u32, j: u32) -> f32 {
 }
 
 // Bilinear lookup of the table at (n·v, r), both clamped to 0..1, NaN: 1
-// (engine/src/sheen.rs, `sheen_albedo`).
+// (engine/src/shading/sheen.rs, `sheen_albedo`).
 fn sheen_albedo(n_dot_v: f32, perceptual_roughness: f32) -> f32 {
     let scale = f32(SHEEN_TABLE_SIZE - 1u);
     var nv = clamp(n_dot_v, 0.0, 1.0);

@@ -1,4 +1,4 @@
-// SMAA's blend (engine/src/render/antialiasing/smaa.rs; Jimenez et al. 2012, §3.3): each
+// SMAA's blend (engine/src/render/antialias/smaa.rs; Jimenez et al. 2012, §3.3): each
 // pixel gathers the coverages of its four edges (its own top and left from its weights,
 // its bottom and right from the neighbours' below and to the right), and mixes in the
 // neighbours' linear colours (the mean a pixel filter takes) along the axis with the

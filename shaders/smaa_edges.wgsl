@@ -1,4 +1,4 @@
-// SMAA's edge step (engine/src/render/antialiasing/smaa.rs; Jimenez et al. 2012, §3.1):
+// SMAA's edge step (engine/src/render/antialias/smaa.rs; Jimenez et al. 2012, §3.1):
 // each pixel marks its left (r) and top (g) edge where the perceptual luma steps by at least SMAA_THRESHOLD and by at least half the largest
 // step around it (local contrast adaptation, smaa_edge). The luma is the one
 // aa_prepare.wgsl stored in a. Pixels without an edge are discarded (the target is

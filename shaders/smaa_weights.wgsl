@@ -1,4 +1,4 @@
-// SMAA's coverage step (engine/src/render/antialiasing/smaa.rs; Jimenez et al. 2012, §3.2,
+// SMAA's coverage step (engine/src/render/antialias/smaa.rs; Jimenez et al. 2012, §3.2,
 // orthogonal patterns): for each edge of the pixel, follow it both ways to its ends, read
 // the crossing edges there (smaa_end_height), and evaluate the revectorized silhouette's
 // coverage of the pixel and of its neighbour across the edge (smaa_coverage).

@@ -1,4 +1,4 @@
-// Temporal anti-aliasing (engine/src/render/antialiasing/taa.rs; Karis 2014, "High
+// Temporal anti-aliasing (engine/src/render/antialias/taa.rs; Karis 2014, "High
 // Quality Temporal Supersampling"; Salvi 2016, "An Excursion in Temporal Supersampling").
 // Per pixel:
 // 1. this frame's colour (non-finite → black, so NaN and ∞ never enter the history);

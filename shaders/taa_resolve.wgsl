@@ -1,4 +1,4 @@
-// TAA's last step (engine/src/render/antialiasing/resolve.rs): the new history copied into
+// TAA's last step (engine/src/render/antialias/resolve.rs): the new history copied into
 // the HDR target, sharpened when asked (--taa-sharpen): contrast-adaptive sharpening
 // (Lottes 2019, "FidelityFX Contrast Adaptive Sharpening") of the compressed colour over
 // the centre and its four neighbours (cas_weight, cas_apply), expanded back. The history

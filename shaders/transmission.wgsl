@@ -1,5 +1,5 @@
 // Light through transmissive surfaces and their volumes (KHR_materials_transmission,
-// _volume and _ior); the CPU twin is engine/src/transmission.rs, with the same names.
+// _volume and _ior); the CPU twin is engine/src/shading/transmission.rs, with the same names.
 // The transparent pass samples the opaque frame where the refracted ray leaves a slab of
 // the material's thickness, blurred by roughness, and attenuates it by Beer–Lambert.
 #import common

@@ -1,6 +1,6 @@
 // Weighted blended order-independent transparency (McGuire & Bavoil 2013, "Weighted
 // Blended Order-Independent Transparency", JCGT 2(2)); the CPU twin is
-// engine/src/transparency.rs. Every blended fragment adds its premultiplied colour,
+// engine/src/shading/transparency.rs. Every blended fragment adds its premultiplied colour,
 // weighted by oit_weight, to an accumulation target and multiplies a revealage target by
 // 1 − α; oit_resolve turns the two into one premultiplied layer.
 

@@ -9,7 +9,7 @@
 #import encoding
 #import irradiance_volume
 
-// The grid (engine/src/render/indirect/irradiance_volume.rs, GpuVolume).
+// The grid (engine/src/render/indirect/probe_volume.rs, GpuVolume).
 struct VolumeUniform {
     // Corner probe position (m, xyz); 1 once a capture pass has completed (w).
     origin_ready: vec4<f32>,

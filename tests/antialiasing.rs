@@ -49,7 +49,7 @@ fn edge_scene() -> App {
                 ..Projection::default()
             },
             exposure: Exposure::Linear(1.0),
-            tonemapper: lumen::color::Tonemapper::None,
+            tonemapper: lumen::shading::color::Tonemapper::None,
             ..Camera::default()
         },
         Transform::from_translation(Vec3::new(0.0, 0.0, 1.0)).looking_at(Vec3::ZERO, Vec3::Y),
@@ -320,13 +320,13 @@ impl EdgeTargets {
     fn normal(&self, x: i64, y: i64) -> Vec3 {
         let (x, y) = self.clamped(x, y);
         let p = self.normals.get_pixel(x, y).0;
-        lumen::encoding::oct_decode(Vec2::new(p[0], p[1]))
+        lumen::shading::encoding::oct_decode(Vec2::new(p[0], p[1]))
     }
 
     /// `depth_bend` at pixel (x, y) over its four neighbours.
     fn bend(&self, x: i64, y: i64) -> f32 {
         let d = |dx: i64, dy: i64| self.depth(x + dx, y + dy);
-        lumen::antialiasing::depth_bend(d(0, 0), d(0, -1), d(0, 1), d(-1, 0), d(1, 0))
+        lumen::shading::antialiasing::depth_bend(d(0, 0), d(0, -1), d(0, 1), d(-1, 0), d(1, 0))
     }
 
     /// The smallest cosine between pixel (x, y)'s normal and a neighbour's.
@@ -341,7 +341,7 @@ impl EdgeTargets {
 
 #[test]
 fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
-    use lumen::antialiasing as aa;
+    use lumen::shading::antialiasing as aa;
     let unfiltered = aliasing_rendered(AaMethod::None, 1);
     let none = unfiltered.read_hdr_image().expect("hdr");
     let edges = EdgeTargets::read(&unfiltered);
@@ -396,8 +396,8 @@ fn fxaa_blends_geometric_edges_and_leaves_texture_edges_alone() {
 
 #[test]
 fn fxaa_blends_the_crease_between_two_faces() {
-    use lumen::antialiasing as aa;
     use lumen::assets::procedural::cuboid;
+    use lumen::shading::antialiasing as aa;
     // A 3 m cube turned so that the edge between its two lit faces crosses the 64 × 64
     // frame at a slant. Only crease pixels whose depth bends too little to be silhouettes
     // count: there, only the normals show the edge.
@@ -584,7 +584,7 @@ fn a_still_taa_render_converges_to_the_box_filtered_pixel() {
     let report = app.render_headless(size).expect("frame");
     assert_eq!(
         report.temporal_frames,
-        lumen::render::antialiasing::taa::TAA_JITTER_PERIOD
+        lumen::render::antialias::taa::TAA_JITTER_PERIOD
     );
     let image = app.read_hdr_image().expect("hdr");
     let at = |x: u32| image.get_pixel(x, 32).0[0];

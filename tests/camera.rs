@@ -368,7 +368,7 @@ fn vignetting_follows_the_cos4_law() {
     world.spawn((
         Camera {
             exposure: Exposure::Linear(1.0),
-            tonemapper: lumen::color::Tonemapper::None,
+            tonemapper: lumen::shading::color::Tonemapper::None,
             vignette: Some(lumen::scene::Vignette { strength: 1.0 }),
             ..Camera::default()
         },
@@ -376,8 +376,9 @@ fn vignetting_follows_the_cos4_law() {
     ));
     app.render_headless(size).expect("frame");
     let display = app.read_display_image().expect("readback");
-    let decoded =
-        |x: u32, y: u32| lumen::color::srgb_decode(display.get_pixel(x, y).0[1] as f32 / 255.0);
+    let decoded = |x: u32, y: u32| {
+        lumen::shading::color::srgb_decode(display.get_pixel(x, y).0[1] as f32 / 255.0)
+    };
     let fov = Camera::default().projection.fov_y_rad;
     let tan_y = (fov * 0.5).tan();
     let tan_x = tan_y * size.0 as f32 / size.1 as f32;

@@ -145,7 +145,7 @@ fn render_exr_is_linear_exposed_radiance() {
     assert!(img.pixels().all(|p| p.0.iter().all(|c| c.is_finite())));
     let got = glam::Vec3::from_slice(&img.get_pixel(16, 16).0[..3]);
     let m = lumen_game::scenes::PLANE_MATERIAL;
-    let surface = lumen::brdf::Surface {
+    let surface = lumen::shading::brdf::Surface {
         base_color: m.base_color.truncate(),
         metallic: m.metallic,
         perceptual_roughness: m.perceptual_roughness,
@@ -153,7 +153,7 @@ fn render_exr_is_linear_exposed_radiance() {
     };
     let (n, v) = (glam::Vec3::Z, glam::Vec3::Z);
     let l = lumen_game::scenes::PLANE_LIGHT_DIRECTION.normalize();
-    let want = lumen::brdf::surface_brdf(n, v, l, &surface, Default::default())
+    let want = lumen::shading::brdf::surface_brdf(n, v, l, &surface, Default::default())
         * lumen_game::scenes::PLANE_ILLUMINANCE_LUX
         * n.dot(l);
     let rel = ((got - want).abs() / want).max_element();

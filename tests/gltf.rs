@@ -5,9 +5,9 @@
 use crate::common;
 
 use lumen::assets::gltf::{GltfSummary, load_gltf};
-use lumen::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use lumen::prelude::*;
 use lumen::scene::{ColorSpace, MaterialMaps};
+use lumen::shading::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
 use lumen::workflow::{MetalRough, to_spec_gloss};
 use lumen::{App, FrameTarget};
 use serde_json::json;
@@ -892,7 +892,7 @@ fn a_mid_grey_texel_reads_as_srgb_or_linear_by_slot() {
         &[[128, 128, 128, 255]; 16],
     );
     let textures = texture_json(&["grey.png"], false);
-    let srgb = lumen::color::srgb_decode(128.0 / 255.0);
+    let srgb = lumen::shading::color::srgb_decode(128.0 / 255.0);
     let linear = 128.0 / 255.0;
     let slot = json!({"index": 0});
     // (slot material, equivalent factor-only material, what to change in the reference)
@@ -1548,7 +1548,7 @@ fn spec_gloss_textures_convert_texel_by_texel() {
     let dir = tempfile::tempdir().expect("temp dir");
     // Metal/rough: base 0.5 (linear), dielectric, roughness 0.6. Its spec/gloss twin as
     // 8-bit textures: diffuse 0.5 / 0.96 (sRGB), specular 0.04 (sRGB), gloss 0.4 (alpha).
-    let enc = |v: f32| (lumen::color::srgb_encode(v) * 255.0).round() as u8;
+    let enc = |v: f32| (lumen::shading::color::srgb_encode(v) * 255.0).round() as u8;
     let d = enc(0.5 / 0.96);
     let s = enc(0.04);
     let g = (0.4f32 * 255.0).round() as u8;

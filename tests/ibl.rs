@@ -5,11 +5,11 @@ use crate::common;
 
 use glam::{Vec2, Vec3};
 use lumen::App;
-use lumen::ibl::dfg_integrate;
 use lumen::prelude::*;
 use lumen::render::device::Gpu;
-use lumen::render::ibl::Ibl;
+use lumen::render::environment_maps::Ibl;
 use lumen::render::readback::{f16_bytes_to_f32, read_texture, read_texture_level};
+use lumen::shading::ibl::dfg_integrate;
 use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 
 const HDRIS: [&str; 5] = ["forest", "sky", "studio", "sunset", "warehouse"];
@@ -187,7 +187,7 @@ fn constant_environment_prefilters_to_a_constant_at_every_mip() {
         assert!(worst < 2e-3, "mip {mip}: {worst}");
     }
     // Irradiance of the constant: π × radiance.
-    let e = lumen::ibl::sh_irradiance(&prepared.sh, Vec3::new(0.3, -0.8, 0.5).normalize());
+    let e = lumen::shading::ibl::sh_irradiance(&prepared.sh, Vec3::new(0.3, -0.8, 0.5).normalize());
     assert!(
         (e / std::f32::consts::PI - Vec3::new(0.25, 0.5, 2.0))
             .abs()

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 /// Files of the engine that must not depend on the renderer.
 const BELOW_RENDER: &[&str] = &[
     "engine/src/scene/",
-    "engine/src/brdf.rs",
+    "engine/src/shading/brdf.rs",
     "engine/src/reference/",
     "engine/src/validate.rs",
     "engine/src/workflow.rs",
@@ -690,7 +690,7 @@ fn cycles(g: &Graph) -> Vec<Vec<usize>> {
 /// is an edge between the two children of their deepest common module that hold them
 /// (`bench/mod.rs -> view/window.rs` is `bench -> view`). Edges between a module's own
 /// file and its descendants are left out. Nodes are named like files (`game/src/bench`,
-/// `engine/src/brdf.rs`).
+/// `engine/src/shading/brdf.rs`).
 fn sibling_graph(g: &Graph) -> Graph {
     let modules: Vec<Option<ModulePath>> = g
         .names
@@ -900,12 +900,13 @@ mod parser {
                 "#[doc(hidden)]\n#[macro_export]\nmacro_rules! __choices { () => {} }\npub use crate::__choices as choices;\n",
             ),
             (
-                "engine/src/brdf.rs",
+                "engine/src/shading/brdf.rs",
                 "crate::choice::choices! {}\npub struct Model;\n",
             ),
         ]);
         let edges = edges(&g);
-        let brdf = |to: &str| edges.contains(&("engine/src/brdf.rs".to_string(), to.to_string()));
+        let brdf =
+            |to: &str| edges.contains(&("engine/src/shading/brdf.rs".to_string(), to.to_string()));
         assert!(
             brdf("engine/src/choice.rs") && !brdf("engine/src/lib.rs"),
             "{edges:?}"

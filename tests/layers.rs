@@ -11,8 +11,6 @@ use crate::common;
 
 use glam::{Mat4, Vec2, Vec3, Vec4Swizzles};
 use lumen::App;
-use lumen::clearcoat::clearcoat_albedo;
-use lumen::ibl::{dfg_integrate, energy_compensation};
 use lumen::prelude::*;
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
 use lumen::render::graph::PassId;
@@ -20,6 +18,8 @@ use lumen::scene::{
     Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, ExtensionMaps, Iridescence,
     MaterialMaps, Sheen, TextureData, TextureSlot, Textures,
 };
+use lumen::shading::clearcoat::clearcoat_albedo;
+use lumen::shading::ibl::{dfg_integrate, energy_compensation};
 use lumen::trace_input::trace_scene;
 use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};
 
@@ -109,7 +109,7 @@ fn sphere_pixels(app: &App, column: u32, row: u32) -> Vec<((u32, u32), f32)> {
                 continue;
             }
             let g = normals.get_pixel(x, y).0;
-            let n = lumen::encoding::oct_decode(Vec2::new(g[0], g[1]));
+            let n = lumen::shading::encoding::oct_decode(Vec2::new(g[0], g[1]));
             out.push(((x, y), n.dot(-d)));
         }
     }
@@ -197,9 +197,13 @@ fn a_sheen_over_black_reflects_its_table_in_the_furnace() {
     // Under a sheen of colour 0.8 each pixel is 0.8 × E_sheen(n·v, r), looked up in the
     // CPU table, plus the base's B dimmed by 1 − 0.8 · E_sheen: the GPU's copy of the
     // table, its lookup and the sheen's environment term against the CPU's.
-    let table = lumen::sheen::albedo_table();
+    let table = lumen::shading::sheen::albedo_table();
     let e = |n_dot_v: f32, r: f32| {
-        lumen::sheen::sheen_albedo(table, n_dot_v, lumen::sheen::clamp_sheen_roughness(r))
+        lumen::shading::sheen::sheen_albedo(
+            table,
+            n_dot_v,
+            lumen::shading::sheen::clamp_sheen_roughness(r),
+        )
     };
     layer_over_black(
         "sheen",
@@ -1070,8 +1074,9 @@ fn an_iridescent_film_changes_hue_with_angle_as_the_formula_predicts() {
         };
     });
     let predict = |n_dot_v: f32, r: f32| {
-        let film = lumen::iridescence::iridescent_fresnel(n_dot_v, 1.3, 400.0, Vec3::splat(0.04));
-        let f0 = lumen::iridescence::schlick_f0_of(film, n_dot_v);
+        let film =
+            lumen::shading::iridescence::iridescent_fresnel(n_dot_v, 1.3, 400.0, Vec3::splat(0.04));
+        let f0 = lumen::shading::iridescence::schlick_f0_of(film, n_dot_v);
         let dfg = dfg_integrate(n_dot_v, r, 1024);
         (f0 * dfg.x + Vec3::splat(dfg.y)) * energy_compensation(f0, dfg)
     };
@@ -1276,7 +1281,7 @@ fn texel_value(rgba: [u8; 4], color_space: ColorSpace) -> Vec4 {
     let c = |b: u8| {
         let x = f32::from(b) / 255.0;
         if color_space == ColorSpace::Srgb {
-            lumen::color::srgb_decode(x)
+            lumen::shading::color::srgb_decode(x)
         } else {
             x
         }
@@ -1426,7 +1431,7 @@ fn extension_textures_scale_their_factors_in_both_renderers() {
         multiplied[1].iridescence.as_mut(),
     ) {
         let (sin, cos) = a.rotation_rad.sin_cos();
-        let (strength, d) = lumen::anisotropy::textured_anisotropy(
+        let (strength, d) = lumen::shading::anisotropy::textured_anisotropy(
             a.strength,
             Vec2::new(cos, sin),
             texel_value(grain, linear).xyz(),
@@ -1435,7 +1440,7 @@ fn extension_textures_scale_their_factors_in_both_renderers() {
         a.rotation_rad = d.y.atan2(d.x);
         let t = texel_value(film_texel, linear);
         f.factor *= t.x;
-        f.thickness_nm = lumen::iridescence::film_thickness(200.0, f.thickness_nm, t.y);
+        f.thickness_nm = lumen::shading::iridescence::film_thickness(200.0, f.thickness_nm, t.y);
     }
     if let Some(d) = multiplied[2].diffuse_transmission.as_mut() {
         d.factor *= texel_value(leaf, linear).w;

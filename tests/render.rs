@@ -5,10 +5,10 @@ use crate::common;
 
 use common::{app_with, lum};
 use glam::{Quat, Vec3};
-use lumen::brdf::{Surface, VisibilityModel};
 use lumen::prelude::*;
 use lumen::render::device::GpuRequest;
 use lumen::render::graph::PassId;
+use lumen::shading::brdf::{Surface, VisibilityModel};
 use lumen::{App, FrameTarget};
 use lumen_game::scenes::{
     PLANE_ILLUMINANCE_LUX, PLANE_LIGHT_DIRECTION, PLANE_MATERIAL, SPHERE_RADIUS, sphere_center,
@@ -173,7 +173,7 @@ fn extremes_render_finite() {
     }
 }
 
-/// Expected exposed luminance of the `plane` scene at pixel (x, y), from lumen::brdf; with
+/// Expected exposed luminance of the `plane` scene at pixel (x, y), from lumen::shading::brdf; with
 /// `compensation`, the specular lobe × `energy_compensation(F0, E)` with E from a converged
 /// CPU integration of the split-sum table.
 fn plane_expected(
@@ -196,10 +196,14 @@ fn plane_expected(
         perceptual_roughness: roughness,
         specular_level: PLANE_MATERIAL.specular_level,
     };
-    let lobes = lumen::brdf::surface_brdf_lobes(n, v, l, &surface, VisibilityModel::default());
+    let lobes =
+        lumen::shading::brdf::surface_brdf_lobes(n, v, l, &surface, VisibilityModel::default());
     let energy = if compensation {
-        let f0 = lumen::brdf::compute_f0(base, metallic, surface.specular_level);
-        lumen::ibl::energy_compensation(f0, lumen::ibl::dfg_integrate(n.dot(v), roughness, 8192))
+        let f0 = lumen::shading::brdf::compute_f0(base, metallic, surface.specular_level);
+        lumen::shading::ibl::energy_compensation(
+            f0,
+            lumen::shading::ibl::dfg_integrate(n.dot(v), roughness, 8192),
+        )
     } else {
         Vec3::ONE
     };
@@ -312,7 +316,7 @@ fn gbuffer_normals_round_trip() {
         .collect();
     let (mut checked, mut worst) = (0, 0.0f32);
     for p in g1.pixels().filter(|p| p.0[0] != 0.0 || p.0[1] != 0.0) {
-        let n = lumen::encoding::oct_decode(glam::Vec2::new(p.0[0], p.0[1]));
+        let n = lumen::shading::encoding::oct_decode(glam::Vec2::new(p.0[0], p.0[1]));
         let angle = faces
             .iter()
             .map(|f| n.angle_between(*f))

@@ -1,23 +1,23 @@
 //! Every shared shader function (shaders/brdf.wgsl, punctual.wgsl, color.wgsl,
 //! encoding.wgsl, ibl.wgsl, camera.wgsl, common.wgsl, skinning.wgsl, …) against its Rust
-//! twin (lumen::brdf, punctual, color, encoding, ibl, scene::camera, scene::deform, …) on
+//! twin (lumen::shading::brdf, punctual, color, encoding, ibl, scene::camera, scene::deform, …) on
 //! the same inputs, on the GPU.
 
 use crate::common;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use lumen::ambient_occlusion as ao;
-use lumen::anisotropy as an;
-use lumen::antialiasing as aa;
-use lumen::brdf::{self, Surface, VisibilityModel};
 use lumen::choice::Choice;
-use lumen::iridescence as ir;
-use lumen::irradiance_volume as gi;
-use lumen::reflection_probe as rp;
 use lumen::render::pipelines::create_module;
 use lumen::render::shaders::ShaderLibrary;
 use lumen::scene::{camera, deform};
-use lumen::{
+use lumen::shading::ambient_occlusion as ao;
+use lumen::shading::anisotropy as an;
+use lumen::shading::antialiasing as aa;
+use lumen::shading::brdf::{self, Surface, VisibilityModel};
+use lumen::shading::iridescence as ir;
+use lumen::shading::irradiance_volume as gi;
+use lumen::shading::reflection_probe as rp;
+use lumen::shading::{
     clearcoat, color, encoding, ibl, punctual, shadow_kernel, sheen, transmission, transparency,
 };
 use wgpu::util::DeviceExt;
@@ -390,7 +390,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             };
             let below = l - 2.0 * n.dot(l) * n;
             let color = Vec3::new(base.y, base.z, base.x) * 1.1;
-            lumen::diffuse_transmission::diffuse_transmission_lobe(
+            lumen::shading::diffuse_transmission::diffuse_transmission_lobe(
                 n,
                 v,
                 below,
@@ -791,7 +791,7 @@ fn the_validator_rules_match_in_wgsl_and_rust() {
 #[test]
 fn the_anisotropic_split_sum_table_reads_the_same_in_wgsl_and_rust() {
     // `anisotropic_dfg` (shaders/anisotropic_dfg.wgsl) over the table the layers pass
-    // uploads, against `lumen::anisotropy::anisotropic_dfg`, on and between the entries,
+    // uploads, against `lumen::shading::anisotropy::anisotropic_dfg`, on and between the entries,
     // out of range and NaN; and `view_azimuth` on random views.
     let gpu = common::gpu();
     let kernel = vec4_kernel(

@@ -280,7 +280,7 @@ fn lit_surfaces_show_no_acne() {
                     if p.0[3] < 0.5 || lum(p) <= 1e-4 {
                         continue;
                     }
-                    let n = lumen::encoding::oct_decode(glam::Vec2::new(g[0], g[1]));
+                    let n = lumen::shading::encoding::oct_decode(glam::Vec2::new(g[0], g[1]));
                     // Direction to the light, from the surface (the sphere's surface point
                     // is roughly centre + n, the plane's is near the origin).
                     let surface = if with_sphere {

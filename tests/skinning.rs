@@ -441,7 +441,7 @@ fn a_morphed_normal_turns_the_shading_normal() {
         app.render_headless(size).expect("frame");
         let g1 = app.read_target(FrameTarget::GBuffer1).expect("gbuffer1");
         let p = g1.get_pixel(size.0 / 2, size.1 / 2).0;
-        let normal = lumen::encoding::oct_decode(Vec2::new(p[0], p[1]));
+        let normal = lumen::shading::encoding::oct_decode(Vec2::new(p[0], p[1]));
         let expected = Vec3::new(w, 0.0, 1.0 - w).normalize();
         println!("morph weight {w}: normal {normal}, expected {expected}");
         assert!(

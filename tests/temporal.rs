@@ -29,7 +29,7 @@ fn camera_at(world: &mut World, from: Vec3, to: Vec3) -> Entity {
         .spawn((
             Camera {
                 exposure: Exposure::Linear(1.0),
-                tonemapper: lumen::color::Tonemapper::None,
+                tonemapper: lumen::shading::color::Tonemapper::None,
                 ..Camera::default()
             },
             Transform::from_translation(from).looking_at(to, Vec3::Y),
@@ -347,17 +347,17 @@ fn poison(pass: Res<Poison>, targets: Res<RenderTargets>, mut encoder: ResMut<Fr
 
 #[test]
 fn a_nan_in_the_lit_frame_never_reaches_the_history() {
-    use lumen::render::antialiasing::{accumulate::AccumulatePass, taa::TaaPass};
+    use lumen::render::antialias::{accumulate::AccumulatePass, taa::TaaPass};
     use lumen::render::{
         debug_view::DebugViewPass, dof::DofPass, exposure::ExposurePass, gbuffer::GBufferPass,
-        indirect::ambient_occlusion::AoPass, indirect::depth_pyramid::DepthPyramidPass,
+        indirect::depth_pyramid::DepthPyramidPass, indirect::gtao::AoPass,
         indirect::reflections::SsrPass, indirect::volume_irradiance::VolumeIrradiancePass,
         light_culling::LightCullingPass, lighting::LightingPass, shadow::mask::ShadowMaskPass,
         shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
     };
     // The built-in frame with the poison between the sky and TAA.
     let registry = Registry::new()
-        .with::<lumen::render::deform::DeformPass>()
+        .with::<lumen::render::deform_pass::DeformPass>()
         .with::<ShadowPass>()
         .with::<GBufferPass>()
         .with::<AoPass>()
@@ -438,7 +438,7 @@ fn striped_sky_app(yaw_deg: f32) -> (App, Entity) {
                     ..Projection::default()
                 },
                 exposure: Exposure::Linear(1.0),
-                tonemapper: lumen::color::Tonemapper::None,
+                tonemapper: lumen::shading::color::Tonemapper::None,
                 ..Camera::default()
             },
             Transform::IDENTITY.with_rotation(Quat::from_rotation_y(yaw_deg.to_radians())),

@@ -481,7 +481,7 @@ fn opaque_scenes_build_no_transmission_source() {
 #[test]
 fn dispersion_shifts_red_and_blue_by_their_own_indices() {
     // The 45° slab with dispersion 20 (Abbe number 1): red refracts by IOR 1.25, blue by
-    // 1.75 (lumen::transmission::dispersion_iors). Each channel's stripe moves by its own
+    // 1.75 (lumen::shading::transmission::dispersion_iors). Each channel's stripe moves by its own
     // index's Snell offset, within a pixel, in both renderers; each is more than a pixel
     // from the undispersed offset, so a renderer that ignored dispersion would fail.
     let thickness = 0.4;
@@ -493,7 +493,7 @@ fn dispersion_shifts_red_and_blue_by_their_own_indices() {
     });
     app.render_headless(SIZE).expect("frame");
     let raster = app.read_hdr_image().expect("readback");
-    let iors = lumen::transmission::dispersion_iors(1.5, 20.0);
+    let iors = lumen::shading::transmission::dispersion_iors(1.5, 20.0);
     let scene = trace_scene(&mut app, SIZE).expect("trace scene");
     let options = options(SIZE, 48, 6, 5);
     let traced = render(&scene, &options, &|_| {}).image;

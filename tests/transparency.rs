@@ -1,7 +1,7 @@
 //! Blended surfaces (`Material::blend`): the transparent pass composites each one over the
 //! lit frame with premultiplied "over", farthest first, and runs only when a scene has one.
 //! Expectations come from the same scene rendered with the panes opaque or absent,
-//! composited on the CPU with `lumen::color::over`.
+//! composited on the CPU with `lumen::shading::color::over`.
 
 use crate::common;
 
@@ -140,7 +140,7 @@ fn overlapping_panes_are_composited_back_to_front() {
     // Premultiplied colours of the panes: their opaque radiance × α.
     let paint =
         |opaque: &image::Rgba32FImage, pixel, a: f32| (at(opaque, pixel).truncate() * a).extend(a);
-    let over = lumen::color::over;
+    let over = lumen::shading::color::over;
     let cases = [
         (
             "front pane",
@@ -204,7 +204,7 @@ fn blended_surfaces_are_lit_and_skipped_when_absent() {
         seen.y > 1.5 * seen.x,
         "the pane is not at {pixel:?}: {seen}"
     );
-    let want = lumen::color::over(
+    let want = lumen::shading::color::over(
         (at(&opaque, pixel).truncate() * 0.25).extend(0.25),
         at(&wall, pixel),
     );
@@ -314,7 +314,7 @@ fn three_panes_composite_in_order_from_both_sides() {
         let layers = [layer(0), layer(1), layer(2)];
         // Front to back as this eye sees them.
         let order: [usize; 3] = if eye_z > 0.0 { [0, 1, 2] } else { [2, 1, 0] };
-        let over = lumen::color::over;
+        let over = lumen::shading::color::over;
         let want = over(
             layers[order[0]],
             over(layers[order[1]], over(layers[order[2]], background)),
@@ -406,7 +406,7 @@ fn blended_surfaces_receive_shadows() {
     println!(
         "pane luminance: shaded {shaded} against {open} unshaded; elsewhere {other} against {open_other}"
     );
-    let y = |c: Vec4| lumen::color::luminance(c.truncate());
+    let y = |c: Vec4| lumen::shading::color::luminance(c.truncate());
     assert!(y(open) > 0.05, "the pane is lit: {open}");
     assert!(
         y(shaded) < 0.1 * y(open),

@@ -4,8 +4,8 @@
 //! they can, and the seeds' numbers hold.
 
 use Verdict::{Borderline as B, Invalid as X, NotApplicable as N, Valid as V};
-use lumen::color::srgb_decode;
 use lumen::scene::{ColorSpace, TextureData};
+use lumen::shading::color::srgb_decode;
 use lumen::validate::{
     ColorInput, MaterialInput, Rule, ScalarInput, Verdict, brightness_code, validate,
 };
@@ -191,8 +191,8 @@ fn black_diffuse_only_under_metal_specular() {
 
 #[test]
 fn the_seeds_numbers_hold() {
-    assert!((lumen::brdf::f0_from_ior(1.5) - 0.04).abs() < 1e-7);
-    assert!((lumen::brdf::dielectric_f0(0.5) - 0.04).abs() < 1e-7);
+    assert!((lumen::shading::brdf::f0_from_ior(1.5) - 0.04).abs() < 1e-7);
+    assert!((lumen::shading::brdf::dielectric_f0(0.5) - 0.04).abs() < 1e-7);
     // 180 sRGB is the guide's 70 % metal floor; docs/src/formulas.md#measured-texture-ranges notes it is 0.46 linear.
     assert!((srgb_decode(180.0 / 255.0) - 0.456).abs() < 1e-3);
     assert_eq!(

@@ -4,13 +4,13 @@
 
 use lumen::FrameTarget;
 use lumen::assets::procedural::plane;
-use lumen::color::srgb_encode;
 use lumen::prelude::*;
 use lumen::render::debug_view::depth_grey;
 use lumen::render::extract::ExtractedFrame;
 use lumen::render::graph::PassId;
 use lumen::scene::camera::circle_of_confusion;
 use lumen::scene::{DepthOfField, Lens};
+use lumen::shading::color::srgb_encode;
 
 const SIZE: (u32, u32) = (64, 48);
 const NEAR_COLOR: Vec3 = Vec3::new(0.8, 0.2, 0.05);
@@ -355,7 +355,7 @@ fn the_validation_views_paint_the_validators_verdicts() {
     let mut app = scene();
     // The plate: a dark dielectric (45 sRGB: valid, but under the strict 50); the floor:
     // bare metal at 200 sRGB (valid). Exact sRGB codes survive the 8-bit G-buffer.
-    let code = |c: f32| Vec3::splat(lumen::color::srgb_decode(c / 255.0));
+    let code = |c: f32| Vec3::splat(lumen::shading::color::srgb_decode(c / 255.0));
     let world = app.world_mut();
     let mut materials = world.query::<&mut Material>();
     for mut m in materials.iter_mut(world) {

@@ -3,17 +3,14 @@
 
 use crate::error::{Error, Result};
 use crate::input::{self, InputEvent, Keys, Mouse, MouseButtons, PendingInput};
-use crate::quality::{MAX_ACCUMULATE, Quality};
-use crate::render::antialiasing::accumulate::SubFrame;
-use crate::render::antialiasing::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
+use crate::quality::Quality;
+use crate::render::antialias::renders::Renders;
 use crate::render::capture::ProbeStatus;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
-use crate::render::exposure::ExposurePass;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
 use crate::render::graph::registry::Registry;
-use crate::render::graph::{FramePass, FramePlan, PassId, Slot, slots};
-use crate::render::jitter::Jitter;
+use crate::render::graph::{FramePass, FramePlan, Slot, slots};
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::targets::{RenderTargets, Target};
@@ -82,7 +79,7 @@ pub struct FrameReport {
     /// Jittered renders averaged into this image (`--accumulate`; 1 for one render).
     /// The pass and stage times are their sums.
     pub accumulated: u32,
-    /// Frames temporal anti-aliasing rendered into this image: [`TAA_JITTER_PERIOD`] for a
+    /// Frames temporal anti-aliasing rendered into this image: [`TAA_JITTER_PERIOD`](crate::render::antialias::taa::TAA_JITTER_PERIOD) for a
     /// still render (converged), 1 per frame in the viewer and `bench`, 0 without TAA.
     /// The pass and stage times are their sums.
     pub temporal_frames: u32,
@@ -332,7 +329,7 @@ impl App {
 
     /// With `--aa taa`: render one frame per call, blending it with the history of the
     /// earlier calls (on: the viewer, `bench`), or converge a still image in each call
-    /// from a fresh history ([`TAA_JITTER_PERIOD`] jittered frames; off, the default).
+    /// from a fresh history ([`TAA_JITTER_PERIOD`](crate::render::antialias::taa::TAA_JITTER_PERIOD) jittered frames; off, the default).
     pub fn set_progressive_taa(&mut self, progressive: bool) {
         self.progressive_taa = progressive;
     }
@@ -484,109 +481,34 @@ impl App {
             format,
         });
         self.world
-            .resource_mut::<crate::render::ibl::Ibl>()
+            .resource_mut::<crate::render::environment_maps::Ibl>()
             .last_steps
             .clear();
         let t = Instant::now();
-        let per_frame = self
-            .world
-            .get_resource::<Quality>()
-            .map_or(0, |q| q.gi.probes_per_frame);
-        let budget = (self.progressive_probes && per_frame > 0).then_some(per_frame);
-        let probes = crate::render::capture::update_probes(&mut self.world, budget)?;
+        let probes = crate::render::capture::update_probes_for_frame(
+            &mut self.world,
+            self.progressive_probes,
+        )?;
         stage("probes", t);
 
         self.world
             .insert_resource(FrameOutput { size, view, format });
-        // `--accumulate N`: N renders, each jittered inside the pixel, averaged by the
-        // accumulate pass; their stage and pass times add up.
-        // `--aa taa`: frames blended with the reprojected history; a still render
-        // converges from a fresh history in this call.
-        let aa = self
-            .world
-            .get_resource::<Quality>()
-            .map(|q| q.aa)
-            .unwrap_or_default();
-        let count = aa.accumulate.clamp(1, MAX_ACCUMULATE);
-        let taa = aa.temporal();
-        let change = self.world.run_system_cached(history_change).ok().flatten();
-        let mut reset = match (std::mem::take(&mut self.pending_cut), change) {
-            (true, _) => Some("camera cut".to_string()),
-            (false, Some(why)) => Some(why.to_string()),
-            (false, None) => None,
-        };
-        if taa && !self.progressive_taa {
-            reset = Some("a still image converges from its own history".into());
-        }
-        let temporal_frames = match (taa, self.progressive_taa) {
-            (false, _) => 0,
-            (true, true) => 1,
-            (true, false) => TAA_JITTER_PERIOD,
-        };
-        let mut state = self.world.remove_resource::<TaaState>().unwrap_or_default();
-        if state.size.is_some_and(|s| s != size) && reset.is_none() {
-            reset = Some("resized".into());
-        }
-        if reset.is_some() || !taa {
-            state.frame = 0;
-        }
-        state.reset = reset;
-        let renders = count.max(temporal_frames);
+        // The image's renders (several for accumulation and a still TAA image); their
+        // stage and pass times add up.
+        let cut = std::mem::take(&mut self.pending_cut);
+        let mut renders = Renders::plan(&mut self.world, size, self.progressive_taa, cut);
         let mut passes: Vec<PassTiming> = Vec::new();
-        for index in 0..renders {
-            self.world.insert_resource(SubFrame {
-                index: if taa { 0 } else { index },
-                count: if taa { 1 } else { count },
-            });
-            self.world.insert_resource(if count > 1 {
-                Jitter::halton(index)
-            } else if taa {
-                Jitter::halton(state.frame % TAA_JITTER_PERIOD)
-            } else {
-                Jitter::default()
-            });
-            self.world.insert_resource(state.clone());
-            // Automatic exposure adapts once per image, not once per render.
-            if index > 0 {
-                self.world.insert_resource(FrameDelta(0.0));
-            }
+        for index in 0..renders.count() {
+            renders.begin(&mut self.world, index);
             let timings = self.render_sub_frame(&gpu, &mut stage)?;
-            state.frame = if taa { state.frame + 1 } else { 0 };
-            state.reset = None;
-            state.size = Some(size);
-            state.exposure = self
-                .world
-                .resource::<ExtractedFrame>()
-                .camera
-                .as_ref()
-                .map(|c| c.exposure);
-            for p in timings {
-                match passes.iter_mut().find(|q| q.name == p.name) {
-                    Some(q) => {
-                        q.cpu_ms += p.cpu_ms;
-                        q.gpu_ms = q.gpu_ms.zip(p.gpu_ms).map(|(a, b)| a + b);
-                    }
-                    None => passes.push(p),
-                }
-            }
+            renders.end(&self.world);
+            add_pass_timings(&mut passes, timings);
         }
-        self.world.insert_resource(state);
+        let (accumulated, temporal_frames) = (renders.accumulated(), renders.temporal_frames());
+        renders.finish(&mut self.world);
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
-        let mut merged: Vec<(&'static str, f64)> = Vec::new();
-        for (name, ms) in stages.drain(..) {
-            match merged.iter_mut().find(|(n, _)| *n == name) {
-                Some((_, total)) => *total += ms,
-                None => merged.push((name, ms)),
-            }
-        }
-        let stages = merged;
-
-        if self.world.resource::<FramePlan>().runs(PassId::Exposure)
-            && self.world.resource::<ExposurePass>().ran
-        {
-            let metered = self.world.resource::<ExposurePass>().read_state(&gpu)?;
-            self.world.insert_resource(metered);
-        }
+        let stages = merged_stages(stages);
+        crate::render::exposure::feed_back(&mut self.world, &gpu)?;
         let extracted = self.world.resource::<ExtractedFrame>();
         let camera = extracted
             .camera
@@ -607,13 +529,13 @@ impl App {
             },
             preprocessing: self
                 .world
-                .resource::<crate::render::ibl::Ibl>()
+                .resource::<crate::render::environment_maps::Ibl>()
                 .last_steps
                 .clone(),
             notes: camera.notes.clone(),
             metered: *self.world.resource::<MeteredExposure>(),
             probes,
-            accumulated: count,
+            accumulated,
             temporal_frames,
         })
     }
@@ -737,7 +659,7 @@ impl App {
             FrameTarget::GBuffer0 => read_texture(gpu, texture(slots::GBUFFER_BASE_COLOR)?, 4)?
                 .chunks_exact(4)
                 .flat_map(|p| {
-                    let c = |v: u8| crate::color::srgb_decode(f32::from(v) / 255.0);
+                    let c = |v: u8| crate::shading::color::srgb_decode(f32::from(v) / 255.0);
                     [c(p[0]), c(p[1]), c(p[2]), f32::from(p[3]) / 255.0]
                 })
                 .collect(),
@@ -825,4 +747,29 @@ pub fn frame_bytes(size: (u32, u32), hdr_format: wgpu::TextureFormat) -> u64 {
     let float_rgba = 16;
     let per_pixel = targets + 2 * float_rgba;
     u64::from(size.0) * u64::from(size.1) * per_pixel
+}
+
+/// Adds one render's pass `timings` to the image's, pass by pass.
+fn add_pass_timings(passes: &mut Vec<PassTiming>, timings: Vec<PassTiming>) {
+    for p in timings {
+        match passes.iter_mut().find(|q| q.name == p.name) {
+            Some(q) => {
+                q.cpu_ms += p.cpu_ms;
+                q.gpu_ms = q.gpu_ms.zip(p.gpu_ms).map(|(a, b)| a + b);
+            }
+            None => passes.push(p),
+        }
+    }
+}
+
+/// The stage times (ms) summed by stage name, in the order the stages first ran.
+fn merged_stages(stages: Vec<(&'static str, f64)>) -> Vec<(&'static str, f64)> {
+    let mut merged: Vec<(&'static str, f64)> = Vec::new();
+    for (name, ms) in stages {
+        match merged.iter_mut().find(|(n, _)| *n == name) {
+            Some((_, total)) => *total += ms,
+            None => merged.push((name, ms)),
+        }
+    }
+    merged
 }

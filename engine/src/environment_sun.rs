@@ -15,11 +15,11 @@
 //! the region covers at most [`SUN_MAX_SOLID_ANGLE_SR`]. A studio's softboxes fail the
 //! last test and stay in the image.
 
-use crate::color::luminance;
-use crate::ibl::{equirect_direction, rotate_y};
 use crate::scene::environment::{Environment, EquirectImage};
 use crate::scene::light::{DirectionalLight, LightColor};
 use crate::scene::transform::Transform;
+use crate::shading::color::luminance;
+use crate::shading::ibl::{equirect_direction, rotate_y};
 use glam::{Vec2, Vec3};
 
 /// A texel belongs to the sun's region above this multiple of the median luminance.
@@ -204,7 +204,7 @@ pub fn split_sun(image: &EquirectImage) -> Option<(ImageSun, EquirectImage)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ibl::equirect_uv;
+    use crate::shading::ibl::equirect_uv;
 
     /// A 256×128 sky of 1 with a 2×2-texel sun of 5000 towards `towards`.
     fn sky_with_sun(towards: Vec3) -> (EquirectImage, Vec<usize>) {

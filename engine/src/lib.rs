@@ -24,38 +24,22 @@
 //! lumens or candela for point and spot lights, cd/m² for emissive and backgrounds.
 //! Right-handed, +Y up, cameras and lights look along their local −Z.
 
-pub mod ambient_occlusion;
-pub mod anisotropy;
-pub mod antialiasing;
 pub mod app;
 pub mod assets;
-pub mod brdf;
 pub mod choice;
-pub mod clearcoat;
-pub mod color;
-pub mod diffuse_transmission;
-pub mod encoding;
 pub mod environment_sun;
 pub mod error;
 pub mod files;
-pub mod ibl;
 pub mod input;
-pub mod iridescence;
-pub mod irradiance_volume;
 pub mod limits;
 pub mod pass_id;
-pub mod punctual;
 pub mod quality;
 pub mod reference;
-pub mod reflection_probe;
 pub mod render;
 pub mod scene;
-pub mod shadow_kernel;
-pub mod sheen;
+pub mod shading;
 pub mod time;
 pub mod trace_input;
-pub mod transmission;
-pub mod transparency;
 pub mod validate;
 pub mod workflow;
 
@@ -67,9 +51,7 @@ pub use wgpu;
 /// What a script usually needs.
 pub mod prelude {
     pub use crate::app::{App, FrameReport, Update};
-    pub use crate::brdf::VisibilityModel;
     pub use crate::choice::Choice;
-    pub use crate::color::Tonemapper;
     pub use crate::input::{InputEvent, KeyCode, Keys, Mouse, MouseButton, MouseButtons};
     pub use crate::quality::{Quality, ShadowFilter, ShadowMask};
     pub use crate::render::debug_view::DebugView;
@@ -80,6 +62,8 @@ pub mod prelude {
         NotShadowCaster, NotShadowReceiver, PointLight, Projection, ReflectionProbe,
         ShadowSettings, SkinnedMesh, SpotLight, Transform,
     };
+    pub use crate::shading::brdf::VisibilityModel;
+    pub use crate::shading::color::Tonemapper;
     pub use crate::time::Time;
     pub use bevy_ecs::hierarchy::ChildOf;
     pub use bevy_ecs::prelude::*;

@@ -4,7 +4,7 @@
 
 use crate::app::App;
 use crate::error::{Error, Result};
-use crate::reference::path::scene::TraceCamera;
+use crate::reference::path::traced_scene::TraceCamera;
 use crate::reference::path::{TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene};
 use crate::render::extract::ExtractedFrame;
 use crate::scene::{MeshData, MeshHandle};
@@ -117,7 +117,7 @@ pub fn trace_input(frame: &ExtractedFrame, posed: &[Option<MeshHandle>]) -> Resu
                     alpha,
                     blend: batch.blend,
                     transmission: entry.and_then(|e| e.transmission),
-                    unlit: crate::encoding::is_unlit(inst.params[2]),
+                    unlit: crate::shading::encoding::is_unlit(inst.params[2]),
                     clearcoat: entry.and_then(|e| e.clearcoat),
                     sheen: entry.and_then(|e| e.sheen),
                     anisotropy: entry.and_then(|e| e.anisotropy),

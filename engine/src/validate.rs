@@ -21,8 +21,8 @@
 //! 10 (that noise floor) and 100 (the dirt bound, far under the 180 of bare metal) are
 //! Lumen's; every other number is docs/src/formulas.md#measured-texture-ranges.
 
-use crate::color::{luminance, srgb_decode, srgb_encode};
 use crate::scene::{ColorSpace, TextureData};
+use crate::shading::color::{luminance, srgb_decode, srgb_encode};
 use glam::Vec3;
 
 /// Darkest dielectric colour, tolerant (sRGB code).

@@ -14,13 +14,13 @@
 //!   base-colour and a metallic-roughness texture ([`crate::workflow`]).
 
 use super::texture_io;
-use crate::brdf::f0_from_ior;
 use crate::scene::extension_maps::{EXTENSION_TEXTURES, EXTENSION_UNITS};
 use crate::scene::{
     Anisotropy, Clearcoat, ColorSpace, DiffuseTransmission, ExtensionMaps, Filter, Iridescence,
     Material, MaterialMaps, Sampler, Sheen, TextureData, TextureHandle, TextureSlot, Textures,
     Transmission, UvTransform, Wrap,
 };
+use crate::shading::brdf::f0_from_ior;
 use crate::workflow;
 use glam::{Vec2, Vec3, Vec4};
 use std::collections::HashMap;
@@ -520,7 +520,7 @@ fn spec_gloss_textures(
             .get(i..i + 4)
             .map_or([255; 4], |p| [p[0], p[1], p[2], p[3]])
     };
-    let srgb = |c: u8| crate::color::srgb_decode(f32::from(c) / 255.0);
+    let srgb = |c: u8| crate::shading::color::srgb_decode(f32::from(c) / 255.0);
     let mut base = Vec::with_capacity((w * h * 4) as usize);
     let mut mr = Vec::with_capacity((w * h * 4) as usize);
     for y in 0..h {
@@ -532,7 +532,7 @@ fn spec_gloss_textures(
                 specular: Vec3::new(srgb(s[0]), srgb(s[1]), srgb(s[2])) * specular_factor,
                 glossiness: f32::from(s[3]) / 255.0 * gloss_factor,
             });
-            let enc = |v: f32| (crate::color::srgb_encode(v) * 255.0).round() as u8;
+            let enc = |v: f32| (crate::shading::color::srgb_encode(v) * 255.0).round() as u8;
             let c = converted.base_color;
             base.extend([enc(c.x), enc(c.y), enc(c.z), d[3]]);
             let unorm = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
@@ -899,7 +899,7 @@ fn extension_number(
 }
 
 /// Dielectric F0 as Lumen's specular level and tint, `(level, tint)`, so that
-/// F0 = 0.08 × level × tint ([`crate::brdf::tinted_f0`]): `KHR_materials_ior` gives
+/// F0 = 0.08 × level × tint ([`crate::shading::brdf::tinted_f0`]): `KHR_materials_ior` gives
 /// F0 = ((ior − 1)/(ior + 1))², `KHR_materials_specular` scales it by its factor and its
 /// colour. The level takes the colour's largest channel (clamped to 0..1), the tint the
 /// colour divided by it (white where the colour is grey or black).

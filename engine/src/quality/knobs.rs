@@ -11,9 +11,9 @@ use super::{
     AaSettings, AoSettings, GiSettings, Quality, ReflectionProbeSettings, SpecularAaSettings,
     SsrSettings,
 };
-use crate::brdf::VisibilityModel;
 use crate::choice::Choice;
 use crate::pass_id::PassId;
+use crate::shading::brdf::VisibilityModel;
 use std::sync::LazyLock;
 
 /// `shadows`: Shadows for the whole frame; off skips the shadow pass.

@@ -2,8 +2,8 @@
 //! its knobs choose from. Each field is one knob ([`super::knobs`]), whose declaration
 //! gives its default ([`super::knobs`] implements `Default` from them).
 
-use crate::brdf::VisibilityModel;
 use crate::choice::choices;
+use crate::shading::brdf::VisibilityModel;
 use bevy_ecs::prelude::Resource;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -16,7 +16,7 @@ pub enum ShadowFilter: "shadow filter" {
     /// One comparison tap: the hardware's bilinear 2×2 percentage-closer filter.
     Hardware2x2(0) = "hardware",
     /// A 5×5-texel kernel ([1 3 4 3 1] per axis) read with 9 bilinear comparison taps,
-    /// no noise (Castaño 2013's optimised PCF; [`crate::shadow_kernel`]). The default: as
+    /// no noise (Castaño 2013's optimised PCF; [`crate::shading::shadow_kernel`]). The default: as
     /// accurate as [`ShadowFilter::Pcf`] against the path tracer at three quarters of its
     /// lighting cost (README, "Shadows").
     #[default]
@@ -39,7 +39,7 @@ pub enum ShadowMask: "shadow mask" {
     /// No mask pass: the lighting pass's light loop filters the shadow map per pixel.
     Off = "off",
     /// One filtered lookup per 2×2 pixels in the mask pass, upsampled by the lighting
-    /// pass with depth-aware weights ([`crate::shadow_kernel::shadow_mask_weight`]).
+    /// pass with depth-aware weights ([`crate::shading::shadow_kernel::shadow_mask_weight`]).
     #[default]
     Half = "half",
     /// One filtered lookup per pixel in the mask pass: the same visibility as `off`.
@@ -84,7 +84,7 @@ impl AoResolution {
     }
 }
 
-/// Screen-space ambient occlusion (GTAO, [`crate::ambient_occlusion`]): it darkens
+/// Screen-space ambient occlusion (GTAO, [`crate::shading::ambient_occlusion`]): it darkens
 /// environment light (and probe light) where the depth buffer shows nearby geometry;
 /// direct lights are never occluded by it. It runs only when the frame has indirect light
 /// to occlude.
@@ -98,7 +98,7 @@ pub struct AoSettings {
     /// Depth samples per side of a slice, 1..=32.
     pub steps: u32,
     /// World-space radius in metres within which geometry occludes (with the falloff of
-    /// [`crate::ambient_occlusion::ao_falloff`]).
+    /// [`crate::shading::ambient_occlusion::ao_falloff`]).
     pub radius_m: f32,
     /// A 4×4 depth-aware spatial filter that averages the 16 slice rotations of the
     /// per-pixel noise; off, each pixel keeps its own noisy estimate.
@@ -257,7 +257,7 @@ pub enum AaMethod: "anti-aliasing" {
 }
 
 /// Geometric specular anti-aliasing in the G-buffer pass
-/// ([`crate::brdf::specular_aa_roughness`]): where the normal varies across a pixel, the
+/// ([`crate::shading::brdf::specular_aa_roughness`]): where the normal varies across a pixel, the
 /// stored roughness widens so the GGX lobe covers the normals the pixel sees, and a
 /// highlight smaller than the pixel is spread over it instead of hit or missed. It calms
 /// flicker (2.45× less on a turning bump-mapped sphere) but widens still highlights beyond
@@ -295,7 +295,7 @@ impl SpecularAaSettings {
     }
 
     /// The α² the kernel adds per unit of the normal's screen-space variation (the
-    /// `screen_scale` of [`crate::brdf::specular_aa_roughness`]): c · σ².
+    /// `screen_scale` of [`crate::shading::brdf::specular_aa_roughness`]): c · σ².
     pub fn screen_scale(&self) -> f32 {
         self.form.kernel_factor() * self.variance()
     }
@@ -378,7 +378,7 @@ impl AaSettings {
 }
 
 /// Diffuse global illumination from an irradiance volume
-/// ([`crate::render::indirect::irradiance_volume`]): probes on a grid capture the lit
+/// ([`crate::render::indirect::probe_volume`]): probes on a grid capture the lit
 /// scene around them, and every point inside the grid takes its diffuse indirect light
 /// from them. Each capture pass renders six low-resolution views per probe through the
 /// frame's own shadow, G-buffer and lighting passes; the lighting of a pass includes the

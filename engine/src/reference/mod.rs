@@ -17,7 +17,7 @@ pub fn relative_luminance_error(
     }
     let lum = |p: &image::Rgba<f32>| {
         let [r, g, b, _] = p.0;
-        f64::from(crate::color::luminance(glam::Vec3::new(r, g, b)))
+        f64::from(crate::shading::color::luminance(glam::Vec3::new(r, g, b)))
     };
     let (mut diff, mut total) = (0.0, 0.0);
     for (a, b) in image.pixels().zip(reference.pixels()) {

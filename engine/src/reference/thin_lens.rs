@@ -7,8 +7,8 @@
 
 use crate::app::App;
 use crate::error::{Error, Result};
-use crate::ibl::hammersley;
 use crate::scene::{Camera, Exposure, Transform};
+use crate::shading::ibl::hammersley;
 use bevy_ecs::prelude::*;
 use glam::{Vec2, Vec3};
 

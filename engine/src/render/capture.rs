@@ -1,7 +1,7 @@
 //! Probe captures: the lit scene seen from a probe, rendered by the frame's own capture
 //! passes ([`crate::render::graph::FramePass::CAPTURE`]: shadows, G-buffer, light culling,
 //! lighting, sky) into six square 90° views. Each view is reduced into an irradiance
-//! probe's record ([`crate::render::indirect::irradiance_volume`]) or copied into a
+//! probe's record ([`crate::render::indirect::probe_volume`]) or copied into a
 //! reflection probe's cube ([`crate::render::indirect::reflection_probes`]).
 //!
 //! A capture runs the [`ExtractSchedule`] with a [`CaptureView`] in place of the camera,
@@ -12,10 +12,10 @@
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
+use crate::render::environment_maps::{Ibl, face_strip};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors, FrameOutput};
-use crate::render::ibl::{Ibl, face_strip};
-use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
+use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
 use crate::render::indirect::reflection_probes::{CapturedProbe, ReflectionProbesGpu, probes_for};
 use crate::render::targets::RenderTargets;
 use crate::render::{CaptureSchedule, ExtractSchedule};
@@ -66,6 +66,17 @@ pub struct ProbeStatus {
     pub reflections: ReflectionStatus,
     /// Time the captures took (ms, CPU and GPU, waited for).
     pub capture_ms: f64,
+}
+
+/// [`update_probes`] within this frame's budget: where the app renders `progressive`ly
+/// (a viewer, a frame per call), the quality settings' probes per frame (0: no limit);
+/// otherwise everything, so a still image is captured in one call.
+pub fn update_probes_for_frame(world: &mut World, progressive: bool) -> Result<ProbeStatus> {
+    let per_frame = world
+        .get_resource::<crate::quality::Quality>()
+        .map_or(0, |q| q.gi.probes_per_frame);
+    let budget = (progressive && per_frame > 0).then_some(per_frame);
+    update_probes(world, budget)
 }
 
 /// Places the scene's irradiance volume and reflection probes, restarts their captures

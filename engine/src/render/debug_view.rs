@@ -23,18 +23,15 @@ use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
-use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 crate::choice::choices! {
 /// Which channel the frame shows: a resource; [`DebugView::Off`] is the normal image.
@@ -148,12 +145,35 @@ impl FramePass for DebugViewPass {
         )
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_debug_view.into_configs())
-    }
+    crate::pass_systems!(prepare_debug_view, debug_view_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        debug_view_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        let formats = [
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+        ];
+        DebugView::ALL
+            .iter()
+            .zip(formats.iter().cycle())
+            .flat_map(|(&view, &format)| {
+                [false, true].map(|screen_ao| DebugViewVariant {
+                    format,
+                    view,
+                    screen_ao,
+                })
+            })
+            .map(|v| ShaderBuild::new("debug_view.wgsl", v.shader_defs(), &[(0, BINDINGS)]))
+            .collect()
+    }
+}
+
+impl ShaderVariant for DebugViewVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("DEBUG_VIEW", self.view as u32),
+            ShaderDef::Bool("ENCODE_SRGB", !self.format.is_srgb()),
+            ShaderDef::Bool("SCREEN_AO", self.screen_ao),
+        ]
     }
 }
 
@@ -161,8 +181,7 @@ impl FramePass for DebugViewPass {
 #[derive(Resource)]
 pub struct DebugViewPass {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<DebugViewVariant, wgpu::RenderPipeline>,
+    pipelines: FullscreenPipelines<DebugViewVariant>,
     bind_group: CachedGroup,
     params: wgpu::Buffer,
 }
@@ -171,50 +190,16 @@ impl DebugViewPass {
     /// Creates the bind group layout; pipelines compile per view on first use.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("debug view"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
         DebugViewPass {
+            pipelines: FullscreenPipelines::new(
+                gpu,
+                Fullscreen::new("debug view", "debug_view.wgsl"),
+                &[&layout],
+            ),
             layout,
-            pipeline_layout,
-            pipelines: HashMap::new(),
             bind_group: CachedGroup::default(),
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("debug view params"),
-                size: std::mem::size_of::<Params>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            params: gpu.uniform_buffer("debug view params", std::mem::size_of::<Params>() as u64),
         }
-    }
-
-    fn pipeline(&mut self, gpu: &Gpu, variant: DebugViewVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let DebugViewVariant {
-            format,
-            view,
-            screen_ao,
-        } = variant;
-        let pipeline = fullscreen_variant(
-            gpu,
-            "debug view",
-            &self.pipeline_layout,
-            "debug_view.wgsl",
-            &[
-                ShaderDef::U32("DEBUG_VIEW", view as u32),
-                ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
-                ShaderDef::Bool("SCREEN_AO", screen_ao),
-            ],
-            format,
-        )?;
-        self.pipelines.insert(variant, pipeline);
-        Ok(())
     }
 }
 
@@ -233,7 +218,7 @@ pub fn prepare_debug_view(
     let Some(&variant) = plan.variant::<DebugViewPass>() else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, variant) {
+    if let Err(e) = pass.pipelines.ensure(&gpu, variant, &[variant.format]) {
         errors.0.push(e);
         return;
     }
@@ -279,29 +264,33 @@ pub fn debug_view_pass(
     output: Res<FrameOutput>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(target), Some(bind_group), Some(pipeline)) = (
-        encoder.as_mut(),
-        output.view.as_ref(),
-        pass.bind_group.group(),
-        plan.variant::<DebugViewPass>()
-            .and_then(|v| pass.pipelines.get(v)),
-    ) else {
-        return;
-    };
-    draw_fullscreen(
-        encoder,
-        timer,
-        PassId::DebugView.name(),
-        &[target],
-        pipeline,
-        bind_group,
-    );
+    let pipeline = plan
+        .variant::<DebugViewPass>()
+        .and_then(|v| pass.pipelines.get(*v, &[v.format]));
+    if let Some(view) = output.view.as_ref() {
+        let name = PassId::DebugView.name();
+        encoder.fullscreen(name, &[view], pipeline, pass.bind_group.group());
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        let variant = DebugViewVariant {
+            format: wgpu::TextureFormat::Rgba8Unorm,
+            view: DebugView::ALL[0],
+            screen_ao: false,
+        };
+        let defs = variant.shader_defs();
+        crate::assert_wgsl_twin!(Params, "debug_view.wgsl", &defs, "DebugParams", [
+            lens => "focus_m", atlas_side, pad => "pad0",
+        ]);
+        let lens = std::mem::offset_of!(Params, lens);
+        crate::render::dof::assert_lens_heads("debug_view.wgsl", &defs, "DebugParams", lens);
+    }
 
     #[test]
     fn names_round_trip_and_unknown_names_are_errors() {

@@ -405,6 +405,38 @@ impl Gpu {
             Some(e) => Err(Error::Gpu(format!("{what}: {e}"))),
         }
     }
+
+    /// A uniform buffer of `size` bytes that the CPU writes (`COPY_DST`), zeroed.
+    pub fn uniform_buffer(&self, label: &str, size: u64) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// A sampler filtering with `filter` in every direction, clamped to the edge.
+    pub fn sampler(&self, label: &str, filter: wgpu::FilterMode) -> wgpu::Sampler {
+        self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some(label),
+            mag_filter: filter,
+            min_filter: filter,
+            ..Default::default()
+        })
+    }
+
+    /// A sampler filtering linearly between texels and between mip levels, clamped to the
+    /// edge.
+    pub fn mipmapped_sampler(&self, label: &str) -> wgpu::Sampler {
+        self.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some(label),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        })
+    }
 }
 
 #[cfg(test)]

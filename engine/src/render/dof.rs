@@ -9,18 +9,16 @@ use crate::render::extract::{ExtractedCamera, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{
-    Extent, FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat, TextureDesc,
+    Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat,
+    TextureDesc,
 };
+use crate::render::pipeline_cache::PipelineCache;
 use crate::render::pipelines::create_module;
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::RenderTargets;
 use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
-use wgpu::util::DeviceExt;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -63,12 +61,10 @@ impl FramePass for DofPass {
         )
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_dof.into_configs())
-    }
+    crate::pass_systems!(prepare_dof, dof_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        dof_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new("dof.wgsl", Vec::new(), &[])]
     }
 }
 
@@ -147,7 +143,7 @@ pub struct DofPass {
     tiles: wgpu::RenderPipeline,
     blur: wgpu::RenderPipeline,
     /// The composite and its bind group layout, per HDR format.
-    composite: HashMap<wgpu::TextureFormat, (wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
+    composite: PipelineCache<wgpu::TextureFormat, (wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
     /// The prepare, tiles and blur steps' bind group layouts (derived from the shader).
     layouts: [wgpu::BindGroupLayout; 3],
     module: wgpu::ShaderModule,
@@ -181,20 +177,9 @@ impl DofPass {
             prepare,
             tiles,
             blur,
-            composite: HashMap::new(),
-            params: gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("dof params"),
-                    contents: &[0; std::mem::size_of::<Params>()],
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                }),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("dof linear"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            composite: PipelineCache::default(),
+            params: gpu.uniform_buffer("dof params", std::mem::size_of::<Params>() as u64),
+            sampler: gpu.sampler("dof linear", wgpu::FilterMode::Linear),
             bind_groups: Default::default(),
             module,
         })
@@ -202,19 +187,22 @@ impl DofPass {
 
     /// The composite pipeline writing an HDR target of `format`, compiled on first use.
     fn composite_pipeline(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
-        if !self.composite.contains_key(&format) {
+        let DofPass {
+            composite, module, ..
+        } = self;
+        composite.ensure_with(&format, || {
             let pipeline = fullscreen_pipeline(
                 gpu,
                 "fs_dof_composite",
                 None,
-                &self.module,
+                module,
                 ("vs_fullscreen", "fs_dof_composite"),
                 &[format],
                 None,
             )?;
             let layout = pipeline.get_bind_group_layout(0);
-            self.composite.insert(format, (pipeline, layout));
-        }
+            Ok((pipeline, layout))
+        })?;
         Ok(())
     }
 }
@@ -361,4 +349,60 @@ pub fn dof_pass(
         composite_pipeline,
         composite,
     );
+}
+
+/// Asserts that each field of [`LensUniform`], placed `lens_offset` bytes into WGSL struct
+/// `wgsl` of `entry` (composed with `defs`), lies at the member of the same name: the lens
+/// has no WGSL struct of its own, it is the head of `DofParams` and of `DebugParams`.
+#[cfg(test)]
+pub(crate) fn assert_lens_heads(
+    entry: &str,
+    defs: &[crate::render::shaders::ShaderDef],
+    wgsl: &str,
+    lens_offset: usize,
+) {
+    use std::mem::offset_of;
+    let layout =
+        crate::render::shaders::struct_layout(entry, defs, wgsl).unwrap_or_else(|e| panic!("{e}"));
+    let fields = [
+        ("focus_m", offset_of!(LensUniform, focus_m)),
+        ("focal_length_m", offset_of!(LensUniform, focal_length_m)),
+        (
+            "aperture_diameter_m",
+            offset_of!(LensUniform, aperture_diameter_m),
+        ),
+        ("pixels_per_m", offset_of!(LensUniform, pixels_per_m)),
+        ("max_radius_px", offset_of!(LensUniform, max_radius_px)),
+    ];
+    for (name, offset) in fields {
+        let member = layout.members.iter().find(|(m, _)| m == name);
+        assert_eq!(
+            member.map(|(_, o)| *o),
+            Some((lens_offset + offset) as u32),
+            "LensUniform::{name} in {wgsl} (WGSL layout {:?})",
+            layout.members
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(Params, "dof.wgsl", &[], "DofParams", [
+            lens => "focus_m", rings, pad => "pad0",
+        ]);
+    }
+
+    #[test]
+    fn the_lens_lies_where_the_shader_reads_it() {
+        assert_lens_heads(
+            "dof.wgsl",
+            &[],
+            "DofParams",
+            std::mem::offset_of!(Params, lens),
+        );
+    }
 }

@@ -9,13 +9,12 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 pub use crate::render::frame::{FrameDelta, MeteredExposure};
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{BufferDesc, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot};
-use crate::render::pipelines::create_module;
+use crate::render::graph::{
+    BufferDesc, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
+};
+use crate::render::pipelines::{compute_pipeline, create_module};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use wgpu::util::DeviceExt;
 
 /// The metered exposure state (16 bytes), kept across frames, read back after each frame
 /// and exposing the next one.
@@ -74,12 +73,10 @@ impl FramePass for ExposurePass {
         .sized(EXPOSURE_HISTOGRAM, Sizing::Buffer(256 * 4))
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_exposure.into_configs())
-    }
+    crate::pass_systems!(prepare_exposure, exposure_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        exposure_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new("exposure.wgsl", Vec::new(), &[])]
     }
 }
 
@@ -124,18 +121,7 @@ impl ExposurePass {
     /// Compiles the pass.
     pub fn new(gpu: &Gpu) -> Result<Self> {
         let module = create_module(gpu, "exposure", &gpu.shaders.compose("exposure.wgsl", &[])?)?;
-        let pipeline = |entry: &str| {
-            gpu.checked(&format!("{entry} pipeline"), |device| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: None,
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
-        };
+        let pipeline = |entry: &str| compute_pipeline(gpu, entry, None, &module, entry);
         let histogram_pipeline = pipeline("cs_histogram")?;
         let average_pipeline = pipeline("cs_average")?;
         Ok(ExposurePass {
@@ -151,13 +137,7 @@ impl ExposurePass {
                 usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            params: gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("exposure params"),
-                    contents: &[0; std::mem::size_of::<Params>()],
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                }),
+            params: gpu.uniform_buffer("exposure params", std::mem::size_of::<Params>() as u64),
             histogram_group: CachedGroup::default(),
             average_group: CachedGroup::default(),
             ran: false,
@@ -194,6 +174,18 @@ impl ExposurePass {
             average_log2_luminance: valid.then_some(state[2]),
         })
     }
+}
+
+/// After the frame's submission completed: where the pass ran, reads the adapted state
+/// back into [`MeteredExposure`], which the next frame's exposure starts from.
+pub fn feed_back(world: &mut World, gpu: &Gpu) -> Result<()> {
+    let ran = world.resource::<FramePlan>().runs(PassId::Exposure)
+        && world.get_resource::<ExposurePass>().is_some_and(|p| p.ran);
+    if ran {
+        let metered = world.resource::<ExposurePass>().read_state(gpu)?;
+        world.insert_resource(metered);
+    }
+    Ok(())
 }
 
 /// Writes the pass's parameters and binds the HDR target, the histogram and the state.
@@ -295,4 +287,17 @@ pub fn exposure_pass(
     encoder.copy_buffer_to_buffer(state, 0, &pass.readback, 0, 16);
     timer.end_pass(scope);
     pass.ran = true;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(Params, "exposure.wgsl", &[], "ExposureParams", [
+            exposure, min_log2, log2_range, delta_s, rate_per_s, min_ev100, max_ev100,
+            low_percentile, high_percentile, initial_ev100, pad => "pad0",
+        ]);
+    }
 }

@@ -6,19 +6,17 @@
 
 use crate::error::Result;
 use crate::render::bindings::BindGroupSpec;
-use crate::render::deform::DeformedVertices;
+use crate::render::deform_pass::DeformedVertices;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
+use crate::render::gpu_material_maps::GpuMaterialMaps;
 use crate::render::indirect::light_groups::LightGroups;
-use crate::render::material_maps::GpuMaterialMaps;
-use crate::render::pipelines::create_module;
+use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
+use crate::render::pipelines::{create_module, pipeline_layout};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
-use std::collections::HashMap;
-use std::hash::Hash;
 
 /// The bind group index of the material maps in a forward pass.
 pub const MAPS_GROUP: u32 = 4;
@@ -41,11 +39,11 @@ pub struct ForwardPipelines<V> {
     /// Group 0's layout: the pass's own view group.
     pub view_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
-    modules: HashMap<V, wgpu::ShaderModule>,
-    pipelines: HashMap<(V, bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    modules: PipelineCache<V, wgpu::ShaderModule>,
+    pipelines: PipelineCache<(V, bool, wgpu::TextureFormat)>,
 }
 
-impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
+impl<V: ShaderVariant + Copy> ForwardPipelines<V> {
     /// The layouts: `view` as group 0, the light groups 1 to 3 (`lighting`) and
     /// the material maps' (`maps`) as group [`MAPS_GROUP`].
     pub fn new(
@@ -56,25 +54,14 @@ impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
         maps: &wgpu::BindGroupLayout,
     ) -> ForwardPipelines<V> {
         let view_layout = view.layout(gpu);
-        let layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[
-                    Some(&view_layout),
-                    Some(&lighting[0]),
-                    Some(&lighting[1]),
-                    Some(&lighting[2]),
-                    Some(maps),
-                ],
-                immediate_size: 0,
-            });
+        let [l1, l2, l3] = lighting;
+        let layout = pipeline_layout(gpu, label, &[&view_layout, l1, l2, l3, maps]);
         ForwardPipelines {
             label,
             view_layout,
             layout,
-            modules: HashMap::new(),
-            pipelines: HashMap::new(),
+            modules: PipelineCache::default(),
+            pipelines: PipelineCache::default(),
         }
     }
 
@@ -89,43 +76,47 @@ impl<V: Copy + Eq + Hash> ForwardPipelines<V> {
     }
 
     /// Compiles what `batches` need for `variant` into `format`: the module from the WGSL
-    /// file `file` with the header `defs()` (once per variant), and a pipeline of
+    /// file `file` with the variant's defs (once per variant), and a pipeline of
     /// `shape(format)` for each sidedness.
     pub fn ensure<'b>(
         &mut self,
         gpu: &Gpu,
         (variant, format): (V, wgpu::TextureFormat),
         batches: impl Iterator<Item = &'b Batch>,
-        (file, defs): (&str, &dyn Fn() -> Vec<ShaderDef>),
+        file: &str,
         shape: &dyn Fn(wgpu::TextureFormat) -> ForwardShape,
     ) -> Result<()> {
+        let ForwardPipelines {
+            label,
+            layout,
+            modules,
+            pipelines,
+            ..
+        } = self;
         for batch in batches {
             let key = (variant, batch.double_sided, format);
-            if self.pipelines.contains_key(&key) {
+            if pipelines.get(&key).is_some() {
                 continue;
             }
-            if let std::collections::hash_map::Entry::Vacant(slot) = self.modules.entry(variant) {
-                let source = gpu.shaders.compose(file, &defs())?;
-                slot.insert(create_module(gpu, self.label, &source)?);
-            }
-            let Some(module) = self.modules.get(&variant) else {
-                continue;
-            };
-            let ForwardShape {
-                entry,
-                targets,
-                depth,
-            } = shape(format);
-            let pipeline = mesh_pipeline(
-                gpu,
-                self.label,
-                &self.layout,
-                (module, entry),
-                batch.double_sided,
-                &targets,
-                depth,
-            )?;
-            self.pipelines.insert(key, pipeline);
+            let module = modules.ensure(&variant, |defs| {
+                create_module(gpu, label, &gpu.shaders.compose(file, defs)?)
+            })?;
+            pipelines.ensure_with(&key, || {
+                let ForwardShape {
+                    entry,
+                    targets,
+                    depth,
+                } = shape(format);
+                mesh_pipeline(
+                    gpu,
+                    label,
+                    layout,
+                    (module, entry),
+                    batch.double_sided,
+                    &targets,
+                    depth,
+                )
+            })?;
         }
         Ok(())
     }
@@ -172,6 +163,17 @@ fn mesh_pipeline(
             cache: None,
         })
     })
+}
+
+/// What a forward pass prepares from, besides its own resource.
+#[derive(SystemParam)]
+pub struct PrepareInputs<'w> {
+    /// The batches.
+    pub frame: Res<'w, ExtractedFrame>,
+    /// Meshes, instances and the view.
+    pub buffers: Res<'w, SceneBuffers>,
+    /// The frame's targets.
+    pub targets: Res<'w, RenderTargets>,
 }
 
 /// What a forward pass draws with, besides its own resource.

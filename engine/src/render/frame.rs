@@ -30,6 +30,33 @@ pub struct FrameEncoder {
     pub timer: GpuTimer,
 }
 
+impl FrameEncoder {
+    /// Records one timed full-screen draw labelled `name`
+    /// ([`crate::render::pipelines::draw_fullscreen`]) while a frame records and
+    /// `pipeline` and `group` exist; nothing otherwise (the pass's preparation reported
+    /// why).
+    pub fn fullscreen(
+        &mut self,
+        name: &'static str,
+        targets: &[&wgpu::TextureView],
+        pipeline: Option<&wgpu::RenderPipeline>,
+        group: Option<&wgpu::BindGroup>,
+    ) {
+        if let (Some(encoder), Some(pipeline), Some(group)) =
+            (self.encoder.as_mut(), pipeline, group)
+        {
+            crate::render::pipelines::draw_fullscreen(
+                encoder,
+                &mut self.timer,
+                name,
+                targets,
+                pipeline,
+                group,
+            );
+        }
+    }
+}
+
 /// What the meter saw, read back after the last frame.
 #[derive(Resource, Clone, Copy, Debug, Default, PartialEq)]
 pub struct MeteredExposure {

@@ -9,15 +9,18 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SPECULAR_AA;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform::{DEFORMED_VERTICES, DeformedVertices};
+use crate::render::deform_pass::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::gpu_material_maps::GpuMaterialMaps;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, MOTION, MOTION_FORMAT,
 };
-use crate::render::graph::{Decision, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::material_maps::GpuMaterialMaps;
+use crate::render::graph::{
+    Decision, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
+};
+use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shaders::ShaderDef;
@@ -27,7 +30,7 @@ use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
-/// The G-buffer pass's group 0 (group 1 is [`crate::render::material_maps::BINDINGS`]).
+/// The G-buffer pass's group 0 (group 1 is [`crate::render::gpu_material_maps::BINDINGS`]).
 pub const VIEW: BindGroupSpec = BindGroupSpec {
     label: "gbuffer",
     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -142,12 +145,22 @@ impl FramePass for GBufferPass {
         decision
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_gbuffer.into_configs())
-    }
+    crate::pass_systems!(prepare_gbuffer, gbuffer_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        gbuffer_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        [false, true]
+            .map(|specular_aa| {
+                ShaderBuild::new(
+                    "gbuffer.wgsl",
+                    GBufferShader { specular_aa }.shader_defs(),
+                    &[
+                        (0, VIEW),
+                        (1, crate::render::gpu_material_maps::CORE_BINDINGS),
+                        (2, MOTION_BINDINGS),
+                    ],
+                )
+            })
+            .to_vec()
     }
 
     fn skipped() -> Option<ScheduleConfigs<ScheduleSystem>> {
@@ -214,11 +227,11 @@ struct MotionBindings {
 #[derive(Resource)]
 pub struct GBufferPass {
     /// The shader, compiled without and with `SPECULAR_AA` as variants first need it.
-    modules: HashMap<bool, wgpu::ShaderModule>,
+    modules: PipelineCache<GBufferShader, wgpu::ShaderModule>,
     layout: wgpu::BindGroupLayout,
     /// Pipeline layouts by (textured, motion).
     layouts: HashMap<(bool, bool), wgpu::PipelineLayout>,
-    pipelines: HashMap<GBufferVariant, wgpu::RenderPipeline>,
+    pipelines: PipelineCache<GBufferVariant>,
     bind_group: CachedGroup,
     motion: MotionBindings,
 }
@@ -251,19 +264,14 @@ impl GBufferPass {
             }
         }
         let mut pass = GBufferPass {
-            modules: HashMap::new(),
+            modules: PipelineCache::default(),
             layout,
             layouts,
-            pipelines: HashMap::new(),
+            pipelines: PipelineCache::default(),
             bind_group: CachedGroup::default(),
             motion: MotionBindings {
                 layout: motion_layout,
-                matrices: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("gbuffer motion matrices"),
-                    size: 128,
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
+                matrices: gpu.uniform_buffer("gbuffer motion matrices", 128),
                 previous_world: GrowableBuffer::new(gpu, "previous transforms", 256),
                 sources: [0u32, 1].map(|source| {
                     use wgpu::util::DeviceExt;
@@ -298,89 +306,112 @@ impl GBufferPass {
 
     /// Compiles `variant` unless it exists.
     pub fn ensure(&mut self, gpu: &Gpu, variant: GBufferVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let (vs, fs) = match (variant.textured, variant.motion) {
-            (false, false) => ("vs_main", "fs_main"),
-            (true, false) => ("vs_textured", "fs_textured"),
-            (false, true) => ("vs_main_motion", "fs_main_motion"),
-            (true, true) => ("vs_textured_motion", "fs_textured_motion"),
-        };
-        let Some(layout) = self.layouts.get(&(variant.textured, variant.motion)) else {
+        let GBufferPass {
+            modules,
+            layouts,
+            pipelines,
+            ..
+        } = self;
+        let Some(layout) = layouts.get(&(variant.textured, variant.motion)) else {
             return Ok(());
         };
-        if let std::collections::hash_map::Entry::Vacant(slot) =
-            self.modules.entry(variant.specular_aa)
-        {
-            let source = gpu.shaders.compose(
-                "gbuffer.wgsl",
-                &[
-                    ShaderDef::Bool("SPECULAR_AA", variant.specular_aa),
-                    crate::render::material_maps::group_def(1),
-                ],
-            )?;
-            slot.insert(create_module(gpu, "gbuffer", &source)?);
-        }
-        let Some(module) = self.modules.get(&variant.specular_aa) else {
-            return Ok(());
-        };
-        let mut color_targets = vec![
-            target(targets::GBUFFER0_FORMAT),
-            target(targets::GBUFFER1_FORMAT),
-            target(targets::GBUFFER2_FORMAT),
-        ];
-        if variant.motion {
-            color_targets.push(target(MOTION_FORMAT));
-        }
-        let pipeline = gpu.checked("gbuffer pipeline", |device| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("gbuffer"),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &crate::render::mesh_vertex::buffers(),
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: if variant.double_sided {
-                        None
-                    } else {
-                        Some(wgpu::Face::Back)
-                    },
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: targets::DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Greater),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &color_targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+        pipelines.ensure_with(&variant, || {
+            let shader = GBufferShader {
+                specular_aa: variant.specular_aa,
+            };
+            let module = modules.ensure(&shader, |defs| {
+                create_module(gpu, "gbuffer", &gpu.shaders.compose("gbuffer.wgsl", defs)?)
+            })?;
+            compile(gpu, variant, layout, module)
         })?;
-        self.pipelines.insert(variant, pipeline);
         Ok(())
     }
+}
+
+/// What the G-buffer shader is compiled with: a module serves every variant of the same
+/// `specular_aa`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+struct GBufferShader {
+    specular_aa: bool,
+}
+
+/// `SPECULAR_AA`, and the material maps as group 1.
+impl ShaderVariant for GBufferShader {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::Bool("SPECULAR_AA", self.specular_aa),
+            crate::render::gpu_material_maps::group_def(1),
+        ]
+    }
+}
+
+/// The pipeline of `variant` from `module`: the entry points of its (textured, motion)
+/// pair, its culling, and the motion target where it has one.
+fn compile(
+    gpu: &Gpu,
+    variant: GBufferVariant,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+) -> Result<wgpu::RenderPipeline> {
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    let (vs, fs) = match (variant.textured, variant.motion) {
+        (false, false) => ("vs_main", "fs_main"),
+        (true, false) => ("vs_textured", "fs_textured"),
+        (false, true) => ("vs_main_motion", "fs_main_motion"),
+        (true, true) => ("vs_textured_motion", "fs_textured_motion"),
+    };
+    let mut color_targets = vec![
+        target(targets::GBUFFER0_FORMAT),
+        target(targets::GBUFFER1_FORMAT),
+        target(targets::GBUFFER2_FORMAT),
+    ];
+    if variant.motion {
+        color_targets.push(target(MOTION_FORMAT));
+    }
+    gpu.checked("gbuffer pipeline", |device| {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("gbuffer"),
+            layout: Some(layout),
+            vertex: wgpu::VertexState {
+                module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &crate::render::mesh_vertex::buffers(),
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::TriangleList,
+                front_face: wgpu::FrontFace::Ccw,
+                cull_mode: if variant.double_sided {
+                    None
+                } else {
+                    Some(wgpu::Face::Back)
+                },
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: targets::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &color_targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    })
 }
 
 /// The variant that draws `batch`.

@@ -136,15 +136,39 @@ pub struct GpuCasterView {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_wgsl_twin;
 
     #[test]
-    fn sizes_match_wgsl_layouts() {
-        // std140/std430 sizes of the WGSL structs in shaders/bindings.wgsl.
-        assert_eq!(std::mem::size_of::<GpuView>(), 64 + 64 + 16 * 7);
-        assert_eq!(std::mem::size_of::<GpuInstance>(), 64 + 48 + 48);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 112);
-        assert_eq!(std::mem::size_of::<GpuShadowView>(), 96);
-        assert_eq!(std::mem::size_of::<GpuCasterView>(), 256);
-        assert_eq!(std::mem::size_of::<GpuEnvironment>(), 9 * 16 + 32);
+    fn the_twins_lay_out_as_the_shaders_do() {
+        let shared = "bindings.wgsl";
+        #[rustfmt::skip]
+        assert_wgsl_twin!(GpuView, shared, &[], "View", [
+            clip_from_world, world_from_clip, position_exposure, viewport, background,
+            light_counts, shadowed_counts, forward, antialiasing,
+        ]);
+        #[rustfmt::skip]
+        assert_wgsl_twin!(GpuInstance, shared, &[], "Instance", [
+            world_from_local, normal_matrix => "normal_matrix_0", base_color,
+            emissive_occlusion, params,
+        ]);
+        #[rustfmt::skip]
+        assert_wgsl_twin!(GpuLight, shared, &[], "Light", [
+            position, direction, color_inv_range2, spot, shadow, cascade_far, shadow_bias,
+        ]);
+        #[rustfmt::skip]
+        assert_wgsl_twin!(GpuPunctualLight, shared, &[], "PunctualLight", [
+            position_inv_range2, color_spot_scale, direction_spot_offset,
+        ]);
+        assert_wgsl_twin!(
+            GpuShadowView,
+            shared,
+            &[],
+            "ShadowView",
+            [clip_from_world, rect, texel]
+        );
+        #[rustfmt::skip]
+        assert_wgsl_twin!(GpuEnvironment, shared, &[], "EnvironmentUniform", [
+            sh, params, uniform_radiance,
+        ]);
     }
 }

@@ -20,7 +20,7 @@
 //! probes, the AO pass's occlusion, the light tiles) as a surface with only the layer's
 //! lobe (the coat's GGX lobe, or with `SHEEN_LOBE` the sheen's), and leaves
 //! `(L_layer, 1 − w)`, w being what the layer lets through of the light beneath it
-//! (`crate::clearcoat::clearcoat_base_weight`, `crate::sheen::sheen_base_weight`); the
+//! (`crate::shading::clearcoat::clearcoat_base_weight`, `crate::shading::sheen::sheen_base_weight`); the
 //! pipeline composites it as `dst ← src + dst·(1 − α)`. Every sheen is drawn before
 //! every coat, so a coat covers its own surface's sheen. The frame's coverage (alpha) is
 //! kept.
@@ -36,28 +36,26 @@
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform::DEFORMED_VERTICES;
+use crate::render::deform_pass::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::forward::{
-    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
 };
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::gpu_material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::light_culling::LIGHT_TILES;
-use crate::render::lighting::{LIGHTING, LightingPass, LightingVariant};
+use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
 use crate::render::lobe_tables::LobeTables;
-use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
-use crate::render::scene_buffers::SceneBuffers;
+use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::SHADOW_ATLAS;
-use crate::render::targets::{self, RenderTargets};
+use crate::render::targets::{self};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::{ScheduleSystem, SystemParam};
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -197,7 +195,7 @@ impl FramePass for LayersPass {
                 true,
                 format!(
                     "{layers} layer(s) over the lit base{}",
-                    crate::render::material_maps::unsampled_note(frame, units)
+                    crate::render::gpu_material_maps::unsampled_note(frame, units)
                 ),
             )
         };
@@ -212,19 +210,36 @@ impl FramePass for LayersPass {
         PassDecision::new(runs, reason, lighting.filter(|_| runs))
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_layers.into_configs())
-    }
+    crate::pass_systems!(prepare_layers, layers_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        layers_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        let mut builds = Vec::new();
+        for (units, maps) in [
+            (true, crate::render::gpu_material_maps::BINDINGS),
+            (false, crate::render::gpu_material_maps::CORE_BINDINGS),
+        ] {
+            for layer in Layer::ORDER {
+                let shader = LayerShader {
+                    lighting: LightingVariant::everything(),
+                    layer,
+                    units,
+                };
+                let [_, lights, environment, probes] = GROUPS_BY_INDEX;
+                builds.push(ShaderBuild::new(
+                    "layers.wgsl",
+                    shader.shader_defs(),
+                    &[(0, VIEW), lights, environment, probes, (MAPS_GROUP, maps)],
+                ));
+            }
+        }
+        builds
     }
 }
 
 /// The layers pass's pipelines, its view group and its lobe tables.
 #[derive(Resource)]
 pub struct LayersPass {
-    pipelines: ForwardPipelines<(LightingVariant, Layer)>,
+    pipelines: ForwardPipelines<LayerShader>,
     /// The sheen's albedo table and the anisotropic lobe's split-sum table.
     tables: LobeTables,
     /// The view group.
@@ -248,19 +263,26 @@ impl LayersPass {
             units: maps.units,
         }
     }
+}
 
-    /// The WGSL header of `layer` in `variant`, for a uniform light copy of
-    /// `uniform_capacity` lights: the lighting pass's, with `SHEEN_LOBE` for the sheen
-    /// and `RELIT_BASE` for the relit base, and the maps' group (with the extension
-    /// units where `units`).
-    pub fn defs(
-        variant: LightingVariant,
-        layer: Layer,
-        uniform_capacity: u32,
-        units: bool,
-    ) -> Vec<ShaderDef> {
-        let mut defs: Vec<ShaderDef> = LightingPass::defs(variant, uniform_capacity)
-            .into_iter()
+/// The shader of one layer: the lighting pass's variant, the layer, and whether the maps'
+/// layout binds the extension units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LayerShader {
+    /// The lights, shadows and indirect light, as the lighting pass shades them.
+    pub lighting: LightingVariant,
+    /// The layer drawn.
+    pub layer: Layer,
+    /// The maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
+    pub units: bool,
+}
+
+/// The lighting pass's defs, with `SHEEN_LOBE` for the sheen and `RELIT_BASE` for the
+/// relit base, and the maps' group (with the extension units where `units`).
+impl ShaderVariant for LayerShader {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        let layer = self.layer;
+        let mut defs: Vec<ShaderDef> = (self.lighting.shader_defs().into_iter())
             .map(|d| match d {
                 ShaderDef::Bool("SHEEN_LOBE", _) => {
                     ShaderDef::Bool("SHEEN_LOBE", layer == Layer::Sheen)
@@ -271,7 +293,7 @@ impl LayersPass {
                 other => other,
             })
             .collect();
-        defs.extend(unit_defs(MAPS_GROUP, units));
+        defs.extend(unit_defs(MAPS_GROUP, self.units));
         defs
     }
 }
@@ -314,14 +336,6 @@ fn layer_shape(layer: Layer, format: wgpu::TextureFormat) -> ForwardShape {
     }
 }
 
-/// What the layers pass prepares from, besides its own resource.
-#[derive(SystemParam)]
-pub struct PrepareInputs<'w> {
-    frame: Res<'w, ExtractedFrame>,
-    buffers: Res<'w, SceneBuffers>,
-    targets: Res<'w, RenderTargets>,
-}
-
 /// Compiles the pipelines this frame's layered batches need and rebuilds the view group
 /// when the scene buffers were recreated.
 pub fn prepare_layers(
@@ -342,18 +356,22 @@ pub fn prepare_layers(
     ) else {
         return;
     };
-    let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
     // The sheen's and the anisotropic lobe's tables, for a frame that draws them.
     pass.tables.write_for(&gpu, &frame);
     for layer in Layer::ORDER {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
-            ((variant, layer), t.hdr_format),
+            (
+                LayerShader {
+                    lighting: variant,
+                    layer,
+                    units,
+                },
+                t.hdr_format,
+            ),
             layer_batches(&frame, layer),
-            ("layers.wgsl", &|| {
-                LayersPass::defs(variant, layer, capacity, units)
-            }),
+            "layers.wgsl",
             &|format| layer_shape(layer, format),
         ) {
             errors.0.push(e);
@@ -430,8 +448,12 @@ pub fn layers_pass(
                 MAPS_GROUP,
                 layer_batches(&inputs.frame, layer),
                 |batch| {
-                    pass.pipelines
-                        .get((variant, layer), batch.double_sided, t.hdr_format)
+                    let shader = LayerShader {
+                        lighting: variant,
+                        layer,
+                        units: pass.units,
+                    };
+                    pass.pipelines.get(shader, batch.double_sided, t.hdr_format)
                 },
             );
         }

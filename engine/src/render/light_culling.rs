@@ -13,15 +13,13 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{
-    BufferDesc, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot,
+    BufferDesc, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
 };
-use crate::render::pipelines::create_module;
+use crate::render::pipeline_cache::{ComputePipelines, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{Composed, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 /// Pixels per tile side (`TILE_SIZE` in `light_tiles.wgsl`).
 pub const TILE_SIZE: u32 = 16;
@@ -72,6 +70,18 @@ pub struct LightCullingVariant {
     /// Lights are read from the uniform copy (every light fits it), not from the storage
     /// buffer.
     pub uniform_lights: bool,
+    /// Lights the uniform copy of the light array holds.
+    pub uniform_capacity: u32,
+}
+
+/// `UNIFORM_LIGHTS`, and the uniform copy's capacity (at least 1, a WGSL array's least).
+impl ShaderVariant for LightCullingVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::Bool("UNIFORM_LIGHTS", self.uniform_lights),
+            ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", self.uniform_capacity.max(1)),
+        ]
+    }
 }
 
 impl FramePass for LightCullingPass {
@@ -127,89 +137,59 @@ impl FramePass for LightCullingPass {
             reason,
             LightCullingVariant {
                 uniform_lights: buffers.lights_fit_uniform(frame),
+                uniform_capacity: buffers.uniform_light_capacity,
             },
         )
         .sized(LIGHT_TILES, Sizing::Buffer(bytes))
         .publishing(&LIGHTS_CULLED, runs)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_light_culling.into_configs())
-    }
+    crate::pass_systems!(prepare_light_culling, light_culling_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        light_culling_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        [false, true]
+            .map(|uniform_lights| {
+                let variant = LightCullingVariant {
+                    uniform_lights,
+                    uniform_capacity: 8,
+                };
+                ShaderBuild::new(
+                    "light_culling.wgsl",
+                    variant.shader_defs(),
+                    &[(0, BINDINGS)],
+                )
+            })
+            .to_vec()
     }
 }
 
-/// The culling pipelines (compiled on first use, one per light source: the compact
-/// uniform copy or the storage buffer), the tile buffer and its bind group.
+/// The culling pipelines (compiled on first use, one per variant), the tile buffer's
+/// bind group and this frame's dispatch.
 #[derive(Resource)]
 pub struct LightCullingPass {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    /// Index 1: lights read from the uniform copy; 0: from the storage buffer.
-    pipelines: [Option<wgpu::ComputePipeline>; 2],
+    pipelines: ComputePipelines<LightCullingVariant>,
     /// The variant this frame dispatches.
-    uniform_lights: bool,
+    variant: LightCullingVariant,
     tile_count: (u32, u32),
     bind_group: CachedGroup,
 }
 
 impl LightCullingPass {
-    /// The bind group layout and an empty tile buffer; no pipeline is compiled yet.
+    /// The bind group layout; no pipeline is compiled yet.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("light culling"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
         LightCullingPass {
+            pipelines: ComputePipelines::new(
+                gpu,
+                ("light culling", "light_culling.wgsl", "cs_cull"),
+                &[&layout],
+            ),
             layout,
-            pipeline_layout,
-            pipelines: [None, None],
-            uniform_lights: false,
+            variant: LightCullingVariant::default(),
             tile_count: (0, 0),
             bind_group: CachedGroup::default(),
         }
-    }
-
-    /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(gpu: &Gpu, uniform_lights: bool, uniform_capacity: u32) -> Result<Composed> {
-        gpu.shaders.compose(
-            "light_culling.wgsl",
-            &[
-                ShaderDef::Bool("UNIFORM_LIGHTS", uniform_lights),
-                ShaderDef::U32("UNIFORM_LIGHT_CAPACITY", uniform_capacity.max(1)),
-            ],
-        )
-    }
-
-    fn ensure_pipeline(&mut self, gpu: &Gpu, uniform_lights: bool, capacity: u32) -> Result<()> {
-        let slot = usize::from(uniform_lights);
-        if self.pipelines[slot].is_some() {
-            return Ok(());
-        }
-        let module = create_module(
-            gpu,
-            "light culling",
-            &Self::source(gpu, uniform_lights, capacity)?,
-        )?;
-        let pipeline = gpu.checked("light culling pipeline", |device| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("light culling"),
-                layout: Some(&self.pipeline_layout),
-                module: &module,
-                entry_point: Some("cs_cull"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })?;
-        self.pipelines[slot] = Some(pipeline);
-        Ok(())
     }
 }
 
@@ -235,12 +215,11 @@ pub fn prepare_light_culling(
     let (Some(depth), Some(tiles)) = (t.view(DEPTH), t.buffer(LIGHT_TILES)) else {
         return;
     };
-    let uniform_lights = variant.uniform_lights;
-    if let Err(e) = pass.ensure_pipeline(&gpu, uniform_lights, buffers.uniform_light_capacity) {
+    if let Err(e) = pass.pipelines.ensure(&gpu, variant) {
         errors.0.push(e);
         return;
     }
-    pass.uniform_lights = uniform_lights;
+    pass.variant = *variant;
     pass.tile_count = tile_count(t.size);
     let LightCullingPass {
         layout, bind_group, ..
@@ -260,7 +239,7 @@ pub fn prepare_light_culling(
 /// Records the culling dispatch: one invocation per tile, in 8×8 workgroups.
 pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<FrameEncoder>) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let pipeline = pass.pipelines[usize::from(pass.uniform_lights)].as_ref();
+    let pipeline = pass.pipelines.get(&pass.variant);
     let (Some(encoder), Some(group), Some(pipeline)) =
         (encoder.as_mut(), pass.bind_group.group(), pipeline)
     else {

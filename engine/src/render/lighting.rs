@@ -4,38 +4,37 @@
 //! The shader is compiled per [`LightingVariant`]: a light kind the scene doesn't have is
 //! not compiled in.
 
-use crate::brdf::VisibilityModel;
 use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
+use crate::render::environment_maps::Ibl;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
 use crate::render::graph::{
-    Decision, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot,
+    Decision, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
-use crate::render::ibl::Ibl;
-use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
-use crate::render::indirect::irradiance_volume::IrradianceVolumeGpu;
+use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
 use crate::render::indirect::light_groups::LightGroups;
+use crate::render::indirect::probe_volume::IrradianceVolumeGpu;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::indirect::volume_irradiance::{HALF_VOLUME, VOLUME_IRRADIANCE};
 use crate::render::light_culling::{LIGHT_TILES, LIGHTS_CULLED};
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::shaders::{Composed, ShaderDef};
+use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::mask::{MASK, SHADOW_MASK};
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
+use crate::shading::brdf::VisibilityModel;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::{ScheduleSystem, SystemParam};
-use std::collections::HashMap;
+use bevy_ecs::system::SystemParam;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -113,6 +112,104 @@ pub struct LightingVariant {
     /// The irradiance volume's light comes from the half-resolution volume pass
     /// (upsampled), not from a lookup per pixel.
     pub half_volume: bool,
+    /// Lights the uniform copy of the light array holds (the device's limit,
+    /// [`SceneBuffers::uniform_light_capacity`]).
+    pub uniform_capacity: u32,
+}
+
+impl LightingVariant {
+    /// Every feature compiled in, with the PCSS filter, two reflection probes and the
+    /// half-resolution shadow mask: the shader's largest build.
+    pub fn everything() -> LightingVariant {
+        LightingVariant {
+            directional: true,
+            point: true,
+            spot: true,
+            visibility: VisibilityModel::default(),
+            shadows: [true; 3],
+            shadowed_counts: [2, 1, 1],
+            shadow_filter: ShadowFilter::Pcss,
+            environment: true,
+            env_map: true,
+            energy_compensation: true,
+            screen_ao: true,
+            ao_multi_bounce: true,
+            irradiance_volume: true,
+            reflection_probes: 2,
+            light_culling: true,
+            uniform_lights: true,
+            uniform_shadow_views: true,
+            shadow_mask: 2,
+            shadow_mask_lights: 3,
+            half_volume: true,
+            uniform_capacity: 8,
+        }
+    }
+
+    /// No light and no indirect term: the build that writes only emission and the
+    /// background.
+    pub fn nothing() -> LightingVariant {
+        LightingVariant {
+            directional: false,
+            point: false,
+            spot: false,
+            visibility: VisibilityModel::default(),
+            shadows: [false; 3],
+            shadowed_counts: [0; 3],
+            shadow_filter: ShadowFilter::Hardware2x2,
+            environment: false,
+            env_map: false,
+            energy_compensation: false,
+            screen_ao: false,
+            ao_multi_bounce: false,
+            irradiance_volume: false,
+            reflection_probes: 0,
+            light_culling: false,
+            uniform_lights: false,
+            uniform_shadow_views: false,
+            shadow_mask: 0,
+            shadow_mask_lights: 0,
+            half_volume: false,
+            uniform_capacity: 1,
+        }
+    }
+}
+
+impl ShaderVariant for LightingVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        let mut defs = vec![
+            ShaderDef::Bool("HAS_DIRECTIONAL", self.directional),
+            ShaderDef::Bool("HAS_POINT", self.point),
+            ShaderDef::Bool("HAS_SPOT", self.spot),
+            ShaderDef::U32("VISIBILITY_MODEL", self.visibility as u32),
+            ShaderDef::Bool("DIRECTIONAL_SHADOWS", self.shadows[0]),
+            ShaderDef::Bool("POINT_SHADOWS", self.shadows[1]),
+            ShaderDef::Bool("SPOT_SHADOWS", self.shadows[2]),
+            ShaderDef::U32("DIRECTIONAL_SHADOWED", self.shadowed_counts[0]),
+            ShaderDef::U32("POINT_SHADOWED", self.shadowed_counts[1]),
+            ShaderDef::U32("SPOT_SHADOWED", self.shadowed_counts[2]),
+            ShaderDef::Bool("HAS_ENVIRONMENT", self.environment),
+            ShaderDef::Bool("ENV_MAP", self.env_map),
+            ShaderDef::Bool("ENERGY_COMPENSATION", self.energy_compensation),
+            ShaderDef::Bool("SCREEN_AO", self.screen_ao),
+            ShaderDef::Bool("AO_MULTI_BOUNCE", self.ao_multi_bounce),
+            ShaderDef::Bool("IRRADIANCE_VOLUME", self.irradiance_volume),
+            ShaderDef::U32("REFLECTION_PROBE_SLOTS", self.reflection_probes),
+            ShaderDef::Bool("LIGHT_CULLING", self.light_culling),
+            ShaderDef::Bool("SHEEN_LOBE", false),
+            ShaderDef::Bool("RELIT_BASE", false),
+            ShaderDef::U32("SHADOW_MASK_SCALE", self.shadow_mask),
+            ShaderDef::U32("SHADOW_MASK_LIGHTS", self.shadow_mask_lights),
+            ShaderDef::Bool("HALF_VOLUME", self.half_volume),
+        ];
+        defs.extend(lookup_defs(
+            self.shadow_filter,
+            self.uniform_lights,
+            self.uniform_shadow_views,
+            self.uniform_capacity,
+        ));
+        defs
+    }
 }
 
 impl FramePass for LightingPass {
@@ -135,8 +232,10 @@ impl FramePass for LightingPass {
     type Variant = LightingVariant;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
-        world.insert_resource(LightGroups::new(gpu));
-        Ok(LightingPass::new(gpu))
+        let groups = LightGroups::new(gpu);
+        let pass = LightingPass::new(gpu, &groups);
+        world.insert_resource(groups);
+        Ok(pass)
     }
 
     fn decide(world: &World, plan: &FramePlan) -> PassDecision<LightingVariant> {
@@ -207,37 +306,8 @@ impl FramePass for LightingPass {
                 "off: single-scattering GGX"
             },
         );
-        let volume = world.resource::<IrradianceVolumeGpu>();
-        let irradiance_volume = Decision::new(
-            "irradiance volume",
-            volume.grid.is_some() && instances > 0,
-            match volume.grid {
-                None => volume.skip_reason.clone(),
-                Some(g) => format!(
-                    "{}×{}×{} probes, {} of {} capture passes done",
-                    g.counts.x, g.counts.y, g.counts.z, volume.completed_passes, g.bounces
-                ),
-            },
-        );
-        let reflections = world.resource::<ReflectionProbesGpu>();
-        let captured = reflections.captured.iter().flatten().count();
-        // Captures do not see the probes' reflections: a probe captured again would
-        // otherwise reflect its own previous capture.
-        let capture = world.contains_resource::<crate::render::frame::CaptureView>();
-        let reflection_probes = Decision::new(
-            "reflection probes",
-            captured > 0 && instances > 0 && !capture,
-            if capture {
-                "probe capture: the environment only".into()
-            } else if reflections.placed.is_empty() {
-                reflections.skip_reason.clone()
-            } else {
-                format!(
-                    "{} placed, {captured} captured (parallax-corrected boxes)",
-                    reflections.placed.len()
-                )
-            },
-        );
+        let irradiance_volume = volume_decision(world, instances);
+        let (reflection_probes, probe_slots) = probes_decision(world, instances);
         let screen_ao = plan.fact(&SCREEN_AO).copied().unwrap_or(false) && environment.enabled;
         let ambient_occlusion = Decision::new(
             "ambient occlusion",
@@ -269,7 +339,7 @@ impl FramePass for LightingPass {
             ao_multi_bounce: screen_ao && quality.ao.multi_bounce,
             irradiance_volume: irradiance_volume.enabled,
             reflection_probes: if reflection_probes.enabled {
-                reflections.slots()
+                probe_slots
             } else {
                 0
             },
@@ -280,6 +350,7 @@ impl FramePass for LightingPass {
             shadow_mask_lights,
             half_volume: irradiance_volume.enabled
                 && plan.fact(&HALF_VOLUME).copied().unwrap_or(false),
+            uniform_capacity: buffers.uniform_light_capacity,
         };
         let mut decision = PassDecision::new(true, reason, variant).publishing(&LIGHTING, variant);
         decision.features = vec![
@@ -297,13 +368,56 @@ impl FramePass for LightingPass {
         decision
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_lighting.into_configs())
-    }
+    crate::pass_systems!(prepare_lighting, lighting_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        lighting_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        [LightingVariant::everything(), LightingVariant::nothing()]
+            .map(|variant| {
+                ShaderBuild::new("lighting.wgsl", variant.shader_defs(), &GROUPS_BY_INDEX)
+            })
+            .to_vec()
     }
+}
+
+/// Whether the irradiance volume lights the frame's `instances`, and why.
+fn volume_decision(world: &World, instances: usize) -> Decision {
+    let volume = world.resource::<IrradianceVolumeGpu>();
+    Decision::new(
+        "irradiance volume",
+        volume.grid.is_some() && instances > 0,
+        match volume.grid {
+            None => volume.skip_reason.clone(),
+            Some(g) => format!(
+                "{}×{}×{} probes, {} of {} capture passes done",
+                g.counts.x, g.counts.y, g.counts.z, volume.completed_passes, g.bounces
+            ),
+        },
+    )
+}
+
+/// Whether reflection probes light the frame's `instances`, and why; and the probe slots
+/// the shader is compiled for.
+fn probes_decision(world: &World, instances: usize) -> (Decision, u32) {
+    let reflections = world.resource::<ReflectionProbesGpu>();
+    let captured = reflections.captured.iter().flatten().count();
+    // Captures do not see the probes' reflections: a probe captured again would
+    // otherwise reflect its own previous capture.
+    let capture = world.contains_resource::<crate::render::frame::CaptureView>();
+    let decision = Decision::new(
+        "reflection probes",
+        captured > 0 && instances > 0 && !capture,
+        if capture {
+            "probe capture: the environment only".into()
+        } else if reflections.placed.is_empty() {
+            reflections.skip_reason.clone()
+        } else {
+            format!(
+                "{} placed, {captured} captured (parallax-corrected boxes)",
+                reflections.placed.len()
+            )
+        },
+    );
+    (decision, reflections.slots())
 }
 
 /// The lighting pass's variant this frame: the layer and transparent passes shade with
@@ -313,15 +427,12 @@ pub const LIGHTING: Fact<LightingVariant> = Fact::new("lighting variant");
 /// The lighting pass's pipelines (one per variant) and bindings.
 #[derive(Resource)]
 pub struct LightingPass {
-    layouts: [wgpu::BindGroupLayout; 4],
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<(LightingVariant, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    /// Group 0 (the others are the [`LightGroups`]) and the pipelines.
+    step: FullscreenStep<LightingVariant>,
     /// Whether the adapter can depth-test against the depth buffer the shader reads
     /// (`READ_ONLY_DEPTH_STENCIL`; GL cannot): background pixels are then rejected
     /// before shading.
     depth_test: bool,
-    /// Group 0 (the others are the [`LightGroups`]).
-    bind_group: CachedGroup,
     /// What the pass gathers the shadow mask and the half-resolution volume with: clamped
     /// to the edge, so a pixel on the last row or column reads the last texel twice.
     sampler: wgpu::Sampler,
@@ -356,113 +467,31 @@ use crate::render::shadow::lookups::{lookup_defs, views_fit_uniform};
 
 /// Group 2: indirect light (defined beside the environment it binds, and shared with the
 /// reflection pass).
-pub use crate::render::ibl::ENVIRONMENT;
+pub use crate::render::environment_maps::ENVIRONMENT;
 
 /// Group 3: the irradiance volume (defined beside it).
-pub use crate::render::indirect::irradiance_volume::PROBES;
+pub use crate::render::indirect::probe_volume::PROBES;
 
-/// The lighting pass's bind groups, in group order.
-pub const GROUPS: [BindGroupSpec; 4] = [VIEW_AND_GBUFFER, LIGHTS_AND_SHADOWS, ENVIRONMENT, PROBES];
+/// The lighting pass's bind groups, as (group index, list).
+pub const GROUPS_BY_INDEX: [(u32, BindGroupSpec); 4] = [
+    (0, VIEW_AND_GBUFFER),
+    (1, LIGHTS_AND_SHADOWS),
+    (2, ENVIRONMENT),
+    (3, PROBES),
+];
 
 impl LightingPass {
-    /// Creates the bind group layouts; pipelines are compiled per variant on first use.
-    pub fn new(gpu: &Gpu) -> Self {
-        let layouts = GROUPS.map(|spec| spec.layout(gpu));
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("lighting"),
-                bind_group_layouts: &[
-                    Some(&layouts[0]),
-                    Some(&layouts[1]),
-                    Some(&layouts[2]),
-                    Some(&layouts[3]),
-                ],
-                immediate_size: 0,
-            });
-        LightingPass {
-            layouts,
-            pipeline_layout,
-            pipelines: HashMap::new(),
-            depth_test: gpu
-                .adapter
-                .get_downlevel_capabilities()
-                .flags
-                .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL),
-            bind_group: CachedGroup::default(),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("lighting upsample"),
-                ..Default::default()
-            }),
-        }
-    }
-
-    /// The shader defs of one variant, for a uniform light copy of `uniform_capacity`
-    /// lights.
-    pub fn defs(variant: LightingVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
-        let mut defs = vec![
-            ShaderDef::Bool("HAS_DIRECTIONAL", variant.directional),
-            ShaderDef::Bool("HAS_POINT", variant.point),
-            ShaderDef::Bool("HAS_SPOT", variant.spot),
-            ShaderDef::U32("VISIBILITY_MODEL", variant.visibility as u32),
-            ShaderDef::Bool("DIRECTIONAL_SHADOWS", variant.shadows[0]),
-            ShaderDef::Bool("POINT_SHADOWS", variant.shadows[1]),
-            ShaderDef::Bool("SPOT_SHADOWS", variant.shadows[2]),
-            ShaderDef::U32("DIRECTIONAL_SHADOWED", variant.shadowed_counts[0]),
-            ShaderDef::U32("POINT_SHADOWED", variant.shadowed_counts[1]),
-            ShaderDef::U32("SPOT_SHADOWED", variant.shadowed_counts[2]),
-            ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
-            ShaderDef::Bool("ENV_MAP", variant.env_map),
-            ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
-            ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
-            ShaderDef::Bool("AO_MULTI_BOUNCE", variant.ao_multi_bounce),
-            ShaderDef::Bool("IRRADIANCE_VOLUME", variant.irradiance_volume),
-            ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
-            ShaderDef::Bool("LIGHT_CULLING", variant.light_culling),
-            ShaderDef::Bool("SHEEN_LOBE", false),
-            ShaderDef::Bool("RELIT_BASE", false),
-            ShaderDef::U32("SHADOW_MASK_SCALE", variant.shadow_mask),
-            ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.shadow_mask_lights),
-            ShaderDef::Bool("HALF_VOLUME", variant.half_volume),
-        ];
-        defs.extend(lookup_defs(
-            variant.shadow_filter,
-            variant.uniform_lights,
-            variant.uniform_shadow_views,
-            uniform_capacity,
-        ));
-        defs
-    }
-
-    /// The WGSL of one variant, for a uniform light copy of `uniform_capacity` lights.
-    pub fn source(gpu: &Gpu, variant: LightingVariant, uniform_capacity: u32) -> Result<Composed> {
-        gpu.shaders
-            .compose("lighting.wgsl", &Self::defs(variant, uniform_capacity))
-    }
-
-    fn pipeline(
-        &mut self,
-        gpu: &Gpu,
-        variant: LightingVariant,
-        uniform_capacity: u32,
-        format: wgpu::TextureFormat,
-    ) -> Result<()> {
-        if self.pipelines.contains_key(&(variant, format)) {
-            return Ok(());
-        }
-        let module = create_module(
-            gpu,
-            "lighting",
-            &LightingPass::source(gpu, variant, uniform_capacity)?,
-        )?;
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "lighting",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[format],
-            self.depth_test.then_some(wgpu::DepthStencilState {
+    /// Creates group 0's layout over the light groups' ([`LightGroups::layouts`]);
+    /// pipelines are compiled per variant on first use.
+    pub fn new(gpu: &Gpu, groups: &LightGroups) -> Self {
+        let depth_test = gpu
+            .adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::READ_ONLY_DEPTH_STENCIL);
+        let mut step = Fullscreen::new("lighting", "lighting.wgsl");
+        if depth_test {
+            step = step.depth(wgpu::DepthStencilState {
                 format: targets::DEPTH_FORMAT,
                 depth_write_enabled: Some(false),
                 // The triangle lies at depth 0: it passes where geometry was drawn
@@ -470,10 +499,14 @@ impl LightingPass {
                 depth_compare: Some(wgpu::CompareFunction::Less),
                 stencil: Default::default(),
                 bias: Default::default(),
-            }),
-        )?;
-        self.pipelines.insert((variant, format), pipeline);
-        Ok(())
+            });
+        }
+        let [l1, l2, l3] = &groups.layouts;
+        LightingPass {
+            step: FullscreenStep::with_groups(gpu, step, &VIEW_AND_GBUFFER, &[l1, l2, l3]),
+            depth_test,
+            sampler: gpu.sampler("lighting upsample", wgpu::FilterMode::Nearest),
+        }
     }
 }
 
@@ -520,17 +553,12 @@ pub fn prepare_lighting(
     ]) else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity, t.hdr_format) {
+    if let Err(e) = pass.step.ensure(&gpu, variant, &[t.hdr_format]) {
         errors.0.push(e);
         return;
     }
     use wgpu::BindingResource::{Sampler, TextureView};
-    let LightingPass {
-        layouts,
-        bind_group,
-        sampler,
-        ..
-    } = &mut *pass;
+    let LightingPass { step, sampler, .. } = &mut *pass;
     let group0 = vec![
         buffers.view.as_entire_binding(),
         TextureView(base_color),
@@ -541,14 +569,11 @@ pub fn prepare_lighting(
         Sampler(sampler),
         TextureView(volume_half),
     ];
-    let made = bind_group
-        .get(&gpu, &VIEW_AND_GBUFFER, &layouts[0], group0)
-        .map(|_| ())
-        .and_then(|()| {
-            groups
-                .prepare(&gpu, t, &buffers, &atlas, &ibl, &volume, &reflections)
-                .map(|_| ())
-        });
+    let made = step.bind(&gpu, group0).and_then(|()| {
+        groups
+            .prepare(&gpu, t, &buffers, &atlas, &ibl, &volume, &reflections)
+            .map(|_| ())
+    });
     if let Err(e) = made {
         errors.0.push(e);
     }
@@ -566,18 +591,16 @@ pub fn lighting_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(t), Some(g0), Some([g1, g2, g3])) = (
-        targets.current.as_ref(),
-        pass.bind_group.group(),
-        groups.groups(),
-    ) else {
+    let (Some(t), Some(g0), Some([g1, g2, g3])) =
+        (targets.current.as_ref(), pass.step.group(), groups.groups())
+    else {
         return;
     };
     let (Some(encoder), Some([hdr, depth]), Some(pipeline)) = (
         encoder.as_mut(),
         t.views([HDR, DEPTH]),
         plan.variant::<LightingPass>()
-            .and_then(|v| pass.pipelines.get(&(*v, t.hdr_format))),
+            .and_then(|v| pass.step.pipeline(*v, &[t.hdr_format])),
     ) else {
         return;
     };

@@ -1,8 +1,8 @@
 //! The lobe tables on the GPU, held by each pass that lights a lobe from its material (the
 //! layers pass over opaque surfaces, the transparent pass over blended ones):
-//! - the anisotropic lobe's split-sum table ([`crate::anisotropy::dfg_table`], read by
+//! - the anisotropic lobe's split-sum table ([`crate::shading::anisotropy::dfg_table`], read by
 //!   `shaders/anisotropic_dfg.wgsl`), a storage buffer, binding 2 of the pass's view group;
-//! - the sheen lobe's directional albedo ([`crate::sheen::albedo_table`], read by
+//! - the sheen lobe's directional albedo ([`crate::shading::sheen::albedo_table`], read by
 //!   `shaders/sheen_table.wgsl`), a uniform buffer.
 //!
 //! Each table is computed (once per process) and written the first time a frame draws a
@@ -13,9 +13,9 @@ use crate::render::extract::ExtractedFrame;
 
 /// The tables' buffers and whether each holds its table.
 pub struct LobeTables {
-    /// (A, B) pairs in [`crate::anisotropy::dfg_table`]'s layout.
+    /// (A, B) pairs in [`crate::shading::anisotropy::dfg_table`]'s layout.
     pub anisotropic_dfg: wgpu::Buffer,
-    /// E_sheen(n·v, r) in [`crate::sheen::albedo_table`]'s layout, packed in vec4s.
+    /// E_sheen(n·v, r) in [`crate::shading::sheen::albedo_table`]'s layout, packed in vec4s.
     pub sheen_albedo: wgpu::Buffer,
     anisotropic_written: bool,
     sheen_written: bool,
@@ -24,8 +24,9 @@ pub struct LobeTables {
 impl LobeTables {
     /// The buffers, sized for the tables and not yet written.
     pub fn new(gpu: &Gpu) -> Self {
-        let entries: usize = crate::anisotropy::DFG_TABLE_DIMS.iter().product();
-        let sheen = crate::sheen::ALBEDO_TABLE_SIZE * crate::sheen::ALBEDO_TABLE_SIZE;
+        let entries: usize = crate::shading::anisotropy::DFG_TABLE_DIMS.iter().product();
+        let sheen =
+            crate::shading::sheen::ALBEDO_TABLE_SIZE * crate::shading::sheen::ALBEDO_TABLE_SIZE;
         let buffer = |label, size, usage| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -57,7 +58,7 @@ impl LobeTables {
             gpu.queue.write_buffer(
                 &self.anisotropic_dfg,
                 0,
-                bytemuck::cast_slice(crate::anisotropy::dfg_table()),
+                bytemuck::cast_slice(crate::shading::anisotropy::dfg_table()),
             );
             self.anisotropic_written = true;
         }
@@ -65,7 +66,7 @@ impl LobeTables {
             gpu.queue.write_buffer(
                 &self.sheen_albedo,
                 0,
-                bytemuck::cast_slice(crate::sheen::albedo_table()),
+                bytemuck::cast_slice(crate::shading::sheen::albedo_table()),
             );
             self.sheen_written = true;
         }

@@ -9,31 +9,32 @@
 //! (or a debug view) — each recording into the frame's command encoder with its own
 //! timing. The built-in passes are listed in [`passes`].
 
-pub mod antialiasing;
+pub mod antialias;
 pub mod bindings;
 pub mod capture;
 pub mod debug_view;
-pub mod deform;
+pub mod deform_pass;
 pub mod device;
 pub mod dof;
+pub mod environment_maps;
 pub mod exposure;
 pub mod extract;
-pub mod extract_deform;
 pub mod forward;
 pub mod frame;
+pub mod fullscreen_step;
 pub mod gbuffer;
+pub mod gpu_material_maps;
 pub mod gpu_types;
 pub mod graph;
-pub mod ibl;
 pub mod indirect;
 pub mod jitter;
 pub mod layers;
 pub mod light_culling;
 pub mod lighting;
 pub mod lobe_tables;
-pub mod material_maps;
 pub mod mesh_vertex;
 pub mod passes;
+pub mod pipeline_cache;
 pub mod pipelines;
 pub mod readback;
 pub mod scaled_output;
@@ -66,7 +67,7 @@ pub struct RenderSchedule;
 
 /// Plans, prepares and records one probe capture: the passes that make lit radiance
 /// ([`graph::FramePass::CAPTURE`]), then the reduction of the captured face into the
-/// probe ([`indirect::irradiance_volume`]).
+/// probe ([`indirect::probe_volume`]).
 #[derive(ScheduleLabel, Clone, Debug, PartialEq, Eq, Hash)]
 pub struct CaptureSchedule;
 
@@ -138,22 +139,21 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     if !world.contains_resource::<Registry>() {
         world.insert_resource(passes::builtin()?);
     }
-    world.insert_resource(material_maps::GpuMaterialMaps::new(
+    world.insert_resource(gpu_material_maps::GpuMaterialMaps::new(
         &gpu,
         extension_units_fit(&gpu.device.limits()),
     ));
     world.init_resource::<crate::scene::Textures>();
     world.init_resource::<frame::MeteredExposure>();
     world.init_resource::<frame::FrameDelta>();
-    world.init_resource::<extract::TemporalMemory>();
-    world.init_resource::<antialiasing::taa::TaaState>();
+    extract::init(world);
+    world.init_resource::<antialias::taa::TaaState>();
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
         encoder: None,
         timer: timing::GpuTimer::new(&gpu),
     });
     world.insert_resource(targets::RenderTargets::default());
-    world.insert_resource(extract::ExtractedFrame::default());
     world.init_resource::<FramePlan>();
     world.init_resource::<FrameErrors>();
     world.init_resource::<debug_view::DebugView>();
@@ -161,7 +161,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.insert_resource(gpu);
 
     let mut extract = Schedule::new(ExtractSchedule);
-    extract.add_systems(extract::extract_frame);
+    extract.add_systems(extract::systems());
     world.add_schedule(extract);
     build_render_schedule(world);
     Ok(())
@@ -171,14 +171,14 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
 /// everything else the pass with the most textures binds: the transparent pass (its
 /// view group, the lighting pass's groups 1 to 3 and the maps). Where they do not (16
 /// textures per stage on OpenGL ES 3, for one), extension textures are not sampled
-/// ([`material_maps::CORE_BINDINGS`]).
+/// ([`gpu_material_maps::CORE_BINDINGS`]).
 pub fn extension_units_fit(limits: &wgpu::Limits) -> bool {
     let (textures, samplers) = [
         transparent::VIEW,
         lighting::LIGHTS_AND_SHADOWS,
         lighting::ENVIRONMENT,
         lighting::PROBES,
-        material_maps::BINDINGS,
+        gpu_material_maps::BINDINGS,
     ]
     .iter()
     .map(bindings::BindGroupSpec::textures_and_samplers)
@@ -195,8 +195,8 @@ fn shared_preparation(
         plan,
         prepare_targets.into_configs(),
         scene_buffers::prepare_scene_buffers.into_configs(),
-        material_maps::prepare_material_maps.into_configs(),
-        ibl::prepare_ibl.into_configs(),
+        gpu_material_maps::prepare_material_maps.into_configs(),
+        environment_maps::prepare_ibl.into_configs(),
     ]
 }
 
@@ -218,7 +218,7 @@ pub fn build_render_schedule(world: &mut World) {
         shared_preparation(plan_capture.into_configs()),
         begin_frame.into_configs(),
         vec![
-            indirect::irradiance_volume::record_capture_reduce.into_configs(),
+            indirect::probe_volume::record_capture_reduce.into_configs(),
             indirect::reflection_probes::record_face_copy.into_configs(),
         ],
     );
@@ -229,9 +229,9 @@ pub fn build_render_schedule(world: &mut World) {
 /// pipelines that do not depend on the scene; the others compile on the next frame.
 /// Uploaded meshes, textures and targets are kept; the environment is prefiltered again.
 pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
-    let mut ibl = ibl::Ibl::new(gpu)?;
+    let mut ibl = environment_maps::Ibl::new(gpu)?;
     if let Some(progress) = world
-        .get_resource_mut::<ibl::Ibl>()
+        .get_resource_mut::<environment_maps::Ibl>()
         .and_then(|mut old| old.take_progress())
     {
         ibl.set_progress(progress);
@@ -239,7 +239,7 @@ pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
     let registry = world.resource::<Registry>().clone();
     registry.create_passes(world, gpu)?;
     world.insert_resource(ibl);
-    world.insert_resource(indirect::irradiance_volume::IrradianceVolumeGpu::new(gpu)?);
+    world.insert_resource(indirect::probe_volume::IrradianceVolumeGpu::new(gpu)?);
     world.insert_resource(indirect::reflection_probes::ReflectionProbesGpu::new(gpu)?);
     Ok(())
 }

@@ -3,18 +3,18 @@
 //! [`crate::render::graph`]).
 
 use crate::error::Result;
-use crate::render::antialiasing::accumulate::AccumulatePass;
-use crate::render::antialiasing::fxaa::FxaaPass;
-use crate::render::antialiasing::smaa::SmaaPass;
-use crate::render::antialiasing::taa::TaaPass;
+use crate::render::antialias::accumulate::AccumulatePass;
+use crate::render::antialias::fxaa::FxaaPass;
+use crate::render::antialias::smaa::SmaaPass;
+use crate::render::antialias::taa::TaaPass;
 use crate::render::debug_view::DebugViewPass;
-use crate::render::deform::DeformPass;
+use crate::render::deform_pass::DeformPass;
 use crate::render::dof::DofPass;
 use crate::render::exposure::ExposurePass;
 use crate::render::gbuffer::GBufferPass;
 use crate::render::graph::registry::Registry;
-use crate::render::indirect::ambient_occlusion::AoPass;
 use crate::render::indirect::depth_pyramid::DepthPyramidPass;
+use crate::render::indirect::gtao::AoPass;
 use crate::render::indirect::reflections::SsrPass;
 use crate::render::indirect::volume_irradiance::VolumeIrradiancePass;
 use crate::render::layers::LayersPass;

@@ -3,10 +3,9 @@
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
-use crate::render::shaders::{Composed, ShaderDef};
+use crate::render::shaders::Composed;
 use crate::render::targets::DEPTH_FORMAT;
 use crate::render::timing::GpuTimer;
-use std::collections::HashMap;
 
 /// A pipeline drawing `vertex_entry` with no vertex buffers (three vertices cover the
 /// target for `vs_fullscreen`) into colour targets of `formats`, no blending, and the
@@ -60,85 +59,41 @@ pub fn fullscreen_target_pipeline(
     })
 }
 
-/// A pipeline layout of one bind group, `layout`, at group 0.
-pub fn one_group_layout(
+/// A pipeline layout of `groups`, bind groups 0, 1, … in order.
+pub fn pipeline_layout(
     gpu: &Gpu,
     label: &str,
-    layout: &wgpu::BindGroupLayout,
+    groups: &[&wgpu::BindGroupLayout],
 ) -> wgpu::PipelineLayout {
+    let bind_group_layouts: Vec<Option<&wgpu::BindGroupLayout>> =
+        groups.iter().map(|g| Some(*g)).collect();
     gpu.device
         .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(label),
-            bind_group_layouts: &[Some(layout)],
+            bind_group_layouts: &bind_group_layouts,
             immediate_size: 0,
         })
 }
 
-/// Composes the module `entry` under `defs` and compiles the full-screen pipeline
-/// `vs_fullscreen`/`fs_main` drawing into `format` without depth: a pass's variant
-/// (tone mapping, debug views).
-pub fn fullscreen_variant(
+/// The compute pipeline of `entry` in `module`, with `layout` (`None`: derived from the
+/// shader).
+pub fn compute_pipeline(
     gpu: &Gpu,
     label: &str,
-    layout: &wgpu::PipelineLayout,
+    layout: Option<&wgpu::PipelineLayout>,
+    module: &wgpu::ShaderModule,
     entry: &str,
-    defs: &[ShaderDef],
-    format: wgpu::TextureFormat,
-) -> Result<wgpu::RenderPipeline> {
-    fullscreen_blended_variant(gpu, label, layout, entry, defs, format, None)
-}
-
-/// [`fullscreen_variant`] with a depth state: a step that writes or tests a depth mask
-/// ([`mask_depth_state`]).
-pub fn fullscreen_masked_variant(
-    gpu: &Gpu,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    source: (&str, &[ShaderDef]),
-    format: wgpu::TextureFormat,
-    depth: wgpu::DepthStencilState,
-) -> Result<wgpu::RenderPipeline> {
-    fullscreen_composed(gpu, label, layout, source, format.into(), Some(depth))
-}
-
-/// [`fullscreen_variant`] blending into the target with `blend` (`None`: replace).
-pub fn fullscreen_blended_variant(
-    gpu: &Gpu,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    entry: &str,
-    defs: &[ShaderDef],
-    format: wgpu::TextureFormat,
-    blend: Option<wgpu::BlendState>,
-) -> Result<wgpu::RenderPipeline> {
-    let target = wgpu::ColorTargetState {
-        format,
-        blend,
-        write_mask: wgpu::ColorWrites::ALL,
-    };
-    fullscreen_composed(gpu, label, layout, (entry, defs), target, None)
-}
-
-/// The full-screen pipeline of `fs_main` in the module composed from `(entry, defs)`, into
-/// one colour target, with an optional depth state.
-fn fullscreen_composed(
-    gpu: &Gpu,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    (entry, defs): (&str, &[ShaderDef]),
-    target: wgpu::ColorTargetState,
-    depth: Option<wgpu::DepthStencilState>,
-) -> Result<wgpu::RenderPipeline> {
-    let module = create_module(gpu, label, &gpu.shaders.compose(entry, defs)?)?;
-    fullscreen_target_pipeline(
-        gpu,
-        label,
-        Some(layout),
-        &module,
-        ("vs_fullscreen", "fs_main"),
-        &[Some(target)],
-        depth,
-    )
+) -> Result<wgpu::ComputePipeline> {
+    gpu.checked(&format!("{label} pipeline"), |device| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(label),
+            layout,
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    })
 }
 
 /// Records one timed full-screen pass, labelled `name` (a pass's name, or one of its
@@ -306,77 +261,4 @@ pub fn create_module(gpu: &Gpu, label: &str, composed: &Composed) -> Result<wgpu
         Some(at) => Error::Gpu(format!("{at}\n{e}")),
         None => e,
     })
-}
-
-/// A full-screen pipeline (`fs_main` of `entry`, one bind group) compiled per colour
-/// target format on first use: the last step of a pass that writes the frame's HDR
-/// target, whose format follows the quality settings.
-pub struct PerFormat {
-    label: &'static str,
-    entry: &'static str,
-    layout: wgpu::PipelineLayout,
-    blend: Option<wgpu::BlendState>,
-    depth: Option<wgpu::DepthStencilState>,
-    pipelines: HashMap<wgpu::TextureFormat, wgpu::RenderPipeline>,
-}
-
-impl PerFormat {
-    /// The pipeline layout of `group`; nothing is compiled yet.
-    pub fn new(
-        gpu: &Gpu,
-        label: &'static str,
-        entry: &'static str,
-        group: &wgpu::BindGroupLayout,
-    ) -> PerFormat {
-        PerFormat {
-            label,
-            entry,
-            layout: one_group_layout(gpu, label, group),
-            blend: None,
-            depth: None,
-            pipelines: HashMap::new(),
-        }
-    }
-
-    /// The same pipelines, depth-tested with `depth` ([`mask_depth_state`]).
-    pub fn depth_tested(self, depth: wgpu::DepthStencilState) -> PerFormat {
-        PerFormat {
-            depth: Some(depth),
-            ..self
-        }
-    }
-
-    /// The same pipelines, blending into the target with `blend`.
-    pub fn blending(self, blend: wgpu::BlendState) -> PerFormat {
-        PerFormat {
-            blend: Some(blend),
-            ..self
-        }
-    }
-
-    /// Compiles the pipeline into `format` unless it exists.
-    pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
-        if !self.pipelines.contains_key(&format) {
-            let target = wgpu::ColorTargetState {
-                format,
-                blend: self.blend,
-                write_mask: wgpu::ColorWrites::ALL,
-            };
-            let pipeline = fullscreen_composed(
-                gpu,
-                self.label,
-                &self.layout,
-                (self.entry, &[]),
-                target,
-                self.depth.clone(),
-            )?;
-            self.pipelines.insert(format, pipeline);
-        }
-        Ok(())
-    }
-
-    /// The pipeline into `format`, once [`PerFormat::ensure`]d.
-    pub fn get(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
-        self.pipelines.get(&format)
-    }
 }

@@ -109,12 +109,7 @@ impl SceneBuffers {
     /// Empty buffers.
     pub fn new(gpu: &Gpu) -> Self {
         SceneBuffers {
-            view: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("view"),
-                size: std::mem::size_of::<GpuView>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            view: gpu.uniform_buffer("view", std::mem::size_of::<GpuView>() as u64),
             instances: GrowableBuffer::new(
                 gpu,
                 "instances",

@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, RwLock};
+use wgpu::naga;
 
 /// Every WGSL module of `shaders/`, as (file name, source compiled into the binary).
 pub const BUILTIN: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/builtin_shaders.rs"));
@@ -236,7 +237,6 @@ impl Composed {
     /// Where naga puts the first error of this source, as `shaders/FILE:LINE:COLUMN:
     /// message`, if it finds one (parse or validation).
     pub fn first_error(&self) -> Option<String> {
-        use wgpu::naga;
         let (message, location) = match naga::front::wgsl::parse_str(&self.source) {
             Err(e) => (e.message().to_string(), e.location(&self.source)),
             Ok(module) => {
@@ -261,9 +261,130 @@ impl Composed {
     }
 }
 
+/// A WGSL struct as naga lays it out: its size and each member's name and offset, in
+/// bytes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StructLayout {
+    /// Its size, padding included.
+    pub size: u32,
+    /// (name, offset) of each member, in order.
+    pub members: Vec<(String, u32)>,
+}
+
+/// The layout of struct `name` in the built-in module `entry` composed with `defs`, as
+/// naga's layouter computes it (WGSL's alignment and size rules): what a `#[repr(C)]`
+/// Rust twin must match ([`assert_wgsl_twin`](crate::assert_wgsl_twin)).
+pub fn struct_layout(entry: &str, defs: &[ShaderDef], name: &str) -> Result<StructLayout> {
+    let composed = ShaderLibrary::default().compose(entry, defs)?;
+    let module = naga::front::wgsl::parse_str(&composed.source)
+        .map_err(|e| Error::Gpu(format!("{entry}: {}", e.emit_to_string(&composed.source))))?;
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| Error::Gpu(format!("{entry}: laying out its types: {e}")))?;
+    module
+        .types
+        .iter()
+        .find_map(|(_, ty)| match &ty.inner {
+            naga::TypeInner::Struct { members, span } if ty.name.as_deref() == Some(name) => {
+                Some(StructLayout {
+                    size: *span,
+                    members: members
+                        .iter()
+                        .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                        .collect(),
+                })
+            }
+            _ => None,
+        })
+        .ok_or_else(|| Error::Gpu(format!("{entry} declares no struct {name}")))
+}
+
+/// Asserts that the `#[repr(C)]` Rust type `$ty` lays out as WGSL struct `$wgsl` of the
+/// module `$entry` (composed with the defs `$defs`) does, by naga's layouter: the same
+/// size, and each listed field at the offset of the member of the same name (or of the
+/// member named after `=>`, for a Rust array that WGSL writes as numbered members).
+/// Every WGSL member must fall inside a listed field, so a member added to one side
+/// only fails it.
+#[macro_export]
+macro_rules! assert_wgsl_twin {
+    ($ty:ty, $entry:expr, $defs:expr, $wgsl:expr, [$($field:ident $(=> $member:expr)?),+ $(,)?]) => {{
+        let layout = $crate::render::shaders::struct_layout($entry, $defs, $wgsl)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let twin = stringify!($ty);
+        assert_eq!(
+            std::mem::size_of::<$ty>() as u32,
+            layout.size,
+            "{twin}: size of the Rust twin of {}",
+            $wgsl
+        );
+        let fields: Vec<(&str, u32)> = vec![$(
+            (
+                $crate::assert_wgsl_twin!(@member $field $(=> $member)?),
+                std::mem::offset_of!($ty, $field) as u32,
+            )
+        ),+];
+        for (member, offset) in &fields {
+            let found = layout.members.iter().find(|(m, _)| m == member);
+            assert_eq!(
+                found.map(|(_, o)| *o),
+                Some(*offset),
+                "{twin}: member {member} of {} (WGSL layout {:?})",
+                $wgsl,
+                layout.members
+            );
+        }
+        // A member no field names lies inside a listed field (the later elements of an
+        // array WGSL writes as numbered members).
+        let mut starts: Vec<u32> = fields.iter().map(|(_, o)| *o).collect();
+        starts.sort_unstable();
+        for (member, offset) in &layout.members {
+            if fields.iter().any(|(f, _)| f == member) {
+                continue;
+            }
+            let inside = starts.iter().any(|s| s < offset);
+            assert!(
+                inside && !starts.contains(offset),
+                "{twin}: member {member} of {} (offset {offset}) is in no listed field",
+                $wgsl
+            );
+        }
+    }};
+    (@member $field:ident => $member:expr) => { $member };
+    (@member $field:ident) => { stringify!($field) };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    #[should_panic(expected = "size of the Rust twin")]
+    fn a_twin_missing_a_field_fails() {
+        #[repr(C)]
+        struct Short {
+            clip_from_world: [[f32; 4]; 4],
+        }
+        crate::assert_wgsl_twin!(Short, "bindings.wgsl", &[], "ShadowView", [clip_from_world]);
+    }
+
+    #[test]
+    #[should_panic(expected = "member texel")]
+    fn a_twin_with_fields_swapped_fails() {
+        #[repr(C)]
+        struct Swapped {
+            clip_from_world: [[f32; 4]; 4],
+            texel: [f32; 4],
+            rect: [f32; 4],
+        }
+        crate::assert_wgsl_twin!(
+            Swapped,
+            "bindings.wgsl",
+            &[],
+            "ShadowView",
+            [clip_from_world, texel, rect]
+        );
+    }
 
     fn library(files: &[(&'static str, &str)]) -> ShaderLibrary {
         let library = ShaderLibrary::default();

@@ -4,19 +4,17 @@
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
+use crate::render::environment_maps::Ibl;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::ibl::Ibl;
-use crate::render::pipelines::{create_module, fullscreen_pipeline};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
+use crate::render::pipelines::{FullscreenDraw, draw_fullscreen_pass};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self, RenderTargets};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -64,12 +62,15 @@ impl FramePass for SkyPass {
         )
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_sky.into_configs())
-    }
+    crate::pass_systems!(prepare_sky, sky_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        sky_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        [false, true]
+            .map(|env_map| {
+                let defs = SkyVariant { env_map }.shader_defs();
+                ShaderBuild::new("sky.wgsl", defs, &[(0, BINDINGS)])
+            })
+            .to_vec()
     }
 }
 
@@ -88,12 +89,17 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     ],
 };
 
+impl ShaderVariant for SkyVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![ShaderDef::Bool("ENV_MAP", self.env_map)]
+    }
+}
+
 /// The sky pass's pipelines (image or uniform environment) and bindings.
 #[derive(Resource)]
 pub struct SkyPass {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<(bool, wgpu::TextureFormat), wgpu::RenderPipeline>,
+    pipelines: FullscreenPipelines<SkyVariant>,
     bind_group: CachedGroup,
 }
 
@@ -101,29 +107,6 @@ impl SkyPass {
     /// Creates the bind group layout; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("sky"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-        SkyPass {
-            layout,
-            pipeline_layout,
-            pipelines: HashMap::new(),
-            bind_group: CachedGroup::default(),
-        }
-    }
-
-    fn pipeline(&mut self, gpu: &Gpu, env_map: bool, format: wgpu::TextureFormat) -> Result<()> {
-        if self.pipelines.contains_key(&(env_map, format)) {
-            return Ok(());
-        }
-        let source = gpu
-            .shaders
-            .compose("sky.wgsl", &[ShaderDef::Bool("ENV_MAP", env_map)])?;
-        let module = create_module(gpu, "sky", &source)?;
         // The full-screen triangle lies at depth 0: it passes only where the G-buffer
         // depth is still the cleared 0 (reversed Z: nothing drawn).
         let depth = wgpu::DepthStencilState {
@@ -133,17 +116,17 @@ impl SkyPass {
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "sky",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_sky"),
-            &[format],
-            Some(depth),
-        )?;
-        self.pipelines.insert((env_map, format), pipeline);
-        Ok(())
+        SkyPass {
+            pipelines: FullscreenPipelines::new(
+                gpu,
+                Fullscreen::new("sky", "sky.wgsl")
+                    .entry("fs_sky")
+                    .depth(depth),
+                &[&layout],
+            ),
+            layout,
+            bind_group: CachedGroup::default(),
+        }
     }
 }
 
@@ -160,7 +143,7 @@ pub fn prepare_sky(
     let (Some(variant), Some(t)) = (plan.variant::<SkyPass>(), targets.current.as_ref()) else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, variant.env_map, t.hdr_format) {
+    if let Err(e) = pass.pipelines.ensure(&gpu, *variant, &[t.hdr_format]) {
         errors.0.push(e);
         return;
     }
@@ -193,35 +176,20 @@ pub fn sky_pass(
         encoder.as_mut(),
         t.views([HDR, DEPTH]),
         pass.bind_group.group(),
-        pass.pipelines.get(&(variant.env_map, t.hdr_format)),
+        pass.pipelines.get(*variant, &[t.hdr_format]),
     ) else {
         return;
     };
-    let scope = timer.begin_pass(PassId::Sky);
-    {
-        let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("sky"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: hdr,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                depth_ops: None,
-                stencil_ops: None,
-            }),
-            timestamp_writes: timer.render_writes(&scope),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        rp.set_pipeline(pipeline);
-        rp.set_bind_group(0, bind_group, &[]);
-        rp.draw(0..3, 0..1);
-    }
-    timer.end_pass(scope);
+    draw_fullscreen_pass(
+        encoder,
+        timer,
+        &FullscreenDraw {
+            name: PassId::Sky.name(),
+            targets: &[hdr],
+            load: wgpu::LoadOp::Load,
+            depth: Some((depth, wgpu::LoadOp::Load)),
+            pipeline,
+            groups: &[bind_group],
+        },
+    );
 }

@@ -243,7 +243,7 @@ impl FrameTargets {
 
 /// The frame's textures and buffers, and the physical resources kept between frames.
 /// Probe captures render through a second set, swapped in while they run
-/// ([`crate::render::indirect::irradiance_volume`]).
+/// ([`crate::render::indirect::probe_volume`]).
 #[derive(Resource, Default)]
 pub struct RenderTargets {
     /// This frame's, once a frame was prepared.

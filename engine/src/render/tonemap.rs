@@ -2,7 +2,6 @@
 //! (`shaders/tonemap.wgsl`). Compiled per (output format, tone mapper).
 
 use crate::choice::Choice;
-use crate::color::Tonemapper;
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::debug_view::DebugView;
@@ -10,14 +9,12 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DISPLAY, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
+use crate::shading::color::Tonemapper;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -66,12 +63,18 @@ impl FramePass for TonemapPass {
         )
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_tonemap.into_configs())
-    }
+    crate::pass_systems!(prepare_tonemap, tonemap_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        tonemap_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        let formats = [
+            wgpu::TextureFormat::Rgba8Unorm,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+        ];
+        Tonemapper::ALL
+            .iter()
+            .flat_map(|&tonemapper| formats.map(|format| TonemapVariant { format, tonemapper }))
+            .map(|v| ShaderBuild::new("tonemap.wgsl", v.shader_defs(), &[(0, BINDINGS)]))
+            .collect()
     }
 }
 
@@ -82,12 +85,20 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
     bindings: &[("hdr", Binding::TextureLoad), ("post", Binding::Uniform)],
 };
 
+impl ShaderVariant for TonemapVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("TONEMAPPER", self.tonemapper as u32),
+            ShaderDef::Bool("ENCODE_SRGB", !self.format.is_srgb()),
+        ]
+    }
+}
+
 /// The tone mapping pass's pipelines and bindings.
 #[derive(Resource)]
 pub struct TonemapPass {
     layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<TonemapVariant, wgpu::RenderPipeline>,
+    pipelines: FullscreenPipelines<TonemapVariant>,
     bind_group: CachedGroup,
     params: wgpu::Buffer,
 }
@@ -96,45 +107,16 @@ impl TonemapPass {
     /// Creates the bind group layout; pipelines are compiled per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("tonemap"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
         TonemapPass {
+            pipelines: FullscreenPipelines::new(
+                gpu,
+                Fullscreen::new("tonemap", "tonemap.wgsl"),
+                &[&layout],
+            ),
             layout,
-            pipeline_layout,
-            pipelines: HashMap::new(),
             bind_group: CachedGroup::default(),
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("post params"),
-                size: 16,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            params: gpu.uniform_buffer("post params", 16),
         }
-    }
-
-    fn pipeline(&mut self, gpu: &Gpu, variant: TonemapVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let TonemapVariant { format, tonemapper } = variant;
-        let pipeline = fullscreen_variant(
-            gpu,
-            "tonemap",
-            &self.pipeline_layout,
-            "tonemap.wgsl",
-            &[
-                ShaderDef::U32("TONEMAPPER", tonemapper as u32),
-                ShaderDef::Bool("ENCODE_SRGB", !format.is_srgb()),
-            ],
-            format,
-        )?;
-        self.pipelines.insert(variant, pipeline);
-        Ok(())
     }
 }
 
@@ -150,7 +132,7 @@ pub fn prepare_tonemap(
     let Some(&variant) = plan.variant::<TonemapPass>() else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, variant) {
+    if let Err(e) = pass.pipelines.ensure(&gpu, variant, &[variant.format]) {
         errors.0.push(e);
         return;
     }
@@ -185,22 +167,11 @@ pub fn tonemap_pass(
     output: Res<FrameOutput>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(view), Some(bind_group), Some(pipeline)) = (
-        encoder.as_mut(),
-        output.view.as_ref(),
-        pass.bind_group.group(),
-        plan.variant::<TonemapPass>()
-            .and_then(|v| pass.pipelines.get(v)),
-    ) else {
-        return;
-    };
-    draw_fullscreen(
-        encoder,
-        timer,
-        PassId::Tonemap.name(),
-        &[view],
-        pipeline,
-        bind_group,
-    );
+    let pipeline = plan
+        .variant::<TonemapPass>()
+        .and_then(|v| pass.pipelines.get(*v, &[v.format]));
+    if let Some(view) = output.view.as_ref() {
+        let name = PassId::Tonemap.name();
+        encoder.fullscreen(name, &[view], pipeline, pass.bind_group.group());
+    }
 }

@@ -1,7 +1,7 @@
 //! The physical camera (docs/src/formulas.md#exposure): projection, lens (aperture, shutter, ISO,
 //! focal length, focus), exposure modes, depth of field, vignetting and tone mapping.
 
-use crate::color::Tonemapper;
+use crate::shading::color::Tonemapper;
 use bevy_ecs::prelude::*;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 

@@ -68,12 +68,12 @@ pub struct ExtensionMaps {
     /// Alpha × the sheen's perceptual roughness.
     pub sheen_roughness: Option<TextureSlot>,
     /// Red and green: the direction in tangent space (each × 2 − 1), turned by the
-    /// material's rotation; blue × the strength ([`crate::anisotropy::textured_anisotropy`]).
+    /// material's rotation; blue × the strength ([`crate::shading::anisotropy::textured_anisotropy`]).
     pub anisotropy: Option<TextureSlot>,
     /// Red × the iridescence factor.
     pub iridescence: Option<TextureSlot>,
     /// Green: the film thickness between [`ExtensionMaps::iridescence_thickness_min_nm`]
-    /// (0) and the material's `thickness_nm` (1) ([`crate::iridescence::film_thickness`]).
+    /// (0) and the material's `thickness_nm` (1) ([`crate::shading::iridescence::film_thickness`]).
     pub iridescence_thickness: Option<TextureSlot>,
     /// Alpha × the diffuse transmission factor.
     pub diffuse_transmission: Option<TextureSlot>,

@@ -4,7 +4,7 @@
 //! [`crate::scene::GlobalTransform`]: directional and spot lights shine along the entity's
 //! forward (local −Z) axis.
 
-use crate::color::kelvin_to_linear_rgb;
+use crate::shading::color::kelvin_to_linear_rgb;
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 

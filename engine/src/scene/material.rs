@@ -66,7 +66,7 @@ pub struct Material {
     pub anisotropy: Option<Anisotropy>,
     /// The colour of the dielectric specular reflection (glTF's `KHR_materials_specular`
     /// `specularColorFactor`), linear RGB, each channel 0..1 (clamped): the dielectric
-    /// F0 is `0.08 · specular_level · tint` ([`crate::brdf::tinted_f0`]). White (the
+    /// F0 is `0.08 · specular_level · tint` ([`crate::shading::brdf::tinted_f0`]). White (the
     /// default) is untinted. A tint is drawn where the anisotropy is
     /// ([`Material::tint`]): by the layers pass on opaque surfaces, by the transparent pass
     /// on blended ones (docs/src/materials.md#specular-colour).
@@ -165,7 +165,7 @@ impl Iridescence {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Anisotropy {
     /// How far the lobe stretches, 0 (isotropic) .. 1: the GGX width along the direction
-    /// is `mix(α, 1, strength²)` ([`crate::anisotropy::anisotropic_alphas`]). A negative
+    /// is `mix(α, 1, strength²)` ([`crate::shading::anisotropy::anisotropic_alphas`]). A negative
     /// strength stretches across the direction instead (Filament's convention): it is
     /// the same as |strength| with the direction turned by 90°.
     pub strength: f32,
@@ -197,13 +197,13 @@ pub struct Sheen {
     /// The sheen's colour: its reflectance, linear RGB 0..1 (clamped; black is no sheen).
     pub color: Vec3,
     /// Its perceptual roughness, 0..1: the Charlie distribution's α = r², clamped to
-    /// [`crate::sheen::MIN_SHEEN_ROUGHNESS`]..1.
+    /// [`crate::shading::sheen::MIN_SHEEN_ROUGHNESS`]..1.
     pub perceptual_roughness: f32,
 }
 
 impl Sheen {
     /// The sheen with its factors made safe: each colour channel in 0..1 (not finite: 0),
-    /// the roughness by [`crate::sheen::clamp_sheen_roughness`].
+    /// the roughness by [`crate::shading::sheen::clamp_sheen_roughness`].
     pub fn clamped(self) -> Sheen {
         let channel = |c: f32| {
             if c.is_finite() {
@@ -218,7 +218,9 @@ impl Sheen {
                 channel(self.color.y),
                 channel(self.color.z),
             ),
-            perceptual_roughness: crate::sheen::clamp_sheen_roughness(self.perceptual_roughness),
+            perceptual_roughness: crate::shading::sheen::clamp_sheen_roughness(
+                self.perceptual_roughness,
+            ),
         }
     }
 }
@@ -245,7 +247,7 @@ impl Default for Clearcoat {
 
 impl Clearcoat {
     /// The coat with its factors made safe: the factor in 0..1 (NaN: 0), the roughness
-    /// clamped by [`crate::brdf::clamp_perceptual_roughness`].
+    /// clamped by [`crate::shading::brdf::clamp_perceptual_roughness`].
     pub fn clamped(self) -> Clearcoat {
         Clearcoat {
             factor: if self.factor.is_nan() {
@@ -253,7 +255,7 @@ impl Clearcoat {
             } else {
                 self.factor.clamp(0.0, 1.0)
             },
-            perceptual_roughness: crate::brdf::clamp_perceptual_roughness(
+            perceptual_roughness: crate::shading::brdf::clamp_perceptual_roughness(
                 self.perceptual_roughness,
             ),
         }
@@ -282,7 +284,7 @@ pub struct Transmission {
     /// no absorption.
     pub attenuation_distance_m: f32,
     /// Dispersion (`KHR_materials_dispersion`): 20 / the Abbe number, 0 for none. The
-    /// index of refraction then differs by colour ([`crate::transmission::dispersion_iors`]).
+    /// index of refraction then differs by colour ([`crate::shading::transmission::dispersion_iors`]).
     pub dispersion: f32,
 }
 
@@ -376,7 +378,7 @@ impl Material {
     /// metallic-roughness texture may make any texel a dielectric. A transmissive
     /// surface's tint also colours what it lets through (docs/src/materials.md#tinted-and-iridescent-glass).
     pub fn relit_tint(&self, textured: bool) -> Option<Vec3> {
-        let tint = crate::brdf::clamp_tint(self.specular_tint);
+        let tint = crate::shading::brdf::clamp_tint(self.specular_tint);
         ((tint.min_element() < 1.0 && self.metallic < 1.0) || textured)
             .then_some(tint)
             .filter(|_| !self.unlit)

@@ -15,7 +15,7 @@ pub mod material_maps;
 pub mod mesh;
 pub mod mesh_data;
 pub mod probes;
-pub mod shadow;
+pub mod shadow_settings;
 pub mod texture;
 pub mod transform;
 
@@ -31,7 +31,7 @@ pub use material::{
 pub use material_maps::MaterialMaps;
 pub use mesh::{Aabb, Mesh3d, MeshData, MeshHandle, Meshes, Vertex};
 pub use probes::{IrradianceVolume, ReflectionProbe};
-pub use shadow::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
+pub use shadow_settings::{Cascades, NotShadowCaster, NotShadowReceiver, ShadowSettings};
 pub use texture::{
     ColorSpace, Filter, Sampler, TextureData, TextureHandle, TextureSlot, Textures, UvTransform,
     Wrap,

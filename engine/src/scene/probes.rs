@@ -4,7 +4,7 @@ use bevy_ecs::prelude::Component;
 use glam::Vec3;
 
 /// A box of irradiance probes for diffuse global illumination
-/// ([`crate::irradiance_volume`]): probes on a regular grid from `min` to `max` (world
+/// ([`crate::shading::irradiance_volume`]): probes on a regular grid from `min` to `max` (world
 /// space, metres), each capturing the lit scene around it. Points inside the box take
 /// their diffuse indirect light from the eight probes around them instead of from the
 /// environment's irradiance.
@@ -20,7 +20,7 @@ pub struct IrradianceVolume {
     pub max: Vec3,
     /// Distance between neighbouring probes (m); `None` takes
     /// [`crate::quality::GiSettings::density`]. At most
-    /// [`crate::irradiance_volume::MAX_PROBES_PER_AXIS`] probes per axis: a box that would
+    /// [`crate::shading::irradiance_volume::MAX_PROBES_PER_AXIS`] probes per axis: a box that would
     /// need more spreads them wider.
     pub spacing_m: Option<f32>,
 }

@@ -285,8 +285,8 @@ pub struct SceneArgs {
     #[arg(long, value_name = "STOPS", allow_hyphen_values = true, value_parser = finite, help_heading = "Camera")]
     pub exposure_compensation: Option<f32>,
     /// Tone mapper [default: pbr-neutral].
-    #[arg(long, value_name = "NAME", value_parser = choice::<lumen::color::Tonemapper>(), help_heading = "Camera")]
-    pub tonemap: Option<lumen::color::Tonemapper>,
+    #[arg(long, value_name = "NAME", value_parser = choice::<lumen::shading::color::Tonemapper>(), help_heading = "Camera")]
+    pub tonemap: Option<lumen::shading::color::Tonemapper>,
     /// Environment image (OpenEXR or Radiance .hdr, equirectangular) lighting the scene.
     #[arg(
         long,

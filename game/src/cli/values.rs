@@ -221,7 +221,7 @@ mod tests {
 
     #[test]
     fn choices_take_names_and_aliases() {
-        use lumen::color::Tonemapper;
+        use lumen::shading::color::Tonemapper;
         assert_eq!(
             parse(&choice::<Tonemapper>(), "aces").ok(),
             Some(Tonemapper::AcesFitted)

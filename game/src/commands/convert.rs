@@ -7,8 +7,8 @@ use crate::cli::{ConvertArgs, ConvertTarget};
 use crate::materials::{NamedMaterial, file_stem, gltf_materials, read_texture};
 use anyhow::{Context, Result, anyhow};
 use glam::Vec3;
-use lumen::color::{srgb_decode, srgb_encode};
 use lumen::scene::ColorSpace;
+use lumen::shading::color::{srgb_decode, srgb_encode};
 use lumen::validate::{MaterialInput, Texel, safe_base_color, safe_diffuse};
 use lumen::workflow::{MetalRough, SpecGloss, to_metal_rough, to_spec_gloss};
 use std::path::{Path, PathBuf};
@@ -39,12 +39,12 @@ fn decode_codes(c: [u8; 3]) -> Vec3 {
 pub fn run(args: &ConvertArgs) -> Result<()> {
     let mut printed = false;
     if let Some(ior) = args.ior {
-        let f0 = lumen::brdf::f0_from_ior(ior);
+        let f0 = lumen::shading::brdf::f0_from_ior(ior);
         crate::output::print(&format!("IOR {ior} → F0 {f0:.4}\n"));
         printed = true;
     }
     if let Some(level) = args.specular_level {
-        let f0 = lumen::brdf::dielectric_f0(level);
+        let f0 = lumen::shading::brdf::dielectric_f0(level);
         crate::output::print(&format!("specular level {level} → F0 {f0:.4}\n"));
         printed = true;
     }

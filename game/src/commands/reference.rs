@@ -12,7 +12,7 @@ use lumen::trace_input::trace_scene;
 use std::path::PathBuf;
 
 /// The tone mapper of the camera the last rendered frame used.
-pub fn frame_tonemapper(app: &App) -> lumen::color::Tonemapper {
+pub fn frame_tonemapper(app: &App) -> lumen::shading::color::Tonemapper {
     app.world()
         .get_resource::<lumen::render::extract::ExtractedFrame>()
         .and_then(|f| f.camera.as_ref())
@@ -174,7 +174,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
                     return image::Rgba([byte(r), byte(g), byte(b), 255]);
                 }
                 let c = tonemapper.apply(glam::Vec3::new(r, g, b));
-                let e = |v: f32| byte(lumen::color::srgb_encode(v.clamp(0.0, 1.0)));
+                let e = |v: f32| byte(lumen::shading::color::srgb_encode(v.clamp(0.0, 1.0)));
                 image::Rgba([e(c.x), e(c.y), e(c.z), 255])
             });
             save_png(&out, &display)?;

@@ -8,13 +8,13 @@ use crate::measure::{measure, stats::Summary};
 use crate::setup::{build_scene, check_scene_args};
 use anyhow::{Context, Result, anyhow};
 use lumen::App;
-use lumen::brdf::VisibilityModel;
 use lumen::choice::Choice;
-use lumen::color::Tonemapper;
 use lumen::quality::QualityPreset;
 use lumen::quality::knob::{Acts, Knobs, Value};
 use lumen::quality::knobs::{AA, ACCUMULATE, AO, GI, REFLECTION_PROBES, SSR};
 use lumen::reference::path::{LightVisibility, ReferenceOptions, render};
+use lumen::shading::brdf::VisibilityModel;
+use lumen::shading::color::Tonemapper;
 use lumen::trace_input::trace_scene;
 use plotters::prelude::*;
 use serde_json::json;
@@ -213,8 +213,9 @@ fn display_rgb8(img: &image::Rgba32FImage, tonemapper: Tonemapper) -> Vec<u8> {
     img.pixels()
         .flat_map(|p| {
             let c = tonemapper.apply(glam::Vec3::new(p.0[0], p.0[1], p.0[2]));
-            [c.x, c.y, c.z]
-                .map(|v| (lumen::color::srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8)
+            [c.x, c.y, c.z].map(|v| {
+                (lumen::shading::color::srgb_encode(v.clamp(0.0, 1.0)) * 255.0).round() as u8
+            })
         })
         .collect()
 }
@@ -347,7 +348,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         let taa = app.world().resource::<lumen::prelude::Quality>().aa.method
             == lumen::quality::AaMethod::Taa;
         let warmup = if taa {
-            let period = lumen::render::antialiasing::taa::TAA_JITTER_PERIOD;
+            let period = lumen::render::antialias::taa::TAA_JITTER_PERIOD;
             let rest = (period - args.frames % period) % period;
             if rest < 3 { rest + period } else { rest }
         } else {

@@ -1,5 +1,5 @@
 //! `plane`: a square plate facing the camera, lit by one directional light — the case the
-//! GPU-vs-CPU BRDF test compares pixel for pixel with `lumen::brdf`.
+//! GPU-vs-CPU BRDF test compares pixel for pixel with `lumen::shading::brdf`.
 
 use lumen::assets::procedural::plane;
 use lumen::prelude::*;

@@ -9,10 +9,10 @@
 
 use lumen::assets::gltf::{GltfOptions, load_gltf_with};
 use lumen::assets::procedural::{plane, uv_sphere};
-use lumen::color::luminance;
 use lumen::environment_sun::split_sun;
 use lumen::prelude::*;
 use lumen::scene::Transmission;
+use lumen::shading::color::luminance;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -1,24 +1,26 @@
 //! The path tracer's BSDF at a hit: `brdf.rs`'s Cook-Torrance (diffuse and GGX specular
 //! lobes) about the shading normal, sampled as a mixture of a cosine lobe and GGX visible
 //! normals (Heitz 2018); on a material with a sheen, the sheen lobe about the mesh's own
-//! normal over it (`crate::sheen`), and on a clearcoated material the coat's GGX lobe
-//! over both (`crate::clearcoat`), layered as the rasterizer layers them:
+//! normal over it (`crate::shading::sheen`), and on a clearcoated material the coat's GGX lobe
+//! over both (`crate::shading::clearcoat`), layered as the rasterizer layers them:
 //! `f = factor · f_coat + (1 − factor · E_coat(n·v)) · (f_sheen + (1 − max(c) · E_sheen(n·v)) · f_base)`.
 //! The sheen is sampled by a cosine lobe about its normal. An anisotropic base
-//! (`crate::anisotropy`) has its GGX lobe stretched along a direction in the tangent
+//! (`crate::shading::anisotropy`) has its GGX lobe stretched along a direction in the tangent
 //! plane, evaluated and sampled (visible normals of the stretched lobe) in a frame whose
-//! first axis is that direction. A translucent base (`crate::diffuse_transmission`)
+//! first axis is that direction. A translucent base (`crate::shading::diffuse_transmission`)
 //! moves part of its diffuse lobe to the other side of the surface, sampled by a cosine
 //! lobe about the turned normal; paths then continue through the surface.
 
 use super::microfacet::{basis, concentric_disk, g1_ggx_anisotropic};
 use super::rng::Rng;
-use super::scene::{AlbedoTable, TraceMaterial};
-use crate::anisotropy::{RelitLobe, anisotropic_alphas, d_ggx_anisotropic, relit_brdf_lobes};
-use crate::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
-use crate::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
-use crate::diffuse_transmission::diffuse_transmission_lobe;
-use crate::iridescence::iridescent_mix;
+use super::traced_scene::{AlbedoTable, TraceMaterial};
+use crate::shading::anisotropy::{
+    RelitLobe, anisotropic_alphas, d_ggx_anisotropic, relit_brdf_lobes,
+};
+use crate::shading::brdf::{Surface, VisibilityModel, surface_brdf_lobes};
+use crate::shading::clearcoat::{CLEARCOAT_SPECULAR_LEVEL, clearcoat_base_weight};
+use crate::shading::diffuse_transmission::diffuse_transmission_lobe;
+use crate::shading::iridescence::iridescent_mix;
 use glam::{Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
@@ -42,7 +44,7 @@ fn sample_reflection(frame: Mat3, alphas: Vec2, v: Vec3, rng: &mut Rng) -> Optio
     if local_v.z <= 0.0 {
         return None;
     }
-    let h = crate::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
+    let h = crate::shading::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
     let local_l = 2.0 * local_v.dot(h) * h - local_v;
     (local_l.z > 0.0).then(|| (frame * local_l).normalize())
 }
@@ -51,13 +53,13 @@ fn sample_reflection(frame: Mat3, alphas: Vec2, v: Vec3, rng: &mut Rng) -> Optio
 /// seen at cosine `n_dot_v`: the tinted F0 whose Schlick Fresnel is the film's, as the
 /// rasterizer's split sum uses it.
 fn compensated_f0(surface: &Surface, lobe: &RelitLobe, n_dot_v: f32) -> Vec3 {
-    let f0 = crate::brdf::tinted_f0(
+    let f0 = crate::shading::brdf::tinted_f0(
         surface.base_color,
         surface.metallic,
         surface.specular_level,
         lobe.tint,
     );
-    crate::iridescence::film_f0(f0, n_dot_v, lobe.film)
+    crate::shading::iridescence::film_f0(f0, n_dot_v, lobe.film)
 }
 
 /// A clearcoat's specular lobe (F0 0.04) about its own normal.
@@ -102,7 +104,7 @@ impl SheenLobe {
         let n = self.n();
         let (n_dot_v, n_dot_l) = (n.dot(v), n.dot(l));
         let h = (v + l).normalize_or(n);
-        crate::sheen::sheen_brdf(self.color, self.roughness, n_dot_v, n_dot_l, n.dot(h))
+        crate::shading::sheen::sheen_brdf(self.color, self.roughness, n_dot_v, n_dot_l, n.dot(h))
             * n_dot_l.max(0.0)
     }
 
@@ -170,7 +172,8 @@ impl Bsdf {
                 .iridescence
                 .map_or(Vec3::ZERO, |f| Vec3::new(f.factor, f.ior, f.thickness_nm)),
         };
-        let f0 = crate::brdf::tinted_f0(m.base_color, m.metallic, m.specular_level, lobe.tint);
+        let f0 =
+            crate::shading::brdf::tinted_f0(m.base_color, m.metallic, m.specular_level, lobe.tint);
         let f = iridescent_mix(f0, n.dot(v).clamp(0.0, 1.0), lobe.film);
         let spec = luminance(f);
         let diff = luminance(m.base_color) * (1.0 - m.metallic);
@@ -216,7 +219,7 @@ impl Bsdf {
     /// stretched along the direction it makes with the interpolated tangent `tangent`
     /// (xyz, handedness in w), in the tangent plane of the shading normal, seen from `v`.
     /// With `compensated`, the energy compensation divides by the anisotropic lobe's
-    /// albedo at v's cosine and azimuth ([`crate::anisotropy::anisotropic_dfg`]), as the
+    /// albedo at v's cosine and azimuth ([`crate::shading::anisotropy::anisotropic_dfg`]), as the
     /// rasterizer's relit base does. Call before the layers.
     pub(super) fn with_anisotropy(
         mut self,
@@ -227,7 +230,7 @@ impl Bsdf {
     ) -> Bsdf {
         let n = self.n();
         let (sin, cos) = anisotropy.rotation_rad.sin_cos();
-        let t = crate::anisotropy::anisotropy_direction(
+        let t = crate::shading::anisotropy::anisotropy_direction(
             n,
             tangent.truncate(),
             tangent.w,
@@ -239,15 +242,15 @@ impl Bsdf {
         self.relit = true;
         if compensated {
             let n_dot_v = n.dot(v).clamp(0.0, 1.0);
-            let dfg = crate::anisotropy::anisotropic_dfg(
-                crate::anisotropy::dfg_table(),
-                n_dot_v.max(crate::brdf::MIN_N_DOT_V),
-                crate::anisotropy::view_azimuth(t, n.cross(t), v),
+            let dfg = crate::shading::anisotropy::anisotropic_dfg(
+                crate::shading::anisotropy::dfg_table(),
+                n_dot_v.max(crate::shading::brdf::MIN_N_DOT_V),
+                crate::shading::anisotropy::view_azimuth(t, n.cross(t), v),
                 self.surface.perceptual_roughness,
                 anisotropy.strength,
             );
             let f0 = compensated_f0(&self.surface, &self.lobe, n_dot_v);
-            self.specular_scale = crate::ibl::energy_compensation(f0, dfg);
+            self.specular_scale = crate::shading::ibl::energy_compensation(f0, dfg);
         }
         self
     }
@@ -261,12 +264,12 @@ impl Bsdf {
         v: Vec3,
         (color, roughness): (Vec3, f32),
     ) -> Bsdf {
-        let albedo = crate::sheen::sheen_albedo(
-            crate::sheen::albedo_table(),
+        let albedo = crate::shading::sheen::sheen_albedo(
+            crate::shading::sheen::albedo_table(),
             n_s.dot(v).clamp(0.0, 1.0),
             roughness,
         );
-        self.sheen_weight = crate::sheen::sheen_base_weight(color, albedo);
+        self.sheen_weight = crate::shading::sheen::sheen_base_weight(color, albedo);
         let sheen = luminance(color) * albedo;
         let base = self.sheen_weight * self.reflectance(v);
         self.p_sheen = lobe_probability(sheen, base);
@@ -281,7 +284,7 @@ impl Bsdf {
     /// An estimate of the base's reflectance towards `v` (luminance of F plus the
     /// diffuse albedo), for choosing between lobes.
     fn reflectance(&self, v: Vec3) -> f32 {
-        let f0 = crate::brdf::tinted_f0(
+        let f0 = crate::shading::brdf::tinted_f0(
             self.surface.base_color,
             self.surface.metallic,
             self.surface.specular_level,
@@ -303,7 +306,7 @@ impl Bsdf {
         coat_albedo: &AlbedoTable,
         compensation: Option<&AlbedoTable>,
     ) -> Bsdf {
-        let f0 = crate::brdf::dielectric_f0(CLEARCOAT_SPECULAR_LEVEL);
+        let f0 = crate::shading::brdf::dielectric_f0(CLEARCOAT_SPECULAR_LEVEL);
         let n_dot_v = n_c.dot(v).clamp(0.0, 1.0);
         let specular_scale = compensation.map_or(Vec3::ONE, |table| {
             table.compensation(Vec3::splat(f0), n_dot_v, roughness)

@@ -4,14 +4,14 @@
 //! drawn from GGX's visible normals (Heitz 2018) and the choice between reflection and
 //! refraction made with the exact Fresnel reflectance of unpolarised light. Inside a
 //! volume, light is absorbed by Beer–Lambert's law over the distance travelled
-//! ([`crate::transmission::volume_transmittance`]). A thin-walled surface (thickness 0)
+//! ([`crate::shading::transmission::volume_transmittance`]). A thin-walled surface (thickness 0)
 //! passes light through without bending it.
 
 use super::microfacet::g1_ggx_anisotropic;
 use super::rng::Rng;
-use crate::anisotropy::{RelitLobe, relit_fresnel};
-use crate::brdf::Surface;
 use crate::scene::Transmission;
+use crate::shading::anisotropy::{RelitLobe, relit_fresnel};
+use crate::shading::brdf::Surface;
 use glam::{Mat3, Vec2, Vec3};
 
 /// Fresnel reflectance of unpolarised light at a smooth interface, for the cosine
@@ -47,7 +47,7 @@ pub struct Interface {
     /// axes of `alphas` (an anisotropic interface's direction first).
     pub frame: Mat3,
     /// GGX widths along the frame's first two axes (α = perceptual roughness², stretched
-    /// by an anisotropy: `crate::anisotropy::anisotropic_alphas`).
+    /// by an anisotropy: `crate::shading::anisotropy::anisotropic_alphas`).
     pub alphas: Vec2,
     /// Base colour, linear RGB 0..1: it tints the light the interface lets through.
     pub base: Vec3,
@@ -89,8 +89,8 @@ pub fn sample(
     if local_v.z <= 0.0 {
         return None;
     }
-    let h = frame * crate::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
-    let ior = crate::transmission::clamp_ior(transmission.ior);
+    let h = frame * crate::shading::ibl::sample_ggx_vndf_anisotropic(local_v, alphas, rng.pair());
+    let ior = crate::shading::transmission::clamp_ior(transmission.ior);
     let thin = transmission.thickness_m.is_nan() || transmission.thickness_m <= 0.0;
     let eta = if thin || entering { 1.0 / ior } else { ior };
     let cos_i = v.dot(h);

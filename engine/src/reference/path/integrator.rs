@@ -39,10 +39,10 @@
 use super::bsdf::{Bsdf, lobe_probability};
 use super::microfacet::{basis, concentric_disk};
 use super::rng::Rng;
-use super::scene::{
+use super::traced_scene::{
     LightVisibility, SurfacePoint, TraceEnvironment, TraceLight, TraceMaterial, TraceScene,
 };
-use crate::punctual::{distance_attenuation, spot_attenuation};
+use crate::shading::punctual::{distance_attenuation, spot_attenuation};
 use glam::{Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
@@ -521,7 +521,7 @@ impl TraceScene {
         let (distance, t, surface) = hit;
         match surface.material.transmission {
             Some(tr) if tr.thickness_m > 0.0 && self.geometric_normal(*t).dot(dir) > 0.0 => {
-                crate::transmission::volume_transmittance(
+                crate::shading::transmission::volume_transmittance(
                     tr.attenuation_color,
                     tr.attenuation_distance_m,
                     *distance,
@@ -603,7 +603,7 @@ impl TraceScene {
 
     /// One sample of the ambient occlusion at the first surface along a camera ray: a
     /// cosine-distributed direction about the shading normal (turned to the viewer), and
-    /// 1 minus the falloff weight ([`crate::ambient_occlusion::ao_falloff`]) of the first
+    /// 1 minus the falloff weight ([`crate::shading::ambient_occlusion::ao_falloff`]) of the first
     /// surface it meets within `radius_m` metres (a direction below the geometric surface
     /// is occluded at once). Its mean is the cosine-weighted visibility that the AO pass
     /// estimates from the depth buffer; a ray that meets nothing gives 1.
@@ -620,7 +620,7 @@ impl TraceScene {
         }
         let offset = facing * (1e-4 * (1.0 + p.abs().max_element()));
         match self.trace(p + offset, l) {
-            Some((hit, _, _)) => 1.0 - crate::ambient_occlusion::ao_falloff(hit, radius_m),
+            Some((hit, _, _)) => 1.0 - crate::shading::ambient_occlusion::ao_falloff(hit, radius_m),
             None => 1.0,
         }
     }
@@ -668,7 +668,7 @@ impl TraceScene {
                             c
                         }
                     };
-                    let iors = crate::transmission::dispersion_iors(tr.ior, tr.dispersion);
+                    let iors = crate::shading::transmission::dispersion_iors(tr.ior, tr.dispersion);
                     crate::scene::Transmission { ior: iors[c], ..tr }
                 } else {
                     tr
@@ -807,7 +807,7 @@ mod tests {
         let v = Vec3::new(0.6, 0.0, 0.8);
         for alpha in [0.01f32, 0.25, 1.0] {
             for _ in 0..1000 {
-                let h = crate::ibl::sample_ggx_vndf(v, alpha, rng.pair());
+                let h = crate::shading::ibl::sample_ggx_vndf(v, alpha, rng.pair());
                 assert!(h.is_normalized() && h.z >= 0.0, "{h}");
                 assert!(v.dot(h) >= -1e-5, "visible normals face v");
             }

@@ -18,8 +18,8 @@ pub mod dielectric;
 pub mod integrator;
 pub mod microfacet;
 pub mod rng;
-pub mod scene;
 pub mod textures;
+pub mod traced_scene;
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -32,7 +32,7 @@ pub use rng::Rng;
 /// noise, is traced again rather than reused: `lc` is next-event estimation with light
 /// connections.
 pub const ESTIMATOR: &str = "lc";
-pub use scene::{
+pub use traced_scene::{
     LightVisibility, TraceInput, TraceInstance, TraceLight, TraceMaterial, TraceScene,
 };
 

@@ -2,10 +2,10 @@
 //! variant samples, read on the CPU with bilinear filtering (no mip maps: the reference
 //! supersamples every pixel), the samplers' wrap modes and `KHR_texture_transform`.
 
-use crate::color::srgb_decode;
 use crate::scene::extension_maps::EXTENSION_PROPERTIES;
 use crate::scene::texture::normal_from_map;
 use crate::scene::{ColorSpace, Filter, MaterialMaps, TextureData, TextureSlot, Textures, Wrap};
+use crate::shading::color::srgb_decode;
 use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
 

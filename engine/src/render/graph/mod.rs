@@ -44,9 +44,11 @@ pub mod resources;
 pub mod slots;
 
 use crate::error::Result;
+use crate::render::bindings::BindGroupSpec;
 use crate::render::device::Gpu;
+use crate::render::shaders::ShaderDef;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
+use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleConfigs};
 use bevy_ecs::system::ScheduleSystem;
 use std::any::Any;
 use std::marker::PhantomData;
@@ -102,7 +104,7 @@ pub trait FramePass: Resource + Sized {
     /// The facts of earlier passes its decision reads.
     const CONSULTS: &'static [FactId] = &[];
     /// Whether it also runs when a probe captures the lit scene around it
-    /// ([`crate::render::indirect::irradiance_volume`]): the passes that make lit HDR
+    /// ([`crate::render::indirect::probe_volume`]): the passes that make lit HDR
     /// radiance (shadows, G-buffer, light culling, lighting, sky) do; screen-space,
     /// exposure and post-processing passes do not.
     const CAPTURE: bool = false;
@@ -133,6 +135,72 @@ pub trait FramePass: Resource + Sized {
     fn skipped() -> Option<ScheduleConfigs<ScheduleSystem>> {
         None
     }
+
+    /// The shader builds it compiles: each variant, or where the variants are too many to
+    /// list, enough of them that every shader def takes each of its values. The tests
+    /// check each build against its WGSL, with no GPU (`tests/bindings.rs`); a built-in
+    /// pass with a shader must list it.
+    fn shader_builds() -> Vec<ShaderBuild> {
+        Vec::new()
+    }
+}
+
+/// One shader build of a pass: what the tests compose, validate with naga and compare
+/// with the bind group lists the pass builds its layouts from.
+#[derive(Clone, Debug)]
+pub struct ShaderBuild {
+    /// The entry file of `shaders/`.
+    pub shader: &'static str,
+    /// The variant's shader defs.
+    pub defs: Vec<ShaderDef>,
+    /// Each bind group the pass binds, as (group index, its list); none where the pass
+    /// derives its layouts from the shader (the build is then only validated).
+    pub groups: Vec<(u32, BindGroupSpec)>,
+}
+
+impl ShaderBuild {
+    /// `shader` composed with `defs`, binding `groups`.
+    pub fn new(
+        shader: &'static str,
+        defs: Vec<ShaderDef>,
+        groups: &[(u32, BindGroupSpec)],
+    ) -> ShaderBuild {
+        ShaderBuild {
+            shader,
+            defs,
+            groups: groups.to_vec(),
+        }
+    }
+}
+
+/// The systems a pass schedules ([`FramePass::prepare`], [`FramePass::record`],
+/// [`FramePass::skipped`]).
+pub type PassSystems = ScheduleConfigs<ScheduleSystem>;
+
+/// `system` (a system function, or systems chained) as [`PassSystems`].
+pub fn systems<M>(system: impl IntoScheduleConfigs<ScheduleSystem, M>) -> PassSystems {
+    system.into_configs()
+}
+
+/// The usual [`FramePass::prepare`] and [`FramePass::record`]: one system each.
+/// `lumen::pass_systems!(prepare_x, x_pass);` inside `impl FramePass for XPass` stands
+/// for
+///
+/// ```text
+/// fn prepare() -> Option<PassSystems> { Some(systems(prepare_x)) }
+/// fn record() -> PassSystems { systems(x_pass) }
+/// ```
+#[macro_export]
+macro_rules! pass_systems {
+    ($prepare:expr, $record:expr) => {
+        fn prepare() -> Option<$crate::render::graph::PassSystems> {
+            Some($crate::render::graph::systems($prepare))
+        }
+
+        fn record() -> $crate::render::graph::PassSystems {
+            $crate::render::graph::systems($record)
+        }
+    };
 }
 
 /// Whether a pass or shader feature is used this frame, and why.

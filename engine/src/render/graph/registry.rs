@@ -32,7 +32,7 @@
 //! that assignment ([`crate::render::targets`]).
 
 use super::resources::{self, Extent, Planned, Shape, Sizing, TargetFormat, TextureClass};
-use super::{FactId, FramePass, FramePlan, Lifetime, PassId, Slot, SlotKind};
+use super::{FactId, FramePass, FramePlan, Lifetime, PassId, ShaderBuild, Slot, SlotKind};
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use bevy_ecs::prelude::*;
@@ -59,6 +59,8 @@ pub struct PassEntry {
     pub consults: &'static [FactId],
     /// Whether it runs in probe captures ([`FramePass::CAPTURE`]).
     pub capture: bool,
+    /// Its shader builds ([`FramePass::shader_builds`]).
+    pub shader_builds: fn() -> Vec<ShaderBuild>,
     create: fn(&mut World, &Gpu) -> Result<()>,
     decide: fn(&World, &mut FramePlan),
     prepare: OptionalSystems,
@@ -88,6 +90,7 @@ impl PassEntry {
             publishes: P::PUBLISHES,
             consults: P::CONSULTS,
             capture: P::CAPTURE,
+            shader_builds: P::shader_builds,
             create: |world, gpu| {
                 let pass = P::create(world, gpu)?;
                 world.insert_resource(pass);
@@ -212,6 +215,14 @@ impl Registry {
     /// The passes' names, in order.
     pub fn ids(&self) -> Vec<PassId> {
         self.entries.iter().map(|e| e.id).collect()
+    }
+
+    /// Each pass's name and shader builds ([`FramePass::shader_builds`]), in order.
+    pub fn shader_builds(&self) -> Vec<(PassId, Vec<ShaderBuild>)> {
+        self.entries
+            .iter()
+            .map(|e| (e.id, (e.shader_builds)()))
+            .collect()
     }
 
     /// The passes that run in probe captures, in the same order.

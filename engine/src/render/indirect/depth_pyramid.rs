@@ -23,12 +23,12 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
-use crate::render::graph::{BufferDesc, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot};
-use crate::render::pipelines::create_module;
+use crate::render::graph::{
+    BufferDesc, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
+};
+use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 use wgpu::util::DeviceExt;
 
 #[allow(non_upper_case_globals)]
@@ -160,12 +160,14 @@ impl FramePass for DepthPyramidPass {
             )
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_pyramid.into_configs())
-    }
+    crate::pass_systems!(prepare_pyramid, pyramid_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        pyramid_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new(
+            "depth_pyramid.wgsl",
+            Vec::new(),
+            &[(0, BINDINGS)],
+        )]
     }
 }
 
@@ -174,13 +176,7 @@ impl DepthPyramidPass {
     /// pass first runs.
     pub fn new(gpu: &Gpu) -> Self {
         let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("depth pyramid"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
+        let pipeline_layout = pipeline_layout(gpu, "depth pyramid", &[&layout]);
         let steps = (0..MAX_LEVELS as u32)
             .map(|level| {
                 gpu.device
@@ -211,16 +207,13 @@ impl DepthPyramidPass {
             &gpu.shaders.compose("depth_pyramid.wgsl", &[])?,
         )?;
         let entry = |entry_point: &str| {
-            gpu.checked("depth pyramid pipeline", |device| {
-                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("depth pyramid"),
-                    layout: Some(&self.pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry_point),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
+            compute_pipeline(
+                gpu,
+                "depth pyramid",
+                Some(&self.pipeline_layout),
+                &module,
+                entry_point,
+            )
         };
         self.pipelines = Some([entry("cs_first")?, entry("cs_build")?]);
         Ok(())
@@ -349,6 +342,17 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_layout_lays_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(
+            PyramidLayout,
+            "depth_pyramid.wgsl",
+            &[],
+            "PyramidLayout",
+            [levels, count]
+        );
+    }
 
     #[test]
     fn levels_halve_down_to_one_texel_and_pack_without_gaps() {

@@ -9,9 +9,9 @@
 use crate::error::Result;
 use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
-use crate::render::ibl::{ENVIRONMENT, Ibl};
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
-use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
+use crate::render::environment_maps::{ENVIRONMENT, Ibl};
+use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
+use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::light_culling::LIGHT_TILES;
 use crate::render::scene_buffers::SceneBuffers;

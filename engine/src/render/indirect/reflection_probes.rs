@@ -1,8 +1,8 @@
 //! Reflection probes on the GPU: where they are placed, the copy of each captured face into
 //! a face strip (`shaders/reflection_capture.wgsl`), the prefiltered cube maps (the
-//! environment's own prefilter, [`crate::render::ibl::Ibl::prefilter_strip`]), and the
+//! environment's own prefilter, [`crate::render::environment_maps::Ibl::prefilter_strip`]), and the
 //! uniform the lighting and reflection passes read (`shaders/probe_reflections.wgsl`).
-//! The formulas are in [`crate::reflection_probe`].
+//! The formulas are in [`crate::shading::reflection_probe`].
 
 use crate::error::Result;
 use crate::quality::ReflectionProbeSettings;
@@ -10,10 +10,10 @@ use crate::quality::knob::Value;
 use crate::quality::knobs::REFLECTION_PROBES;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
+use crate::render::environment_maps::{CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view};
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::ibl::{CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view};
-use crate::render::pipelines::create_module;
+use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
 use crate::render::targets::RenderTargets;
 use crate::scene::{Camera, GlobalTransform, ReflectionProbe};
 use bevy_ecs::prelude::*;
@@ -165,23 +165,14 @@ impl ReflectionProbesGpu {
         let copy_layout = FACE_COPY.layout(gpu);
         let source = gpu.shaders.compose("reflection_capture.wgsl", &[])?;
         let module = create_module(gpu, "reflection capture", &source)?;
-        let layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("reflection capture"),
-                bind_group_layouts: &[Some(&copy_layout)],
-                immediate_size: 0,
-            });
-        let copy = gpu.checked("reflection capture pipeline", |device| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("reflection capture"),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some("cs_copy_face"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })?;
+        let layout = pipeline_layout(gpu, "reflection capture", &[&copy_layout]);
+        let copy = compute_pipeline(
+            gpu,
+            "reflection capture",
+            Some(&layout),
+            &module,
+            "cs_copy_face",
+        )?;
         let buffer = |label, size| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -199,13 +190,7 @@ impl ReflectionProbesGpu {
                 std::mem::size_of::<GpuReflectionProbes>() as u64,
             ),
             dummy: cube_view(&cube_texture(gpu, "no reflection probe", 1, 1)),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("reflection probes"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                mipmap_filter: wgpu::MipmapFilterMode::Linear,
-                ..Default::default()
-            }),
+            sampler: gpu.mipmapped_sampler("reflection probes"),
             placed: Vec::new(),
             captured: Vec::new(),
             stale: Vec::new(),
@@ -336,4 +321,31 @@ pub fn record_face_copy(
     pass.set_pipeline(&probes.copy);
     pass.set_bind_group(0, &group, &[]);
     pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), 1);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::shaders::ShaderDef;
+
+    #[test]
+    fn the_probes_lay_out_as_the_shader_does() {
+        let slots = MAX_REFLECTION_PROBES as u32;
+        let defs = [ShaderDef::U32("REFLECTION_PROBE_SLOTS", slots)];
+        let entry = "probe_reflections.wgsl";
+        crate::assert_wgsl_twin!(
+            GpuReflectionProbe,
+            entry,
+            &defs,
+            "ReflectionProbe",
+            [position_blend, half_extents_mips, exposure]
+        );
+        crate::assert_wgsl_twin!(
+            GpuReflectionProbes,
+            entry,
+            &defs,
+            "ReflectionProbes",
+            [items, count]
+        );
+    }
 }

@@ -20,27 +20,26 @@ use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
 use crate::render::graph::{
-    Decision, Extent, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot,
-    TargetFormat, TextureDesc,
+    Decision, Extent, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing,
+    Slot, TargetFormat, TextureDesc,
 };
-use crate::render::indirect::ambient_occlusion::{AMBIENT_OCCLUSION, SCREEN_AO};
 use crate::render::indirect::depth_pyramid::{
     DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT, reflections_skip_reason,
 };
+use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
+use crate::render::lighting::{ENVIRONMENT, PROBES};
+use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::{
     MaskDepth, color_attachment, create_module, depth_attachment, fullscreen_pipeline,
-    mask_depth_state,
+    mask_depth_state, pipeline_layout,
 };
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{DEPTH_FORMAT, RenderTargets};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::{ScheduleSystem, SystemParam};
-use std::collections::HashMap;
-use wgpu::util::DeviceExt;
+use bevy_ecs::system::SystemParam;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -49,7 +48,7 @@ impl PassId {
 }
 
 /// Group 0 of the reflection pass: the view, its parameters, the G-buffer, the pyramid
-/// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::ibl::ENVIRONMENT`].
+/// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::environment_maps::ENVIRONMENT`].
 pub const SSR: BindGroupSpec = BindGroupSpec {
     label: "ssr",
     visibility: wgpu::ShaderStages::FRAGMENT,
@@ -184,12 +183,43 @@ impl FramePass for SsrPass {
         decision
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_ssr.into_configs())
-    }
+    crate::pass_systems!(prepare_ssr, ssr_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        ssr_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        let everything = SsrVariant {
+            rays: 2,
+            steps: 16,
+            environment: true,
+            env_map: true,
+            energy_compensation: true,
+            screen_ao: true,
+            reflection_probes: 2,
+            format: wgpu::TextureFormat::Rgba16Float,
+            half: true,
+        };
+        let nothing = SsrVariant {
+            rays: 1,
+            steps: 1,
+            environment: false,
+            env_map: false,
+            energy_compensation: false,
+            screen_ao: false,
+            reflection_probes: 0,
+            format: wgpu::TextureFormat::Rgba16Float,
+            half: false,
+        };
+        vec![
+            ShaderBuild::new(
+                "ssr.wgsl",
+                everything.shader_defs(),
+                &[(0, SSR), (1, ENVIRONMENT), (2, SSR_HALF), (3, PROBES)],
+            ),
+            ShaderBuild::new(
+                "ssr.wgsl",
+                nothing.shader_defs(),
+                &[(0, SSR), (1, ENVIRONMENT), (3, PROBES)],
+            ),
+        ]
     }
 }
 
@@ -232,7 +262,7 @@ pub struct SsrPass {
     pipeline_layouts: [wgpu::PipelineLayout; 2],
     /// Per variant: the full-resolution mark and trace pipelines, or the half-resolution
     /// trace mark, trace, composite mark and composite pipelines.
-    pipelines: HashMap<SsrVariant, Vec<wgpu::RenderPipeline>>,
+    pipelines: PipelineCache<SsrVariant, Vec<wgpu::RenderPipeline>>,
     params: wgpu::Buffer,
     /// Group 0, the hits' group and the empty group.
     bind_groups: [CachedGroup; 3],
@@ -249,109 +279,106 @@ impl SsrPass {
             [own, environment, none, probes],
             [own, environment, hits, probes],
         ]
-        .map(|groups| {
-            let bind_group_layouts: Vec<Option<&wgpu::BindGroupLayout>> =
-                groups.iter().map(|&g| Some(g)).collect();
-            gpu.device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("ssr"),
-                    bind_group_layouts: &bind_group_layouts,
-                    immediate_size: 0,
-                })
-        });
+        .map(|groups| pipeline_layout(gpu, "ssr", &groups));
         SsrPass {
             layouts,
             pipeline_layouts,
-            pipelines: HashMap::new(),
-            params: gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("ssr params"),
-                    contents: &[0; std::mem::size_of::<Params>()],
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                }),
+            pipelines: PipelineCache::default(),
+            params: gpu.uniform_buffer("ssr params", std::mem::size_of::<Params>() as u64),
             bind_groups: Default::default(),
         }
     }
 
-    /// The shader defs of `variant`.
-    pub fn defs(variant: SsrVariant) -> Vec<ShaderDef> {
-        vec![
-            ShaderDef::U32("RAYS", variant.rays),
-            ShaderDef::U32("STEPS", variant.steps),
-            ShaderDef::Bool("HAS_ENVIRONMENT", variant.environment),
-            ShaderDef::Bool("ENV_MAP", variant.env_map),
-            ShaderDef::Bool("ENERGY_COMPENSATION", variant.energy_compensation),
-            ShaderDef::Bool("SCREEN_AO", variant.screen_ao),
-            ShaderDef::U32("REFLECTION_PROBE_SLOTS", variant.reflection_probes),
-        ]
-    }
-
     fn pipeline(&mut self, gpu: &Gpu, variant: SsrVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let module = create_module(
-            gpu,
-            "ssr",
-            &gpu.shaders.compose("ssr.wgsl", &SsrPass::defs(variant))?,
-        )?;
-        let pipeline = |layout: usize, entry: &str, formats: &[wgpu::TextureFormat], depth| {
-            fullscreen_pipeline(
-                gpu,
-                entry,
-                Some(&self.pipeline_layouts[layout]),
-                &module,
-                ("vs_fullscreen", entry),
-                formats,
-                depth,
-            )
-        };
-        let pipelines = if variant.half {
-            vec![
-                pipeline(
-                    0,
-                    "fs_mark_trace_half",
-                    &[],
-                    Some(mask_depth_state(MaskDepth::Mark)),
-                )?,
-                pipeline(
-                    0,
-                    "fs_trace_half",
-                    &[HALF_FORMAT],
-                    Some(mask_depth_state(MaskDepth::Test)),
-                )?,
-                pipeline(
-                    1,
-                    "fs_mark_half",
-                    &[],
-                    Some(mask_depth_state(MaskDepth::Mark)),
-                )?,
-                pipeline(
-                    1,
-                    "fs_composite_half",
-                    &[variant.format],
-                    Some(mask_depth_state(MaskDepth::Test)),
-                )?,
-            ]
-        } else {
-            vec![
-                pipeline(
-                    0,
-                    "fs_mark_full",
-                    &[],
-                    Some(mask_depth_state(MaskDepth::Mark)),
-                )?,
-                pipeline(
-                    0,
-                    "fs_main",
-                    &[variant.format],
-                    Some(mask_depth_state(MaskDepth::Test)),
-                )?,
-            ]
-        };
-        self.pipelines.insert(variant, pipelines);
+        let SsrPass {
+            pipeline_layouts,
+            pipelines,
+            ..
+        } = self;
+        pipelines.ensure(&variant, |defs| {
+            compile(gpu, pipeline_layouts, variant, defs)
+        })?;
         Ok(())
+    }
+}
+
+/// The full-resolution mark and trace pipelines of `variant`, or the half-resolution
+/// trace mark, trace, composite mark and composite pipelines, from `ssr.wgsl` under
+/// `defs`.
+fn compile(
+    gpu: &Gpu,
+    pipeline_layouts: &[wgpu::PipelineLayout; 2],
+    variant: SsrVariant,
+    defs: &[ShaderDef],
+) -> Result<Vec<wgpu::RenderPipeline>> {
+    let module = create_module(gpu, "ssr", &gpu.shaders.compose("ssr.wgsl", defs)?)?;
+    let pipeline = |layout: usize, entry: &str, formats: &[wgpu::TextureFormat], depth| {
+        fullscreen_pipeline(
+            gpu,
+            entry,
+            Some(&pipeline_layouts[layout]),
+            &module,
+            ("vs_fullscreen", entry),
+            formats,
+            depth,
+        )
+    };
+    Ok(if variant.half {
+        vec![
+            pipeline(
+                0,
+                "fs_mark_trace_half",
+                &[],
+                Some(mask_depth_state(MaskDepth::Mark)),
+            )?,
+            pipeline(
+                0,
+                "fs_trace_half",
+                &[HALF_FORMAT],
+                Some(mask_depth_state(MaskDepth::Test)),
+            )?,
+            pipeline(
+                1,
+                "fs_mark_half",
+                &[],
+                Some(mask_depth_state(MaskDepth::Mark)),
+            )?,
+            pipeline(
+                1,
+                "fs_composite_half",
+                &[variant.format],
+                Some(mask_depth_state(MaskDepth::Test)),
+            )?,
+        ]
+    } else {
+        vec![
+            pipeline(
+                0,
+                "fs_mark_full",
+                &[],
+                Some(mask_depth_state(MaskDepth::Mark)),
+            )?,
+            pipeline(
+                0,
+                "fs_main",
+                &[variant.format],
+                Some(mask_depth_state(MaskDepth::Test)),
+            )?,
+        ]
+    })
+}
+
+impl ShaderVariant for SsrVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("RAYS", self.rays),
+            ShaderDef::U32("STEPS", self.steps),
+            ShaderDef::Bool("HAS_ENVIRONMENT", self.environment),
+            ShaderDef::Bool("ENV_MAP", self.env_map),
+            ShaderDef::Bool("ENERGY_COMPENSATION", self.energy_compensation),
+            ShaderDef::Bool("SCREEN_AO", self.screen_ao),
+            ShaderDef::U32("REFLECTION_PROBE_SLOTS", self.reflection_probes),
+        ]
     }
 }
 
@@ -580,4 +607,28 @@ pub fn ssr_pass(
         rp.draw(0..3, 0..1);
     }
     timer.end_pass(scope);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        let variant = SsrVariant {
+            rays: 1,
+            steps: 1,
+            environment: false,
+            env_map: false,
+            energy_compensation: false,
+            screen_ao: false,
+            reflection_probes: 0,
+            format: wgpu::TextureFormat::Rgba16Float,
+            half: false,
+        };
+        let defs = variant.shader_defs();
+        crate::assert_wgsl_twin!(Params, "ssr.wgsl", &defs, "SsrParams", [
+            max_roughness, thickness_m, pad => "pad0",
+        ]);
+    }
 }

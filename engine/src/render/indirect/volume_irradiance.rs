@@ -3,8 +3,8 @@
 //! once per 2 × 2 pixels, at the top-left pixel of each block, in its own pass. The
 //! lighting pass then gathers the four texels around each pixel and weights them as it
 //! weights the half-resolution shadow mask (bilinear × a tent in view depth,
-//! [`crate::shadow_kernel::shadow_mask_weight`]) times a normal term
-//! ([`crate::irradiance_volume::upsample_normal_weight`], so that light does not cross a
+//! [`crate::shading::shadow_kernel::shadow_mask_weight`]) times a normal term
+//! ([`crate::shading::irradiance_volume::upsample_normal_weight`], so that light does not cross a
 //! crease), instead of looking the volume up per pixel; where every weight is 0 it takes
 //! the texel nearest in depth among those facing the pixel's way.
 //!
@@ -21,16 +21,18 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
-use crate::render::graph::{Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::irradiance_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
+use crate::render::graph::{
+    Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
+};
+use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
+use crate::render::pipelines::{
+    MaskDepth, create_module, fullscreen_pipeline, mask_depth_state, pipeline_layout,
+};
 use crate::render::scaled_output;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -74,6 +76,13 @@ pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
 };
 
 /// The groups between 0 and the probes' group 3, which the shader does not read.
+/// The part of [`PROBES`] the shader declares: the volume's four bindings (its layout
+/// binds the whole group, which it shares with the lighting pass).
+const PROBES_READ: BindGroupSpec = BindGroupSpec {
+    bindings: PROBES.bindings.split_at(4).0,
+    ..PROBES
+};
+
 const UNUSED: BindGroupSpec = BindGroupSpec {
     label: "volume irradiance: unused",
     visibility: wgpu::ShaderStages::FRAGMENT,
@@ -125,12 +134,19 @@ impl FramePass for VolumeIrradiancePass {
             .publishing(&HALF_VOLUME, runs)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_volume_irradiance.into_configs())
-    }
+    crate::pass_systems!(prepare_volume_irradiance, volume_irradiance_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        volume_irradiance_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new(
+            "volume_irradiance.wgsl",
+            Vec::new(),
+            &[
+                (0, VIEW_AND_GBUFFER),
+                (1, UNUSED),
+                (2, UNUSED),
+                (3, PROBES_READ),
+            ],
+        )]
     }
 }
 
@@ -155,18 +171,9 @@ impl VolumeIrradiancePass {
             UNUSED.layout(gpu),
             PROBES.layout(gpu),
         ];
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("volume irradiance"),
-                bind_group_layouts: &[
-                    Some(&layouts[0]),
-                    Some(&layouts[1]),
-                    Some(&layouts[1]),
-                    Some(&layouts[2]),
-                ],
-                immediate_size: 0,
-            });
+        let [own, unused, probes] = &layouts;
+        let pipeline_layout =
+            pipeline_layout(gpu, "volume irradiance", &[own, unused, unused, probes]);
         VolumeIrradiancePass {
             layouts,
             pipeline_layout,

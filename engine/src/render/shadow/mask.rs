@@ -3,7 +3,7 @@
 //! at full resolution or at half (one texel per 2 × 2 pixels). The lighting pass then
 //! reads one value per light instead of running the shadow filter in its light loop; at
 //! half resolution it upsamples with depth-aware weights
-//! ([`crate::shadow_kernel::shadow_mask_weight`]).
+//! ([`crate::shading::shadow_kernel::shadow_mask_weight`]).
 //!
 //! It runs when [`crate::quality::Quality::shadow_mask`] is not `off`, the frame has a
 //! shadowed directional light, no more of them than the mask has channels
@@ -19,10 +19,14 @@ use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
-use crate::render::graph::{Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
+use crate::render::graph::{
+    Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
+};
 use crate::render::light_culling::LIGHT_TILES;
-use crate::render::pipelines::{MaskDepth, create_module, fullscreen_pipeline, mask_depth_state};
+use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
+use crate::render::pipelines::{MaskDepth, mask_depth_state};
 use crate::render::scaled_output;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -33,9 +37,6 @@ use crate::render::shadow::lookups::{
 use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -121,6 +122,24 @@ pub struct MaskVariant {
     pub uniform_lights: bool,
     /// Every shadow view fits the uniform copy of the view array.
     pub uniform_shadow_views: bool,
+    /// Lights the uniform copy of the light array holds.
+    pub uniform_capacity: u32,
+}
+
+impl ShaderVariant for MaskVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        let mut defs = vec![
+            ShaderDef::U32("SHADOW_MASK_SCALE", self.scale),
+            ShaderDef::U32("SHADOW_MASK_LIGHTS", self.lights),
+        ];
+        defs.extend(lookup_defs(
+            self.filter,
+            self.uniform_lights,
+            self.uniform_shadow_views,
+            self.uniform_capacity,
+        ));
+        defs
+    }
 }
 
 impl FramePass for ShadowMaskPass {
@@ -150,6 +169,7 @@ impl FramePass for ShadowMaskPass {
             filter: quality.shadow_filter,
             uniform_lights: buffers.lights_fit_uniform(frame),
             uniform_shadow_views: views_fit_uniform(frame),
+            uniform_capacity: buffers.uniform_light_capacity,
         };
         let skip = skip_reason(quality.shadow_mask, frame);
         let reason = skip.clone().unwrap_or_else(|| {
@@ -174,12 +194,32 @@ impl FramePass for ShadowMaskPass {
             .publishing(&MASK, shape)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_shadow_mask.into_configs())
-    }
+    crate::pass_systems!(prepare_shadow_mask, shadow_mask_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        shadow_mask_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        crate::quality::ShadowFilter::ALL
+            .iter()
+            .zip(
+                [(1, 1, false), (2, 3, true), (1, 2, true), (2, 1, false)]
+                    .iter()
+                    .cycle(),
+            )
+            .map(|(&filter, &(scale, lights, uniform))| {
+                let variant = MaskVariant {
+                    scale,
+                    lights,
+                    filter,
+                    uniform_lights: uniform,
+                    uniform_shadow_views: uniform,
+                    uniform_capacity: 8,
+                };
+                ShaderBuild::new(
+                    "shadow_mask.wgsl",
+                    variant.shader_defs(),
+                    &[(0, VIEW_AND_GBUFFER), (1, LIGHTS_AND_SHADOWS)],
+                )
+            })
+            .collect()
     }
 }
 
@@ -190,92 +230,42 @@ fn depth_test() -> wgpu::DepthStencilState {
     mask_depth_state(MaskDepth::Test)
 }
 
-/// The mask pass's pipelines per variant: the depth copy at mask resolution, and the
-/// mask itself.
-struct MaskPipelines {
-    depth: wgpu::RenderPipeline,
-    mask: wgpu::RenderPipeline,
-}
-
-/// The mask pass's pipelines (one pair per variant), its depth at mask resolution and its
-/// bind groups.
+/// The mask pass's steps (per variant: the depth copy at mask resolution, and the mask
+/// itself) and its bind groups.
 #[derive(Resource)]
 pub struct ShadowMaskPass {
-    /// The layouts of group 0 and group 1.
-    layouts: [wgpu::BindGroupLayout; 2],
-    pipeline_layout: wgpu::PipelineLayout,
-    pipelines: HashMap<MaskVariant, MaskPipelines>,
-    /// Group 0 and group 1.
-    bind_groups: [CachedGroup; 2],
+    /// The depth copy, which owns group 0 ([`VIEW_AND_GBUFFER`]).
+    depth: FullscreenStep<MaskVariant>,
+    /// The lookups, over the same groups.
+    mask: FullscreenPipelines<MaskVariant>,
+    /// Group 1's layout and group.
+    lights_layout: wgpu::BindGroupLayout,
+    lights: CachedGroup,
 }
 
 impl ShadowMaskPass {
-    /// Creates the group-0 layout; pipelines compile per variant on first use.
+    /// Creates the layouts; pipelines compile per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layouts = [VIEW_AND_GBUFFER.layout(gpu), LIGHTS_AND_SHADOWS.layout(gpu)];
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("shadow mask"),
-                bind_group_layouts: &[Some(&layouts[0]), Some(&layouts[1])],
-                immediate_size: 0,
-            });
+        let lights_layout = LIGHTS_AND_SHADOWS.layout(gpu);
+        let depth = FullscreenStep::with_groups(
+            gpu,
+            Fullscreen::new("shadow mask depth", "shadow_mask.wgsl")
+                .entry("fs_depth")
+                .depth(mask_depth_state(MaskDepth::Mark)),
+            &VIEW_AND_GBUFFER,
+            &[&lights_layout],
+        );
+        let mask = FullscreenPipelines::new(
+            gpu,
+            Fullscreen::new("shadow mask", "shadow_mask.wgsl").depth(depth_test()),
+            &[depth.layout(), &lights_layout],
+        );
         ShadowMaskPass {
-            layouts,
-            pipeline_layout,
-            pipelines: HashMap::new(),
-            bind_groups: Default::default(),
+            depth,
+            mask,
+            lights_layout,
+            lights: CachedGroup::default(),
         }
-    }
-
-    /// The shader defs of `variant`, for a uniform light copy of `uniform_capacity` lights.
-    pub fn defs(variant: MaskVariant, uniform_capacity: u32) -> Vec<ShaderDef> {
-        let mut defs = vec![
-            ShaderDef::U32("SHADOW_MASK_SCALE", variant.scale),
-            ShaderDef::U32("SHADOW_MASK_LIGHTS", variant.lights),
-        ];
-        defs.extend(lookup_defs(
-            variant.filter,
-            variant.uniform_lights,
-            variant.uniform_shadow_views,
-            uniform_capacity,
-        ));
-        defs
-    }
-
-    fn pipeline(&mut self, gpu: &Gpu, variant: MaskVariant, uniform_capacity: u32) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let module = create_module(
-            gpu,
-            "shadow mask",
-            &gpu.shaders.compose(
-                "shadow_mask.wgsl",
-                &ShadowMaskPass::defs(variant, uniform_capacity),
-            )?,
-        )?;
-        let depth = fullscreen_pipeline(
-            gpu,
-            "shadow mask depth",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_depth"),
-            &[],
-            Some(mask_depth_state(MaskDepth::Mark)),
-        )?;
-        let mask = fullscreen_pipeline(
-            gpu,
-            "shadow mask",
-            Some(&self.pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[MASK_FORMAT],
-            Some(depth_test()),
-        )?;
-        self.pipelines
-            .insert(variant, MaskPipelines { depth, mask });
-        Ok(())
     }
 }
 
@@ -293,7 +283,9 @@ pub fn prepare_shadow_mask(
     else {
         return;
     };
-    if let Err(e) = pass.pipeline(&gpu, variant, buffers.uniform_light_capacity) {
+    let compiled = (pass.depth.ensure(&gpu, variant, &[]))
+        .and_then(|()| pass.mask.ensure(&gpu, variant, &[MASK_FORMAT]).map(|_| ()));
+    if let Err(e) = compiled {
         errors.0.push(e);
         return;
     }
@@ -305,15 +297,14 @@ pub fn prepare_shadow_mask(
     };
     use wgpu::BindingResource::TextureView;
     let ShadowMaskPass {
-        layouts,
-        bind_groups: [g0, g1],
+        depth: depth_step,
+        lights_layout,
+        lights,
         ..
     } = &mut *pass;
-    let made = g0
-        .get(
+    let made = depth_step
+        .bind(
             &gpu,
-            &VIEW_AND_GBUFFER,
-            &layouts[0],
             vec![
                 buffers.view.as_entire_binding(),
                 TextureView(depth),
@@ -321,15 +312,15 @@ pub fn prepare_shadow_mask(
                 TextureView(normal),
             ],
         )
-        .map(|_| ())
         .and_then(|()| {
-            g1.get(
-                &gpu,
-                &LIGHTS_AND_SHADOWS,
-                &layouts[1],
-                lights_and_shadows(&buffers, &atlas, tiles),
-            )
-            .map(|_| ())
+            lights
+                .get(
+                    &gpu,
+                    &LIGHTS_AND_SHADOWS,
+                    lights_layout,
+                    lights_and_shadows(&buffers, &atlas, tiles),
+                )
+                .map(|_| ())
         });
     if let Err(e) = made {
         errors.0.push(e);
@@ -345,11 +336,10 @@ pub fn shadow_mask_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [g0, g1] = &pass.bind_groups;
     let (Some(encoder), Some(g0), Some(g1), Some([output, depth])) = (
         encoder.as_mut(),
-        g0.group(),
-        g1.group(),
+        pass.depth.group(),
+        pass.lights.group(),
         targets
             .current
             .as_ref()
@@ -357,10 +347,13 @@ pub fn shadow_mask_pass(
     ) else {
         return;
     };
-    let Some(pipelines) = plan
-        .variant::<ShadowMaskPass>()
-        .and_then(|v| pass.pipelines.get(v))
-    else {
+    let Some(&variant) = plan.variant::<ShadowMaskPass>() else {
+        return;
+    };
+    let (Some(depth_pipeline), Some(mask_pipeline)) = (
+        pass.depth.pipeline(variant, &[]),
+        pass.mask.get(variant, &[MASK_FORMAT]),
+    ) else {
         return;
     };
     // The background keeps (1, 1, 1, −1): lit, no depth.
@@ -376,7 +369,7 @@ pub fn shadow_mask_pass(
         ["shadow mask depth", "shadow mask"],
         output,
         depth,
-        [&pipelines.depth, &pipelines.mask],
+        [depth_pipeline, mask_pipeline],
         &[g0, g1],
         background,
     );

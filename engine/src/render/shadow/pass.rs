@@ -11,20 +11,18 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::{SHADOW_CACHE, SHADOWS};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform::{DEFORMED_VERTICES, DeformedVertices};
+use crate::render::deform_pass::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::gpu_material_maps::GpuMaterialMaps;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::material_maps::GpuMaterialMaps;
-use crate::render::pipelines::create_module;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pipelines::{create_module, pipeline_layout};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::render::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
 use crate::scene::{MeshHandle, TextureSlot, Vertex};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 pub use super::atlas::ATLAS_FORMAT;
 
@@ -246,12 +244,17 @@ impl FramePass for ShadowPass {
         PassDecision::new(views > 0, reason, ShadowVariant)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_shadows.into_configs())
-    }
+    crate::pass_systems!(prepare_shadows, shadow_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        shadow_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new(
+            "shadow.wgsl",
+            vec![crate::render::gpu_material_maps::group_def(1)],
+            &[
+                (0, CASTERS),
+                (1, crate::render::gpu_material_maps::CORE_BINDINGS),
+            ],
+        )]
     }
 }
 
@@ -259,21 +262,14 @@ impl ShadowPass {
     /// Compiles the pass (its masked pipeline against the material maps' `maps_layout`)
     /// and creates an empty atlas.
     pub fn new(gpu: &Gpu, maps_layout: &wgpu::BindGroupLayout) -> Result<Self> {
-        let source = gpu
-            .shaders
-            .compose("shadow.wgsl", &[crate::render::material_maps::group_def(1)])?;
+        let source = gpu.shaders.compose(
+            "shadow.wgsl",
+            &[crate::render::gpu_material_maps::group_def(1)],
+        )?;
         let module = create_module(gpu, "shadow", &source)?;
         let caster_layout = CASTERS.layout(gpu);
-        let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
-            gpu.device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some(label),
-                    bind_group_layouts: groups,
-                    immediate_size: 0,
-                })
-        };
-        let opaque_layout = layout("shadow", &[Some(&caster_layout)]);
-        let masked_layout = layout("shadow masked", &[Some(&caster_layout), Some(maps_layout)]);
+        let opaque_layout = pipeline_layout(gpu, "shadow", &[&caster_layout]);
+        let masked_layout = pipeline_layout(gpu, "shadow masked", &[&caster_layout, maps_layout]);
         let attribute = |location, format, offset| wgpu::VertexAttribute {
             format,
             offset: offset as u64,
@@ -383,12 +379,10 @@ impl ShadowPass {
 }
 
 fn caster_view_buffer(gpu: &Gpu, views: usize) -> wgpu::Buffer {
-    gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("shadow caster views"),
-        size: (views.max(1) * std::mem::size_of::<GpuCasterView>()) as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
+    gpu.uniform_buffer(
+        "shadow caster views",
+        (views.max(1) * std::mem::size_of::<GpuCasterView>()) as u64,
+    )
 }
 
 /// Packs the atlas, uploads the views, culls casters per view and (re)builds bindings.
@@ -605,4 +599,25 @@ pub fn shadow_pass(
         }
     }
     timer.end_pass(scope);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::shaders::struct_layout;
+
+    #[test]
+    fn a_caster_view_is_its_shader_struct_padded_to_a_dynamic_offset_step() {
+        let defs = [crate::render::gpu_material_maps::group_def(1)];
+        let layout = struct_layout("shadow.wgsl", &defs, "CasterView").expect("CasterView");
+        assert_eq!(
+            layout.members,
+            vec![(
+                "clip_from_world".to_string(),
+                std::mem::offset_of!(GpuCasterView, clip_from_world) as u32
+            )]
+        );
+        assert_eq!(std::mem::size_of::<GpuCasterView>(), 256);
+        assert!(layout.size <= 256);
+    }
 }

@@ -16,7 +16,7 @@
 //!
 //! Its group 0 is the view and the opaque frame's chain ([`VIEW`]). It binds the lighting
 //! pass's groups 1 to 3 as they are, and the material maps as group 4
-//! (`material_maps::group_def`): it runs only on adapters with five bind groups.
+//! (`gpu_material_maps::group_def`): it runs only on adapters with five bind groups.
 //! Compiled per (lighting variant, double-sided, HDR format); the variant is the lighting
 //! pass's without its screen-space inputs: the AO pass's occlusion and the light tiles
 //! belong to the opaque surface behind the fragment.
@@ -24,30 +24,30 @@
 use crate::error::Result;
 use crate::quality::Transparency;
 use crate::render::bindings::CachedGroup;
-use crate::render::deform::DEFORMED_VERTICES;
+use crate::render::deform_pass::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::forward::{
-    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, draw_batches,
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
 };
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
+use crate::render::gpu_material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::indirect::ambient_occlusion::AMBIENT_OCCLUSION;
+use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::light_culling::LIGHT_TILES;
-use crate::render::lighting::{LIGHTING, LightingPass, LightingVariant};
+use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
 use crate::render::lobe_tables::LobeTables;
-use crate::render::material_maps::{GpuMaterialMaps, unit_defs};
+use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::pipelines::{color_attachment, draw_fullscreen_with};
-use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderDef;
 use crate::render::shadow::pass::SHADOW_ATLAS;
-use crate::render::targets::{self, RenderTargets};
+use crate::render::targets::{self};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::{ScheduleSystem, SystemParam};
 use transmission_source::TRANSMISSION_SOURCE;
-use weighted::{OIT_ACCUM, OIT_REVEAL, OVER, WeightedResolve};
+use weighted::{OIT_ACCUM, OIT_REVEAL, OVER};
 
 pub mod transmission_source;
 pub mod weighted;
@@ -252,7 +252,7 @@ impl FramePass for TransparentPass {
             )
         } else {
             let units = world.resource::<GpuMaterialMaps>().units;
-            let note = crate::render::material_maps::unsampled_note(frame, units);
+            let note = crate::render::gpu_material_maps::unsampled_note(frame, units);
             (
                 true,
                 match mode {
@@ -274,12 +274,37 @@ impl FramePass for TransparentPass {
             .writing(OIT_REVEAL, weighted)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_transparent.into_configs())
-    }
+    crate::pass_systems!(prepare_transparent, transparent_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        transparent_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        let mut builds = vec![ShaderBuild::new(
+            "transparent_resolve.wgsl",
+            Vec::new(),
+            &[(0, weighted::RESOLVE_BINDINGS)],
+        )];
+        for (units, maps) in [
+            (true, crate::render::gpu_material_maps::BINDINGS),
+            (false, crate::render::gpu_material_maps::CORE_BINDINGS),
+        ] {
+            for lobes in BlendedLobes::all() {
+                let shader = TransparentShader {
+                    variant: TransparentVariant::of(
+                        LightingVariant::everything(),
+                        crate::quality::Transparency::WeightedBlended,
+                        true,
+                    ),
+                    lobes,
+                    units,
+                };
+                let [_, lights, environment, probes] = GROUPS_BY_INDEX;
+                builds.push(ShaderBuild::new(
+                    "transparent.wgsl",
+                    shader.shader_defs(),
+                    &[(0, VIEW), lights, environment, probes, (MAPS_GROUP, maps)],
+                ));
+            }
+        }
+        builds
     }
 }
 
@@ -287,14 +312,14 @@ impl FramePass for TransparentPass {
 /// view group and its lobe tables.
 #[derive(Resource)]
 pub struct TransparentPass {
-    pipelines: ForwardPipelines<(TransparentVariant, BlendedLobes)>,
+    pipelines: ForwardPipelines<TransparentShader>,
     /// The view group.
     view_group: CachedGroup,
     /// 1 × 1 black, bound in the chain's place when no surface transmits.
     no_frame: wgpu::TextureView,
     /// Trilinear and clamped: what the transmission source is sampled with.
     sampler: wgpu::Sampler,
-    resolve: WeightedResolve,
+    resolve: FullscreenStep,
     /// Whether the maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
     units: bool,
     /// The anisotropic lobe's split-sum table and the sheen's albedo table, for blended
@@ -332,29 +357,41 @@ impl TransparentPass {
             view_group: CachedGroup::default(),
             no_frame,
             sampler: transmission_source::sampler(gpu),
-            resolve: WeightedResolve::new(gpu),
+            resolve: weighted::resolve_step(gpu),
             units: maps.units,
             tables: LobeTables::new(gpu),
         }
     }
+}
 
-    /// The WGSL of `variant`, for a uniform light copy of `uniform_capacity` lights, the
-    /// maps' layout with the extension units where `units`; with `RELIT_BASE` where
-    /// `lobes.relit`; with layers, `RELIT_BASE` and `SHEEN_LOBE` as switches that the
-    /// layers turn and only the layers' code it has (`BLENDED_SHEEN`, `BLENDED_COAT`),
-    /// else without the layers' code.
-    pub fn defs(
-        (variant, lobes): (TransparentVariant, BlendedLobes),
-        uniform_capacity: u32,
-        units: bool,
-    ) -> Vec<crate::render::shaders::ShaderDef> {
-        use crate::render::shaders::ShaderDef;
+/// The shader of one kind of transparent batch: the pass's variant, the lobes of the
+/// batches drawn, and whether the maps' layout binds the extension units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TransparentShader {
+    /// The pass's variant.
+    pub variant: TransparentVariant,
+    /// The lobes of the batches this shader draws.
+    pub lobes: BlendedLobes,
+    /// The maps' layout binds the extension units ([`GpuMaterialMaps::units`]).
+    pub units: bool,
+}
+
+/// The lighting pass's defs with `RELIT_BASE` where `lobes.relit`; with layers,
+/// `RELIT_BASE` and `SHEEN_LOBE` as switches that the layers turn and only the layers'
+/// code the batches have (`BLENDED_SHEEN`, `BLENDED_COAT`), else without the layers'
+/// code; the maps' group, with the extension units where `units`; and `TRANSMISSION`.
+impl ShaderVariant for TransparentShader {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        let TransparentShader {
+            variant,
+            lobes,
+            units,
+        } = *self;
         let switch = |name, on| match lobes.layered() {
             true => ShaderDef::Switch(name, on),
             false => ShaderDef::Bool(name, on),
         };
-        let mut defs: Vec<ShaderDef> = LightingPass::defs(variant.lighting, uniform_capacity)
-            .into_iter()
+        let mut defs: Vec<ShaderDef> = (variant.lighting.shader_defs().into_iter())
             .map(|d| match d {
                 ShaderDef::Bool("RELIT_BASE", _) => switch("RELIT_BASE", lobes.relit),
                 ShaderDef::Bool("SHEEN_LOBE", _) => switch("SHEEN_LOBE", false),
@@ -368,10 +405,7 @@ impl TransparentPass {
             defs.push(ShaderDef::Import("blended_layers", "blended_layers_none"));
         }
         defs.extend(unit_defs(MAPS_GROUP, units));
-        defs.push(crate::render::shaders::ShaderDef::Bool(
-            "TRANSMISSION",
-            variant.transmission,
-        ));
+        defs.push(ShaderDef::Bool("TRANSMISSION", variant.transmission));
         defs
     }
 }
@@ -405,14 +439,6 @@ fn transparent_shape(variant: TransparentVariant, format: wgpu::TextureFormat) -
     }
 }
 
-/// What the transparent pass prepares from, besides its own resource.
-#[derive(SystemParam)]
-pub struct PrepareInputs<'w> {
-    frame: Res<'w, ExtractedFrame>,
-    buffers: Res<'w, SceneBuffers>,
-    targets: Res<'w, RenderTargets>,
-}
-
 /// Compiles the pipelines this frame's blended and transmissive batches need and rebuilds the view group
 /// when the scene buffers were recreated.
 pub fn prepare_transparent(
@@ -433,18 +459,22 @@ pub fn prepare_transparent(
     ) else {
         return;
     };
-    let capacity = buffers.uniform_light_capacity;
     let units = pass.units;
     for lobes in BlendedLobes::all() {
         if let Err(e) = pass.pipelines.ensure(
             &gpu,
-            ((variant, lobes), t.hdr_format),
+            (
+                TransparentShader {
+                    variant,
+                    lobes,
+                    units,
+                },
+                t.hdr_format,
+            ),
             frame
                 .transparent_batches()
                 .filter(|b| BlendedLobes::of(&frame, b) == lobes),
-            ("transparent.wgsl", &|| {
-                TransparentPass::defs((variant, lobes), capacity, units)
-            }),
+            "transparent.wgsl",
             &|format| transparent_shape(variant, format),
         ) {
             errors.0.push(e);
@@ -459,9 +489,16 @@ pub fn prepare_transparent(
         let pass = &mut *pass;
         if let Err(e) = pass
             .resolve
-            .pipelines
-            .ensure(&gpu, t.hdr_format)
-            .and_then(|()| pass.resolve.prepare(&gpu, accum, reveal))
+            .ensure(&gpu, (), &[t.hdr_format])
+            .and_then(|()| {
+                pass.resolve.bind(
+                    &gpu,
+                    vec![
+                        wgpu::BindingResource::TextureView(accum),
+                        wgpu::BindingResource::TextureView(reveal),
+                    ],
+                )
+            })
         {
             errors.0.push(e);
             return;
@@ -513,8 +550,8 @@ pub fn transparent_pass(
     let oit = if variant.weighted {
         match (
             t.views([OIT_ACCUM, OIT_REVEAL]),
-            pass.resolve.group.group(),
-            pass.resolve.pipelines.get(t.hdr_format),
+            pass.resolve.group(),
+            pass.resolve.pipeline((), &[t.hdr_format]),
         ) {
             (Some(views), Some(group), Some(pipeline)) => Some((views, group, pipeline)),
             _ => return,
@@ -555,11 +592,12 @@ pub fn transparent_pass(
             MAPS_GROUP,
             inputs.frame.transparent_batches(),
             |batch| {
-                pass.pipelines.get(
-                    (variant, BlendedLobes::of(&inputs.frame, batch)),
-                    batch.double_sided,
-                    t.hdr_format,
-                )
+                let shader = TransparentShader {
+                    variant,
+                    lobes: BlendedLobes::of(&inputs.frame, batch),
+                    units: pass.units,
+                };
+                pass.pipelines.get(shader, batch.double_sided, t.hdr_format)
             },
         );
     }

@@ -3,7 +3,7 @@
 //! f16 texture of the frame's size and each mip level above is averaged from the one
 //! below (2 × 2 texels, bilinear taps at their shared corner). The transparent pass
 //! samples it along each transmissive fragment's refracted ray, at a level that grows
-//! with the surface's roughness ([`crate::transmission::transmission_lod`]): a rough
+//! with the surface's roughness ([`crate::shading::transmission::transmission_lod`]): a rough
 //! pane blurs what is behind it, as in Filament's and the Khronos sample renderer's
 //! screen-space refraction.
 //!
@@ -13,20 +13,19 @@
 //! texture used at another time of the frame.
 
 use crate::error::Result;
-use crate::render::antialiasing::copy::CopyToHdr;
+use crate::render::antialias::copy::CopyToHdr;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{
-    FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat, TextureDesc,
+    FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat, TextureDesc,
 };
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
+use crate::render::pipeline_cache::Fullscreen;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -56,21 +55,14 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 
 /// What the chain is made and read with: trilinear, clamped to the frame's edges.
 pub fn sampler(gpu: &Gpu) -> wgpu::Sampler {
-    gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("frame mips"),
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        mipmap_filter: wgpu::MipmapFilterMode::Linear,
-        ..Default::default()
-    })
+    gpu.mipmapped_sampler("frame mips")
 }
 
 /// The pass: the copy, the downsampling pipeline, its sampler, and the groups that read
 /// each level (level 0's copies the HDR target).
 #[derive(Resource)]
 pub struct TransmissionSourcePass {
-    layout: wgpu::BindGroupLayout,
-    downsample: wgpu::RenderPipeline,
+    downsample: FullscreenStep,
     copy: CopyToHdr,
     sampler: wgpu::Sampler,
     copy_group: CachedGroup,
@@ -81,19 +73,15 @@ pub struct TransmissionSourcePass {
 impl TransmissionSourcePass {
     /// Compiles the downsampling and the copy into [`FORMAT`].
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let layout = BINDINGS.layout(gpu);
-        let downsample = fullscreen_variant(
+        let mut downsample = FullscreenStep::new(
             gpu,
-            "frame mips",
-            &one_group_layout(gpu, "frame mips", &layout),
-            "frame_mips.wgsl",
-            &[],
-            FORMAT,
-        )?;
+            Fullscreen::new("frame mips", "frame_mips.wgsl"),
+            &BINDINGS,
+        );
+        downsample.ensure(gpu, (), &[FORMAT])?;
         let mut copy = CopyToHdr::new(gpu);
-        copy.ensure(gpu, FORMAT)?;
+        copy.0.ensure(gpu, (), &[FORMAT])?;
         Ok(TransmissionSourcePass {
-            layout,
             downsample,
             copy,
             sampler: sampler(gpu),
@@ -130,12 +118,13 @@ impl FramePass for TransmissionSourcePass {
         }
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_transmission_source.into_configs())
-    }
+    crate::pass_systems!(prepare_transmission_source, transmission_source_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        transmission_source_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![
+            ShaderBuild::new("frame_mips.wgsl", Vec::new(), &[(0, BINDINGS)]),
+            crate::render::antialias::copy::build(),
+        ]
     }
 }
 
@@ -166,11 +155,10 @@ pub fn prepare_transmission_source(
             continue;
         };
         made = made.and_then(|()| {
-            group
-                .get(
+            pass.downsample
+                .bind_in(
+                    group,
                     &gpu,
-                    &BINDINGS,
-                    &pass.layout,
                     vec![
                         wgpu::BindingResource::TextureView(below),
                         wgpu::BindingResource::Sampler(&pass.sampler),
@@ -191,41 +179,22 @@ pub fn transmission_source_pass(
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(encoder), Some(()), Some(t), Some(copy), Some(copy_group)) = (
-        encoder.as_mut(),
+    let (Some(()), Some(t)) = (
         plan.variant::<TransmissionSourcePass>(),
         targets.current.as_ref(),
-        pass.copy.pipeline(FORMAT),
-        pass.copy_group.group(),
     ) else {
         return;
     };
     let Some(level0) = t.level(TRANSMISSION_SOURCE, 0) else {
         return;
     };
-    draw_fullscreen(
-        encoder,
-        timer,
-        "transmission source",
-        &[level0],
-        copy,
-        copy_group,
-    );
+    let name = "transmission source";
+    let copy = pass.copy.0.pipeline((), &[FORMAT]);
+    encoder.fullscreen(name, &[level0], copy, pass.copy_group.group());
+    let downsample = pass.downsample.pipeline((), &[FORMAT]);
     for (level, group) in pass.level_groups.iter().enumerate() {
-        let (Some(target), Some(group)) = (
-            t.level(TRANSMISSION_SOURCE, level as u32 + 1),
-            group.group(),
-        ) else {
-            continue;
-        };
-        draw_fullscreen(
-            encoder,
-            timer,
-            "transmission source",
-            &[target],
-            &pass.downsample,
-            group,
-        );
+        if let Some(target) = t.level(TRANSMISSION_SOURCE, level as u32 + 1) {
+            encoder.fullscreen(name, &[target], downsample, group.group());
+        }
     }
 }

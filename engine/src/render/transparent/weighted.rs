@@ -1,13 +1,13 @@
 //! The transparent pass's order-independent mode (`--transparency weighted`): weighted
-//! blended OIT ([`crate::transparency`]). Its two targets, the accumulation and the
+//! blended OIT ([`crate::shading::transparency`]). Its two targets, the accumulation and the
 //! revealage, exist only in frames that use the mode; the resolve
 //! (`shaders/transparent_resolve.wgsl`) composites them over the HDR target with "over".
 
-use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::{Slot, TargetFormat};
-use crate::render::pipelines::PerFormat;
+use crate::render::pipeline_cache::Fullscreen;
 
 /// Σ wᵢLᵢαᵢ (rgb) and Σ wᵢαᵢ (a): half floats, as McGuire & Bavoil use.
 pub const ACCUM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
@@ -76,48 +76,11 @@ pub fn accumulate_targets() -> [Option<wgpu::ColorTargetState>; 2] {
     ]
 }
 
-/// The resolve: its layout, its pipeline per HDR format, and its bind group.
-pub struct WeightedResolve {
-    layout: wgpu::BindGroupLayout,
-    /// One pipeline per HDR format, blending with [`OVER`].
-    pub pipelines: PerFormat,
-    /// The bind group.
-    pub group: CachedGroup,
-}
-
-impl WeightedResolve {
-    /// The layout; pipelines compile on first use.
-    pub fn new(gpu: &Gpu) -> WeightedResolve {
-        let layout = RESOLVE_BINDINGS.layout(gpu);
-        WeightedResolve {
-            pipelines: PerFormat::new(
-                gpu,
-                "transparent resolve",
-                "transparent_resolve.wgsl",
-                &layout,
-            )
-            .blending(OVER),
-            layout,
-            group: CachedGroup::default(),
-        }
-    }
-
-    /// Makes (or keeps) the bind group of the sums `accum` and `reveal`.
-    pub fn prepare(
-        &mut self,
-        gpu: &Gpu,
-        accum: &wgpu::TextureView,
-        reveal: &wgpu::TextureView,
-    ) -> Result<()> {
-        self.group.get(
-            gpu,
-            &RESOLVE_BINDINGS,
-            &self.layout,
-            vec![
-                wgpu::BindingResource::TextureView(accum),
-                wgpu::BindingResource::TextureView(reveal),
-            ],
-        )?;
-        Ok(())
-    }
+/// The resolve: its pipeline per HDR format, blending with [`OVER`], and its bind group.
+pub fn resolve_step(gpu: &Gpu) -> FullscreenStep {
+    FullscreenStep::new(
+        gpu,
+        Fullscreen::new("transparent resolve", "transparent_resolve.wgsl").blending(OVER),
+        &RESOLVE_BINDINGS,
+    )
 }

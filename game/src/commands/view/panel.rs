@@ -5,9 +5,9 @@ use super::animation_panel::animation_ui;
 use super::controls::{CameraControls, CameraMode};
 use super::knob_panel::quality_ui;
 use lumen::choice::Choice;
-use lumen::color::Tonemapper;
 use lumen::prelude::*;
 use lumen::scene::{AutoExposure, Vignette};
+use lumen::shading::color::Tonemapper;
 use lumen::{App, FrameReport};
 use std::collections::VecDeque;
 

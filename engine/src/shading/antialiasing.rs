@@ -4,7 +4,7 @@
 //! Colours are pre-exposed linear HDR luminance (dimensionless once exposed, 1 ≈ the
 //! display's white before tone mapping).
 
-use crate::color::luminance;
+use crate::shading::color::luminance;
 use glam::{Vec2, Vec3, Vec4};
 
 /// One step of a running mean (Welford 1962): the mean of n samples from the mean of the

@@ -1,12 +1,13 @@
 //! TAA's last step (`taa_resolve.wgsl`): the new history copied into the frame's HDR
 //! target, sharpened when [`crate::quality::AaSettings::taa_sharpen`] is above 0
-//! (contrast-adaptive sharpening, [`crate::antialiasing::cas_weight`]). Compiled per HDR
+//! (contrast-adaptive sharpening, [`crate::shading::antialiasing::cas_weight`]). Compiled per HDR
 //! format. The history is not sharpened, so sharpening never feeds back into later frames.
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
-use crate::render::pipelines::PerFormat;
+use crate::render::fullscreen_step::FullscreenStep;
+use crate::render::pipeline_cache::Fullscreen;
 
 /// The resolve's inputs.
 pub const BINDINGS: BindGroupSpec = BindGroupSpec {
@@ -25,37 +26,27 @@ struct ResolveParams {
     settings: [f32; 4],
 }
 
-/// The resolve's layout, its pipelines (one per HDR format) and its settings buffer.
+/// The resolve step (one pipeline per HDR format) and its settings buffer.
 pub struct TaaResolve {
-    layout: wgpu::BindGroupLayout,
-    pipelines: PerFormat,
+    /// The step.
+    pub step: FullscreenStep,
     params: wgpu::Buffer,
 }
 
 impl TaaResolve {
     /// The layouts and the settings buffer; pipelines compile on first use.
     pub fn new(gpu: &Gpu) -> TaaResolve {
-        let layout = BINDINGS.layout(gpu);
         TaaResolve {
-            pipelines: PerFormat::new(gpu, "taa resolve", "taa_resolve.wgsl", &layout),
-            layout,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa resolve params"),
-                size: std::mem::size_of::<ResolveParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            step: FullscreenStep::new(
+                gpu,
+                Fullscreen::new("taa resolve", "taa_resolve.wgsl"),
+                &BINDINGS,
+            ),
+            params: gpu.uniform_buffer(
+                "taa resolve params",
+                std::mem::size_of::<ResolveParams>() as u64,
+            ),
         }
-    }
-
-    /// Compiles the resolve into `format` unless it exists.
-    pub fn ensure(&mut self, gpu: &Gpu, format: wgpu::TextureFormat) -> Result<()> {
-        self.pipelines.ensure(gpu, format)
-    }
-
-    /// The resolve into `format`, once [`TaaResolve::ensure`]d.
-    pub fn pipeline(&self, format: wgpu::TextureFormat) -> Option<&wgpu::RenderPipeline> {
-        self.pipelines.get(format)
     }
 
     /// The bind group that resolves `history`, made (or kept) in `cache`.
@@ -65,10 +56,9 @@ impl TaaResolve {
         gpu: &Gpu,
         history: &wgpu::TextureView,
     ) -> Result<&'c wgpu::BindGroup> {
-        cache.get(
+        self.step.bind_in(
+            cache,
             gpu,
-            &BINDINGS,
-            &self.layout,
             vec![
                 wgpu::BindingResource::TextureView(history),
                 self.params.as_entire_binding(),
@@ -88,5 +78,21 @@ impl TaaResolve {
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(
+            ResolveParams,
+            "taa_resolve.wgsl",
+            &[],
+            "ResolveParams",
+            [settings]
+        );
     }
 }

@@ -3,11 +3,11 @@
 //! frame, in four steps:
 //! 1. the HDR image is copied with its perceptual luma ([`super::prepare`]);
 //! 2. `smaa_edges.wgsl` marks each pixel's left and top edges where the perceptual luma
-//!    steps ([`crate::antialiasing::smaa_edge`]);
+//!    steps ([`crate::shading::antialiasing::smaa_edge`]);
 //! 3. `smaa_weights.wgsl`, on edge pixels only (depth-tested against a mask the edge step
 //!    writes, so that no other pixel is shaded), follows each edge to both ends (up to
 //!    [`MAX_SEARCH`] pixels each way), reads the crossing edges there, and evaluates the
-//!    coverage of the revectorized silhouette ([`crate::antialiasing::smaa_coverage`]);
+//!    coverage of the revectorized silhouette ([`crate::shading::antialiasing::smaa_coverage`]);
 //! 4. `smaa_blend.wgsl` mixes every pixel with its neighbours across its edges by those
 //!    coverages, in linear colour (the mean a pixel filter takes), and writes the result
 //!    into the HDR target.
@@ -21,21 +21,22 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialiasing::prepare::{AA_PREPARED, MASK, Preparation};
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::antialias::prepare::{AA_PREPARED, MASK, Preparation};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot, TargetFormat};
+use crate::render::graph::{
+    FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat,
+};
+use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::pipelines::{
-    FullscreenDraw, MaskDepth, PerFormat, draw_fullscreen_pass, draw_fullscreen_with,
-    fullscreen_masked_variant, mask_depth_state, one_group_layout,
+    FullscreenDraw, MaskDepth, draw_fullscreen_pass, draw_fullscreen_with, mask_depth_state,
 };
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -48,8 +49,15 @@ impl PassId {
 /// middle unblended, as a straight edge should be.
 pub const MAX_SEARCH: u32 = 32;
 
-/// The coverage step's header constants: `MAX_SEARCH`.
-pub const WEIGHTS_DEFS: &[ShaderDef] = &[ShaderDef::U32("MAX_SEARCH", MAX_SEARCH)];
+/// The coverage step's one build: it searches up to [`MAX_SEARCH`] pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SearchLength;
+
+impl ShaderVariant for SearchLength {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![ShaderDef::U32("MAX_SEARCH", MAX_SEARCH)]
+    }
+}
 
 /// The edges: left (r) and top (g), 0 or 1.
 const EDGES_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg8Unorm;
@@ -97,12 +105,19 @@ impl FramePass for SmaaPass {
         PassDecision::new(runs, reason, quality.hdr_precision.format())
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_smaa.into_configs())
-    }
+    crate::pass_systems!(prepare_smaa, smaa_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        smaa_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![
+            ShaderBuild::new("smaa_edges.wgsl", Vec::new(), &[(0, EDGES_BINDINGS)]),
+            ShaderBuild::new(
+                "smaa_weights.wgsl",
+                SearchLength.shader_defs(),
+                &[(0, WEIGHTS_BINDINGS)],
+            ),
+            ShaderBuild::new("smaa_blend.wgsl", Vec::new(), &[(0, BLEND_BINDINGS)]),
+            crate::render::antialias::prepare::build(),
+        ]
     }
 }
 
@@ -139,63 +154,51 @@ pub const SMAA_MASK: Slot = Slot::texture("smaa mask", MASK);
 /// The coverages the blend mixes each edge pixel with.
 pub const SMAA_WEIGHTS: Slot = Slot::target("smaa weights", TargetFormat::Fixed(WEIGHTS_FORMAT));
 
-/// SMAA's pipelines and images.
+/// SMAA's steps.
 #[derive(Resource)]
 pub struct SmaaPass {
     preparation: Preparation,
-    edges_layout: wgpu::BindGroupLayout,
-    weights_layout: wgpu::BindGroupLayout,
-    blend_layout: wgpu::BindGroupLayout,
-    edges: wgpu::RenderPipeline,
-    weights: wgpu::RenderPipeline,
-    blends: PerFormat,
-    /// The edge, coverage and blend steps' groups.
-    groups: [CachedGroup; 3],
+    /// Writes the edges and marks the mask.
+    edges: FullscreenStep,
+    /// Shades the marked pixels only.
+    weights: FullscreenStep<SearchLength>,
+    /// Compiled per HDR format.
+    blend: FullscreenStep,
 }
 
 impl SmaaPass {
     /// Compiles the preparation, edge and coverage steps; the blend compiles per HDR
     /// format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let edges_layout = EDGES_BINDINGS.layout(gpu);
-        let weights_layout = WEIGHTS_BINDINGS.layout(gpu);
-        let blend_layout = BLEND_BINDINGS.layout(gpu);
         // The edge step writes the mask (depth 1 on edge pixels); the coverage step is
         // tested against it and shades only those.
-        let step = |label: &str, layout, source, format, depth| {
-            fullscreen_masked_variant(
-                gpu,
-                label,
-                &one_group_layout(gpu, label, layout),
-                source,
-                format,
-                depth,
-            )
-        };
+        let mut edges = FullscreenStep::new(
+            gpu,
+            Fullscreen::new("smaa edges", "smaa_edges.wgsl")
+                .depth(mask_depth_state(MaskDepth::Mark)),
+            &EDGES_BINDINGS,
+        );
+        edges.ensure(gpu, (), &[EDGES_FORMAT])?;
+        let mut weights = FullscreenStep::new(
+            gpu,
+            Fullscreen::new("smaa weights", "smaa_weights.wgsl")
+                .depth(mask_depth_state(MaskDepth::Test)),
+            &WEIGHTS_BINDINGS,
+        );
+        weights.ensure(gpu, SearchLength, &[WEIGHTS_FORMAT])?;
         Ok(SmaaPass {
             preparation: Preparation::new(gpu)?,
-            edges: step(
-                "smaa edges",
-                &edges_layout,
-                ("smaa_edges.wgsl", &[]),
-                EDGES_FORMAT,
-                mask_depth_state(MaskDepth::Mark),
-            )?,
-            weights: step(
-                "smaa weights",
-                &weights_layout,
-                ("smaa_weights.wgsl", WEIGHTS_DEFS),
-                WEIGHTS_FORMAT,
-                mask_depth_state(MaskDepth::Test),
-            )?,
-            blends: PerFormat::new(gpu, "smaa blend", "smaa_blend.wgsl", &blend_layout),
-            edges_layout,
-            weights_layout,
-            blend_layout,
-            groups: Default::default(),
+            edges,
+            weights,
+            blend: FullscreenStep::new(
+                gpu,
+                Fullscreen::new("smaa blend", "smaa_blend.wgsl"),
+                &BLEND_BINDINGS,
+            ),
         })
     }
 }
+
 /// Compiles the blend for this frame's HDR format and (re)creates the images at the
 /// frame's size.
 pub fn prepare_smaa(
@@ -209,7 +212,7 @@ pub fn prepare_smaa(
         return;
     };
     let pass = &mut *pass;
-    if let Err(e) = pass.blends.ensure(&gpu, format) {
+    if let Err(e) = pass.blend.ensure(&gpu, (), &[format]) {
         errors.0.push(e);
         return;
     }
@@ -221,40 +224,10 @@ pub fn prepare_smaa(
         return;
     };
     let view = wgpu::BindingResource::TextureView;
-    let [edges_group, weights_group, blend_group] = &mut pass.groups;
-    let made = pass
-        .preparation
-        .prepare(&gpu, hdr)
-        .and_then(|()| {
-            edges_group
-                .get(
-                    &gpu,
-                    &EDGES_BINDINGS,
-                    &pass.edges_layout,
-                    vec![view(prepared)],
-                )
-                .map(|_| ())
-        })
-        .and_then(|()| {
-            weights_group
-                .get(
-                    &gpu,
-                    &WEIGHTS_BINDINGS,
-                    &pass.weights_layout,
-                    vec![view(edges)],
-                )
-                .map(|_| ())
-        })
-        .and_then(|()| {
-            blend_group
-                .get(
-                    &gpu,
-                    &BLEND_BINDINGS,
-                    &pass.blend_layout,
-                    vec![view(prepared), view(weights)],
-                )
-                .map(|_| ())
-        });
+    let made = (pass.preparation.prepare(&gpu, hdr))
+        .and_then(|()| pass.edges.bind(&gpu, vec![view(prepared)]))
+        .and_then(|()| pass.weights.bind(&gpu, vec![view(edges)]))
+        .and_then(|()| pass.blend.bind(&gpu, vec![view(prepared), view(weights)]));
     if let Err(e) = made {
         errors.0.push(e);
     }
@@ -268,22 +241,32 @@ pub fn smaa_pass(
     mut encoder: ResMut<FrameEncoder>,
 ) {
     let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [edges_group, weights_group, blend_group] = &pass.groups;
-    let (Some(encoder), Some(views), Some(blend)) = (
+    let (Some(encoder), Some(views), Some(format)) = (
         encoder.as_mut(),
         targets
             .current
             .as_ref()
             .and_then(|t| t.views([HDR, AA_PREPARED, SMAA_EDGES, SMAA_MASK, SMAA_WEIGHTS])),
-        plan.variant::<SmaaPass>().and_then(|f| pass.blends.get(*f)),
+        plan.variant::<SmaaPass>(),
     ) else {
         return;
     };
-    let (Some(edges_group), Some(weights_group), Some(blend_group)) = (
-        edges_group.group(),
-        weights_group.group(),
-        blend_group.group(),
-    ) else {
+    let (
+        Some(edges_pipeline),
+        Some(weights_pipeline),
+        Some(blend),
+        Some(edges_group),
+        Some(weights_group),
+        Some(blend_group),
+    ) = (
+        pass.edges.pipeline((), &[EDGES_FORMAT]),
+        pass.weights.pipeline(SearchLength, &[WEIGHTS_FORMAT]),
+        pass.blend.pipeline((), &[*format]),
+        pass.edges.group(),
+        pass.weights.group(),
+        pass.blend.group(),
+    )
+    else {
         return;
     };
     let [hdr, prepared, edges, mask, weights] = views;
@@ -300,7 +283,7 @@ pub fn smaa_pass(
             targets: &[edges],
             load: clear,
             depth: Some((mask, wgpu::LoadOp::Clear(0.0))),
-            pipeline: &pass.edges,
+            pipeline: edges_pipeline,
             groups: &[edges_group],
         },
     );
@@ -312,7 +295,7 @@ pub fn smaa_pass(
             targets: &[weights],
             load: clear,
             depth: Some((mask, wgpu::LoadOp::Load)),
-            pipeline: &pass.weights,
+            pipeline: weights_pipeline,
             groups: &[weights_group],
         },
     );

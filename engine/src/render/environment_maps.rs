@@ -11,18 +11,18 @@
 //!    importance sampling with filtered sampling from the pyramid.
 
 use crate::error::{Error, Result};
-use crate::ibl::{sh_project, sh_uniform};
 use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameErrors;
 use crate::render::gpu_types::GpuEnvironment;
-use crate::render::pipelines::create_module;
 use crate::render::pipelines::fullscreen_pipeline;
+use crate::render::pipelines::{compute_pipeline, create_module};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::Target;
 use crate::scene::environment::EquirectImage;
+use crate::shading::ibl::{sh_project, sh_uniform};
 use bevy_ecs::prelude::*;
 use glam::Vec3;
 use std::collections::HashMap;
@@ -123,21 +123,13 @@ pub struct Ibl {
 /// A progress callback: step name, steps done, steps in all.
 pub type Progress = Box<dyn FnMut(&str, u32, u32) + Send + Sync>;
 
-fn compute_pipeline(
-    gpu: &Gpu,
-    module: &wgpu::ShaderModule,
-    entry: &str,
-) -> Result<wgpu::ComputePipeline> {
-    gpu.checked(&format!("{entry} pipeline"), |device| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: None,
-            module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })
+/// The split-sum table's shader defs: `size`² texels, `samples` importance samples per
+/// texel (at least 1).
+pub fn lut_defs(size: u32, samples: u32) -> Vec<ShaderDef> {
+    vec![
+        ShaderDef::U32("LUT_SAMPLES", samples.max(1)),
+        ShaderDef::U32("LUT_SIZE", size),
+    ]
 }
 
 /// An `Rgba16Float` cube texture of `size`² faces and `mips` mips.
@@ -247,16 +239,16 @@ impl Ibl {
         let module = create_module(gpu, "ibl preprocessing", &source)?;
         let dummy = cube_texture(gpu, "dummy environment", 1, 1);
         Ok(Ibl {
-            equirect_to_cube: compute_pipeline(gpu, &module, "cs_equirect_to_cube")?,
-            downsample: compute_pipeline(gpu, &module, "cs_downsample")?,
-            prefilter: compute_pipeline(gpu, &module, "cs_prefilter")?,
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("ibl linear"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                mipmap_filter: wgpu::MipmapFilterMode::Linear,
-                ..Default::default()
-            }),
+            equirect_to_cube: compute_pipeline(
+                gpu,
+                "cs_equirect_to_cube",
+                None,
+                &module,
+                "cs_equirect_to_cube",
+            )?,
+            downsample: compute_pipeline(gpu, "cs_downsample", None, &module, "cs_downsample")?,
+            prefilter: compute_pipeline(gpu, "cs_prefilter", None, &module, "cs_prefilter")?,
+            sampler: gpu.mipmapped_sampler("ibl linear"),
             equirect_sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
                 label: Some("equirect"),
                 address_mode_u: wgpu::AddressMode::Repeat,
@@ -268,12 +260,8 @@ impl Ibl {
             dummy_lut: Target::new(gpu, "dummy brdf lut", (1, 1), LUT_FORMAT),
             cache: HashMap::new(),
             dummy_cube: cube_view(&dummy),
-            uniform: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("environment"),
-                size: std::mem::size_of::<GpuEnvironment>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            uniform: gpu
+                .uniform_buffer("environment", std::mem::size_of::<GpuEnvironment>() as u64),
             bound_cube: None,
             last_steps: Vec::new(),
             progress: None,
@@ -549,7 +537,7 @@ impl Ibl {
 
         self.report("spherical harmonics", 1, total);
         let t = Instant::now();
-        let sh = sh_project(image);
+        let sh = sh_project(image.width, image.height, &image.texels);
         steps.push(("spherical harmonics", t.elapsed().as_secs_f64() * 1e3));
 
         self.report("equirect to cube", 2, total);
@@ -630,13 +618,9 @@ impl Ibl {
             return Ok(None);
         }
         let start = Instant::now();
-        let source = gpu.shaders.compose(
-            "brdf_lut.wgsl",
-            &[
-                ShaderDef::U32("LUT_SAMPLES", samples.max(1)),
-                ShaderDef::U32("LUT_SIZE", size),
-            ],
-        )?;
+        let source = gpu
+            .shaders
+            .compose("brdf_lut.wgsl", &lut_defs(size, samples))?;
         let module = create_module(gpu, "brdf lut", &source)?;
         let pipeline = fullscreen_pipeline(
             gpu,
@@ -746,4 +730,16 @@ pub fn prepare_ibl(
     ibl.bound_cube = bound;
     gpu.queue
         .write_buffer(&ibl.uniform, 0, bytemuck::bytes_of(&uniform));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(Params, "ibl_preprocess.wgsl", &[], "Params", [
+            size, mip, mips, samples, source_size, pad => "pad0",
+        ]);
+    }
 }

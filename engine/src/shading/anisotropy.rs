@@ -23,7 +23,7 @@
 //! renderer does): the normal is turned towards the plane that contains the anisotropic
 //! bitangent and the viewer, by `1 − (1 − s (1 − r))⁴`.
 
-use crate::brdf::{
+use crate::shading::brdf::{
     BrdfLobes, PI, Surface, clamp_perceptual_roughness, fd_lambert, safe_normalize, tinted_f0,
 };
 use glam::{Vec2, Vec3};
@@ -94,7 +94,7 @@ pub struct RelitLobe {
     pub strength: f32,
     /// The dielectric F0's tint, linear RGB 0..1 (1: untinted).
     pub tint: Vec3,
-    /// The iridescent film ([`crate::iridescence::iridescent_mix`]): factor (0: none),
+    /// The iridescent film ([`crate::shading::iridescence::iridescent_mix`]): factor (0: none),
     /// index of refraction, thickness (nm).
     pub film: Vec3,
 }
@@ -112,9 +112,9 @@ impl Default for RelitLobe {
 
 /// The Fresnel reflectance of a relit base at the cosine `v_dot_h` (clamped to 0..1) of
 /// the angle between the view and the half vector: its dielectric F0 tinted
-/// ([`crate::brdf::tinted_f0`]) and mixed with the iridescent film's
-/// ([`crate::iridescence::iridescent_mix`]). Shared by the reflected lobes and the diffuse
-/// transmission ([`crate::diffuse_transmission`]).
+/// ([`crate::shading::brdf::tinted_f0`]) and mixed with the iridescent film's
+/// ([`crate::shading::iridescence::iridescent_mix`]). Shared by the reflected lobes and the diffuse
+/// transmission ([`crate::shading::diffuse_transmission`]).
 pub fn relit_fresnel(surface: &Surface, lobe: &RelitLobe, v_dot_h: f32) -> Vec3 {
     let f0 = tinted_f0(
         surface.base_color,
@@ -122,15 +122,15 @@ pub fn relit_fresnel(surface: &Surface, lobe: &RelitLobe, v_dot_h: f32) -> Vec3 
         surface.specular_level,
         lobe.tint,
     );
-    crate::iridescence::iridescent_mix(f0, v_dot_h.clamp(0.0, 1.0), lobe.film)
+    crate::shading::iridescence::iridescent_mix(f0, v_dot_h.clamp(0.0, 1.0), lobe.film)
 }
 
 /// The Cook-Torrance lobes (1/sr) of a relit base (docs/src/materials.md#anisotropy):
 /// the anisotropic GGX specular lobe along the unit direction `t` (perpendicular to `n`)
 /// of the lobe's strength (0: isotropic GGX with the height-correlated Smith term), its
-/// dielectric F0 tinted ([`crate::brdf::tinted_f0`]) and its Fresnel mixed with the
-/// iridescent film's ([`crate::iridescence::iridescent_mix`]); the diffuse lobe of
-/// [`crate::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
+/// dielectric F0 tinted ([`crate::shading::brdf::tinted_f0`]) and its Fresnel mixed with the
+/// iridescent film's ([`crate::shading::iridescence::iridescent_mix`]); the diffuse lobe of
+/// [`crate::shading::brdf::surface_brdf_lobes`], and `D F V` with the anisotropic D and V. Both
 /// zero for lights below the horizon.
 pub fn relit_brdf_lobes(
     n: Vec3,
@@ -152,7 +152,7 @@ pub fn relit_brdf_lobes(
     let metallic = surface.metallic.clamp(0.0, 1.0);
     let f = relit_fresnel(surface, lobe, v.dot(h));
     let mut lv = local(v);
-    lv.z = lv.z.max(crate::brdf::MIN_N_DOT_V);
+    lv.z = lv.z.max(crate::shading::brdf::MIN_N_DOT_V);
     let d = d_ggx_anisotropic(alphas, local(h));
     let vis = v_smith_ggx_correlated_anisotropic(alphas, lv, local(l));
     let k_d = (Vec3::ONE - f) * (1.0 - metallic);
@@ -208,7 +208,7 @@ pub fn view_azimuth(t: Vec3, b: Vec3, v: Vec3) -> f32 {
 /// lobe with F = 1 (anisotropic D and height-correlated V), for the view at cosine
 /// `n_dot_v` and azimuth `azimuth` (rad) from the anisotropy direction, perceptual
 /// roughness `perceptual_roughness` and strength `strength`. Estimated with `samples`
-/// visible normals (Heitz 2018, [`crate::ibl::sample_ggx_vndf_anisotropic`]) on a
+/// visible normals (Heitz 2018, [`crate::shading::ibl::sample_ggx_vndf_anisotropic`]) on a
 /// Hammersley set, each weighing `G₂(v, l) / G₁(v)`. A + B is the lobe's directional
 /// albedo E₁, which the energy compensation divides by; unlike the isotropic lobe's it
 /// depends on the azimuth: a white metal of roughness 0.5 and strength 1 seen at n·v 0.5
@@ -230,15 +230,18 @@ pub fn anisotropic_dfg_integrate(
     let lambda_v = stretched(v);
     let mut sum = Vec2::ZERO;
     for i in 0..samples {
-        let h =
-            crate::ibl::sample_ggx_vndf_anisotropic(v, alphas, crate::ibl::hammersley(i, samples));
+        let h = crate::shading::ibl::sample_ggx_vndf_anisotropic(
+            v,
+            alphas,
+            crate::shading::ibl::hammersley(i, samples),
+        );
         let v_dot_h = v.dot(h);
         let l = 2.0 * v_dot_h * h - v;
         if l.z > 0.0 && v_dot_h > 0.0 {
             // G₂/G₁(v) = (1 + Λ(v)) / (1 + Λ(v) + Λ(l)).
             let weight =
                 l.z * (n_dot_v + lambda_v) / (l.z * lambda_v + n_dot_v * stretched(l)).max(1e-12);
-            let fc = crate::brdf::pow5_one_minus(v_dot_h);
+            let fc = crate::shading::brdf::pow5_one_minus(v_dot_h);
             sum += Vec2::new((1.0 - fc) * weight, fc * weight);
         }
     }
@@ -320,7 +323,9 @@ pub fn anisotropic_dfg(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::brdf::{VisibilityModel, d_ggx, surface_brdf_lobes, v_smith_ggx_correlated};
+    use crate::shading::brdf::{
+        VisibilityModel, d_ggx, surface_brdf_lobes, v_smith_ggx_correlated,
+    };
     use std::f32::consts::FRAC_PI_2;
 
     #[test]

@@ -1,6 +1,6 @@
 //! Accumulation (`--accumulate N`): the frame is rendered N times with the camera
 //! jittered inside the pixel ([`crate::render::jitter::Jitter::halton`]), and this pass keeps the
-//! running mean of the HDR images ([`crate::antialiasing::running_mean`], in an f32
+//! running mean of the HDR images ([`crate::shading::antialiasing::running_mean`], in an f32
 //! target) and writes it back into the HDR target for the passes after it. Equal weights
 //! over sample positions spread evenly over the pixel make the box pixel filter that
 //! `lumen reference` uses, so N → ∞ converges to the reference's pixel footprint.
@@ -11,19 +11,19 @@
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::ACCUMULATE;
-use crate::render::antialiasing::copy::CopyToHdr;
+use crate::render::antialias::copy::CopyToHdr;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{
-    Extent, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat, TextureDesc,
+    Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot, TargetFormat,
+    TextureDesc,
 };
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
+use crate::render::pipeline_cache::Fullscreen;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -121,12 +121,13 @@ impl FramePass for AccumulatePass {
         .sized(ACCUMULATION[1], sizing)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_accumulate.into_configs())
-    }
+    crate::pass_systems!(prepare_accumulate, accumulate_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        accumulate_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![
+            ShaderBuild::new("accumulate.wgsl", Vec::new(), &[(0, BINDINGS)]),
+            crate::render::antialias::copy::build(),
+        ]
     }
 }
 
@@ -144,8 +145,7 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 /// The accumulation's pipelines, targets and bindings.
 #[derive(Resource)]
 pub struct AccumulatePass {
-    layout: wgpu::BindGroupLayout,
-    update: wgpu::RenderPipeline,
+    update: FullscreenStep,
     mean_format: wgpu::TextureFormat,
     copy: CopyToHdr,
     params: wgpu::Buffer,
@@ -158,28 +158,18 @@ pub struct AccumulatePass {
 impl AccumulatePass {
     /// Creates the layouts and the update pipeline; the copy compiles per HDR format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let layout = BINDINGS.layout(gpu);
-        let update_layout = one_group_layout(gpu, "accumulate", &layout);
         let mean_format = mean_format(gpu);
-        let update = fullscreen_variant(
+        let mut update = FullscreenStep::new(
             gpu,
-            "accumulate",
-            &update_layout,
-            "accumulate.wgsl",
-            &[],
-            mean_format,
-        )?;
+            Fullscreen::new("accumulate", "accumulate.wgsl"),
+            &BINDINGS,
+        );
+        update.ensure(gpu, (), &[mean_format])?;
         Ok(AccumulatePass {
-            layout,
             update,
             mean_format,
             copy: CopyToHdr::new(gpu),
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("accumulate params"),
-                size: 16,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            params: gpu.uniform_buffer("accumulate params", 16),
             groups: Default::default(),
             parity: 0,
         })
@@ -200,7 +190,7 @@ pub fn prepare_accumulate(
         return;
     };
     let pass = &mut *pass;
-    if let Err(e) = pass.copy.ensure(&gpu, format) {
+    if let Err(e) = pass.copy.0.ensure(&gpu, (), &[format]) {
         errors.0.push(e);
         return;
     }
@@ -211,11 +201,11 @@ pub fn prepare_accumulate(
         return;
     };
     for (parity, [update, copy]) in pass.groups.iter_mut().enumerate() {
-        let made = update
-            .get(
+        let made = pass
+            .update
+            .bind_in(
+                update,
                 &gpu,
-                &BINDINGS,
-                &pass.layout,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
                     wgpu::BindingResource::TextureView(means[1 - parity]),
@@ -246,27 +236,18 @@ pub fn accumulate_pass(
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
     let t = targets.current.as_ref();
     let [update_group, copy_group] = &pass.groups[pass.parity];
-    let (Some(encoder), Some(mean), Some(hdr), Some(copy), Some(update_group), Some(copy_group)) = (
-        encoder.as_mut(),
+    let (Some(mean), Some(hdr), Some(&format)) = (
         t.and_then(|t| t.view(ACCUMULATION[pass.parity])),
         t.and_then(|t| t.view(HDR)),
-        plan.variant::<AccumulatePass>()
-            .and_then(|f| pass.copy.pipeline(*f)),
-        update_group.group(),
-        copy_group.group(),
+        plan.variant::<AccumulatePass>(),
     ) else {
         return;
     };
-    draw_fullscreen(
-        encoder,
-        timer,
-        PassId::Accumulate.name(),
-        &[mean],
-        &pass.update,
-        update_group,
-    );
-    draw_fullscreen(encoder, timer, "accumulate copy", &[hdr], copy, copy_group);
+    let update = pass.update.pipeline((), &[pass.mean_format]);
+    let name = PassId::Accumulate.name();
+    encoder.fullscreen(name, &[mean], update, update_group.group());
+    let copy = pass.copy.0.pipeline((), &[format]);
+    encoder.fullscreen("accumulate copy", &[hdr], copy, copy_group.group());
 }

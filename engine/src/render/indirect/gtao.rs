@@ -1,5 +1,5 @@
 //! Screen-space ambient occlusion (`shaders/gtao.wgsl`): ground-truth ambient occlusion
-//! (GTAO, Jimenez et al. 2016; the formulas in [`crate::ambient_occlusion`]) from the
+//! (GTAO, Jimenez et al. 2016; the formulas in [`crate::shading::ambient_occlusion`]) from the
 //! depth buffer and the G-buffer's normals, at half or full resolution, then a
 //! depth-aware resolve to the full-resolution [`AMBIENT_OCCLUSION`] target that the
 //! lighting pass applies to indirect light only.
@@ -12,24 +12,21 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AO;
 use crate::quality::{AoResolution, AoSettings, Quality};
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
 use crate::render::graph::{
-    Extent, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat,
-    TextureDesc,
+    Extent, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
+    TargetFormat, TextureDesc,
 };
-use crate::render::pipelines::{create_module, draw_fullscreen, fullscreen_pipeline};
+use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
-use std::collections::HashMap;
-use wgpu::util::DeviceExt;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -165,87 +162,58 @@ impl FramePass for AoPass {
             .publishing(&SCREEN_AO, runs)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_ao.into_configs())
-    }
+    crate::pass_systems!(prepare_ao, ao_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        ao_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        [(2, 3, true), (1, 1, false)]
+            .map(|(slices, steps, denoise)| {
+                let variant = AoVariant {
+                    slices,
+                    steps,
+                    denoise,
+                };
+                ShaderBuild::new("gtao.wgsl", variant.shader_defs(), &[(0, RESOLVE)])
+            })
+            .to_vec()
     }
 }
 
-/// The AO pass's pipelines, its AO-resolution target and bindings.
+impl ShaderVariant for AoVariant {
+    fn shader_defs(&self) -> Vec<ShaderDef> {
+        vec![
+            ShaderDef::U32("SLICES", self.slices),
+            ShaderDef::U32("STEPS", self.steps),
+            ShaderDef::Bool("DENOISE", self.denoise),
+        ]
+    }
+}
+
+/// The AO pass's steps and parameters.
 #[derive(Resource)]
 pub struct AoPass {
-    layouts: [wgpu::BindGroupLayout; 2],
-    pipeline_layouts: [wgpu::PipelineLayout; 2],
-    pipelines: HashMap<AoVariant, [wgpu::RenderPipeline; 2]>,
+    /// Traces the slices at AO resolution.
+    trace: FullscreenStep<AoVariant>,
+    /// Filters and upsamples into [`AMBIENT_OCCLUSION`].
+    resolve: FullscreenStep<AoVariant>,
     params: wgpu::Buffer,
-    bind_groups: [CachedGroup; 2],
 }
 
 impl AoPass {
     /// Creates the layouts; pipelines compile per variant on first use.
     pub fn new(gpu: &Gpu) -> Self {
-        let layouts = [TRACE.layout(gpu), RESOLVE.layout(gpu)];
-        let pipeline_layouts = [0, 1].map(|i| {
-            gpu.device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some([TRACE.label, RESOLVE.label][i]),
-                    bind_group_layouts: &[Some(&layouts[i])],
-                    immediate_size: 0,
-                })
-        });
         AoPass {
-            layouts,
-            pipeline_layouts,
-            pipelines: HashMap::new(),
-            params: gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("ao params"),
-                    contents: &[0; std::mem::size_of::<Params>()],
-                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                }),
-            bind_groups: Default::default(),
-        }
-    }
-
-    /// The shader defs of `variant`.
-    pub fn defs(variant: AoVariant) -> Vec<ShaderDef> {
-        vec![
-            ShaderDef::U32("SLICES", variant.slices),
-            ShaderDef::U32("STEPS", variant.steps),
-            ShaderDef::Bool("DENOISE", variant.denoise),
-        ]
-    }
-
-    fn pipelines(&mut self, gpu: &Gpu, variant: AoVariant) -> Result<()> {
-        if self.pipelines.contains_key(&variant) {
-            return Ok(());
-        }
-        let module = create_module(
-            gpu,
-            "ao",
-            &gpu.shaders.compose("gtao.wgsl", &AoPass::defs(variant))?,
-        )?;
-        let pipeline = |i: usize, entry: &str, format: wgpu::TextureFormat| {
-            fullscreen_pipeline(
+            trace: FullscreenStep::new(
                 gpu,
-                entry,
-                Some(&self.pipeline_layouts[i]),
-                &module,
-                ("vs_fullscreen", entry),
-                &[format],
-                None,
-            )
-        };
-        let pair = [
-            pipeline(0, "fs_trace", RAW_FORMAT)?,
-            pipeline(1, "fs_resolve", AO_FORMAT)?,
-        ];
-        self.pipelines.insert(variant, pair);
-        Ok(())
+                Fullscreen::new("ao trace", "gtao.wgsl").entry("fs_trace"),
+                &TRACE,
+            ),
+            resolve: FullscreenStep::new(
+                gpu,
+                Fullscreen::new("ao resolve", "gtao.wgsl").entry("fs_resolve"),
+                &RESOLVE,
+            ),
+            params: gpu.uniform_buffer("ao params", std::mem::size_of::<Params>() as u64),
+        }
     }
 }
 
@@ -269,7 +237,9 @@ pub fn prepare_ao(
     ) else {
         return;
     };
-    if let Err(e) = pass.pipelines(&gpu, variant) {
+    let compiled = (pass.trace.ensure(&gpu, variant, &[RAW_FORMAT]))
+        .and_then(|()| pass.resolve.ensure(&gpu, variant, &[AO_FORMAT]));
+    if let Err(e) = compiled {
         errors.0.push(e);
         return;
     }
@@ -292,10 +262,9 @@ pub fn prepare_ao(
     };
     use wgpu::BindingResource::TextureView;
     let AoPass {
-        layouts,
+        trace,
+        resolve,
         params,
-        bind_groups: [trace, resolve],
-        ..
     } = &mut *pass;
     let common = || {
         vec![
@@ -307,14 +276,7 @@ pub fn prepare_ao(
     };
     let mut with_raw = common();
     with_raw.push(TextureView(raw));
-    let made = trace
-        .get(&gpu, &TRACE, &layouts[0], common())
-        .map(|_| ())
-        .and_then(|()| {
-            resolve
-                .get(&gpu, &RESOLVE, &layouts[1], with_raw)
-                .map(|_| ())
-        });
+    let made = (trace.bind(&gpu, common())).and_then(|()| resolve.bind(&gpu, with_raw));
     if let Err(e) = made {
         errors.0.push(e);
     }
@@ -327,29 +289,36 @@ pub fn ao_pass(
     targets: Res<RenderTargets>,
     mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [trace, resolve] = &pass.bind_groups;
-    let (Some(encoder), Some(t), Some(trace), Some(resolve)) = (
-        encoder.as_mut(),
-        targets.current.as_ref(),
-        trace.group(),
-        resolve.group(),
-    ) else {
+    let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<AoPass>()) else {
         return;
     };
-    let (Some([out, raw]), Some([trace_pipeline, resolve_pipeline])) = (
-        t.views([AMBIENT_OCCLUSION, AO_RAW]),
-        plan.variant::<AoPass>().and_then(|v| pass.pipelines.get(v)),
-    ) else {
+    let Some([out, raw]) = t.views([AMBIENT_OCCLUSION, AO_RAW]) else {
         return;
     };
-    draw_fullscreen(encoder, timer, "ao trace", &[raw], trace_pipeline, trace);
-    draw_fullscreen(
-        encoder,
-        timer,
-        "ao resolve",
-        &[out],
-        resolve_pipeline,
-        resolve,
-    );
+    let encoder = &mut *encoder;
+    pass.trace
+        .draw(encoder, "ao trace", (variant, &[RAW_FORMAT]), &[raw]);
+    pass.resolve
+        .draw(encoder, "ao resolve", (variant, &[AO_FORMAT]), &[out]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        let variant = AoVariant {
+            slices: 1,
+            steps: 1,
+            denoise: false,
+        };
+        crate::assert_wgsl_twin!(
+            Params,
+            "gtao.wgsl",
+            &variant.shader_defs(),
+            "AoParams",
+            [radius_m, pixels_per_m, max_radius_px, scale]
+        );
+    }
 }

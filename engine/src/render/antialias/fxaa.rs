@@ -1,6 +1,6 @@
 //! FXAA (`--aa fxaa`, Lottes 2009): one frame's edges found from luma contrast, kept
 //! where a silhouette or a crease crosses them (the depth buffer and the G-buffer's
-//! normals, [`crate::antialiasing::depth_bend`] and [`crate::antialiasing::creased`]), and
+//! normals, [`crate::shading::antialiasing::depth_bend`] and [`crate::shading::antialiasing::creased`]), and
 //! blended across, in three steps: the HDR image is copied with its perceptual luma
 //! ([`super::prepare`]); `fxaa.wgsl`'s `fs_mark` writes depth 1 into a mask where the luma
 //! has an edge; and its `fs_main`, depth-tested against the mask so that no other pixel
@@ -11,20 +11,16 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialiasing::prepare::{AA_PREPARED, MASK, Preparation};
+use crate::render::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::{
-    FullscreenDraw, MaskDepth, PerFormat, create_module, draw_fullscreen_pass, fullscreen_pipeline,
-    mask_depth_state, one_group_layout,
-};
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines};
+use crate::render::pipelines::{FullscreenDraw, MaskDepth, draw_fullscreen_pass, mask_depth_state};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -73,12 +69,13 @@ impl FramePass for FxaaPass {
         PassDecision::new(runs, reason, quality.hdr_precision.format())
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_fxaa.into_configs())
-    }
+    crate::pass_systems!(prepare_fxaa, fxaa_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        fxaa_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![
+            ShaderBuild::new("fxaa.wgsl", Vec::new(), &[(0, BINDINGS)]),
+            crate::render::antialias::prepare::build(),
+        ]
     }
 }
 
@@ -102,9 +99,10 @@ pub const FXAA_MASK: Slot = Slot::texture("fxaa mask", MASK);
 pub struct FxaaPass {
     preparation: Preparation,
     layout: wgpu::BindGroupLayout,
-    /// Writes the mask; compiled with the first filter.
-    mark: Option<wgpu::RenderPipeline>,
-    filters: PerFormat,
+    /// Writes the mask (no colour target).
+    mark: FullscreenPipelines,
+    /// Filters the image, per HDR format.
+    filters: FullscreenPipelines,
     sampler: wgpu::Sampler,
     filter: CachedGroup,
 }
@@ -116,32 +114,23 @@ impl FxaaPass {
         let layout = BINDINGS.layout(gpu);
         Ok(FxaaPass {
             preparation: Preparation::new(gpu)?,
-            mark: None,
-            filters: PerFormat::new(gpu, "fxaa", "fxaa.wgsl", &layout)
-                .depth_tested(mask_depth_state(MaskDepth::Test)),
+            mark: FullscreenPipelines::new(
+                gpu,
+                Fullscreen::new("fxaa mark", "fxaa.wgsl")
+                    .entry("fs_mark")
+                    .depth(mask_depth_state(MaskDepth::Mark)),
+                &[&layout],
+            ),
+            filters: FullscreenPipelines::new(
+                gpu,
+                Fullscreen::new("fxaa", "fxaa.wgsl").depth(mask_depth_state(MaskDepth::Test)),
+                &[&layout],
+            ),
             layout,
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("fxaa"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            sampler: gpu.sampler("fxaa", wgpu::FilterMode::Linear),
             filter: CachedGroup::default(),
         })
     }
-}
-
-/// The mark step's pipeline: `fs_mark` into the mask, no colour target.
-fn mark_pipeline(gpu: &Gpu, layout: &wgpu::BindGroupLayout) -> Result<wgpu::RenderPipeline> {
-    fullscreen_pipeline(
-        gpu,
-        "fxaa mark",
-        Some(&one_group_layout(gpu, "fxaa mark", layout)),
-        &create_module(gpu, "fxaa mark", &gpu.shaders.compose("fxaa.wgsl", &[])?)?,
-        ("vs_fullscreen", "fs_mark"),
-        &[],
-        Some(mask_depth_state(MaskDepth::Mark)),
-    )
 }
 
 /// Compiles the filter for this frame's HDR format (and the mark, once) and (re)creates
@@ -157,18 +146,11 @@ pub fn prepare_fxaa(
         return;
     };
     let pass = &mut *pass;
-    if let Err(e) = pass.filters.ensure(&gpu, format) {
+    let compiled = (pass.filters.ensure(&gpu, (), &[format]).map(|_| ()))
+        .and_then(|()| pass.mark.ensure(&gpu, (), &[]).map(|_| ()));
+    if let Err(e) = compiled {
         errors.0.push(e);
         return;
-    }
-    if pass.mark.is_none() {
-        match mark_pipeline(&gpu, &pass.layout) {
-            Ok(mark) => pass.mark = Some(mark),
-            Err(e) => {
-                errors.0.push(e);
-                return;
-            }
-        }
     }
     let Some(t) = targets.current.as_ref() else {
         return;
@@ -208,13 +190,13 @@ pub fn fxaa_pass(
     let (Some(encoder), Some(group), Some(mark), Some([hdr, prepared, mask]), Some(filter)) = (
         encoder.as_mut(),
         pass.filter.group(),
-        pass.mark.as_ref(),
+        pass.mark.get((), &[]),
         targets
             .current
             .as_ref()
             .and_then(|t| t.views([HDR, AA_PREPARED, FXAA_MASK])),
         plan.variant::<FxaaPass>()
-            .and_then(|f| pass.filters.get(*f)),
+            .and_then(|f| pass.filters.get((), &[*f])),
     ) else {
         return;
     };

@@ -141,14 +141,16 @@ pub fn upsample_normal_weight(texel_n: Vec3, n: Vec3) -> f32 {
 /// `side`² texels inside a one-texel border that repeats its edge, so a bilinear read never
 /// reaches the next tile.
 pub fn atlas_position(tile_origin: Vec2, side: f32, d: Vec3) -> Vec2 {
-    tile_origin + Vec2::ONE + (crate::encoding::oct_encode(d) * 0.5 + Vec2::splat(0.5)) * side
+    tile_origin
+        + Vec2::ONE
+        + (crate::shading::encoding::oct_encode(d) * 0.5 + Vec2::splat(0.5)) * side
 }
 
 /// The direction of the centre of texel `texel` (x, y) of an octahedral map of `side`²
 /// texels.
 pub fn oct_texel_direction(texel: (u32, u32), side: u32) -> Vec3 {
     let uv = (Vec2::new(texel.0 as f32, texel.1 as f32) + Vec2::splat(0.5)) / side as f32;
-    crate::encoding::oct_decode(uv * 2.0 - Vec2::ONE)
+    crate::shading::encoding::oct_decode(uv * 2.0 - Vec2::ONE)
 }
 
 #[cfg(test)]
@@ -258,9 +260,9 @@ mod tests {
             assert_eq!(irradiance_weight(n, -n), 0.0);
         }
         // The harmonics of a unit source along +y: 1.0625 facing it, 0.0625 facing away.
-        let sh = crate::ibl::sh_basis(Vec3::Y).map(Vec3::splat);
-        let facing = crate::ibl::sh_irradiance(&sh, Vec3::Y).x;
-        let away = crate::ibl::sh_irradiance(&sh, -Vec3::Y).x;
+        let sh = crate::shading::ibl::sh_basis(Vec3::Y).map(Vec3::splat);
+        let facing = crate::shading::ibl::sh_irradiance(&sh, Vec3::Y).x;
+        let away = crate::shading::ibl::sh_irradiance(&sh, -Vec3::Y).x;
         assert!(
             (facing - 1.0625).abs() < 1e-3 && (away - 0.0625).abs() < 1e-3,
             "{facing} {away}"

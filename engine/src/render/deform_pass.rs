@@ -12,15 +12,13 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::extract_deform::DeformedFrame;
+use crate::render::extract::deformed::DeformedFrame;
 use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors};
-use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
-use crate::render::pipelines::create_module;
+use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pipeline_cache::ComputePipelines;
 use crate::render::scene_buffers::{GpuMesh, GrowableBuffer, SceneBuffers};
 use crate::scene::{MeshHandle, Meshes, Vertex};
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
 /// Invocations per workgroup (`WORKGROUP_SIZE` in `deform.wgsl`).
@@ -120,12 +118,14 @@ impl FramePass for DeformPass {
         PassDecision::new(!deformed.instances.is_empty(), reason, DeformVariant)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_deform.into_configs())
-    }
+    crate::pass_systems!(prepare_deform, deform_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        deform_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![ShaderBuild::new(
+            "deform.wgsl",
+            Vec::new(),
+            &[(0, FRAME_BINDINGS), (1, INSTANCE_BINDINGS)],
+        )]
     }
 }
 
@@ -195,8 +195,7 @@ impl DeformedVertices {
 pub struct DeformPass {
     frame_layout: wgpu::BindGroupLayout,
     instance_layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
-    pipeline: Option<wgpu::ComputePipeline>,
+    pipeline: ComputePipelines,
     params: GrowableBuffer,
     params_stride: u32,
     joints: GrowableBuffer,
@@ -211,20 +210,17 @@ impl DeformPass {
     pub fn new(gpu: &Gpu) -> Self {
         let frame_layout = FRAME_BINDINGS.layout(gpu);
         let instance_layout = INSTANCE_BINDINGS.layout(gpu);
-        let pipeline_layout = gpu
-            .device
-            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("deform"),
-                bind_group_layouts: &[Some(&frame_layout), Some(&instance_layout)],
-                immediate_size: 0,
-            });
+        let pipeline = ComputePipelines::new(
+            gpu,
+            ("deform", "deform.wgsl", "cs_deform"),
+            &[&frame_layout, &instance_layout],
+        );
         let align = gpu.device.limits().min_uniform_buffer_offset_alignment;
         let size = std::mem::size_of::<GpuDeformParams>() as u32;
         DeformPass {
             frame_layout,
             instance_layout,
-            pipeline_layout,
-            pipeline: None,
+            pipeline,
             params: GrowableBuffer::with_usage(
                 gpu,
                 "deform params",
@@ -238,25 +234,6 @@ impl DeformPass {
             meshes: HashMap::new(),
             dispatches: Vec::new(),
         }
-    }
-
-    fn ensure_pipeline(&mut self, gpu: &Gpu) -> Result<()> {
-        if self.pipeline.is_some() {
-            return Ok(());
-        }
-        let module = create_module(gpu, "deform", &gpu.shaders.compose("deform.wgsl", &[])?)?;
-        let pipeline = gpu.checked("deform pipeline", |device| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("deform"),
-                layout: Some(&self.pipeline_layout),
-                module: &module,
-                entry_point: Some("cs_deform"),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        })?;
-        self.pipeline = Some(pipeline);
-        Ok(())
     }
 }
 
@@ -325,7 +302,7 @@ pub fn prepare_deform(
     } = sources;
     let pass = &mut *pass;
     let outputs = &mut deformed_vertices.outputs;
-    if let Err(e) = pass.ensure_pipeline(&gpu) {
+    if let Err(e) = pass.pipeline.ensure(&gpu, &()) {
         errors.0.push(e);
         return;
     }
@@ -459,7 +436,7 @@ pub fn deform_pass(
     let (Some(encoder), Some(frame_group), Some(pipeline)) = (
         encoder.as_mut(),
         pass.frame_group.group(),
-        pass.pipeline.as_ref(),
+        pass.pipeline.get(&()),
     ) else {
         return;
     };
@@ -491,4 +468,17 @@ pub fn deform_pass(
         }
     }
     timer.end_pass(scope);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        crate::assert_wgsl_twin!(GpuDeformParams, "deform.wgsl", &[], "DeformParams", [
+            vertex_count, joint_offset, joint_count, weight_offset, target_count, skinned,
+            pad => "pad0",
+        ]);
+    }
 }

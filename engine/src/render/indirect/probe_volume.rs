@@ -2,7 +2,7 @@
 //! face into its probe (`shaders/probe_capture.wgsl`), and the bake of the records into
 //! the two atlases the lighting pass samples (`shaders/probe_bake.wgsl`) through
 //! [`PROBES`] (`shaders/volume_lookup.wgsl`). The formulas are in
-//! [`crate::irradiance_volume`].
+//! [`crate::shading::irradiance_volume`].
 //!
 //! Probes are captured by rendering the frame's own capture passes from each probe
 //! ([`crate::render::capture`]). A capture pass accumulates into the records while the
@@ -12,9 +12,6 @@
 //! samples per probe: sixteen per pixel.
 
 use crate::error::Result;
-use crate::irradiance_volume::{
-    IRRADIANCE_SIDE, OCT_SIDE, probe_counts, probe_origin, probe_spacing,
-};
 use crate::quality::GiSettings;
 use crate::quality::knob::Value;
 use crate::quality::knobs::GI;
@@ -22,12 +19,15 @@ use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
-use crate::render::pipelines::create_module;
+use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::RenderTargets;
 use crate::scene::{
     Camera, DirectionalLight, Environment, GlobalTransform, IrradianceVolume, Material,
     MaterialMaps, Mesh3d, Meshes, PointLight, ReflectionProbe, ShadowSettings, SpotLight,
+};
+use crate::shading::irradiance_volume::{
+    IRRADIANCE_SIDE, OCT_SIDE, probe_counts, probe_origin, probe_spacing,
 };
 use bevy_ecs::prelude::*;
 use glam::{UVec3, Vec3};
@@ -211,7 +211,7 @@ impl Grid {
         let extent = hi - lo;
         let density = gi
             .density
-            .clamp(1, crate::irradiance_volume::MAX_PROBES_PER_AXIS);
+            .clamp(1, crate::shading::irradiance_volume::MAX_PROBES_PER_AXIS);
         let spacing_m = spacing_m
             .filter(|s| s.is_finite() && *s > 0.0)
             .unwrap_or(extent.max_element() / density as f32);
@@ -367,23 +367,8 @@ fn compute(
 ) -> Result<wgpu::ComputePipeline> {
     let source = gpu.shaders.compose(file, &[])?;
     let module = create_module(gpu, label, &source)?;
-    let pipeline_layout = gpu
-        .device
-        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some(label),
-            bind_group_layouts: &[Some(layout)],
-            immediate_size: 0,
-        });
-    gpu.checked(&format!("{label} pipeline"), |device| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(label),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    })
+    let layout = pipeline_layout(gpu, label, &[layout]);
+    compute_pipeline(gpu, label, Some(&layout), &module, entry)
 }
 
 impl IrradianceVolumeGpu {
@@ -427,12 +412,7 @@ impl IrradianceVolumeGpu {
             uniform: uniform("irradiance volume", std::mem::size_of::<GpuVolume>() as u64),
             records: record_buffer(gpu, 1),
             atlases: Atlases::new(gpu, 1),
-            sampler: gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                label: Some("probe atlases"),
-                mag_filter: wgpu::FilterMode::Linear,
-                min_filter: wgpu::FilterMode::Linear,
-                ..Default::default()
-            }),
+            sampler: gpu.sampler("probe atlases", wgpu::FilterMode::Linear),
             capacity: 1,
             grid: None,
             skip_reason: "not placed yet".into(),
@@ -638,4 +618,34 @@ pub fn record_capture_reduce(
     pass.set_pipeline(&volume.reduce);
     pass.set_bind_group(0, group, &[]);
     pass.dispatch_workgroups(1, 1, 1);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_uniforms_lay_out_as_the_shaders_do() {
+        crate::assert_wgsl_twin!(
+            GpuVolume,
+            "volume_lookup.wgsl",
+            &[],
+            "VolumeUniform",
+            [origin_ready, spacing_exposure, counts_tiles, texel_sizes]
+        );
+        crate::assert_wgsl_twin!(
+            BakeParams,
+            "probe_bake.wgsl",
+            &[],
+            "BakeParams",
+            [probes_tiles_stride, exposure_range]
+        );
+        crate::assert_wgsl_twin!(
+            CaptureParams,
+            "probe_capture.wgsl",
+            &[],
+            "CaptureParams",
+            [probe_face_stride, range]
+        );
+    }
 }

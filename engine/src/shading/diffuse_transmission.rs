@@ -19,12 +19,12 @@
 //! same angle. Both lobes are then reciprocal, and a white surface (`base = c_t = 1`)
 //! in a uniform environment returns exactly that environment, whatever `d` is.
 
-use crate::anisotropy::RelitLobe;
-use crate::brdf::{Surface, fd_lambert, safe_normalize};
+use crate::shading::anisotropy::RelitLobe;
+use crate::shading::brdf::{Surface, fd_lambert, safe_normalize};
 use glam::Vec3;
 
 /// The diffuse transmission lobe (1/sr) of a relit base of `surface` and `lobe` (the
-/// tinted, iridescent F0 of [`crate::anisotropy::relit_brdf_lobes`]) with factor `factor`
+/// tinted, iridescent F0 of [`crate::shading::anisotropy::relit_brdf_lobes`]) with factor `factor`
 /// (0..1, clamped; NaN: 0) and transmitted colour `color` (linear RGB 0..1, clamped),
 /// for a light along the unit `l` below the horizon of the unit normal `n`, seen from
 /// the unit `v` above it: `factor · (1 − F(v·h′))(1 − metallic) · color / π`, h′ the
@@ -51,7 +51,7 @@ pub fn diffuse_transmission_lobe(
     let mirrored = l - 2.0 * n_dot_l * n;
     let h = safe_normalize(v + mirrored, n);
     let metallic = surface.metallic.clamp(0.0, 1.0);
-    let f = crate::anisotropy::relit_fresnel(surface, lobe, v.dot(h));
+    let f = crate::shading::anisotropy::relit_fresnel(surface, lobe, v.dot(h));
     let k_d = (Vec3::ONE - f) * (1.0 - metallic);
     k_d * color.clamp(Vec3::ZERO, Vec3::ONE) * (d * fd_lambert())
 }
@@ -79,7 +79,8 @@ mod tests {
         let s = surface(0.3);
         let lobe = RelitLobe::default();
         let front = Vec3::new(l.x, l.y, -l.z);
-        let reflected = crate::anisotropy::relit_brdf_lobes(n, v, front, Vec3::X, &s, &lobe);
+        let reflected =
+            crate::shading::anisotropy::relit_brdf_lobes(n, v, front, Vec3::X, &s, &lobe);
         let white = Surface {
             base_color: Vec3::ONE,
             ..s

@@ -17,7 +17,7 @@
 //! the base's F0, from which the base's index is recovered per channel,
 //! `n = (1 + √F0) / (1 − √F0)`.
 
-use crate::brdf::f_schlick;
+use crate::shading::brdf::f_schlick;
 use glam::{Mat3, Vec3};
 use std::f32::consts::PI;
 
@@ -157,7 +157,7 @@ pub fn film_f0(f0: Vec3, cos_theta: f32, film: Vec3) -> Vec3 {
 /// environment's specular albedo with it for an iridescent surface, as the Khronos sample
 /// renderer does.
 pub fn schlick_f0_of(fresnel: Vec3, cos_theta: f32) -> Vec3 {
-    let x = crate::brdf::pow5_one_minus(cos_theta);
+    let x = crate::shading::brdf::pow5_one_minus(cos_theta);
     ((fresnel - Vec3::splat(x)) / (1.0 - x).max(1e-4)).clamp(Vec3::ZERO, Vec3::ONE)
 }
 

@@ -5,11 +5,10 @@
 //! Units: radiance and irradiance carry the environment's units (cd/m² and lux once the
 //! intensity is applied); the DFG terms are dimensionless.
 
-use crate::brdf::{
+use crate::shading::brdf::{
     PI, clamp_perceptual_roughness, g_smith_schlick_ggx, k_ibl, perceptual_roughness_to_alpha,
     pow5_one_minus,
 };
-use crate::scene::environment::EquirectImage;
 use glam::{Vec2, Vec3};
 
 /// Texture coordinates of a direction in an equirectangular image: the image centre
@@ -57,10 +56,12 @@ pub fn sh_basis(d: Vec3) -> [f32; 9] {
     ]
 }
 
-/// Projects an equirectangular image onto the 9 SH coefficients (RGB), integrating over
-/// the sphere with each texel's solid angle `(2π/W)(π/H) sin θ` (f64 accumulation).
-pub fn sh_project(image: &EquirectImage) -> [Vec3; 9] {
-    let (w, h) = (image.width as usize, image.height as usize);
+/// Projects an equirectangular image of `width` × `height` texels (linear RGB radiance,
+/// row by row from the top, as the scene's `EquirectImage` holds them) onto the 9 SH
+/// coefficients (RGB), integrating over the sphere with each texel's solid angle
+/// `(2π/W)(π/H) sin θ` (f64 accumulation).
+pub fn sh_project(width: u32, height: u32, texels: &[[f32; 3]]) -> [Vec3; 9] {
+    let (w, h) = (width as usize, height as usize);
     let mut acc = [[0.0f64; 3]; 9];
     for j in 0..h {
         let v = (j as f32 + 0.5) / h as f32;
@@ -70,7 +71,9 @@ pub fn sh_project(image: &EquirectImage) -> [Vec3; 9] {
         for i in 0..w {
             let d = equirect_direction(Vec2::new((i as f32 + 0.5) / w as f32, v));
             let basis = sh_basis(d);
-            let texel = image.texels[j * w + i];
+            let Some(texel) = texels.get(j * w + i) else {
+                continue;
+            };
             for (k, b) in basis.iter().enumerate() {
                 for c in 0..3 {
                     acc[k][c] += texel[c] as f64 * *b as f64 * d_omega;
@@ -175,7 +178,7 @@ pub fn sample_ggx_vndf(v: Vec3, alpha: f32, xi: Vec2) -> Vec3 {
 
 /// [`sample_ggx_vndf`] for an anisotropic lobe of widths `alphas` = (α_x, α_y) along the
 /// frame's first two axes (Heitz 2018 stretches by each): the path tracer's sampler of
-/// anisotropic GGX (`crate::anisotropy`).
+/// anisotropic GGX (`crate::shading::anisotropy`).
 pub fn sample_ggx_vndf_anisotropic(v: Vec3, alphas: Vec2, xi: Vec2) -> Vec3 {
     let vh = Vec3::new(alphas.x * v.x, alphas.y * v.y, v.z).normalize_or(Vec3::Z);
     let len2 = vh.x * vh.x + vh.y * vh.y;
@@ -204,7 +207,6 @@ pub fn specular_occlusion(n_dot_v: f32, ao: f32, perceptual_roughness: f32) -> f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::environment::EquirectImage;
 
     #[test]
     fn equirect_round_trip() {
@@ -224,14 +226,13 @@ mod tests {
         assert!(rotate_y(Vec3::X, PI / 2.0).abs_diff_eq(-Vec3::Z, 1e-6));
     }
 
-    fn constant_image(value: f32, w: u32, h: u32) -> EquirectImage {
-        EquirectImage::from_texels(w, h, vec![[value; 3]; (w * h) as usize])
-            .unwrap_or_else(|e| panic!("{e}"))
+    fn constant_sh(value: f32, w: u32, h: u32) -> [Vec3; 9] {
+        sh_project(w, h, &vec![[value; 3]; (w * h) as usize])
     }
 
     #[test]
     fn irradiance_of_a_constant_environment_is_pi_times_it() {
-        let sh = sh_project(&constant_image(2.5, 128, 64));
+        let sh = constant_sh(2.5, 128, 64);
         for n in [
             Vec3::Y,
             -Vec3::Y,
@@ -257,11 +258,10 @@ mod tests {
     fn irradiance_of_a_bright_upper_hemisphere() {
         // Radiance 1 above the horizon, 0 below: E(up) = π, E(down) = 0, E(side) = π/2.
         let (w, h) = (256u32, 128u32);
-        let texels = (0..h)
+        let texels: Vec<[f32; 3]> = (0..h)
             .flat_map(|j| (0..w).map(move |_| if j < h / 2 { [1.0; 3] } else { [0.0; 3] }))
             .collect();
-        let img = EquirectImage::from_texels(w, h, texels).unwrap_or_else(|e| panic!("{e}"));
-        let sh = sh_project(&img);
+        let sh = sh_project(w, h, &texels);
         let e = |n| sh_irradiance(&sh, n).x / PI;
         // Band-limited to order 2 (≤ ~9 % error for a step, Ramamoorthi & Hanrahan).
         assert!((e(Vec3::Y) - 1.0).abs() < 0.1, "{}", e(Vec3::Y));
@@ -305,7 +305,7 @@ mod tests {
                         theta.cos() as f32,
                     );
                     let h = (v + l).normalize();
-                    let d = crate::brdf::d_ggx(alpha, h.z, 1.0 - h.z * h.z);
+                    let d = crate::shading::brdf::d_ggx(alpha, h.z, 1.0 - h.z * h.z);
                     let g = g_smith_schlick_ggx(nv, l.z, k);
                     let f = d * g / (4.0 * nv * l.z) * l.z;
                     sum += f as f64

@@ -1,14 +1,16 @@
 //! The copy of the HDR image that the one-frame filters (FXAA, SMAA) read
 //! (`aa_prepare.wgsl`): the linear colour, which they blend, with the perceptual luma they
-//! compare in alpha ([`crate::antialiasing::perceptual_luma`] of the
-//! [`crate::antialiasing::compress_hdr`]ed colour), in a target of its own so that the
+//! compare in alpha ([`crate::shading::antialiasing::perceptual_luma`] of the
+//! [`crate::shading::antialiasing::compress_hdr`]ed colour), in a target of its own so that the
 //! filters can write their result into the HDR target they do not read.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::{Slot, TargetFormat, TextureDesc};
-use crate::render::pipelines::{draw_fullscreen, fullscreen_variant, one_group_layout};
+use crate::render::pipeline_cache::Fullscreen;
+use crate::render::pipelines::draw_fullscreen;
 use crate::render::timing::GpuTimer;
 
 /// The prepared image's format: f16, 11 significant bits (a relative error of 2⁻¹²
@@ -31,40 +33,24 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
 };
 
 /// The preparation step's pipeline and the bind group that reads the HDR target.
-pub struct Preparation {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
-    group: CachedGroup,
-}
+pub struct Preparation(FullscreenStep);
 
 impl Preparation {
     /// Compiles the preparation step.
     pub fn new(gpu: &Gpu) -> Result<Preparation> {
-        let layout = BINDINGS.layout(gpu);
-        let pipeline = fullscreen_variant(
+        let mut step = FullscreenStep::new(
             gpu,
-            "aa prepare",
-            &one_group_layout(gpu, "aa prepare", &layout),
-            "aa_prepare.wgsl",
-            &[],
-            PREPARED_FORMAT,
-        )?;
-        Ok(Preparation {
-            layout,
-            pipeline,
-            group: CachedGroup::default(),
-        })
+            Fullscreen::new("aa prepare", "aa_prepare.wgsl"),
+            &BINDINGS,
+        );
+        step.ensure(gpu, (), &[PREPARED_FORMAT])?;
+        Ok(Preparation(step))
     }
 
     /// Makes (or keeps) the group that prepares from `hdr`.
     pub fn prepare(&mut self, gpu: &Gpu, hdr: &wgpu::TextureView) -> Result<()> {
-        self.group.get(
-            gpu,
-            &BINDINGS,
-            &self.layout,
-            vec![wgpu::BindingResource::TextureView(hdr)],
-        )?;
-        Ok(())
+        self.0
+            .bind(gpu, vec![wgpu::BindingResource::TextureView(hdr)])
     }
 
     /// Records the preparation into `prepared` ([`AA_PREPARED`]), timed as `name`.
@@ -75,8 +61,16 @@ impl Preparation {
         name: &'static str,
         prepared: &wgpu::TextureView,
     ) {
-        if let Some(group) = self.group.group() {
-            draw_fullscreen(encoder, timer, name, &[prepared], &self.pipeline, group);
+        if let (Some(group), Some(pipeline)) =
+            (self.0.group(), self.0.pipeline((), &[PREPARED_FORMAT]))
+        {
+            draw_fullscreen(encoder, timer, name, &[prepared], pipeline, group);
         }
     }
+}
+
+/// The step's shader build ([`crate::render::graph::FramePass::shader_builds`] of the
+/// passes that use it).
+pub fn build() -> crate::render::graph::ShaderBuild {
+    crate::render::graph::ShaderBuild::new("aa_prepare.wgsl", Vec::new(), &[(0, BINDINGS)])
 }

@@ -5,12 +5,12 @@
 
 use super::bvh::{Bvh, Triangle};
 use super::textures::TraceMaps;
-use crate::anisotropy::textured_anisotropy;
-use crate::brdf::VisibilityModel;
-use crate::ibl::{equirect_direction, equirect_uv, rotate_y};
-use crate::iridescence::film_thickness;
 use crate::scene::texture::normal_from_map;
 use crate::scene::{Environment, EnvironmentSource, MaterialMaps, MeshHandle, Meshes};
+use crate::shading::anisotropy::textured_anisotropy;
+use crate::shading::brdf::VisibilityModel;
+use crate::shading::ibl::{equirect_direction, equirect_uv, rotate_y};
+use crate::shading::iridescence::film_thickness;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::f32::consts::PI;
 
@@ -54,7 +54,7 @@ pub enum TraceLight {
         /// 1 / range² (1/m²) of the range window; 0: unlimited range.
         inv_range2: f32,
         /// Cone scale (dimensionless): the cone factor is
-        /// `saturate(cos θ · scale + offset)²` ([`crate::punctual::spot_scale_offset`]).
+        /// `saturate(cos θ · scale + offset)²` ([`crate::shading::punctual::spot_scale_offset`]).
         cone_scale: f32,
         /// Cone offset (dimensionless).
         cone_offset: f32,
@@ -180,12 +180,12 @@ impl TraceMaterial {
     }
 
     /// The factors clamped into the ranges the BRDF takes: base colour, metallic and
-    /// specular level into 0..1, roughness by [`crate::brdf::clamp_perceptual_roughness`].
+    /// specular level into 0..1, roughness by [`crate::shading::brdf::clamp_perceptual_roughness`].
     pub fn clamped(self) -> TraceMaterial {
         TraceMaterial {
             base_color: self.base_color.clamp(Vec3::ZERO, Vec3::ONE),
             metallic: self.metallic.clamp(0.0, 1.0),
-            roughness: crate::brdf::clamp_perceptual_roughness(self.roughness),
+            roughness: crate::shading::brdf::clamp_perceptual_roughness(self.roughness),
             specular_level: self.specular_level.clamp(0.0, 1.0),
             alpha: if self.alpha.is_nan() {
                 1.0
@@ -204,7 +204,7 @@ impl TraceMaterial {
                 .anisotropy
                 .map(crate::scene::Anisotropy::clamped)
                 .filter(|a| a.strength > 0.0),
-            specular_tint: self.specular_tint.map(crate::brdf::clamp_tint),
+            specular_tint: self.specular_tint.map(crate::shading::brdf::clamp_tint),
             iridescence: self
                 .iridescence
                 .map(crate::scene::Iridescence::clamped)
@@ -230,7 +230,7 @@ fn apply_extensions(maps: &TraceMaps, material: &mut TraceMaterial, uv0: Vec2, u
     if let Some(c) = material.clearcoat.as_mut() {
         c.factor *= at(2).unwrap_or(one).x;
         // Clamped again, as the layers pass clamps the product.
-        c.perceptual_roughness = crate::brdf::clamp_perceptual_roughness(
+        c.perceptual_roughness = crate::shading::brdf::clamp_perceptual_roughness(
             c.perceptual_roughness * at(3).unwrap_or(one).y,
         );
     }
@@ -422,11 +422,11 @@ impl AlbedoTable {
     /// The same for a lobe with Schlick's Fresnel of reflectance `f0` at normal incidence:
     /// the directional albedo E(n·v, r) of a dielectric specular lobe.
     pub fn with_f0(size: usize, samples: u32, model: VisibilityModel, f0: f32) -> Self {
-        use crate::ibl::{hammersley, importance_sample_ggx};
+        use crate::shading::ibl::{hammersley, importance_sample_ggx};
         let size = size.max(2);
         let mut values = Vec::with_capacity(size * size);
         for j in 0..size {
-            let r = crate::brdf::clamp_perceptual_roughness(j as f32 / (size - 1) as f32);
+            let r = crate::shading::brdf::clamp_perceptual_roughness(j as f32 / (size - 1) as f32);
             let alpha = r * r;
             for i in 0..size {
                 let n_dot_v = (i as f32 / (size - 1) as f32).max(1e-3);
@@ -438,8 +438,8 @@ impl AlbedoTable {
                     let l = 2.0 * v_dot_h * h - v;
                     if l.z > 0.0 && v_dot_h > 0.0 {
                         // D·V·(n·l) / (D (n·h) / (4 v·h)).
-                        let vis = crate::brdf::visibility(model, n_dot_v, l.z, r);
-                        let fresnel = crate::brdf::f_schlick(Vec3::splat(f0), v_dot_h).x;
+                        let vis = crate::shading::brdf::visibility(model, n_dot_v, l.z, r);
+                        let fresnel = crate::shading::brdf::f_schlick(Vec3::splat(f0), v_dot_h).x;
                         sum += fresnel * vis * l.z * 4.0 * v_dot_h / h.z.max(1e-6);
                     }
                 }
@@ -612,7 +612,9 @@ impl TraceScene {
                     32,
                     1024,
                     quality.visibility,
-                    crate::brdf::dielectric_f0(crate::clearcoat::CLEARCOAT_SPECULAR_LEVEL),
+                    crate::shading::brdf::dielectric_f0(
+                        crate::shading::clearcoat::CLEARCOAT_SPECULAR_LEVEL,
+                    ),
                 )
             }),
             light_visibility: LightVisibility::Physical,
@@ -670,7 +672,8 @@ impl TraceScene {
         let base = maps.sample(0, uv0, uv1) * color;
         material.base_color = (material.base_color * base.truncate()).clamp(Vec3::ZERO, Vec3::ONE);
         let mr = maps.sample(1, uv0, uv1);
-        material.roughness = crate::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
+        material.roughness =
+            crate::shading::brdf::clamp_perceptual_roughness(material.roughness * mr.y);
         material.metallic = (material.metallic * mr.z).clamp(0.0, 1.0);
         material.emissive *= maps.sample(4, uv0, uv1).truncate();
         apply_extensions(maps, &mut material, uv0, uv1);

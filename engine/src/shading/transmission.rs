@@ -112,7 +112,7 @@ pub fn dispersion_iors(ior: f32, dispersion: f32) -> Vec3 {
 /// (no refraction) blurs nothing and from 1.5 up the full roughness applies (the
 /// Khronos glTF sample renderer's `applyIorToRoughness`).
 pub fn transmission_roughness(perceptual_roughness: f32, ior: f32) -> f32 {
-    let r = crate::brdf::clamp_perceptual_roughness(perceptual_roughness);
+    let r = crate::shading::brdf::clamp_perceptual_roughness(perceptual_roughness);
     r * (2.0 * clamp_ior(ior) - 2.0).clamp(0.0, 1.0)
 }
 

@@ -17,23 +17,22 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
-use crate::render::antialiasing::accumulate::mean_format;
-use crate::render::antialiasing::resolve::TaaResolve;
+use crate::render::antialias::accumulate::mean_format;
+use crate::render::antialias::resolve::TaaResolve;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{DEPTH, HDR, MOTION};
 use crate::render::graph::{
-    Extent, FramePass, FramePlan, PassDecision, PassId, Sizing, Slot, TargetFormat, TextureDesc,
+    Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot, TargetFormat,
+    TextureDesc,
 };
-use crate::render::pipelines::{
-    create_module, draw_fullscreen, fullscreen_pipeline, one_group_layout,
-};
+use crate::render::pipeline_cache::Fullscreen;
+use crate::render::pipelines::draw_fullscreen;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
-use bevy_ecs::schedule::ScheduleConfigs;
-use bevy_ecs::system::ScheduleSystem;
 
 #[allow(non_upper_case_globals)]
 impl PassId {
@@ -162,12 +161,17 @@ impl FramePass for TaaPass {
             .sized(TAA_HISTORY[1], sizing)
     }
 
-    fn prepare() -> Option<ScheduleConfigs<ScheduleSystem>> {
-        Some(prepare_taa.into_configs())
-    }
+    crate::pass_systems!(prepare_taa, taa_pass);
 
-    fn record() -> ScheduleConfigs<ScheduleSystem> {
-        taa_pass.into_configs()
+    fn shader_builds() -> Vec<ShaderBuild> {
+        vec![
+            ShaderBuild::new("taa.wgsl", Vec::new(), &[(0, BINDINGS)]),
+            ShaderBuild::new(
+                "taa_resolve.wgsl",
+                Vec::new(),
+                &[(0, crate::render::antialias::resolve::BINDINGS)],
+            ),
+        ]
     }
 }
 
@@ -199,8 +203,7 @@ struct TaaParams {
 /// TAA's pipelines, history and bindings.
 #[derive(Resource)]
 pub struct TaaPass {
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
+    step: FullscreenStep,
     resolve: TaaResolve,
     /// The colour history's format: f32 where the adapter renders it (a mean over up to
     /// [`TAA_STILL_FRAMES`] frames: f16 would drop updates smaller than its rounding),
@@ -215,30 +218,14 @@ pub struct TaaPass {
 impl TaaPass {
     /// Compiles the TAA step; the resolve compiles per HDR format.
     pub fn new(gpu: &Gpu) -> Result<Self> {
-        let layout = BINDINGS.layout(gpu);
-        let pipeline_layout = one_group_layout(gpu, "taa", &layout);
         let color_format = mean_format(gpu);
-        let module = create_module(gpu, "taa", &gpu.shaders.compose("taa.wgsl", &[])?)?;
-        let pipeline = fullscreen_pipeline(
-            gpu,
-            "taa",
-            Some(&pipeline_layout),
-            &module,
-            ("vs_fullscreen", "fs_main"),
-            &[color_format, DEPTH_FRAMES_FORMAT],
-            None,
-        )?;
+        let mut step = FullscreenStep::new(gpu, Fullscreen::new("taa", "taa.wgsl"), &BINDINGS);
+        step.ensure(gpu, (), &[color_format, DEPTH_FRAMES_FORMAT])?;
         Ok(TaaPass {
-            layout,
-            pipeline,
+            step,
             resolve: TaaResolve::new(gpu),
             color_format,
-            params: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("taa params"),
-                size: std::mem::size_of::<TaaParams>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            params: gpu.uniform_buffer("taa params", std::mem::size_of::<TaaParams>() as u64),
             groups: Default::default(),
             parity: 0,
         })
@@ -262,7 +249,7 @@ pub fn prepare_taa(
         return;
     };
     let pass = &mut *pass;
-    if let Err(e) = pass.resolve.ensure(&gpu, format) {
+    if let Err(e) = pass.resolve.step.ensure(&gpu, (), &[format]) {
         errors.0.push(e);
         return;
     }
@@ -283,11 +270,11 @@ pub fn prepare_taa(
         .any(|s| t.fresh(*s));
     for (write, [taa, resolve]) in pass.groups.iter_mut().enumerate() {
         let read = 1 - write;
-        let made = taa
-            .get(
+        let made = pass
+            .step
+            .bind_in(
+                taa,
                 &gpu,
-                &BINDINGS,
-                &pass.layout,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
                     wgpu::BindingResource::TextureView(depth),
@@ -345,15 +332,17 @@ pub fn taa_pass(
         encoder.as_mut(),
         t.and_then(|t| t.view(HDR)),
         plan.variant::<TaaPass>()
-            .and_then(|f| pass.resolve.pipeline(*f)),
+            .and_then(|f| pass.resolve.step.pipeline((), &[*f])),
         taa_group.group(),
         resolve_group.group(),
     ) else {
         return;
     };
-    let (Some(color), Some(depth_frames)) = (
+    let (Some(color), Some(depth_frames), Some(taa)) = (
         t.and_then(|t| t.view(TAA_HISTORY[pass.parity])),
         t.and_then(|t| t.view(TAA_HISTORY_DEPTH[pass.parity])),
+        pass.step
+            .pipeline((), &[pass.color_format, DEPTH_FRAMES_FORMAT]),
     ) else {
         return;
     };
@@ -362,7 +351,7 @@ pub fn taa_pass(
         timer,
         PassId::Taa.name(),
         &[color, depth_frames],
-        &pass.pipeline,
+        taa,
         taa_group,
     );
     draw_fullscreen(
@@ -406,5 +395,18 @@ pub fn history_change(
         Some("the scene changed")
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_params_lay_out_as_the_shader_does() {
+        #[rustfmt::skip]
+        crate::assert_wgsl_twin!(TaaParams, "taa.wgsl", &[], "TaaParams", [
+            previous_clip_from_world, clip_from_world, world_from_clip, settings, still,
+        ]);
     }
 }

@@ -29,7 +29,7 @@ pub const CLEARCOAT_SPECULAR_LEVEL: f32 = 0.5;
 /// `E = F0·A + B` (Karis 2013), × the lobe's multiple-scattering `compensation`
 /// (1 when off).
 pub fn clearcoat_albedo(dfg: Vec2, compensation: f32) -> f32 {
-    let f0 = crate::brdf::dielectric_f0(CLEARCOAT_SPECULAR_LEVEL);
+    let f0 = crate::shading::brdf::dielectric_f0(CLEARCOAT_SPECULAR_LEVEL);
     ((f0 * dfg.x + dfg.y) * compensation).clamp(0.0, 1.0)
 }
 

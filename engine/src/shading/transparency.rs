@@ -33,7 +33,7 @@ pub fn oit_resolve(accum: Vec4, reveal: f32) -> Vec4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::color::{over, premultiplied};
+    use crate::shading::color::{over, premultiplied};
 
     #[test]
     fn one_layer_resolves_exactly() {

@@ -4,7 +4,6 @@
 //! `MaterialMaps` gets one bind group (group 1 of the G-buffer's textured variant).
 //! Nothing here is built for a scene without `MaterialMaps`.
 
-use crate::color::{srgb_decode, srgb_encode};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedFrame, FrameMaps};
@@ -14,6 +13,7 @@ use crate::scene::extension_maps::{EXTENSION_PROPERTIES, EXTENSION_UNITS, NO_UNI
 use crate::scene::{
     ColorSpace, Filter, Sampler, TextureData, TextureHandle, TextureSlot, Textures, Wrap,
 };
+use crate::shading::color::{srgb_decode, srgb_encode};
 use bevy_ecs::prelude::*;
 use bytemuck::{Pod, Zeroable};
 use std::collections::HashMap;
@@ -446,12 +446,7 @@ pub fn prepare_material_maps(
         let default_sampler = maps
             .samplers
             .entry(Sampler::default())
-            .or_insert_with(|| {
-                gpu.device.create_sampler(&wgpu::SamplerDescriptor {
-                    label: Some("material sampler"),
-                    ..Default::default()
-                })
-            })
+            .or_insert_with(|| gpu.sampler("material sampler", wgpu::FilterMode::Nearest))
             .clone();
         let Some(white) = maps.white.as_ref() else {
             return;
@@ -539,6 +534,16 @@ pub fn prepare_material_maps(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_maps_lay_out_as_the_shader_does() {
+        #[rustfmt::skip]
+        crate::assert_wgsl_twin!(GpuMaps, "material_maps.wgsl", &[group_def(1)], "Maps", [
+            transforms, uv_sets, extra, params, transmission, attenuation, clearcoat, sheen,
+            anisotropy, specular_tint, film, translucency, extension_transforms,
+            extension_uv_sets, extension_units, extension_params,
+        ]);
+    }
 
     #[test]
     fn mips_average_in_linear_light() {
