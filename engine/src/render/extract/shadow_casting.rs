@@ -60,14 +60,17 @@ pub fn extract_shadow_views(
     frame.shadow_views.clear();
     frame.shadow_counts = ShadowCounts::default();
     shadows.0.clear();
-    let casts = |asked: bool| asked || quality.all_lights_cast_shadows;
+    // Whether a light's shadow is drawn: one that asks for it (or every light, with
+    // `all_lights_cast_shadows`) is counted as skipped where nothing can cast.
+    let all = quality.all_lights_cast_shadows;
+    let drawn = |asked: bool, counts: &mut ShadowCounts| {
+        let casts = asked || all;
+        counts.skipped += u32::from(casts && !shadows_on);
+        casts && shadows_on
+    };
     let scale = quality.shadow_resolution_scale;
     for (entity, light, transform, settings, cascades) in &directional {
-        if !casts(light.cast_shadows) {
-            continue;
-        }
-        if !shadows_on {
-            frame.shadow_counts.skipped += 1;
+        if !drawn(light.cast_shadows, &mut frame.shadow_counts) {
             continue;
         }
         let s = sanitized(
@@ -96,11 +99,7 @@ pub fn extract_shadow_views(
         shadows.0.insert(entity, fields);
     }
     for (entity, light, transform, settings) in &points {
-        if !casts(light.cast_shadows) {
-            continue;
-        }
-        if !shadows_on {
-            frame.shadow_counts.skipped += 1;
+        if !drawn(light.cast_shadows, &mut frame.shadow_counts) {
             continue;
         }
         let s = sanitized(
@@ -116,11 +115,7 @@ pub fn extract_shadow_views(
         shadows.0.insert(entity, fields);
     }
     for (entity, light, transform, settings) in &spots {
-        if !casts(light.cast_shadows) {
-            continue;
-        }
-        if !shadows_on {
-            frame.shadow_counts.skipped += 1;
+        if !drawn(light.cast_shadows, &mut frame.shadow_counts) {
             continue;
         }
         let s = sanitized(

@@ -197,17 +197,7 @@ impl FramePass for SsrPass {
             format: wgpu::TextureFormat::Rgba16Float,
             half: true,
         };
-        let nothing = SsrVariant {
-            rays: 1,
-            steps: 1,
-            environment: false,
-            env_map: false,
-            energy_compensation: false,
-            screen_ao: false,
-            reflection_probes: 0,
-            format: wgpu::TextureFormat::Rgba16Float,
-            half: false,
-        };
+        let nothing = SsrVariant::SMALLEST;
         vec![
             ShaderBuild::new(
                 "ssr.wgsl",
@@ -366,6 +356,22 @@ fn compile(
             )?,
         ]
     })
+}
+
+impl SsrVariant {
+    /// One ray of one step at full resolution, with no indirect term: the shader's
+    /// smallest build.
+    pub const SMALLEST: SsrVariant = SsrVariant {
+        rays: 1,
+        steps: 1,
+        environment: false,
+        env_map: false,
+        energy_compensation: false,
+        screen_ao: false,
+        reflection_probes: 0,
+        format: wgpu::TextureFormat::Rgba16Float,
+        half: false,
+    };
 }
 
 impl ShaderVariant for SsrVariant {
@@ -615,17 +621,7 @@ mod tests {
 
     #[test]
     fn the_params_lay_out_as_the_shader_does() {
-        let variant = SsrVariant {
-            rays: 1,
-            steps: 1,
-            environment: false,
-            env_map: false,
-            energy_compensation: false,
-            screen_ao: false,
-            reflection_probes: 0,
-            format: wgpu::TextureFormat::Rgba16Float,
-            half: false,
-        };
+        let variant = SsrVariant::SMALLEST;
         let defs = variant.shader_defs();
         crate::assert_wgsl_twin!(Params, "ssr.wgsl", &defs, "SsrParams", [
             max_roughness, thickness_m, pad => "pad0",
