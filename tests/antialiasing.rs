@@ -190,6 +190,7 @@ fn accumulation_gives_the_box_filtered_pixel_at_an_edge() {
 fn roughness_with_and_without_specular_aa() -> (Vec<f32>, Vec<f32>, Vec<bool>) {
     let size = (96, 96);
     let mut app = App::headless().expect("a GPU adapter");
+    app.keep_target(FrameTarget::GBuffer1);
     let floor = app.add_mesh(plane(8.0, 8.0)).expect("mesh");
     let ball = app.add_mesh(uv_sphere(0.3, 48, 24)).expect("mesh");
     bare_quality(&mut app);
@@ -268,6 +269,8 @@ fn specular_aa_widens_roughness_only_where_the_normal_varies() {
 /// renders).
 fn aliasing_rendered(method: AaMethod, accumulate: u32) -> App {
     let mut app = common::app_with("aliasing");
+    app.keep_target(FrameTarget::Depth);
+    app.keep_target(FrameTarget::GBuffer1);
     {
         let mut q = app.world_mut().resource_mut::<Quality>();
         q.gi.enabled = false;
@@ -584,7 +587,7 @@ fn a_still_taa_render_converges_to_the_box_filtered_pixel() {
     let report = app.render_headless(size).expect("frame");
     assert_eq!(
         report.temporal_frames,
-        lumen::render::antialias::taa::TAA_JITTER_PERIOD
+        lumen::render::post::antialias::taa::TAA_JITTER_PERIOD
     );
     let image = app.read_hdr_image().expect("hdr");
     let at = |x: u32| image.get_pixel(x, 32).0[0];
@@ -650,6 +653,7 @@ fn highlight_flicker(specular_aa: Option<lumen::quality::SpecularAaForm>) -> f64
     use lumen::scene::{MaterialMaps, TextureSlot};
     let size = (128, 128);
     let mut app = App::headless().expect("a GPU adapter");
+    app.keep_target(FrameTarget::Depth);
     let ball = app.add_mesh(uv_sphere(1.0, 96, 48)).expect("mesh");
     let normal = app
         .add_texture(lumen_game::scenes::aliasing::bump_map(64, 512))

@@ -12,8 +12,9 @@
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::graph::ShaderBuild;
 use lumen::render::indirect::{probe_volume, reflection_probes};
+use lumen::render::passes;
+use lumen::render::post::tonemap;
 use lumen::render::shaders::{BUILTIN, ShaderDef, ShaderLibrary};
-use lumen::render::{passes, tonemap};
 use lumen::wgpu::naga;
 use std::collections::BTreeSet;
 
@@ -79,7 +80,7 @@ fn resource_builds() -> Vec<ShaderBuild> {
         ShaderBuild::new("ibl_preprocess.wgsl", Vec::new(), &[]),
         ShaderBuild::new(
             "brdf_lut.wgsl",
-            lumen::render::environment_maps::lut_defs(32, 64),
+            lumen::render::indirect::environment_maps::lut_defs(32, 64),
             &[],
         ),
         ShaderBuild::new("fullscreen.wgsl", Vec::new(), &[]),

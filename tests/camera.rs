@@ -8,7 +8,7 @@ use common::{app_with, lum};
 use lumen::App;
 use lumen::assets::procedural::{plane, uv_sphere};
 use lumen::prelude::*;
-use lumen::render::exposure::{HISTOGRAM_LOG2_RANGE, HISTOGRAM_MIN_LOG2};
+use lumen::render::post::exposure::{HISTOGRAM_LOG2_RANGE, HISTOGRAM_MIN_LOG2};
 use lumen::scene::AutoExposure;
 use lumen::scene::camera::metered_ev100;
 use lumen_game::scenes::{DOF_DISTANCES, DOF_PANEL_FRACTION, DOF_SCREEN_X};

@@ -1702,6 +1702,7 @@ fn the_showcase_holds_the_helmet_centred_lit_and_well_exposed() {
     let mut app = App::headless().expect("a GPU adapter");
     let showcase = lumen_game::scenes::find("showcase").expect("the showcase scene");
     (showcase.build)(&mut app).expect("the showcase builds");
+    app.keep_target(FrameTarget::Depth);
     app.render_headless(size).expect("frame");
     let hdr = app.read_hdr_image().expect("hdr");
     assert!(

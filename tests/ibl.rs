@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3};
 use lumen::App;
 use lumen::prelude::*;
 use lumen::render::device::Gpu;
-use lumen::render::environment_maps::Ibl;
+use lumen::render::indirect::environment_maps::Ibl;
 use lumen::render::readback::{f16_bytes_to_f32, read_texture, read_texture_level};
 use lumen::shading::ibl::dfg_integrate;
 use lumen_game::scenes::{FURNACE_COLUMNS, FURNACE_RADIUS, furnace_center};

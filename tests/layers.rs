@@ -58,6 +58,7 @@ fn layered_furnace_in(
         let column = (t.translation.x + 5.0).round() / (FURNACE_COLUMNS - 1) as f32;
         layer(&mut m, column);
     }
+    app.keep_target(lumen::app::FrameTarget::GBuffer1);
     let report = app.render_headless(FURNACE_SIZE).expect("frame");
     let layers = common::decision(&report, pass);
     assert!(layers.enabled, "{}", layers.reason);

@@ -96,7 +96,7 @@ fn an_overflowing_tile_falls_back_to_every_light() {
 
 #[test]
 fn culling_runs_only_where_it_pays() {
-    let min = lumen::render::light_culling::LIGHT_CULLING_MIN_LIGHTS;
+    let min = lumen::render::lighting::light_culling::LIGHT_CULLING_MIN_LIGHTS;
     for (count, expect) in [(min - 1, false), (min, true)] {
         let mut app = lights_app(count);
         let report = app.render_headless((64, 36)).expect("frame");

@@ -218,6 +218,8 @@ fn flat_surface_matches_the_cpu_brdf() {
         app.world_mut()
             .resource_mut::<Quality>()
             .energy_compensation = compensation;
+        app.keep_target(FrameTarget::GBuffer0);
+        app.keep_target(FrameTarget::GBuffer1);
         app.render_headless(size).expect("frame");
         let hdr = app.read_hdr_image().expect("readback");
         let base = PLANE_MATERIAL.base_color.truncate();
@@ -291,6 +293,23 @@ fn one_ev100_step_halves_the_output() {
 }
 
 #[test]
+fn a_target_not_kept_is_an_error_naming_keep_target() {
+    // Without keep_target the G-buffer's memory may serve later passes, so reading it
+    // after the frame is refused; HDR is kept by default.
+    let mut app = app_with("plane");
+    app.render_headless((32, 32)).expect("frame");
+    let err = app
+        .read_target(FrameTarget::GBuffer1)
+        .expect_err("gbuffer1 was not kept");
+    assert!(
+        err.to_string()
+            .contains("App::keep_target(FrameTarget::GBuffer1)"),
+        "{err}"
+    );
+    assert!(app.read_target(FrameTarget::Hdr).is_ok());
+}
+
+#[test]
 fn gbuffer_normals_round_trip() {
     // A cube rotated off every axis: each visible face has one exact normal.
     let mut app = App::headless().expect("GPU");
@@ -308,6 +327,7 @@ fn gbuffer_normals_round_trip() {
         Camera::default(),
         Transform::from_xyz(0.0, 0.0, 6.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
+    app.keep_target(FrameTarget::GBuffer1);
     app.render_headless((128, 128)).expect("frame");
     let g1 = app.read_target(FrameTarget::GBuffer1).expect("readback");
     let faces: Vec<Vec3> = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]

@@ -190,6 +190,7 @@ fn each_light_removes_exactly_its_own_light_inside_its_shadow() {
 /// from the vertical, seen from above at an angle.
 fn lit_surface_scene(kind: Kind, with_sphere: bool, filter: ShadowFilter) -> App {
     let mut app = App::headless().expect("GPU");
+    app.keep_target(lumen::FrameTarget::GBuffer1);
     {
         let mut quality = app.world_mut().resource_mut::<Quality>();
         quality.shadow_filter = filter;

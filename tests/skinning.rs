@@ -57,6 +57,8 @@ fn bar() -> (MeshData, Vec<[u32; 4]>, Vec<[f32; 4]>) {
 /// bar's entity.
 fn bent_bar(bend: f32) -> (App, Entity) {
     let mut app = App::headless().expect("a GPU adapter");
+    app.keep_target(FrameTarget::GBuffer0);
+    app.keep_target(FrameTarget::Motion);
     let (mesh, joints, weights) = bar();
     let handle = app
         .add_deformable_mesh(mesh, joints, weights, Vec::new())
@@ -434,6 +436,7 @@ fn a_morphed_normal_turns_the_shading_normal() {
         Transform::from_xyz(0.0, 0.0, 3.0).looking_at(Vec3::ZERO, Vec3::Y),
     ));
     let size = (32, 32);
+    app.keep_target(FrameTarget::GBuffer1);
     for w in [0.0f32, 0.5, 1.0] {
         app.world_mut()
             .entity_mut(quad)

@@ -53,6 +53,8 @@ fn motion_vectors_match_the_analytic_motion_of_a_moving_cube() {
     let mut app = App::headless().expect("a GPU adapter");
     let mesh = app.add_mesh(cube(1.0)).expect("mesh");
     taa_quality(&mut app);
+    app.keep_target(FrameTarget::Motion);
+    app.keep_target(FrameTarget::Depth);
     let before = Transform::from_translation(Vec3::new(-0.3, 0.0, 0.0));
     let after = Transform::from_translation(Vec3::new(0.0, 0.1, 0.0))
         .with_rotation(Quat::from_rotation_y(10f32.to_radians()));
@@ -347,17 +349,18 @@ fn poison(pass: Res<Poison>, targets: Res<RenderTargets>, mut encoder: ResMut<Fr
 
 #[test]
 fn a_nan_in_the_lit_frame_never_reaches_the_history() {
-    use lumen::render::antialias::{accumulate::AccumulatePass, taa::TaaPass};
+    use lumen::render::post::antialias::{accumulate::AccumulatePass, taa::TaaPass};
     use lumen::render::{
-        debug_view::DebugViewPass, dof::DofPass, exposure::ExposurePass, gbuffer::GBufferPass,
-        indirect::depth_pyramid::DepthPyramidPass, indirect::gtao::AoPass,
-        indirect::reflections::SsrPass, indirect::volume_irradiance::VolumeIrradiancePass,
-        light_culling::LightCullingPass, lighting::LightingPass, shadow::mask::ShadowMaskPass,
-        shadow::pass::ShadowPass, sky::SkyPass, tonemap::TonemapPass,
+        geometry::gbuffer::GBufferPass, indirect::depth_pyramid::DepthPyramidPass,
+        indirect::gtao::AoPass, indirect::reflections::SsrPass,
+        indirect::volume_irradiance::VolumeIrradiancePass, lighting::LightingPass,
+        lighting::light_culling::LightCullingPass, lighting::sky::SkyPass,
+        post::debug_view::DebugViewPass, post::dof::DofPass, post::exposure::ExposurePass,
+        post::tonemap::TonemapPass, shadow::mask::ShadowMaskPass, shadow::pass::ShadowPass,
     };
     // The built-in frame with the poison between the sky and TAA.
     let registry = Registry::new()
-        .with::<lumen::render::deform_pass::DeformPass>()
+        .with::<lumen::render::geometry::deform_pass::DeformPass>()
         .with::<ShadowPass>()
         .with::<GBufferPass>()
         .with::<AoPass>()

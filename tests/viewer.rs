@@ -1,13 +1,13 @@
 //! The viewer's debug views, rendered headless: each shows the channel it names, with
-//! the encoding `lumen::render::debug_view` documents, for a scene whose every value is
+//! the encoding `lumen::render::post::debug_view` documents, for a scene whose every value is
 //! known. Tolerance: 1.5 of 255 per channel (8-bit rounding of the display image).
 
 use lumen::FrameTarget;
 use lumen::assets::procedural::plane;
 use lumen::prelude::*;
-use lumen::render::debug_view::depth_grey;
 use lumen::render::extract::ExtractedFrame;
 use lumen::render::graph::PassId;
+use lumen::render::post::debug_view::depth_grey;
 use lumen::scene::camera::circle_of_confusion;
 use lumen::scene::{DepthOfField, Lens};
 use lumen::shading::color::srgb_encode;

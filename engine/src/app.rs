@@ -4,13 +4,14 @@
 use crate::error::{Error, Result};
 use crate::input::{self, InputEvent, Keys, Mouse, MouseButtons, PendingInput};
 use crate::quality::Quality;
-use crate::render::antialias::renders::Renders;
-use crate::render::capture::ProbeStatus;
 use crate::render::device::{AdapterSummary, Gpu, GpuRequest};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameDelta, FrameEncoder, FrameErrors, FrameOutput, MeteredExposure};
 use crate::render::graph::registry::Registry;
+use crate::render::graph::slots::KeptSlots;
 use crate::render::graph::{FramePass, FramePlan, Slot, slots};
+use crate::render::indirect::capture::ProbeStatus;
+use crate::render::post::antialias::renders::Renders;
 use crate::render::readback::{f16_bytes_to_f32, read_texture};
 use crate::render::shaders::{self, ShaderOverrides};
 use crate::render::targets::{RenderTargets, Target};
@@ -79,7 +80,7 @@ pub struct FrameReport {
     /// Jittered renders averaged into this image (`--accumulate`; 1 for one render).
     /// The pass and stage times are their sums.
     pub accumulated: u32,
-    /// Frames temporal anti-aliasing rendered into this image: [`TAA_JITTER_PERIOD`](crate::render::antialias::taa::TAA_JITTER_PERIOD) for a
+    /// Frames temporal anti-aliasing rendered into this image: [`TAA_JITTER_PERIOD`](crate::render::post::antialias::taa::TAA_JITTER_PERIOD) for a
     /// still render (converged), 1 per frame in the viewer and `bench`, 0 without TAA.
     /// The pass and stage times are their sums.
     pub temporal_frames: u32,
@@ -105,6 +106,22 @@ pub enum FrameTarget {
     /// Motion vectors (rg): each surface's screen motion in pixels since the previous
     /// frame, without jitter, 0 on the background (only frames with `--aa taa` have them).
     Motion,
+}
+
+impl FrameTarget {
+    /// The frame graph's slot of the target; `None` for the shadow atlas, which its pass
+    /// keeps between frames.
+    fn slot(self) -> Option<Slot> {
+        match self {
+            FrameTarget::GBuffer0 => Some(slots::GBUFFER_BASE_COLOR),
+            FrameTarget::GBuffer1 => Some(slots::GBUFFER_NORMAL),
+            FrameTarget::GBuffer2 => Some(slots::GBUFFER_EMISSIVE),
+            FrameTarget::Depth => Some(slots::DEPTH),
+            FrameTarget::Hdr => Some(slots::HDR),
+            FrameTarget::Motion => Some(slots::MOTION),
+            FrameTarget::ShadowAtlas => None,
+        }
+    }
 }
 
 /// Format of the headless display image: 8-bit RGBA; the tone mapping pass applies the
@@ -329,7 +346,7 @@ impl App {
 
     /// With `--aa taa`: render one frame per call, blending it with the history of the
     /// earlier calls (on: the viewer, `bench`), or converge a still image in each call
-    /// from a fresh history ([`TAA_JITTER_PERIOD`](crate::render::antialias::taa::TAA_JITTER_PERIOD) jittered frames; off, the default).
+    /// from a fresh history ([`TAA_JITTER_PERIOD`](crate::render::post::antialias::taa::TAA_JITTER_PERIOD) jittered frames; off, the default).
     pub fn set_progressive_taa(&mut self, progressive: bool) {
         self.progressive_taa = progressive;
     }
@@ -481,11 +498,11 @@ impl App {
             format,
         });
         self.world
-            .resource_mut::<crate::render::environment_maps::Ibl>()
+            .resource_mut::<crate::render::indirect::environment_maps::Ibl>()
             .last_steps
             .clear();
         let t = Instant::now();
-        let probes = crate::render::capture::update_probes_for_frame(
+        let probes = crate::render::indirect::capture::update_probes_for_frame(
             &mut self.world,
             self.progressive_probes,
         )?;
@@ -508,7 +525,7 @@ impl App {
         renders.finish(&mut self.world);
         let frame_ms = start.elapsed().as_secs_f64() * 1e3;
         let stages = merged_stages(stages);
-        crate::render::exposure::feed_back(&mut self.world, &gpu)?;
+        crate::render::post::exposure::feed_back(&mut self.world, &gpu)?;
         let extracted = self.world.resource::<ExtractedFrame>();
         let camera = extracted
             .camera
@@ -529,7 +546,7 @@ impl App {
             },
             preprocessing: self
                 .world
-                .resource::<crate::render::environment_maps::Ibl>()
+                .resource::<crate::render::indirect::environment_maps::Ibl>()
                 .last_steps
                 .clone(),
             notes: camera.notes.clone(),
@@ -614,11 +631,36 @@ impl App {
         self.read_target(FrameTarget::Hdr)
     }
 
+    /// Keeps `target` after each frame, for [`App::read_target`]. Only HDR is kept unless
+    /// asked: the frame graph lends the memory of a target nothing reads after the frame
+    /// to later passes ([`crate::render::graph::KeptSlots`]). Call it before rendering
+    /// the frames to read.
+    pub fn keep_target(&mut self, target: FrameTarget) {
+        if let Some(slot) = target.slot() {
+            let mut kept = self.world.get_resource_or_insert_with(KeptSlots::default);
+            if !kept.0.contains(&slot) {
+                kept.0.push(slot);
+            }
+        }
+    }
+
     /// One of the last frame's targets as float RGBA: G-buffer channels as stored
     /// (base colour decoded from sRGB by the read, normals still octahedral), depth in the
-    /// red channel.
+    /// red channel. A target other than HDR and the shadow atlas must have been kept
+    /// ([`App::keep_target`]) before the frame rendered.
     pub fn read_target(&self, target: FrameTarget) -> Result<image::Rgba32FImage> {
         let gpu = self.gpu()?;
+        if let Some(slot) = target.slot()
+            && !self
+                .world
+                .get_resource::<KeptSlots>()
+                .is_some_and(|k| k.0.contains(&slot))
+        {
+            return Err(Error::InvalidArgument(format!(
+                "the {} target is not kept after the frame: call App::keep_target(FrameTarget::{target:?}) before rendering",
+                slot.name
+            )));
+        }
         let depth = |texture: &wgpu::Texture| -> Result<Vec<f32>> {
             if !gpu
                 .adapter

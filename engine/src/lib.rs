@@ -54,7 +54,7 @@ pub mod prelude {
     pub use crate::choice::Choice;
     pub use crate::input::{InputEvent, KeyCode, Keys, Mouse, MouseButton, MouseButtons};
     pub use crate::quality::{Quality, ShadowFilter, ShadowMask};
-    pub use crate::render::debug_view::DebugView;
+    pub use crate::render::post::debug_view::DebugView;
     pub use crate::scene::{
         AnimationPlayer, Background, Camera, Cascades, DirectionalLight, Environment,
         EnvironmentSource, EquirectImage, Exposure, GlobalTransform, IrradianceVolume, LightColor,

@@ -1,7 +1,7 @@
 //! Progress bars for long one-off work, on a terminal only.
 
 use lumen::App;
-use lumen::render::environment_maps::Ibl;
+use lumen::render::indirect::environment_maps::Ibl;
 use std::io::IsTerminal;
 
 /// Shows environment prefiltering progress on stderr when it is a terminal.

@@ -9,43 +9,28 @@
 //! (or a debug view) — each recording into the frame's command encoder with its own
 //! timing. The built-in passes are listed in [`passes`].
 
-pub mod antialias;
 pub mod bindings;
-pub mod capture;
-pub mod debug_view;
-pub mod deform_pass;
 pub mod device;
-pub mod dof;
-pub mod environment_maps;
-pub mod exposure;
 pub mod extract;
-pub mod forward;
 pub mod frame;
 pub mod fullscreen_step;
-pub mod gbuffer;
-pub mod gpu_material_maps;
+pub mod geometry;
 pub mod gpu_types;
 pub mod graph;
 pub mod indirect;
 pub mod jitter;
-pub mod layers;
-pub mod light_culling;
 pub mod lighting;
-pub mod lobe_tables;
-pub mod mesh_vertex;
 pub mod passes;
 pub mod pipeline_cache;
 pub mod pipelines;
+pub mod post;
 pub mod readback;
 pub mod scaled_output;
 pub mod scene_buffers;
 pub mod shaders;
 pub mod shadow;
-pub mod shadow_views;
-pub mod sky;
 pub mod targets;
 pub mod timing;
-pub mod tonemap;
 pub mod transparent;
 
 use crate::error::Result;
@@ -139,7 +124,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     if !world.contains_resource::<Registry>() {
         world.insert_resource(passes::builtin()?);
     }
-    world.insert_resource(gpu_material_maps::GpuMaterialMaps::new(
+    world.insert_resource(geometry::gpu_material_maps::GpuMaterialMaps::new(
         &gpu,
         extension_units_fit(&gpu.device.limits()),
     ));
@@ -147,7 +132,7 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     world.init_resource::<frame::MeteredExposure>();
     world.init_resource::<frame::FrameDelta>();
     extract::init(world);
-    world.init_resource::<antialias::taa::TaaState>();
+    world.init_resource::<post::antialias::taa::TaaState>();
     world.insert_resource(scene_buffers::SceneBuffers::new(&gpu));
     world.insert_resource(FrameEncoder {
         encoder: None,
@@ -155,8 +140,9 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
     });
     world.insert_resource(targets::RenderTargets::default());
     world.init_resource::<FramePlan>();
+    world.init_resource::<graph::slots::KeptSlots>();
     world.init_resource::<FrameErrors>();
-    world.init_resource::<debug_view::DebugView>();
+    world.init_resource::<post::debug_view::DebugView>();
     insert_passes(world, &gpu)?;
     world.insert_resource(gpu);
 
@@ -171,14 +157,14 @@ pub fn install(world: &mut World, gpu: Gpu) -> Result<()> {
 /// everything else the pass with the most textures binds: the transparent pass (its
 /// view group, the lighting pass's groups 1 to 3 and the maps). Where they do not (16
 /// textures per stage on OpenGL ES 3, for one), extension textures are not sampled
-/// ([`gpu_material_maps::CORE_BINDINGS`]).
+/// ([`geometry::gpu_material_maps::CORE_BINDINGS`]).
 pub fn extension_units_fit(limits: &wgpu::Limits) -> bool {
     let (textures, samplers) = [
         transparent::VIEW,
         lighting::LIGHTS_AND_SHADOWS,
         lighting::ENVIRONMENT,
         lighting::PROBES,
-        gpu_material_maps::BINDINGS,
+        geometry::gpu_material_maps::BINDINGS,
     ]
     .iter()
     .map(bindings::BindGroupSpec::textures_and_samplers)
@@ -195,8 +181,8 @@ fn shared_preparation(
         plan,
         prepare_targets.into_configs(),
         scene_buffers::prepare_scene_buffers.into_configs(),
-        gpu_material_maps::prepare_material_maps.into_configs(),
-        environment_maps::prepare_ibl.into_configs(),
+        geometry::gpu_material_maps::prepare_material_maps.into_configs(),
+        indirect::environment_maps::prepare_ibl.into_configs(),
     ]
 }
 
@@ -229,9 +215,9 @@ pub fn build_render_schedule(world: &mut World) {
 /// pipelines that do not depend on the scene; the others compile on the next frame.
 /// Uploaded meshes, textures and targets are kept; the environment is prefiltered again.
 pub fn insert_passes(world: &mut World, gpu: &Gpu) -> Result<()> {
-    let mut ibl = environment_maps::Ibl::new(gpu)?;
+    let mut ibl = indirect::environment_maps::Ibl::new(gpu)?;
     if let Some(progress) = world
-        .get_resource_mut::<environment_maps::Ibl>()
+        .get_resource_mut::<indirect::environment_maps::Ibl>()
         .and_then(|mut old| old.take_progress())
     {
         ibl.set_progress(progress);

@@ -248,8 +248,8 @@ pub struct SceneArgs {
     pub gltf_light_shadows: Option<bool>,
     /// Show one channel instead of the image: albedo, normal, metallic, roughness,
     /// occlusion, depth, shadow-atlas or coc (README, "Debug views").
-    #[arg(long, value_name = "VIEW", value_parser = choice::<lumen::render::debug_view::DebugView>(), help_heading = "Scene")]
-    pub debug_view: Option<lumen::render::debug_view::DebugView>,
+    #[arg(long, value_name = "VIEW", value_parser = choice::<lumen::render::post::debug_view::DebugView>(), help_heading = "Scene")]
+    pub debug_view: Option<lumen::render::post::debug_view::DebugView>,
     /// Exposure value at ISO 100 (−10..30); replaces the camera's.
     #[arg(long, value_name = "X", allow_hyphen_values = true, value_parser = values::ev100, help_heading = "Camera")]
     pub ev100: Option<f32>,

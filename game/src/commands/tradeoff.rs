@@ -348,7 +348,7 @@ pub fn run(args: &TradeoffArgs) -> Result<()> {
         let taa = app.world().resource::<lumen::prelude::Quality>().aa.method
             == lumen::quality::AaMethod::Taa;
         let warmup = if taa {
-            let period = lumen::render::antialias::taa::TAA_JITTER_PERIOD;
+            let period = lumen::render::post::antialias::taa::TAA_JITTER_PERIOD;
             let rest = (period - args.frames % period) % period;
             if rest < 3 { rest + period } else { rest }
         } else {

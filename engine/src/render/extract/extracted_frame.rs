@@ -3,8 +3,8 @@
 //! [`LightShadows`]).
 
 use crate::render::extract::deformed::DeformedFrame;
+use crate::render::extract::shadow_views::{CameraForShadows, ShadowView};
 use crate::render::gpu_types::{GpuInstance, GpuLight, GpuView};
-use crate::render::shadow_views::{CameraForShadows, ShadowView};
 use crate::scene::{MeshHandle, Transmission};
 use crate::shading::color::Tonemapper;
 use bevy_ecs::prelude::*;

@@ -7,8 +7,8 @@ use super::extracted_frame::{
 };
 use super::values::{exposed, finite_or};
 use crate::quality::Quality;
+use crate::render::extract::shadow_views::{frustum_planes, sphere_in_frustum};
 use crate::render::gpu_types::GpuInstance;
-use crate::render::shadow_views::{frustum_planes, sphere_in_frustum};
 use crate::scene::{
     GlobalTransform, Material, MaterialMaps, Mesh3d, MeshHandle, Meshes, NotShadowCaster,
     NotShadowReceiver, Transmission,

@@ -24,6 +24,7 @@ pub mod extracted_frame;
 pub mod instances;
 pub mod lights;
 pub mod shadow_casting;
+pub mod shadow_views;
 pub mod values;
 pub mod viewpoint;
 

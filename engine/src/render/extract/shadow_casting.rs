@@ -7,7 +7,7 @@ use super::extracted_frame::{
 };
 use super::values::finite_or;
 use crate::quality::Quality;
-use crate::render::shadow_views::{directional_views, point_views, spot_view};
+use crate::render::extract::shadow_views::{directional_views, point_views, spot_view};
 use crate::scene::{
     Cascades, DirectionalLight, GlobalTransform, PointLight, ShadowSettings, SpotLight,
 };

@@ -6,10 +6,10 @@ use super::extracted_frame::{ExtractedCamera, ExtractedFrame, TemporalMemory, Vi
 use super::values::{exposed, finite_or};
 use crate::error::Error;
 use crate::quality::Quality;
+use crate::render::extract::shadow_views::CameraForShadows;
 use crate::render::frame::{CaptureView, FrameErrors, FrameOutput, MeteredExposure};
 use crate::render::gpu_types::GpuView;
 use crate::render::jitter::Jitter;
-use crate::render::shadow_views::CameraForShadows;
 use crate::scene::{Camera, GlobalTransform, Projection};
 use bevy_ecs::prelude::*;
 use glam::Mat4;

@@ -32,6 +32,7 @@
 //! that assignment ([`crate::render::targets`]).
 
 use super::resources::{self, Extent, Planned, Shape, Sizing, TargetFormat, TextureClass};
+use super::slots::KeptSlots;
 use super::{FactId, FramePass, FramePlan, Lifetime, PassId, ShaderBuild, Slot, SlotKind};
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
@@ -281,10 +282,15 @@ impl Registry {
                 }
             }
         }
+        let kept = world
+            .get_resource::<KeptSlots>()
+            .cloned()
+            .unwrap_or_default();
         let planned = uses
             .into_iter()
             .filter_map(|(slot, first, last, written_first)| {
                 let (shape, history) = shape_of(&plan, slot, output, hdr_format)?;
+                let history = history || kept.0.contains(&slot);
                 Some(Planned {
                     slot,
                     shape,
@@ -375,7 +381,7 @@ fn shape_of(
             let class = TextureClass { format, size };
             Some((
                 Shape::Texture(class, desc.mips.levels(size), desc.usage),
-                desc.history || desc.exported,
+                desc.history,
             ))
         }
         SlotKind::Buffer(desc) => match plan.sizing(slot) {

@@ -12,8 +12,9 @@
 //!   format and size whose lifetimes do not overlap: Filament's FrameGraph aliasing, done
 //!   with whole textures because wgpu has no placed resources. A single-mip resource may
 //!   live in level 0 of a physical texture that another resource needs with a mip chain;
-//! - a resource that the frame reads before any pass writes it, and a **history** (a
-//!   resource that lives across frames, such as TAA's), gets a physical texture of its own;
+//! - a resource that the frame reads before any pass writes it, a **history** (a
+//!   resource that lives across frames, such as TAA's) and a texture the application reads
+//!   after the frame ([`super::slots::KeptSlots`]) get a physical texture of their own;
 //! - buffers are never shared (their sizes rarely match).
 //!
 //! The greedy assignment (each resource, in order of first use, takes the first physical
@@ -151,9 +152,6 @@ pub struct TextureDesc {
     /// Whether it lives across frames (a history): never shared, kept while a pass that
     /// uses it runs.
     pub history: bool,
-    /// Whether the application reads it after the frame ([`crate::App::read_target`]):
-    /// never shared, so it still holds the frame's content then.
-    pub exported: bool,
     /// Usages beyond rendering to it, sampling it and copying it.
     pub usage: wgpu::TextureUsages,
 }
@@ -166,7 +164,6 @@ impl TextureDesc {
             extent: Some(Extent::Full),
             mips: Mips::One,
             history: false,
-            exported: false,
             usage: wgpu::TextureUsages::empty(),
         }
     }
@@ -188,14 +185,6 @@ impl TextureDesc {
     pub const fn history(self) -> TextureDesc {
         TextureDesc {
             history: true,
-            ..self
-        }
-    }
-
-    /// The same, read by the application after the frame.
-    pub const fn exported(self) -> TextureDesc {
-        TextureDesc {
-            exported: true,
             ..self
         }
     }

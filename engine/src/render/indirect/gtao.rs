@@ -17,6 +17,7 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
+use crate::render::graph::slots::{AMBIENT_OCCLUSION, AO_FORMAT};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
 use crate::render::graph::{
     Extent, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
@@ -34,19 +35,10 @@ impl PassId {
     pub const AmbientOcclusion: PassId = PassId::new("ao");
 }
 
-/// Format of the resolved AO: visibility 0..1 in 8 bits (steps of 1/255, below the noise
-/// of any slice count).
-pub const AO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
-
 /// Format of the traced AO: visibility and the texel's position relative to the camera
 /// (m), which the resolve's plane test reads instead of reconstructing it (16-bit floats:
 /// 0.05 % of the distance, well inside the test's 1 % tolerance).
 pub const RAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-
-/// The resolved ambient occlusion at full resolution: the fraction (0..1) of
-/// cosine-weighted indirect light that reaches each pixel.
-pub const AMBIENT_OCCLUSION: Slot =
-    Slot::target("ambient occlusion", TargetFormat::Fixed(AO_FORMAT));
 
 /// Whether the AO pass runs this frame: the passes that shade indirect light then apply
 /// [`AMBIENT_OCCLUSION`].

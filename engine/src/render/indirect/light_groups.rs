@@ -9,11 +9,11 @@
 use crate::error::Result;
 use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
-use crate::render::environment_maps::{ENVIRONMENT, Ibl};
-use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::LIGHT_TILES;
+use crate::render::indirect::environment_maps::{ENVIRONMENT, Ibl};
 use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
-use crate::render::light_culling::LIGHT_TILES;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::lookups::{LIGHTS_AND_SHADOWS, lights_and_shadows};

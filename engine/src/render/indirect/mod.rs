@@ -6,7 +6,9 @@
 //! [`volume_irradiance`]), and [`reflection_probes`]. The groups every pass that shades
 //! surfaces binds for lights, shadows and indirect light are [`light_groups`].
 
+pub mod capture;
 pub mod depth_pyramid;
+pub mod environment_maps;
 pub mod gtao;
 pub mod light_groups;
 pub mod probe_volume;

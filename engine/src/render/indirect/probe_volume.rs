@@ -5,7 +5,7 @@
 //! [`crate::shading::irradiance_volume`].
 //!
 //! Probes are captured by rendering the frame's own capture passes from each probe
-//! ([`crate::render::capture`]). A capture pass accumulates into the records while the
+//! ([`crate::render::indirect::capture`]). A capture pass accumulates into the records while the
 //! lighting (of the frame, and of the captures themselves) samples the atlases baked at the
 //! end of the previous pass, so the light of pass k includes the probe light of pass k − 1:
 //! one more bounce per pass. The atlases (DDGI's layout) make the lookup two bilinear

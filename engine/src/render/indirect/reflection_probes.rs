@@ -1,6 +1,6 @@
 //! Reflection probes on the GPU: where they are placed, the copy of each captured face into
 //! a face strip (`shaders/reflection_capture.wgsl`), the prefiltered cube maps (the
-//! environment's own prefilter, [`crate::render::environment_maps::Ibl::prefilter_strip`]), and the
+//! environment's own prefilter, [`crate::render::indirect::environment_maps::Ibl::prefilter_strip`]), and the
 //! uniform the lighting and reflection passes read (`shaders/probe_reflections.wgsl`).
 //! The formulas are in [`crate::shading::reflection_probe`].
 
@@ -10,9 +10,11 @@ use crate::quality::knob::Value;
 use crate::quality::knobs::REFLECTION_PROBES;
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::environment_maps::{CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view};
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
+use crate::render::indirect::environment_maps::{
+    CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view,
+};
 use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
 use crate::render::targets::RenderTargets;
 use crate::scene::{Camera, GlobalTransform, ReflectionProbe};

@@ -16,6 +16,7 @@ use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
@@ -26,7 +27,7 @@ use crate::render::graph::{
 use crate::render::indirect::depth_pyramid::{
     DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT, reflections_skip_reason,
 };
-use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::indirect::gtao::SCREEN_AO;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::lighting::{ENVIRONMENT, PROBES};
@@ -48,7 +49,7 @@ impl PassId {
 }
 
 /// Group 0 of the reflection pass: the view, its parameters, the G-buffer, the pyramid
-/// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::environment_maps::ENVIRONMENT`].
+/// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::indirect::environment_maps::ENVIRONMENT`].
 pub const SSR: BindGroupSpec = BindGroupSpec {
     label: "ssr",
     visibility: wgpu::ShaderStages::FRAGMENT,

@@ -20,11 +20,12 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
+use crate::render::graph::slots::LIGHT_TILES;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{
     Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
-use crate::render::light_culling::LIGHT_TILES;
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::pipelines::{MaskDepth, mask_depth_state};
 use crate::render::scaled_output;
@@ -34,7 +35,6 @@ use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::lookups::{
     LIGHTS_AND_SHADOWS, lights_and_shadows, lookup_defs, views_fit_uniform,
 };
-use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 

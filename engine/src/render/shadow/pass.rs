@@ -11,16 +11,18 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::{SHADOW_CACHE, SHADOWS};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform_pass::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
+use crate::render::extract::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::gpu_material_maps::GpuMaterialMaps;
+use crate::render::geometry::deform_pass::DeformedVertices;
+use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
+use crate::render::graph::slots::DEFORMED_VERTICES;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::pipelines::{create_module, pipeline_layout};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
-use crate::render::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
 use crate::scene::{MeshHandle, TextureSlot, Vertex};
 use bevy_ecs::prelude::*;
 
@@ -181,10 +183,6 @@ pub const CASTERS: BindGroupSpec = BindGroupSpec {
     bindings: &[("caster_view", Binding::DynamicUniform(64))],
 };
 
-/// The shadow atlas: every shadow view's depth (the [`ShadowAtlas`] resource, which the
-/// frame and the probe captures share).
-pub const SHADOW_ATLAS: Slot = Slot::owned("shadow atlas");
-
 #[allow(non_upper_case_globals)]
 impl PassId {
     /// Draws shadow casters into the shadow atlas.
@@ -249,10 +247,10 @@ impl FramePass for ShadowPass {
     fn shader_builds() -> Vec<ShaderBuild> {
         vec![ShaderBuild::new(
             "shadow.wgsl",
-            vec![crate::render::gpu_material_maps::group_def(1)],
+            vec![crate::render::geometry::gpu_material_maps::group_def(1)],
             &[
                 (0, CASTERS),
-                (1, crate::render::gpu_material_maps::CORE_BINDINGS),
+                (1, crate::render::geometry::gpu_material_maps::CORE_BINDINGS),
             ],
         )]
     }
@@ -264,7 +262,7 @@ impl ShadowPass {
     pub fn new(gpu: &Gpu, maps_layout: &wgpu::BindGroupLayout) -> Result<Self> {
         let source = gpu.shaders.compose(
             "shadow.wgsl",
-            &[crate::render::gpu_material_maps::group_def(1)],
+            &[crate::render::geometry::gpu_material_maps::group_def(1)],
         )?;
         let module = create_module(gpu, "shadow", &source)?;
         let caster_layout = CASTERS.layout(gpu);
@@ -608,7 +606,7 @@ mod tests {
 
     #[test]
     fn a_caster_view_is_its_shader_struct_padded_to_a_dynamic_offset_step() {
-        let defs = [crate::render::gpu_material_maps::group_def(1)];
+        let defs = [crate::render::geometry::gpu_material_maps::group_def(1)];
         let layout = struct_layout("shadow.wgsl", &defs, "CasterView").expect("CasterView");
         assert_eq!(
             layout.members,

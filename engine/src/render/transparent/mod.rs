@@ -24,26 +24,26 @@
 use crate::error::Result;
 use crate::quality::Transparency;
 use crate::render::bindings::CachedGroup;
-use crate::render::deform_pass::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::forward::{
-    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
-};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
-use crate::render::gpu_material_maps::{GpuMaterialMaps, unit_defs};
+use crate::render::lighting::forward::{
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
+};
+use crate::render::geometry::gpu_material_maps::{GpuMaterialMaps, unit_defs};
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::DEFORMED_VERTICES;
+use crate::render::graph::slots::LIGHT_TILES;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
-use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
 use crate::render::indirect::light_groups::LightGroups;
-use crate::render::light_culling::LIGHT_TILES;
+use crate::render::lighting::lobe_tables::LobeTables;
 use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
-use crate::render::lobe_tables::LobeTables;
 use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::pipelines::{color_attachment, draw_fullscreen_with};
 use crate::render::shaders::ShaderDef;
-use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self};
 use bevy_ecs::prelude::*;
 use transmission_source::TRANSMISSION_SOURCE;
@@ -252,7 +252,7 @@ impl FramePass for TransparentPass {
             )
         } else {
             let units = world.resource::<GpuMaterialMaps>().units;
-            let note = crate::render::gpu_material_maps::unsampled_note(frame, units);
+            let note = crate::render::geometry::gpu_material_maps::unsampled_note(frame, units);
             (
                 true,
                 match mode {
@@ -283,8 +283,11 @@ impl FramePass for TransparentPass {
             &[(0, weighted::RESOLVE_BINDINGS)],
         )];
         for (units, maps) in [
-            (true, crate::render::gpu_material_maps::BINDINGS),
-            (false, crate::render::gpu_material_maps::CORE_BINDINGS),
+            (true, crate::render::geometry::gpu_material_maps::BINDINGS),
+            (
+                false,
+                crate::render::geometry::gpu_material_maps::CORE_BINDINGS,
+            ),
         ] {
             for lobes in BlendedLobes::all() {
                 let shader = TransparentShader {

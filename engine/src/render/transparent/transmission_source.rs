@@ -13,7 +13,6 @@
 //! texture used at another time of the frame.
 
 use crate::error::Result;
-use crate::render::antialias::copy::CopyToHdr;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -24,6 +23,7 @@ use crate::render::graph::{
     FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat, TextureDesc,
 };
 use crate::render::pipeline_cache::Fullscreen;
+use crate::render::post::antialias::copy::CopyToHdr;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -123,7 +123,7 @@ impl FramePass for TransmissionSourcePass {
     fn shader_builds() -> Vec<ShaderBuild> {
         vec![
             ShaderBuild::new("frame_mips.wgsl", Vec::new(), &[(0, BINDINGS)]),
-            crate::render::antialias::copy::build(),
+            crate::render::post::antialias::copy::build(),
         ]
     }
 }

@@ -12,8 +12,9 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::DEPTH;
+use crate::render::graph::slots::LIGHT_TILES;
 use crate::render::graph::{
-    BufferDesc, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
+    Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
 };
 use crate::render::pipeline_cache::{ComputePipelines, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
@@ -44,16 +45,6 @@ pub const BINDINGS: BindGroupSpec = BindGroupSpec {
         ("uniform_lights", Binding::Uniform),
     ],
 };
-
-/// The per-tile light lists: `TILE_STRIDE` words per 16×16-pixel tile (16 bytes while
-/// culling does not run, for the passes that bind it without reading it).
-pub const LIGHT_TILES: Slot = Slot::buffer(
-    "light tiles",
-    BufferDesc {
-        usage: wgpu::BufferUsages::STORAGE,
-        history: false,
-    },
-);
 
 /// Whether light culling runs this frame: the lighting pass then reads the tile lists.
 pub const LIGHTS_CULLED: Fact<bool> = Fact::new("light culling runs");

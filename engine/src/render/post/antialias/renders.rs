@@ -11,11 +11,11 @@
 //! lets it set each one up and take stock after it, without knowing why.
 
 use crate::quality::{MAX_ACCUMULATE, Quality};
-use crate::render::antialias::accumulate::SubFrame;
-use crate::render::antialias::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameDelta;
 use crate::render::jitter::Jitter;
+use crate::render::post::antialias::accumulate::SubFrame;
+use crate::render::post::antialias::taa::{TAA_JITTER_PERIOD, TaaState, history_change};
 use bevy_ecs::prelude::*;
 
 /// The renders of one image and the TAA history they carry.

@@ -4,13 +4,13 @@
 use crate::choice::Choice;
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::debug_view::DebugView;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
 use crate::render::graph::slots::{DISPLAY, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
+use crate::render::post::debug_view::DebugView;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use crate::shading::color::Tonemapper;

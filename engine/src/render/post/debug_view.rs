@@ -19,17 +19,18 @@ use crate::choice::Choice;
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
-use crate::render::dof::LensUniform;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
-use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::indirect::gtao::SCREEN_AO;
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
+use crate::render::post::dof::LensUniform;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::ShadowAtlas;
-use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -289,7 +290,7 @@ mod tests {
             lens => "focus_m", atlas_side, pad => "pad0",
         ]);
         let lens = std::mem::offset_of!(Params, lens);
-        crate::render::dof::assert_lens_heads("debug_view.wgsl", &defs, "DebugParams", lens);
+        crate::render::post::dof::assert_lens_heads("debug_view.wgsl", &defs, "DebugParams", lens);
     }
 
     #[test]

@@ -21,7 +21,6 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -34,6 +33,7 @@ use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::pipelines::{
     FullscreenDraw, MaskDepth, draw_fullscreen_pass, draw_fullscreen_with, mask_depth_state,
 };
+use crate::render::post::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -116,7 +116,7 @@ impl FramePass for SmaaPass {
                 &[(0, WEIGHTS_BINDINGS)],
             ),
             ShaderBuild::new("smaa_blend.wgsl", Vec::new(), &[(0, BLEND_BINDINGS)]),
-            crate::render::antialias::prepare::build(),
+            crate::render::post::antialias::prepare::build(),
         ]
     }
 }

@@ -4,11 +4,11 @@
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
-use crate::render::environment_maps::Ibl;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::indirect::environment_maps::Ibl;
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::pipelines::{FullscreenDraw, draw_fullscreen_pass};
 use crate::render::scene_buffers::SceneBuffers;

@@ -9,11 +9,12 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SPECULAR_AA;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform_pass::{DEFORMED_VERTICES, DeformedVertices};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::gpu_material_maps::GpuMaterialMaps;
+use crate::render::geometry::deform_pass::DeformedVertices;
+use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
+use crate::render::graph::slots::DEFORMED_VERTICES;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, MOTION, MOTION_FORMAT,
 };
@@ -30,7 +31,7 @@ use bevy_ecs::schedule::ScheduleConfigs;
 use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
-/// The G-buffer pass's group 0 (group 1 is [`crate::render::gpu_material_maps::BINDINGS`]).
+/// The G-buffer pass's group 0 (group 1 is [`crate::render::geometry::gpu_material_maps::BINDINGS`]).
 pub const VIEW: BindGroupSpec = BindGroupSpec {
     label: "gbuffer",
     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
@@ -155,7 +156,7 @@ impl FramePass for GBufferPass {
                     GBufferShader { specular_aa }.shader_defs(),
                     &[
                         (0, VIEW),
-                        (1, crate::render::gpu_material_maps::CORE_BINDINGS),
+                        (1, crate::render::geometry::gpu_material_maps::CORE_BINDINGS),
                         (2, MOTION_BINDINGS),
                     ],
                 )
@@ -340,7 +341,7 @@ impl ShaderVariant for GBufferShader {
     fn shader_defs(&self) -> Vec<ShaderDef> {
         vec![
             ShaderDef::Bool("SPECULAR_AA", self.specular_aa),
-            crate::render::gpu_material_maps::group_def(1),
+            crate::render::geometry::gpu_material_maps::group_def(1),
         ]
     }
 }
@@ -382,7 +383,7 @@ fn compile(
                 module,
                 entry_point: Some(vs),
                 compilation_options: Default::default(),
-                buffers: &crate::render::mesh_vertex::buffers(),
+                buffers: &crate::render::geometry::mesh_vertex::buffers(),
             },
             primitive: wgpu::PrimitiveState {
                 topology: wgpu::PrimitiveTopology::TriangleList,

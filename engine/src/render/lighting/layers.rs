@@ -36,24 +36,24 @@
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
-use crate::render::deform_pass::DEFORMED_VERTICES;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::forward::{
+use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::lighting::forward::{
     ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
 };
-use crate::render::frame::{FrameEncoder, FrameErrors};
-use crate::render::gpu_material_maps::{GpuMaterialMaps, unit_defs};
+use crate::render::geometry::gpu_material_maps::{GpuMaterialMaps, unit_defs};
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::DEFORMED_VERTICES;
+use crate::render::graph::slots::LIGHT_TILES;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
-use crate::render::indirect::gtao::AMBIENT_OCCLUSION;
 use crate::render::indirect::light_groups::LightGroups;
-use crate::render::light_culling::LIGHT_TILES;
+use crate::render::lighting::lobe_tables::LobeTables;
 use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
-use crate::render::lobe_tables::LobeTables;
 use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::shaders::ShaderDef;
-use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self};
 use bevy_ecs::prelude::*;
 
@@ -195,7 +195,7 @@ impl FramePass for LayersPass {
                 true,
                 format!(
                     "{layers} layer(s) over the lit base{}",
-                    crate::render::gpu_material_maps::unsampled_note(frame, units)
+                    crate::render::geometry::gpu_material_maps::unsampled_note(frame, units)
                 ),
             )
         };
@@ -215,8 +215,11 @@ impl FramePass for LayersPass {
     fn shader_builds() -> Vec<ShaderBuild> {
         let mut builds = Vec::new();
         for (units, maps) in [
-            (true, crate::render::gpu_material_maps::BINDINGS),
-            (false, crate::render::gpu_material_maps::CORE_BINDINGS),
+            (true, crate::render::geometry::gpu_material_maps::BINDINGS),
+            (
+                false,
+                crate::render::geometry::gpu_material_maps::CORE_BINDINGS,
+            ),
         ] {
             for layer in Layer::ORDER {
                 let shader = LayerShader {

@@ -17,8 +17,6 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
-use crate::render::antialias::accumulate::mean_format;
-use crate::render::antialias::resolve::TaaResolve;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
@@ -31,6 +29,8 @@ use crate::render::graph::{
 };
 use crate::render::pipeline_cache::Fullscreen;
 use crate::render::pipelines::draw_fullscreen;
+use crate::render::post::antialias::accumulate::mean_format;
+use crate::render::post::antialias::resolve::TaaResolve;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -169,7 +169,7 @@ impl FramePass for TaaPass {
             ShaderBuild::new(
                 "taa_resolve.wgsl",
                 Vec::new(),
-                &[(0, crate::render::antialias::resolve::BINDINGS)],
+                &[(0, crate::render::post::antialias::resolve::BINDINGS)],
             ),
         ]
     }

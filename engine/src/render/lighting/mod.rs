@@ -1,36 +1,51 @@
-//! Deferred lighting pass: reads the G-buffer and depth, evaluates Cook-Torrance for each
-//! light, writes pre-exposed HDR luminance (`shaders/lighting.wgsl`).
+//! The lighting stage: the passes that shade the G-buffer and draw what it does not
+//! hold. Point and spot lights are binned per screen tile first ([`light_culling`]);
+//! this module is the deferred lighting pass; [`layers`] draws the layered materials
+//! forward over it (lighting some bases again; what forward passes share is
+//! [`forward`]), [`sky`] the background, and
+//! [`lobe_tables`] holds the lobes' tables on the GPU.
+//!
+//! The deferred lighting pass reads the G-buffer and depth, evaluates Cook-Torrance for
+//! each light, and writes pre-exposed HDR luminance (`shaders/lighting.wgsl`).
 //!
 //! The shader is compiled per [`LightingVariant`]: a light kind the scene doesn't have is
 //! not compiled in.
+
+pub mod forward;
+pub mod layers;
+pub mod light_culling;
+pub mod lobe_tables;
+pub mod sky;
 
 use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::environment_maps::Ibl;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
+use crate::render::graph::slots::AMBIENT_OCCLUSION;
+use crate::render::graph::slots::LIGHT_TILES;
+use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
 };
 use crate::render::graph::{
     Decision, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
-use crate::render::indirect::gtao::{AMBIENT_OCCLUSION, SCREEN_AO};
+use crate::render::indirect::environment_maps::Ibl;
+use crate::render::indirect::gtao::SCREEN_AO;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::probe_volume::IrradianceVolumeGpu;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::indirect::volume_irradiance::{HALF_VOLUME, VOLUME_IRRADIANCE};
-use crate::render::light_culling::{LIGHT_TILES, LIGHTS_CULLED};
+use crate::render::lighting::light_culling::LIGHTS_CULLED;
 use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::mask::{MASK, SHADOW_MASK};
-use crate::render::shadow::pass::SHADOW_ATLAS;
 use crate::render::targets::{self, RenderTargets};
 use crate::shading::brdf::VisibilityModel;
 use bevy_ecs::prelude::*;
@@ -467,7 +482,7 @@ use crate::render::shadow::lookups::{lookup_defs, views_fit_uniform};
 
 /// Group 2: indirect light (defined beside the environment it binds, and shared with the
 /// reflection pass).
-pub use crate::render::environment_maps::ENVIRONMENT;
+pub use crate::render::indirect::environment_maps::ENVIRONMENT;
 
 /// Group 3: the irradiance volume (defined beside it).
 pub use crate::render::indirect::probe_volume::PROBES;

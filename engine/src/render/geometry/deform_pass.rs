@@ -14,6 +14,7 @@ use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::extract::deformed::DeformedFrame;
 use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors};
+use crate::render::graph::slots::DEFORMED_VERTICES;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::pipeline_cache::ComputePipelines;
 use crate::render::scene_buffers::{GpuMesh, GrowableBuffer, SceneBuffers};
@@ -54,12 +55,6 @@ pub const INSTANCE_BINDINGS: BindGroupSpec = BindGroupSpec {
         ("deformed", Binding::StorageReadWrite),
     ],
 };
-
-/// The deformed vertex buffers: a pair per deformed entity, kept while the entity is
-/// deformed ([`DeformedVertices`]). Not a graph resource: their number follows the
-/// scene's entities, not the frame's passes; the slot orders the passes that draw them
-/// after the pass that writes them.
-pub const DEFORMED_VERTICES: Slot = Slot::owned("deformed vertices");
 
 #[allow(non_upper_case_globals)]
 impl PassId {

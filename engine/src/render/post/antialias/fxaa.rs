@@ -11,7 +11,6 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -19,6 +18,7 @@ use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines};
 use crate::render::pipelines::{FullscreenDraw, MaskDepth, draw_fullscreen_pass, mask_depth_state};
+use crate::render::post::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -74,7 +74,7 @@ impl FramePass for FxaaPass {
     fn shader_builds() -> Vec<ShaderBuild> {
         vec![
             ShaderBuild::new("fxaa.wgsl", Vec::new(), &[(0, BINDINGS)]),
-            crate::render::antialias::prepare::build(),
+            crate::render::post::antialias::prepare::build(),
         ]
     }
 }

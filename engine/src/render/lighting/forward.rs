@@ -6,10 +6,10 @@
 
 use crate::error::Result;
 use crate::render::bindings::BindGroupSpec;
-use crate::render::deform_pass::DeformedVertices;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::gpu_material_maps::GpuMaterialMaps;
+use crate::render::geometry::deform_pass::DeformedVertices;
+use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::{create_module, pipeline_layout};
@@ -123,7 +123,7 @@ impl<V: ShaderVariant + Copy> ForwardPipelines<V> {
 }
 
 /// A pipeline drawing meshes (the vertex and instance buffers of
-/// [`crate::render::mesh_vertex::buffers`], triangle lists, counter-clockwise fronts) with
+/// [`crate::render::geometry::mesh_vertex::buffers`], triangle lists, counter-clockwise fronts) with
 /// `vs_main` and the fragment entry of `module`, back faces culled unless `double_sided`,
 /// into `targets`, with the depth test `depth_stencil`.
 fn mesh_pipeline(
@@ -143,7 +143,7 @@ fn mesh_pipeline(
                 module,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
-                buffers: &crate::render::mesh_vertex::buffers(),
+                buffers: &crate::render::geometry::mesh_vertex::buffers(),
             },
             primitive: wgpu::PrimitiveState {
                 topology: wgpu::PrimitiveTopology::TriangleList,

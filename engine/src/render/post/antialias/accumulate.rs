@@ -11,7 +11,6 @@
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::ACCUMULATE;
-use crate::render::antialias::copy::CopyToHdr;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::frame::{FrameEncoder, FrameErrors};
@@ -22,6 +21,7 @@ use crate::render::graph::{
     TextureDesc,
 };
 use crate::render::pipeline_cache::Fullscreen;
+use crate::render::post::antialias::copy::CopyToHdr;
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
@@ -126,7 +126,7 @@ impl FramePass for AccumulatePass {
     fn shader_builds() -> Vec<ShaderBuild> {
         vec![
             ShaderBuild::new("accumulate.wgsl", Vec::new(), &[(0, BINDINGS)]),
-            crate::render::antialias::copy::build(),
+            crate::render::post::antialias::copy::build(),
         ]
     }
 }

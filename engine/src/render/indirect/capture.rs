@@ -12,9 +12,9 @@
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
-use crate::render::environment_maps::{Ibl, face_strip};
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::indirect::environment_maps::{Ibl, face_strip};
 use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, grid_for, scene_changed};
 use crate::render::indirect::reflection_probes::{CapturedProbe, ReflectionProbesGpu, probes_for};
 use crate::render::targets::RenderTargets;
