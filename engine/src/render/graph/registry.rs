@@ -539,5 +539,15 @@ mod tests {
         // A pass that does not run uses nothing: its slot's lifetime is the others'.
         assert!(plan.explain().contains("idle        skip never"));
         assert!(matches!(Z.kind, SlotKind::Texture(_)));
+        // Kept for the application after the frame, x holds its texture alone.
+        let mut world = World::new();
+        world.insert_resource(crate::render::graph::slots::KeptSlots(vec![X]));
+        let kept = registry.plan(&world, (64, 48), wgpu::TextureFormat::Rgba16Float);
+        let (x, z) = (
+            kept.resources.get(X).expect("x"),
+            kept.resources.get(Z).expect("z"),
+        );
+        assert_ne!(x.physical, z.physical);
+        assert_eq!(kept.memory().texture_bytes, m.texture_bytes_unaliased);
     }
 }

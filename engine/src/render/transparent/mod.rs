@@ -28,9 +28,6 @@ use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
-use crate::render::lighting::forward::{
-    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
-};
 use crate::render::geometry::gpu_material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::DEFORMED_VERTICES;
@@ -39,6 +36,9 @@ use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::indirect::light_groups::LightGroups;
+use crate::render::lighting::forward::{
+    ForwardInputs, ForwardPipelines, ForwardShape, MAPS_GROUP, PrepareInputs, draw_batches,
+};
 use crate::render::lighting::lobe_tables::LobeTables;
 use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
 use crate::render::pipeline_cache::ShaderVariant;
