@@ -406,6 +406,8 @@ fn fxaa_blends_the_crease_between_two_faces() {
     // count: there, only the normals show the edge.
     let frame = |method| {
         let mut app = App::headless().expect("a GPU adapter");
+        app.keep_target(FrameTarget::Depth);
+        app.keep_target(FrameTarget::GBuffer1);
         let cube = app.add_mesh(cuboid(Vec3::splat(3.0))).expect("mesh");
         bare_quality(&mut app);
         app.world_mut().resource_mut::<Quality>().aa.method = method;

@@ -994,6 +994,7 @@ fn the_rasterizer_and_the_path_tracer_agree_on_grey_anisotropic_metals_in_the_fu
         world.despawn(entity);
     }
     let size = FURNACE_SIZE;
+    app.keep_target(lumen::app::FrameTarget::GBuffer1);
     app.render_headless(size).expect("frame");
     let image = app.read_hdr_image().expect("readback");
     let scene = trace_scene(&mut app, size).expect("trace scene");
