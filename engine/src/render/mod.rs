@@ -20,6 +20,7 @@ pub mod graph;
 pub mod indirect;
 pub mod jitter;
 pub mod lighting;
+pub mod pass_params;
 pub mod passes;
 pub mod pipeline_cache;
 pub mod pipelines;

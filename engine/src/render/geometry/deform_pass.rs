@@ -13,9 +13,10 @@ use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::extract::deformed::DeformedFrame;
-use crate::render::frame::{CaptureView, FrameEncoder, FrameErrors};
+use crate::render::frame::{CaptureView, FrameEncoder};
 use crate::render::graph::slots::DEFORMED_VERTICES;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pass_params::Record;
 use crate::render::pipeline_cache::ComputePipelines;
 use crate::render::scene_buffers::{GpuMesh, GrowableBuffer, SceneBuffers};
 use crate::scene::{MeshHandle, Meshes, Vertex};
@@ -287,8 +288,7 @@ pub fn prepare_deform(
     capture: Option<Res<CaptureView>>,
     mut pass: ResMut<DeformPass>,
     mut deformed_vertices: ResMut<DeformedVertices>,
-    mut errors: ResMut<FrameErrors>,
-) {
+) -> Result<()> {
     let DeformSources {
         gpu,
         frame,
@@ -297,10 +297,7 @@ pub fn prepare_deform(
     } = sources;
     let pass = &mut *pass;
     let outputs = &mut deformed_vertices.outputs;
-    if let Err(e) = pass.pipeline.ensure(&gpu, &()) {
-        errors.0.push(e);
-        return;
-    }
+    pass.pipeline.ensure(&gpu, &())?;
     let deformed: &DeformedFrame = &frame.deformed;
     let stride = pass.params_stride as usize;
     let mut params = vec![0u8; deformed.instances.len().max(1) * stride];
@@ -349,10 +346,7 @@ pub fn prepare_deform(
             };
             let groups = match (group(&out[0]), group(&out[1])) {
                 (Ok(a), Ok(b)) => [a, b],
-                (Err(e), _) | (_, Err(e)) => {
-                    errors.0.push(e);
-                    continue;
-                }
+                (Err(e), _) | (_, Err(e)) => return Err(e),
             };
             outputs.insert(
                 d.entity,
@@ -411,27 +405,20 @@ pub fn prepare_deform(
         pass.joints.buffer.as_entire_binding(),
         pass.weights.buffer.as_entire_binding(),
     ];
-    if let Err(e) = pass
-        .frame_group
+    pass.frame_group
         .get(&gpu, &FRAME_BINDINGS, &pass.frame_layout, resources)
-    {
-        errors.0.push(e);
-    }
+        .map(|_| ())
 }
 
 /// Records one dispatch per deformed instance (64 vertices per workgroup), then copies
 /// the first output of new instances into their other buffer.
-pub fn deform_pass(
-    pass: Res<DeformPass>,
-    mut deformed_vertices: ResMut<DeformedVertices>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn deform_pass(mut r: Record<DeformPass>, mut deformed_vertices: ResMut<DeformedVertices>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let outputs = &mut deformed_vertices.outputs;
     let (Some(encoder), Some(frame_group), Some(pipeline)) = (
         encoder.as_mut(),
-        pass.frame_group.group(),
-        pass.pipeline.get(&()),
+        r.pass.frame_group.group(),
+        r.pass.pipeline.get(&()),
     ) else {
         return;
     };
@@ -442,7 +429,7 @@ pub fn deform_pass(
             timestamp_writes: timer.compute_writes(&scope),
         });
         cp.set_pipeline(pipeline);
-        for d in &pass.dispatches {
+        for d in &r.pass.dispatches {
             let Some(out) = outputs.get(&d.entity) else {
                 continue;
             };
@@ -452,7 +439,7 @@ pub fn deform_pass(
             cp.dispatch_workgroups(groups.min(MAX_GROUPS_X), groups.div_ceil(MAX_GROUPS_X), 1);
         }
     }
-    for d in &pass.dispatches {
+    for d in &r.pass.dispatches {
         if let Some(out) = outputs.get_mut(&d.entity)
             && out.fresh
         {

@@ -11,7 +11,7 @@ use crate::quality::knobs::SPECULAR_AA;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::geometry::deform_pass::DeformedVertices;
 use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
 use crate::render::graph::slots::DEFORMED_VERTICES;
@@ -21,6 +21,7 @@ use crate::render::graph::slots::{
 use crate::render::graph::{
     Decision, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::create_module;
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
@@ -428,33 +429,29 @@ fn variant(batch: &Batch, specular_aa: bool, motion: bool) -> GBufferVariant {
 /// Compiles the variants this frame's batches need, rebuilds the pass's bind group when
 /// the scene buffers were recreated, and writes what the motion variants read.
 pub fn prepare_gbuffer(
-    gpu: Res<Gpu>,
+    mut p: Prepare<GBufferPass>,
     buffers: Res<SceneBuffers>,
     frame: Res<ExtractedFrame>,
-    plan: Res<FramePlan>,
     deform: Res<DeformedVertices>,
-    mut pass: ResMut<GBufferPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let decided = plan.variant::<GBufferPass>();
+) -> Result<()> {
+    let decided = p.plan.variant::<GBufferPass>();
     for &v in decided.map(|v| v.variants.as_slice()).unwrap_or_default() {
-        if let Err(e) = pass.ensure(&gpu, v) {
-            errors.0.push(e);
-            return;
-        }
+        p.pass.ensure(&p.gpu, v)?;
     }
-    if decided.is_some_and(|v| v.motion)
-        && let Err(e) = pass.motion.prepare(&gpu, &frame, &deform)
-    {
-        errors.0.push(e);
-        return;
+    if decided.is_some_and(|v| v.motion) {
+        p.pass.motion.prepare(&p.gpu, &frame, &deform)?;
     }
     let GBufferPass {
         layout, bind_group, ..
-    } = &mut *pass;
-    if let Err(e) = bind_group.get(&gpu, &VIEW, layout, vec![buffers.view.as_entire_binding()]) {
-        errors.0.push(e);
-    }
+    } = &mut *p.pass;
+    bind_group
+        .get(
+            &p.gpu,
+            &VIEW,
+            layout,
+            vec![buffers.view.as_entire_binding()],
+        )
+        .map(|_| ())
 }
 
 impl MotionBindings {
@@ -511,28 +508,25 @@ impl MotionBindings {
 /// Records the G-buffer pass.
 #[allow(clippy::too_many_arguments)]
 pub fn gbuffer_pass(
-    pass: Res<GBufferPass>,
+    mut r: Record<GBufferPass>,
     maps: Res<GpuMaterialMaps>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
     frame: Res<ExtractedFrame>,
-    plan: Res<FramePlan>,
     deform: Res<DeformedVertices>,
-    mut encoder: ResMut<FrameEncoder>,
 ) {
     let Some(&GBufferVariants {
         specular_aa,
         motion,
         ..
-    }) = plan.variant::<GBufferPass>()
+    }) = r.plan.variant::<GBufferPass>()
     else {
         return;
     };
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(t), Some(bind_group)) = (
         encoder.as_mut(),
-        targets.current.as_ref(),
-        pass.bind_group.group(),
+        r.targets.current.as_ref(),
+        r.pass.bind_group.group(),
     ) else {
         return;
     };
@@ -542,7 +536,7 @@ pub fn gbuffer_pass(
         return;
     };
     // With motion vectors: their target and the group that holds the previous transforms.
-    let motion = match (motion, t.view(MOTION), pass.motion.group.group()) {
+    let motion = match (motion, t.view(MOTION), r.pass.motion.group.group()) {
         (false, _, _) => None,
         (true, Some(view), Some(group)) => Some((view, group)),
         (true, _, _) => return,
@@ -580,7 +574,8 @@ pub fn gbuffer_pass(
             {
                 let group = match batch.deformed {
                     None => Some(shared),
-                    Some(d) => pass
+                    Some(d) => r
+                        .pass
                         .motion
                         .deformed_groups
                         .get(d as usize)
@@ -593,7 +588,7 @@ pub fn gbuffer_pass(
                 motion_group = Some(batch.deformed);
             }
             let v = variant(batch, specular_aa, motion.is_some());
-            let Some(pipeline) = pass.pipelines.get(&v) else {
+            let Some(pipeline) = r.pass.pipelines.get(&v) else {
                 continue;
             };
             if let Some(m) = batch.maps.filter(|_| batch.textured) {

@@ -21,13 +21,13 @@ use crate::quality::knobs::SSR;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{
     BufferDesc, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 use wgpu::util::DeviceExt;
 
@@ -264,37 +264,30 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
 }
 
 /// Writes the levels' layout and makes (or keeps) the groups that build each level.
-pub fn prepare_pyramid(
-    gpu: Res<Gpu>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<DepthPyramidPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(t) = targets.current.as_ref() else {
-        return;
+pub fn prepare_pyramid(mut p: Prepare<DepthPyramidPass>) -> Result<()> {
+    let Some(t) = p.targets.current.as_ref() else {
+        return Ok(());
     };
     let (Some(depth), Some(buffer), Some(layout_buffer)) = (
         t.view(DEPTH),
         t.buffer(DEPTH_PYRAMID),
         t.buffer(DEPTH_PYRAMID_LAYOUT),
     ) else {
-        return;
+        return Ok(());
     };
-    if let Err(e) = pass.pipeline(&gpu) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.pipeline(&p.gpu)?;
     let (layout, _) = PyramidLayout::new(t.size);
-    gpu.queue
+    p.gpu
+        .queue
         .write_buffer(layout_buffer, 0, bytemuck::bytes_of(&layout));
     let count = layout.count[0] as usize;
-    let pass = &mut *pass;
+    let pass = &mut *p.pass;
     pass.levels = Some(layout);
     pass.groups
         .resize_with(count.saturating_sub(1), CachedGroup::default);
     for (step, group) in pass.steps[1..count].iter().zip(&mut pass.groups) {
         let made = group.get(
-            &gpu,
+            &p.gpu,
             &BINDINGS,
             &pass.layout,
             vec![
@@ -304,20 +297,18 @@ pub fn prepare_pyramid(
                 buffer.as_entire_binding(),
             ],
         );
-        if let Err(e) = made {
-            errors.0.push(e);
-            return;
-        }
+        made?;
     }
+    Ok(())
 }
 
 /// Records one dispatch per level from level 1 up (each reads the one below it).
-pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncoder>) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn pyramid_pass(mut r: Record<DepthPyramidPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(levels), Some([first, above])) = (
         encoder.as_mut(),
-        pass.levels.as_ref(),
-        pass.pipelines.as_ref(),
+        r.pass.levels.as_ref(),
+        r.pass.pipelines.as_ref(),
     ) else {
         return;
     };
@@ -327,7 +318,7 @@ pub fn pyramid_pass(pass: Res<DepthPyramidPass>, mut encoder: ResMut<FrameEncode
             label: Some("depth pyramid"),
             timestamp_writes: timer.compute_writes(&scope),
         });
-        for (k, (group, level)) in pass.groups.iter().zip(&levels.levels[1..]).enumerate() {
+        for (k, (group, level)) in r.pass.groups.iter().zip(&levels.levels[1..]).enumerate() {
             let Some(group) = group.group() else {
                 continue;
             };

@@ -15,7 +15,6 @@ use crate::quality::{AoResolution, AoSettings, Quality};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{AMBIENT_OCCLUSION, AO_FORMAT};
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
@@ -23,10 +22,10 @@ use crate::render::graph::{
     Extent, Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
     TargetFormat, TextureDesc,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -213,28 +212,20 @@ impl AoPass {
 /// the bind groups.
 #[allow(clippy::too_many_arguments)]
 pub fn prepare_ao(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<AoPass>,
     quality: Res<Quality>,
     frame: Res<ExtractedFrame>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<AoPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+) -> Result<()> {
     let (Some(&variant), Some(t), Some(camera)) = (
-        plan.variant::<AoPass>(),
-        targets.current.as_ref(),
+        p.plan.variant::<AoPass>(),
+        p.targets.current.as_ref(),
         frame.camera.as_ref(),
     ) else {
-        return;
+        return Ok(());
     };
-    let compiled = (pass.trace.ensure(&gpu, variant, &[RAW_FORMAT]))
-        .and_then(|()| pass.resolve.ensure(&gpu, variant, &[AO_FORMAT]));
-    if let Err(e) = compiled {
-        errors.0.push(e);
-        return;
-    }
+    (p.pass.trace.ensure(&p.gpu, variant, &[RAW_FORMAT]))
+        .and_then(|()| p.pass.resolve.ensure(&p.gpu, variant, &[AO_FORMAT]))?;
     let scale = quality.ao.resolution.scale().max(1);
     let height = t.size.1 as f32;
     let params = Params {
@@ -247,17 +238,18 @@ pub fn prepare_ao(
         max_radius_px: (MAX_RADIUS_FRACTION * height).max(1.0),
         scale: scale as f32,
     };
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
     let Some([depth, normal, raw]) = t.views([DEPTH, GBUFFER_NORMAL, AO_RAW]) else {
-        return;
+        return Ok(());
     };
     use wgpu::BindingResource::TextureView;
     let AoPass {
         trace,
         resolve,
         params,
-    } = &mut *pass;
+    } = &mut *p.pass;
     let common = || {
         vec![
             buffers.view.as_entire_binding(),
@@ -268,29 +260,23 @@ pub fn prepare_ao(
     };
     let mut with_raw = common();
     with_raw.push(TextureView(raw));
-    let made = (trace.bind(&gpu, common())).and_then(|()| resolve.bind(&gpu, with_raw));
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    (trace.bind(&p.gpu, common())).and_then(|()| resolve.bind(&p.gpu, with_raw))
 }
 
 /// Records the trace at AO resolution and the resolve into [`AMBIENT_OCCLUSION`].
-pub fn ao_pass(
-    plan: Res<FramePlan>,
-    pass: Res<AoPass>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<AoPass>()) else {
+pub fn ao_pass(mut r: Record<AoPass>) {
+    let (Some(t), Some(&variant)) = (r.targets.current.as_ref(), r.plan.variant::<AoPass>()) else {
         return;
     };
     let Some([out, raw]) = t.views([AMBIENT_OCCLUSION, AO_RAW]) else {
         return;
     };
-    let encoder = &mut *encoder;
-    pass.trace
+    let encoder = &mut *r.encoder;
+    r.pass
+        .trace
         .draw(encoder, "ao trace", (variant, &[RAW_FORMAT]), &[raw]);
-    pass.resolve
+    r.pass
+        .resolve
         .draw(encoder, "ao resolve", (variant, &[AO_FORMAT]), &[out]);
 }
 

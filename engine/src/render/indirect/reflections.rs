@@ -15,7 +15,7 @@ use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::{
     DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
@@ -31,6 +31,7 @@ use crate::render::indirect::gtao::SCREEN_AO;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::lighting::{ENVIRONMENT, PROBES};
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::{
     MaskDepth, color_attachment, create_module, depth_attachment, fullscreen_pipeline,
@@ -399,25 +400,16 @@ pub struct SsrInputs<'w> {
 
 /// Compiles the variant, sizes the copy of the lit frame, writes the parameters and
 /// builds the bind groups.
-pub fn prepare_ssr(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    inputs: SsrInputs,
-    mut pass: ResMut<SsrPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+pub fn prepare_ssr(mut p: Prepare<SsrPass>, inputs: SsrInputs) -> Result<()> {
     let SsrInputs {
         quality,
         buffers,
         targets,
     } = inputs;
-    let (Some(&variant), Some(t)) = (plan.variant::<SsrPass>(), targets.current.as_ref()) else {
-        return;
+    let (Some(&variant), Some(t)) = (p.plan.variant::<SsrPass>(), targets.current.as_ref()) else {
+        return Ok(());
     };
-    if let Err(e) = pass.pipeline(&gpu, variant) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.pipeline(&p.gpu, variant)?;
     let ssr = quality.ssr;
     let params = Params {
         max_roughness: ssr.max_roughness.clamp(0.0, 1.0),
@@ -428,8 +420,9 @@ pub fn prepare_ssr(
         },
         pad: [0.0; 2],
     };
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
     let (Some([depth, g0, g1, g2, color, half]), Some(pyramid), Some(layout)) = (
         t.views([
             DEPTH,
@@ -442,7 +435,7 @@ pub fn prepare_ssr(
         t.buffer(DEPTH_PYRAMID),
         t.buffer(DEPTH_PYRAMID_LAYOUT),
     ) else {
-        return;
+        return Ok(());
     };
     use wgpu::BindingResource::TextureView;
     let SsrPass {
@@ -450,36 +443,32 @@ pub fn prepare_ssr(
         params,
         bind_groups: [main, hits, none],
         ..
-    } = &mut *pass;
-    let made = main
-        .get(
-            &gpu,
-            &SSR,
-            &layouts[0],
-            vec![
-                buffers.view.as_entire_binding(),
-                params.as_entire_binding(),
-                TextureView(depth),
-                TextureView(g0),
-                TextureView(g1),
-                TextureView(g2),
-                pyramid.as_entire_binding(),
-                TextureView(color),
-                layout.as_entire_binding(),
-            ],
-        )
-        .map(|_| ())
-        .and_then(|()| {
-            hits.get(&gpu, &SSR_HALF, &layouts[1], vec![TextureView(half)])
-                .map(|_| ())
-        })
-        .and_then(|()| {
-            none.get(&gpu, &NO_GROUP, &layouts[2], Vec::new())
-                .map(|_| ())
-        });
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    } = &mut *p.pass;
+    main.get(
+        &p.gpu,
+        &SSR,
+        &layouts[0],
+        vec![
+            buffers.view.as_entire_binding(),
+            params.as_entire_binding(),
+            TextureView(depth),
+            TextureView(g0),
+            TextureView(g1),
+            TextureView(g2),
+            pyramid.as_entire_binding(),
+            TextureView(color),
+            layout.as_entire_binding(),
+        ],
+    )
+    .map(|_| ())
+    .and_then(|()| {
+        hits.get(&p.gpu, &SSR_HALF, &layouts[1], vec![TextureView(half)])
+            .map(|_| ())
+    })
+    .and_then(|()| {
+        none.get(&p.gpu, &NO_GROUP, &layouts[2], Vec::new())
+            .map(|_| ())
+    })
 }
 
 /// One step of the pass: its pipeline, its colour target and how it is loaded, the mask
@@ -497,15 +486,9 @@ struct Step<'a> {
 /// that trace and their trace into the half-size target, then the mark of the pixels that
 /// get hits and their composite. The last step shades only the marked pixels, over the lit
 /// frame the HDR target already holds.
-pub fn ssr_pass(
-    plan: Res<FramePlan>,
-    pass: Res<SsrPass>,
-    light: Res<LightGroups>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [main, hits, none] = &pass.bind_groups;
+pub fn ssr_pass(mut r: Record<SsrPass>, light: Res<LightGroups>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let [main, hits, none] = &r.pass.bind_groups;
     let (
         Some(encoder),
         Some(t),
@@ -515,7 +498,7 @@ pub fn ssr_pass(
         Some([_, environment, probes]),
     ) = (
         encoder.as_mut(),
-        targets.current.as_ref(),
+        r.targets.current.as_ref(),
         main.group(),
         hits.group(),
         none.group(),
@@ -526,8 +509,9 @@ pub fn ssr_pass(
     };
     let (Some([hdr, half, mask, half_mask]), Some(pipelines)) = (
         t.views([HDR, SSR_HALF_HITS, SSR_MASK, SSR_HALF_MASK]),
-        plan.variant::<SsrPass>()
-            .and_then(|v| pass.pipelines.get(v)),
+        r.plan
+            .variant::<SsrPass>()
+            .and_then(|v| r.pass.pipelines.get(v)),
     ) else {
         return;
     };
@@ -583,7 +567,7 @@ pub fn ssr_pass(
     let last = steps.len() - 1;
     let scope = timer.begin_pass(PassId::Reflections);
     for (i, step) in steps.into_iter().enumerate() {
-        // The pass's GPU time: from the start of its first step to the end of its last.
+        // The r.pass's GPU time: from the start of its first step to the end of its last.
         let writes = timer
             .render_writes(&scope)
             .filter(|_| i == 0 || i == last)

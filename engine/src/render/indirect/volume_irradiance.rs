@@ -19,19 +19,19 @@ use crate::quality::knobs::GI_RESOLUTION;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL};
 use crate::render::graph::{
     Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
 use crate::render::indirect::probe_volume::{IrradianceVolumeGpu, PROBES, probe_bindings};
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipelines::{
     MaskDepth, create_module, fullscreen_pipeline, mask_depth_state, pipeline_layout,
 };
 use crate::render::scaled_output;
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -217,80 +217,67 @@ impl VolumeIrradiancePass {
 
 /// Compiles the pass and builds its bind groups.
 pub fn prepare_volume_irradiance(
-    gpu: Res<Gpu>,
+    mut p: Prepare<VolumeIrradiancePass>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
     volume: Res<IrradianceVolumeGpu>,
     reflections: Res<ReflectionProbesGpu>,
-    mut pass: ResMut<VolumeIrradiancePass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(t) = targets.current.as_ref() else {
-        return;
+) -> Result<()> {
+    let Some(t) = p.targets.current.as_ref() else {
+        return Ok(());
     };
-    if let Err(e) = pass.compile(&gpu) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.compile(&p.gpu)?;
     let Some([depth, normal]) = t.views([DEPTH, GBUFFER_NORMAL]) else {
-        return;
+        return Ok(());
     };
     use wgpu::BindingResource::TextureView;
     let VolumeIrradiancePass {
         layouts,
         bind_groups: [g0, unused, g3],
         ..
-    } = &mut *pass;
-    let made = g0
-        .get(
-            &gpu,
-            &VIEW_AND_GBUFFER,
-            &layouts[0],
-            vec![
-                buffers.view.as_entire_binding(),
-                TextureView(depth),
-                TextureView(normal),
-            ],
+    } = &mut *p.pass;
+    g0.get(
+        &p.gpu,
+        &VIEW_AND_GBUFFER,
+        &layouts[0],
+        vec![
+            buffers.view.as_entire_binding(),
+            TextureView(depth),
+            TextureView(normal),
+        ],
+    )
+    .map(|_| ())
+    .and_then(|()| {
+        unused
+            .get(&p.gpu, &UNUSED, &layouts[1], Vec::new())
+            .map(|_| ())
+    })
+    .and_then(|()| {
+        g3.get(
+            &p.gpu,
+            &PROBES,
+            &layouts[2],
+            probe_bindings(&volume, &reflections),
         )
         .map(|_| ())
-        .and_then(|()| {
-            unused
-                .get(&gpu, &UNUSED, &layouts[1], Vec::new())
-                .map(|_| ())
-        })
-        .and_then(|()| {
-            g3.get(
-                &gpu,
-                &PROBES,
-                &layouts[2],
-                probe_bindings(&volume, &reflections),
-            )
-            .map(|_| ())
-        });
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    })
 }
 
 /// Records the pass: the depth of each texel's pixel, then the lookups, depth-tested
 /// against it.
-pub fn volume_irradiance_pass(
-    pass: Res<VolumeIrradiancePass>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [g0, unused, g3] = &pass.bind_groups;
+pub fn volume_irradiance_pass(mut r: Record<VolumeIrradiancePass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let [g0, unused, g3] = &r.pass.bind_groups;
     let (Some(encoder), Some(g0), Some(unused), Some(g3), Some([depth, lookups])) = (
         encoder.as_mut(),
         g0.group(),
         unused.group(),
         g3.group(),
-        pass.pipelines.as_ref(),
+        r.pass.pipelines.as_ref(),
     ) else {
         return;
     };
-    let Some([output, depth_copy]) = targets
+    let Some([output, depth_copy]) = r
+        .targets
         .current
         .as_ref()
         .and_then(|t| t.views([VOLUME_IRRADIANCE, VOLUME_IRRADIANCE_DEPTH]))

@@ -38,7 +38,7 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::geometry::gpu_material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::DEFORMED_VERTICES;
@@ -52,6 +52,7 @@ use crate::render::lighting::forward::{
 };
 use crate::render::lighting::lobe_tables::LobeTables;
 use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::shaders::ShaderDef;
 use crate::render::targets::{self};
@@ -341,30 +342,24 @@ fn layer_shape(layer: Layer, format: wgpu::TextureFormat) -> ForwardShape {
 
 /// Compiles the pipelines this frame's layered batches need and rebuilds the view group
 /// when the scene buffers were recreated.
-pub fn prepare_layers(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    inputs: PrepareInputs,
-    mut pass: ResMut<LayersPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+pub fn prepare_layers(mut p: Prepare<LayersPass>, inputs: PrepareInputs) -> Result<()> {
     let PrepareInputs {
         frame,
         buffers,
         targets,
     } = inputs;
     let (Some(Some(variant)), Some(t)) = (
-        plan.variant::<LayersPass>().copied(),
+        p.plan.variant::<LayersPass>().copied(),
         targets.current.as_ref(),
     ) else {
-        return;
+        return Ok(());
     };
-    let units = pass.units;
+    let units = p.pass.units;
     // The sheen's and the anisotropic lobe's tables, for a frame that draws them.
-    pass.tables.write_for(&gpu, &frame);
+    p.pass.tables.write_for(&p.gpu, &frame);
     for layer in Layer::ORDER {
-        if let Err(e) = pass.pipelines.ensure(
-            &gpu,
+        (p.pass.pipelines.ensure(
+            &p.gpu,
             (
                 LayerShader {
                     lighting: variant,
@@ -376,41 +371,33 @@ pub fn prepare_layers(
             layer_batches(&frame, layer),
             "layers.wgsl",
             &|format| layer_shape(layer, format),
-        ) {
-            errors.0.push(e);
-            return;
-        }
+        ))?;
     }
     let LayersPass {
         pipelines,
         tables,
         view_group,
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let resources = vec![
         buffers.view.as_entire_binding(),
         tables.sheen_albedo.as_entire_binding(),
         tables.anisotropic_dfg.as_entire_binding(),
     ];
-    if let Err(e) = view_group.get(&gpu, &VIEW, &pipelines.view_layout, resources) {
-        errors.0.push(e);
-    }
+    view_group
+        .get(&p.gpu, &VIEW, &pipelines.view_layout, resources)
+        .map(|_| ())
 }
 
 /// Records the relit bases, then the layered batches' sheens, then their coats, over
 /// the HDR target.
-pub fn layers_pass(
-    plan: Res<FramePlan>,
-    pass: Res<LayersPass>,
-    inputs: ForwardInputs,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn layers_pass(mut r: Record<LayersPass>, inputs: ForwardInputs) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(t), Some(Some(variant)), Some(view_group), Some(shared)) = (
         encoder.as_mut(),
         inputs.targets.current.as_ref(),
-        plan.variant::<LayersPass>().copied(),
-        pass.view_group.group(),
+        r.plan.variant::<LayersPass>().copied(),
+        r.pass.view_group.group(),
         inputs.lighting.groups(),
     ) else {
         return;
@@ -454,9 +441,11 @@ pub fn layers_pass(
                     let shader = LayerShader {
                         lighting: variant,
                         layer,
-                        units: pass.units,
+                        units: r.pass.units,
                     };
-                    pass.pipelines.get(shader, batch.double_sided, t.hdr_format)
+                    r.pass
+                        .pipelines
+                        .get(shader, batch.double_sided, t.hdr_format)
                 },
             );
         }

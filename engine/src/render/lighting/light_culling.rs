@@ -10,16 +10,16 @@ use crate::quality::knobs::LIGHT_CULLING;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::slots::LIGHT_TILES;
 use crate::render::graph::{
     Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{ComputePipelines, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 /// Pixels per tile side (`TILE_SIZE` in `light_tiles.wgsl`).
@@ -192,29 +192,24 @@ pub fn tile_count(size: (u32, u32)) -> (u32, u32) {
 /// Compiles the variant this frame needs, sizes the tile buffer for this frame's target
 /// and rebuilds the bind group on changes.
 pub fn prepare_light_culling(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<LightCullingPass>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<LightCullingPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<LightCullingPass>())
-    else {
-        return;
+) -> Result<()> {
+    let (Some(t), Some(variant)) = (
+        p.targets.current.as_ref(),
+        p.plan.variant::<LightCullingPass>(),
+    ) else {
+        return Ok(());
     };
     let (Some(depth), Some(tiles)) = (t.view(DEPTH), t.buffer(LIGHT_TILES)) else {
-        return;
+        return Ok(());
     };
-    if let Err(e) = pass.pipelines.ensure(&gpu, variant) {
-        errors.0.push(e);
-        return;
-    }
-    pass.variant = *variant;
-    pass.tile_count = tile_count(t.size);
+    p.pass.pipelines.ensure(&p.gpu, variant)?;
+    p.pass.variant = *variant;
+    p.pass.tile_count = tile_count(t.size);
     let LightCullingPass {
         layout, bind_group, ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let resources = vec![
         buffers.view.as_entire_binding(),
         buffers.lights.buffer.as_entire_binding(),
@@ -222,17 +217,17 @@ pub fn prepare_light_culling(
         tiles.as_entire_binding(),
         buffers.lights_uniform.as_entire_binding(),
     ];
-    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
-        errors.0.push(e);
-    }
+    bind_group
+        .get(&p.gpu, &BINDINGS, layout, resources)
+        .map(|_| ())
 }
 
 /// Records the culling dispatch: one invocation per tile, in 8×8 workgroups.
-pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<FrameEncoder>) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let pipeline = pass.pipelines.get(&pass.variant);
+pub fn light_culling_pass(mut r: Record<LightCullingPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let pipeline = r.pass.pipelines.get(&r.pass.variant);
     let (Some(encoder), Some(group), Some(pipeline)) =
-        (encoder.as_mut(), pass.bind_group.group(), pipeline)
+        (encoder.as_mut(), r.pass.bind_group.group(), pipeline)
     else {
         return;
     };
@@ -245,8 +240,8 @@ pub fn light_culling_pass(pass: Res<LightCullingPass>, mut encoder: ResMut<Frame
         cp.set_pipeline(pipeline);
         cp.set_bind_group(0, group, &[]);
         cp.dispatch_workgroups(
-            pass.tile_count.0.div_ceil(8),
-            pass.tile_count.1.div_ceil(8),
+            r.pass.tile_count.0.div_ceil(8),
+            r.pass.tile_count.1.div_ceil(8),
             1,
         );
     }

@@ -23,7 +23,7 @@ use crate::quality::{Quality, ShadowFilter};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::LIGHT_TILES;
@@ -41,6 +41,7 @@ use crate::render::indirect::probe_volume::IrradianceVolumeGpu;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;
 use crate::render::indirect::volume_irradiance::{HALF_VOLUME, VOLUME_IRRADIANCE};
 use crate::render::lighting::light_culling::LIGHTS_CULLED;
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
@@ -539,13 +540,10 @@ pub struct LightingInputs<'w> {
 /// Compiles this frame's variant if needed, and makes (or keeps) group 0 and the
 /// [`LightGroups`].
 pub fn prepare_lighting(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<LightingPass>,
     inputs: LightingInputs,
     mut groups: ResMut<LightGroups>,
-    mut pass: ResMut<LightingPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+) -> Result<()> {
     let LightingInputs {
         buffers,
         targets,
@@ -554,9 +552,9 @@ pub fn prepare_lighting(
         volume,
         reflections,
     } = inputs;
-    let (Some(t), Some(&variant)) = (targets.current.as_ref(), plan.variant::<LightingPass>())
+    let (Some(t), Some(&variant)) = (targets.current.as_ref(), p.plan.variant::<LightingPass>())
     else {
-        return;
+        return Ok(());
     };
     let Some([base_color, normal, emissive, depth, mask, volume_half]) = t.views([
         GBUFFER_BASE_COLOR,
@@ -566,14 +564,11 @@ pub fn prepare_lighting(
         SHADOW_MASK,
         VOLUME_IRRADIANCE,
     ]) else {
-        return;
+        return Ok(());
     };
-    if let Err(e) = pass.step.ensure(&gpu, variant, &[t.hdr_format]) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.step.ensure(&p.gpu, variant, &[t.hdr_format])?;
     use wgpu::BindingResource::{Sampler, TextureView};
-    let LightingPass { step, sampler, .. } = &mut *pass;
+    let LightingPass { step, sampler, .. } = &mut *p.pass;
     let group0 = vec![
         buffers.view.as_entire_binding(),
         TextureView(base_color),
@@ -584,42 +579,39 @@ pub fn prepare_lighting(
         Sampler(sampler),
         TextureView(volume_half),
     ];
-    let made = step.bind(&gpu, group0).and_then(|()| {
+    step.bind(&p.gpu, group0).and_then(|()| {
         groups
-            .prepare(&gpu, t, &buffers, &atlas, &ibl, &volume, &reflections)
+            .prepare(&p.gpu, t, &buffers, &atlas, &ibl, &volume, &reflections)
             .map(|_| ())
-    });
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    })
 }
 
 /// Records the lighting pass: the HDR target is cleared to the pre-exposed background
 /// (coverage 0), then a depth-tested full-screen triangle shades only the pixels that
 /// hold geometry.
 pub fn lighting_pass(
-    plan: Res<FramePlan>,
-    pass: Res<LightingPass>,
+    mut r: Record<LightingPass>,
     groups: Res<LightGroups>,
     frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
 ) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(t), Some(g0), Some([g1, g2, g3])) =
-        (targets.current.as_ref(), pass.step.group(), groups.groups())
-    else {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let (Some(t), Some(g0), Some([g1, g2, g3])) = (
+        r.targets.current.as_ref(),
+        r.pass.step.group(),
+        groups.groups(),
+    ) else {
         return;
     };
     let (Some(encoder), Some([hdr, depth]), Some(pipeline)) = (
         encoder.as_mut(),
         t.views([HDR, DEPTH]),
-        plan.variant::<LightingPass>()
-            .and_then(|v| pass.step.pipeline(*v, &[t.hdr_format])),
+        r.plan
+            .variant::<LightingPass>()
+            .and_then(|v| r.pass.step.pipeline(*v, &[t.hdr_format])),
     ) else {
         return;
     };
-    let [r, g, b, _] = frame.view.background;
+    let [red, green, blue, _] = frame.view.background;
     let scope = timer.begin_pass(PassId::Lighting);
     {
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -630,15 +622,15 @@ pub fn lighting_pass(
                 resolve_target: None,
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: f64::from(r),
-                        g: f64::from(g),
-                        b: f64::from(b),
+                        r: f64::from(red),
+                        g: f64::from(green),
+                        b: f64::from(blue),
                         a: 0.0,
                     }),
                     store: wgpu::StoreOp::Store,
                 },
             })],
-            depth_stencil_attachment: pass.depth_test.then_some(
+            depth_stencil_attachment: r.pass.depth_test.then_some(
                 wgpu::RenderPassDepthStencilAttachment {
                     view: depth,
                     depth_ops: None,

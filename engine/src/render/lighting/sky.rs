@@ -5,15 +5,16 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::indirect::environment_maps::Ibl;
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::pipelines::{FullscreenDraw, draw_fullscreen_pass};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::{self, RenderTargets};
+use crate::render::targets::{self};
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -132,51 +133,39 @@ impl SkyPass {
 
 /// Compiles the sky pipeline this frame needs and rebuilds its bind group on changes.
 pub fn prepare_sky(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<SkyPass>,
     buffers: Res<SceneBuffers>,
     ibl: Res<Ibl>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<SkyPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let (Some(variant), Some(t)) = (plan.variant::<SkyPass>(), targets.current.as_ref()) else {
-        return;
+) -> Result<()> {
+    let (Some(variant), Some(t)) = (p.plan.variant::<SkyPass>(), p.targets.current.as_ref()) else {
+        return Ok(());
     };
-    if let Err(e) = pass.pipelines.ensure(&gpu, *variant, &[t.hdr_format]) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.pipelines.ensure(&p.gpu, *variant, &[t.hdr_format])?;
     let SkyPass {
         layout, bind_group, ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let resources = vec![
         buffers.view.as_entire_binding(),
         ibl.uniform.as_entire_binding(),
         wgpu::BindingResource::TextureView(ibl.cube_view()),
         wgpu::BindingResource::Sampler(&ibl.sampler),
     ];
-    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
-        errors.0.push(e);
-    }
+    bind_group
+        .get(&p.gpu, &BINDINGS, layout, resources)
+        .map(|_| ())
 }
 
 /// Records the sky pass into the HDR target.
-pub fn sky_pass(
-    pass: Res<SkyPass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let (Some(t), Some(variant)) = (targets.current.as_ref(), plan.variant::<SkyPass>()) else {
+pub fn sky_pass(mut r: Record<SkyPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let (Some(t), Some(variant)) = (r.targets.current.as_ref(), r.plan.variant::<SkyPass>()) else {
         return;
     };
     let (Some(encoder), Some([hdr, depth]), Some(bind_group), Some(pipeline)) = (
         encoder.as_mut(),
         t.views([HDR, DEPTH]),
-        pass.bind_group.group(),
-        pass.pipelines.get(*variant, &[t.hdr_format]),
+        r.pass.bind_group.group(),
+        r.pass.pipelines.get(*variant, &[t.hdr_format]),
     ) else {
         return;
     };

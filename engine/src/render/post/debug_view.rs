@@ -20,18 +20,18 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::frame::FrameOutput;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::slots::{DEPTH, DISPLAY, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
 use crate::render::indirect::gtao::SCREEN_AO;
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::post::dof::LensUniform;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::ShadowAtlas;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 crate::choice::choices! {
@@ -207,43 +207,39 @@ impl DebugViewPass {
 /// Compiles the chosen view's pipeline, writes its parameters and binds the targets.
 #[allow(clippy::too_many_arguments)]
 pub fn prepare_debug_view(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<DebugViewPass>,
     frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
     buffers: Res<SceneBuffers>,
     shadows: Res<ShadowAtlas>,
-    mut pass: ResMut<DebugViewPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&variant) = plan.variant::<DebugViewPass>() else {
-        return;
+) -> Result<()> {
+    let Some(&variant) = p.plan.variant::<DebugViewPass>() else {
+        return Ok(());
     };
-    if let Err(e) = pass.pipelines.ensure(&gpu, variant, &[variant.format]) {
-        errors.0.push(e);
-        return;
-    }
-    let (Some(t), Some(camera)) = (targets.current.as_ref(), frame.camera.as_ref()) else {
-        return;
+    p.pass
+        .pipelines
+        .ensure(&p.gpu, variant, &[variant.format])?;
+    let (Some(t), Some(camera)) = (p.targets.current.as_ref(), frame.camera.as_ref()) else {
+        return Ok(());
     };
     let Some([base_color, normal, depth, ao]) =
         t.views([GBUFFER_BASE_COLOR, GBUFFER_NORMAL, DEPTH, AMBIENT_OCCLUSION])
     else {
-        return;
+        return Ok(());
     };
     let params = Params {
         lens: LensUniform::new(camera, camera.depth_of_field.unwrap_or_default(), t.size.1),
         atlas_side: shadows.atlas.texture.width() as f32,
         pad: [0.0; 2],
     };
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
     let DebugViewPass {
         layout,
         bind_group,
         params,
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let resources = vec![
         buffers.view.as_entire_binding(),
         params.as_entire_binding(),
@@ -253,24 +249,21 @@ pub fn prepare_debug_view(
         wgpu::BindingResource::TextureView(&shadows.atlas.view),
         wgpu::BindingResource::TextureView(ao),
     ];
-    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
-        errors.0.push(e);
-    }
+    bind_group
+        .get(&p.gpu, &BINDINGS, layout, resources)
+        .map(|_| ())
 }
 
 /// Records the debug view into the frame's output view.
-pub fn debug_view_pass(
-    pass: Res<DebugViewPass>,
-    plan: Res<FramePlan>,
-    output: Res<FrameOutput>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let pipeline = plan
+pub fn debug_view_pass(mut r: Record<DebugViewPass>, output: Res<FrameOutput>) {
+    let pipeline = r
+        .plan
         .variant::<DebugViewPass>()
-        .and_then(|v| pass.pipelines.get(*v, &[v.format]));
+        .and_then(|v| r.pass.pipelines.get(*v, &[v.format]));
     if let Some(view) = output.view.as_ref() {
         let name = PassId::DebugView.name();
-        encoder.fullscreen(name, &[view], pipeline, pass.bind_group.group());
+        r.encoder
+            .fullscreen(name, &[view], pipeline, r.pass.bind_group.group());
     }
 }
 

@@ -6,17 +6,17 @@ use crate::error::Result;
 use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedCamera, ExtractedFrame};
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::{DEPTH, HDR};
 use crate::render::graph::{
     Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat,
     TextureDesc,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::PipelineCache;
 use crate::render::pipelines::create_module;
 use crate::render::pipelines::{draw_fullscreen, fullscreen_pipeline};
 use crate::render::scene_buffers::SceneBuffers;
-use crate::render::targets::RenderTargets;
 use crate::scene::DepthOfField;
 use bevy_ecs::prelude::*;
 
@@ -209,39 +209,33 @@ impl DofPass {
 
 /// Writes the lens parameters and builds the bind groups.
 pub fn prepare_dof(
-    gpu: Res<Gpu>,
+    mut p: Prepare<DofPass>,
     frame: Res<ExtractedFrame>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<DofPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
-        return;
+) -> Result<()> {
+    let (Some(camera), Some(t)) = (frame.camera.as_ref(), p.targets.current.as_ref()) else {
+        return Ok(());
     };
     let (Some(dof), Some([depth, sharp, input, tiles, far, near])) = (
         camera.depth_of_field,
         t.views([DEPTH, DOF_SHARP, DOF_INPUT, DOF_TILES, DOF_FAR, DOF_NEAR]),
     ) else {
-        return;
+        return Ok(());
     };
-    if let Err(e) = pass.composite_pipeline(&gpu, t.hdr_format) {
-        errors.0.push(e);
-        return;
-    }
+    p.pass.composite_pipeline(&p.gpu, t.hdr_format)?;
     let params = Params {
         lens: LensUniform::new(camera, dof, t.size.1),
         rings: dof.rings,
         pad: [0.0; 2],
     };
     if !(params.lens.pixels_per_m.is_finite() && params.lens.aperture_diameter_m.is_finite()) {
-        errors.0.push(crate::Error::Scene(
+        return Err(crate::Error::Scene(
             "depth of field: the lens gives no finite aperture".into(),
         ));
-        return;
     }
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
     let DofPass {
         composite,
         layouts,
@@ -249,14 +243,14 @@ pub fn prepare_dof(
         sampler,
         bind_groups: [prepare, tile_group, blur, composite_group],
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let Some((_, composite_layout)) = composite.get(&t.hdr_format) else {
-        return;
+        return Ok(());
     };
     let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
     let view = wgpu::BindingResource::TextureView;
     prepare.entries(
-        &gpu,
+        &p.gpu,
         "dof prepare",
         &layouts[0],
         vec![
@@ -267,13 +261,13 @@ pub fn prepare_dof(
         ],
     );
     tile_group.entries(
-        &gpu,
+        &p.gpu,
         "dof tiles",
         &layouts[1],
         vec![entry(1, params.as_entire_binding()), entry(4, view(input))],
     );
     blur.entries(
-        &gpu,
+        &p.gpu,
         "dof blur",
         &layouts[2],
         vec![
@@ -283,7 +277,7 @@ pub fn prepare_dof(
         ],
     );
     composite_group.entries(
-        &gpu,
+        &p.gpu,
         "dof composite",
         composite_layout,
         vec![
@@ -296,20 +290,17 @@ pub fn prepare_dof(
             entry(7, wgpu::BindingResource::Sampler(sampler)),
         ],
     );
+    Ok(())
 }
 
 /// Records the depth-of-field passes: copy, prepare, near tiles, blur, composite into the
 /// HDR target.
-pub fn dof_pass(
-    pass: Res<DofPass>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let [prepare, tiles, blur, composite] = &pass.bind_groups;
+pub fn dof_pass(mut r: Record<DofPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let [prepare, tiles, blur, composite] = &r.pass.bind_groups;
     let (Some(encoder), Some(t), Some(prepare), Some(tiles), Some(blur), Some(composite)) = (
         encoder.as_mut(),
-        targets.current.as_ref(),
+        r.targets.current.as_ref(),
         prepare.group(),
         tiles.group(),
         blur.group(),
@@ -318,7 +309,7 @@ pub fn dof_pass(
         return;
     };
     let (Some((composite_pipeline, _)), Some([hdr, input, tile_view, far, near])) = (
-        pass.composite.get(&t.hdr_format),
+        r.pass.composite.get(&t.hdr_format),
         t.views([HDR, DOF_INPUT, DOF_TILES, DOF_FAR, DOF_NEAR]),
     ) else {
         return;
@@ -329,7 +320,7 @@ pub fn dof_pass(
         timer,
         "dof prepare",
         &[input],
-        &pass.prepare,
+        &r.pass.prepare,
         prepare,
     );
     draw_fullscreen(
@@ -337,10 +328,10 @@ pub fn dof_pass(
         timer,
         "dof tiles",
         &[tile_view],
-        &pass.tiles,
+        &r.pass.tiles,
         tiles,
     );
-    draw_fullscreen(encoder, timer, "dof blur", &[far, near], &pass.blur, blur);
+    draw_fullscreen(encoder, timer, "dof blur", &[far, near], &r.pass.blur, blur);
     draw_fullscreen(
         encoder,
         timer,

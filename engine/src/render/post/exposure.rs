@@ -12,6 +12,7 @@ use crate::render::graph::slots::HDR;
 use crate::render::graph::{
     BufferDesc, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot,
 };
+use crate::render::pass_params::Prepare;
 use crate::render::pipelines::{compute_pipeline, create_module};
 use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
@@ -190,15 +191,13 @@ pub fn feed_back(world: &mut World, gpu: &Gpu) -> Result<()> {
 
 /// Writes the pass's parameters and binds the HDR target, the histogram and the state.
 pub fn prepare_exposure(
-    gpu: Res<Gpu>,
+    mut p: Prepare<ExposurePass>,
     frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
     delta: Res<FrameDelta>,
-    mut pass: ResMut<ExposurePass>,
-) {
-    pass.ran = false;
-    let (Some(camera), Some(t)) = (frame.camera.as_ref(), targets.current.as_ref()) else {
-        return;
+) -> Result<()> {
+    p.pass.ran = false;
+    let (Some(camera), Some(t)) = (frame.camera.as_ref(), p.targets.current.as_ref()) else {
+        return Ok(());
     };
     let (Some(auto), Some(hdr), Some(histogram), Some(state)) = (
         camera.auto_exposure,
@@ -206,7 +205,7 @@ pub fn prepare_exposure(
         t.buffer(EXPOSURE_HISTOGRAM),
         t.buffer(EXPOSURE_STATE),
     ) else {
-        return;
+        return Ok(());
     };
     let params = Params {
         exposure: camera.exposure,
@@ -221,18 +220,19 @@ pub fn prepare_exposure(
         initial_ev100: auto.initial_ev100,
         pad: [0.0; 2],
     };
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
     let ExposurePass {
         layouts,
         params,
         histogram_group,
         average_group,
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let entry = |binding, resource| wgpu::BindGroupEntry { binding, resource };
     histogram_group.entries(
-        &gpu,
+        &p.gpu,
         "exposure histogram",
         &layouts[0],
         vec![
@@ -242,7 +242,7 @@ pub fn prepare_exposure(
         ],
     );
     average_group.entries(
-        &gpu,
+        &p.gpu,
         "exposure average",
         &layouts[1],
         vec![
@@ -251,6 +251,7 @@ pub fn prepare_exposure(
             entry(3, state.as_entire_binding()),
         ],
     );
+    Ok(())
 }
 
 /// Records the histogram and the metering.

@@ -6,13 +6,13 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors, FrameOutput};
+use crate::render::frame::FrameOutput;
 use crate::render::graph::slots::{DISPLAY, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::post::debug_view::DebugView;
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::RenderTargets;
 use crate::shading::color::Tonemapper;
 use bevy_ecs::prelude::*;
 
@@ -121,57 +121,47 @@ impl TonemapPass {
 }
 
 /// Compiles this frame's variant if needed and rebuilds the bind group on new targets.
-pub fn prepare_tonemap(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<TonemapPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&variant) = plan.variant::<TonemapPass>() else {
-        return;
+pub fn prepare_tonemap(mut p: Prepare<TonemapPass>, frame: Res<ExtractedFrame>) -> Result<()> {
+    let Some(&variant) = p.plan.variant::<TonemapPass>() else {
+        return Ok(());
     };
-    if let Err(e) = pass.pipelines.ensure(&gpu, variant, &[variant.format]) {
-        errors.0.push(e);
-        return;
-    }
-    let Some(hdr) = targets.current.as_ref().and_then(|t| t.view(HDR)) else {
-        return;
+    p.pass
+        .pipelines
+        .ensure(&p.gpu, variant, &[variant.format])?;
+    let Some(hdr) = p.targets.current.as_ref().and_then(|t| t.view(HDR)) else {
+        return Ok(());
     };
     let params = frame.camera.as_ref().map_or([0.0; 4], |c| {
         let tan_y = (c.fov_y * 0.5).tan();
         [c.vignette, tan_y * c.aspect, tan_y, 0.0]
     });
-    gpu.queue
-        .write_buffer(&pass.params, 0, bytemuck::cast_slice(&params));
+    p.gpu
+        .queue
+        .write_buffer(&p.pass.params, 0, bytemuck::cast_slice(&params));
     let TonemapPass {
         layout,
         bind_group,
         params,
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let resources = vec![
         wgpu::BindingResource::TextureView(hdr),
         params.as_entire_binding(),
     ];
-    if let Err(e) = bind_group.get(&gpu, &BINDINGS, layout, resources) {
-        errors.0.push(e);
-    }
+    bind_group
+        .get(&p.gpu, &BINDINGS, layout, resources)
+        .map(|_| ())
 }
 
 /// Records the tone mapping pass into the frame's output view.
-pub fn tonemap_pass(
-    pass: Res<TonemapPass>,
-    plan: Res<FramePlan>,
-    output: Res<FrameOutput>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let pipeline = plan
+pub fn tonemap_pass(mut r: Record<TonemapPass>, output: Res<FrameOutput>) {
+    let pipeline = r
+        .plan
         .variant::<TonemapPass>()
-        .and_then(|v| pass.pipelines.get(*v, &[v.format]));
+        .and_then(|v| r.pass.pipelines.get(*v, &[v.format]));
     if let Some(view) = output.view.as_ref() {
         let name = PassId::Tonemap.name();
-        encoder.fullscreen(name, &[view], pipeline, pass.bind_group.group());
+        r.encoder
+            .fullscreen(name, &[view], pipeline, r.pass.bind_group.group());
     }
 }

@@ -18,7 +18,7 @@ use crate::quality::{Quality, ShadowMask};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::LIGHT_TILES;
 use crate::render::graph::slots::SHADOW_ATLAS;
@@ -26,6 +26,7 @@ use crate::render::graph::slots::{DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL};
 use crate::render::graph::{
     Fact, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines, ShaderVariant};
 use crate::render::pipelines::{MaskDepth, mask_depth_state};
 use crate::render::scaled_output;
@@ -35,7 +36,6 @@ use crate::render::shadow::atlas::ShadowAtlas;
 use crate::render::shadow::lookups::{
     LIGHTS_AND_SHADOWS, lights_and_shadows, lookup_defs, views_fit_uniform,
 };
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -271,29 +271,27 @@ impl ShadowMaskPass {
 
 /// Compiles the variant and builds the bind groups.
 pub fn prepare_shadow_mask(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<ShadowMaskPass>,
     buffers: Res<SceneBuffers>,
-    targets: Res<RenderTargets>,
     atlas: Res<ShadowAtlas>,
-    mut pass: ResMut<ShadowMaskPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let (Some(&variant), Some(t)) = (plan.variant::<ShadowMaskPass>(), targets.current.as_ref())
-    else {
-        return;
+) -> Result<()> {
+    let (Some(&variant), Some(t)) = (
+        p.plan.variant::<ShadowMaskPass>(),
+        p.targets.current.as_ref(),
+    ) else {
+        return Ok(());
     };
-    let compiled = (pass.depth.ensure(&gpu, variant, &[]))
-        .and_then(|()| pass.mask.ensure(&gpu, variant, &[MASK_FORMAT]).map(|_| ()));
-    if let Err(e) = compiled {
-        errors.0.push(e);
-        return;
-    }
+    (p.pass.depth.ensure(&p.gpu, variant, &[])).and_then(|()| {
+        p.pass
+            .mask
+            .ensure(&p.gpu, variant, &[MASK_FORMAT])
+            .map(|_| ())
+    })?;
     let (Some([depth, base_color, normal]), Some(tiles)) = (
         t.views([DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL]),
         t.buffer(LIGHT_TILES),
     ) else {
-        return;
+        return Ok(());
     };
     use wgpu::BindingResource::TextureView;
     let ShadowMaskPass {
@@ -301,10 +299,10 @@ pub fn prepare_shadow_mask(
         lights_layout,
         lights,
         ..
-    } = &mut *pass;
-    let made = depth_step
+    } = &mut *p.pass;
+    depth_step
         .bind(
-            &gpu,
+            &p.gpu,
             vec![
                 buffers.view.as_entire_binding(),
                 TextureView(depth),
@@ -315,44 +313,36 @@ pub fn prepare_shadow_mask(
         .and_then(|()| {
             lights
                 .get(
-                    &gpu,
+                    &p.gpu,
                     &LIGHTS_AND_SHADOWS,
                     lights_layout,
                     lights_and_shadows(&buffers, &atlas, tiles),
                 )
                 .map(|_| ())
-        });
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+        })
 }
 
 /// Records the mask: the depth of each texel's pixel, then the lookups, depth-tested
 /// against it.
-pub fn shadow_mask_pass(
-    plan: Res<FramePlan>,
-    pass: Res<ShadowMaskPass>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn shadow_mask_pass(mut r: Record<ShadowMaskPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(g0), Some(g1), Some([output, depth])) = (
         encoder.as_mut(),
-        pass.depth.group(),
-        pass.lights.group(),
-        targets
+        r.pass.depth.group(),
+        r.pass.lights.group(),
+        r.targets
             .current
             .as_ref()
             .and_then(|t| t.views([SHADOW_MASK, SHADOW_MASK_DEPTH])),
     ) else {
         return;
     };
-    let Some(&variant) = plan.variant::<ShadowMaskPass>() else {
+    let Some(&variant) = r.plan.variant::<ShadowMaskPass>() else {
         return;
     };
     let (Some(depth_pipeline), Some(mask_pipeline)) = (
-        pass.depth.pipeline(variant, &[]),
-        pass.mask.get(variant, &[MASK_FORMAT]),
+        r.pass.depth.pipeline(variant, &[]),
+        r.pass.mask.get(variant, &[MASK_FORMAT]),
     ) else {
         return;
     };

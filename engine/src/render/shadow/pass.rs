@@ -14,13 +14,14 @@ use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::extract::shadow_views::{ShadowView, frustum_planes, sphere_in_frustum};
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::geometry::deform_pass::DeformedVertices;
 use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
 use crate::render::gpu_types::{GpuCasterView, GpuShadowView};
 use crate::render::graph::slots::DEFORMED_VERTICES;
 use crate::render::graph::slots::SHADOW_ATLAS;
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pass_params::Prepare;
 use crate::render::pipelines::{create_module, pipeline_layout};
 use crate::render::scene_buffers::{GrowableBuffer, SceneBuffers};
 use crate::scene::{MeshHandle, TextureSlot, Vertex};
@@ -385,17 +386,15 @@ fn caster_view_buffer(gpu: &Gpu, views: usize) -> wgpu::Buffer {
 
 /// Packs the atlas, uploads the views, culls casters per view and (re)builds bindings.
 pub fn prepare_shadows(
-    gpu: Res<Gpu>,
+    mut p: Prepare<ShadowPass>,
     frame: Res<ExtractedFrame>,
-    mut pass: ResMut<ShadowPass>,
     mut atlas: ResMut<ShadowAtlas>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let pass = &mut *pass;
+) -> Result<()> {
+    let pass = &mut *p.pass;
     let atlas = &mut *atlas;
     pass.views.clear();
     let requests: Vec<u32> = frame.shadow_views.iter().map(|v| v.resolution).collect();
-    let max_side = MAX_ATLAS_SIDE.min(gpu.max_texture_size());
+    let max_side = MAX_ATLAS_SIDE.min(p.gpu.max_texture_size());
     let (layout, placed) = pack(&requests, max_side);
     if layout.halvings > 0 && atlas.layout.halvings != layout.halvings {
         log::warn!(
@@ -412,7 +411,7 @@ pub fn prepare_shadows(
     // Whatever the atlas held, this frame draws it again.
     pass.holds = None;
     if !frame.shadow_views.is_empty() {
-        atlas.fit(&gpu, layout.side);
+        atlas.fit(&p.gpu, layout.side);
     }
     let side = atlas.atlas.texture.width() as f32;
     let gpu_views: Vec<GpuShadowView> = frame
@@ -445,11 +444,12 @@ pub fn prepare_shadows(
     } else {
         bytemuck::cast_slice(&gpu_views)
     };
-    atlas.gpu_views.write(&gpu, data);
+    atlas.gpu_views.write(&p.gpu, data);
     let in_uniform = data
         .len()
         .min(UNIFORM_SHADOW_VIEWS as usize * std::mem::size_of::<GpuShadowView>());
-    gpu.queue
+    p.gpu
+        .queue
         .write_buffer(&atlas.views_uniform, 0, &data[..in_uniform]);
 
     // Per view: the casters whose bounding sphere touches its frustum, grouped by mesh
@@ -494,29 +494,27 @@ pub fn prepare_shadows(
     }
     atlas.layout = layout;
     if caster_views.is_empty() {
-        return;
+        return Ok(());
     }
     let needed = (caster_views.len() * std::mem::size_of::<GpuCasterView>()) as u64;
     if needed > pass.caster_views.size() {
-        pass.caster_views = caster_view_buffer(&gpu, caster_views.len().next_power_of_two());
+        pass.caster_views = caster_view_buffer(&p.gpu, caster_views.len().next_power_of_two());
     }
-    gpu.queue
+    p.gpu
+        .queue
         .write_buffer(&pass.caster_views, 0, bytemuck::cast_slice(&caster_views));
     if visible.is_empty() {
         visible.push(<CasterInstance as bytemuck::Zeroable>::zeroed());
     }
-    pass.visible.write(&gpu, bytemuck::cast_slice(&visible));
+    pass.visible.write(&p.gpu, bytemuck::cast_slice(&visible));
     let resources = vec![wgpu::BindingResource::Buffer(wgpu::BufferBinding {
         buffer: &pass.caster_views,
         offset: 0,
         size: wgpu::BufferSize::new(64),
     })];
-    if let Err(e) = pass
-        .caster_bind_group
-        .get(&gpu, &CASTERS, &pass.caster_layout, resources)
-    {
-        errors.0.push(e);
-    }
+    pass.caster_bind_group
+        .get(&p.gpu, &CASTERS, &pass.caster_layout, resources)
+        .map(|_| ())
 }
 
 /// Records the shadow pass: one render pass over the atlas, one viewport per view.

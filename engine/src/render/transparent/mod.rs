@@ -26,7 +26,7 @@ use crate::quality::Transparency;
 use crate::render::bindings::CachedGroup;
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::geometry::gpu_material_maps::{GpuMaterialMaps, unit_defs};
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
@@ -41,6 +41,7 @@ use crate::render::lighting::forward::{
 };
 use crate::render::lighting::lobe_tables::LobeTables;
 use crate::render::lighting::{GROUPS_BY_INDEX, LIGHTING, LightingVariant};
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::ShaderVariant;
 use crate::render::pipelines::{color_attachment, draw_fullscreen_with};
 use crate::render::shaders::ShaderDef;
@@ -444,28 +445,22 @@ fn transparent_shape(variant: TransparentVariant, format: wgpu::TextureFormat) -
 
 /// Compiles the pipelines this frame's blended and transmissive batches need and rebuilds the view group
 /// when the scene buffers were recreated.
-pub fn prepare_transparent(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    inputs: PrepareInputs,
-    mut pass: ResMut<TransparentPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+pub fn prepare_transparent(mut p: Prepare<TransparentPass>, inputs: PrepareInputs) -> Result<()> {
     let PrepareInputs {
         frame,
         buffers,
         targets,
     } = inputs;
     let (Some(Some(variant)), Some(t)) = (
-        plan.variant::<TransparentPass>().copied(),
+        p.plan.variant::<TransparentPass>().copied(),
         targets.current.as_ref(),
     ) else {
-        return;
+        return Ok(());
     };
-    let units = pass.units;
+    let units = p.pass.units;
     for lobes in BlendedLobes::all() {
-        if let Err(e) = pass.pipelines.ensure(
-            &gpu,
+        (p.pass.pipelines.ensure(
+            &p.gpu,
             (
                 TransparentShader {
                     variant,
@@ -479,33 +474,26 @@ pub fn prepare_transparent(
                 .filter(|b| BlendedLobes::of(&frame, b) == lobes),
             "transparent.wgsl",
             &|format| transparent_shape(variant, format),
-        ) {
-            errors.0.push(e);
-            return;
-        }
+        ))?;
     }
-    pass.tables.write_for(&gpu, &frame);
+    p.pass.tables.write_for(&p.gpu, &frame);
     if variant.weighted {
         let Some([accum, reveal]) = t.views([OIT_ACCUM, OIT_REVEAL]) else {
-            return;
+            return Ok(());
         };
-        let pass = &mut *pass;
-        if let Err(e) = pass
+        let pass = &mut *p.pass;
+        (pass
             .resolve
-            .ensure(&gpu, (), &[t.hdr_format])
+            .ensure(&p.gpu, (), &[t.hdr_format])
             .and_then(|()| {
                 pass.resolve.bind(
-                    &gpu,
+                    &p.gpu,
                     vec![
                         wgpu::BindingResource::TextureView(accum),
                         wgpu::BindingResource::TextureView(reveal),
                     ],
                 )
-            })
-        {
-            errors.0.push(e);
-            return;
-        }
+            }))?;
     }
     let TransparentPass {
         pipelines,
@@ -514,7 +502,7 @@ pub fn prepare_transparent(
         sampler,
         tables,
         ..
-    } = &mut *pass;
+    } = &mut *p.pass;
     let chain = t.view(TRANSMISSION_SOURCE).filter(|_| variant.transmission);
     let resources = vec![
         buffers.view.as_entire_binding(),
@@ -523,25 +511,20 @@ pub fn prepare_transparent(
         wgpu::BindingResource::Sampler(sampler),
         tables.sheen_albedo.as_entire_binding(),
     ];
-    if let Err(e) = view_group.get(&gpu, &VIEW, &pipelines.view_layout, resources) {
-        errors.0.push(e);
-    }
+    view_group
+        .get(&p.gpu, &VIEW, &pipelines.view_layout, resources)
+        .map(|_| ())
 }
 
 /// Records the blended batches, farthest first, over the HDR target.
-pub fn transparent_pass(
-    plan: Res<FramePlan>,
-    pass: Res<TransparentPass>,
-    inputs: ForwardInputs,
-    mut encoder: ResMut<FrameEncoder>,
-) {
+pub fn transparent_pass(mut r: Record<TransparentPass>, inputs: ForwardInputs) {
     let targets = &inputs.targets;
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(t), Some(Some(variant)), Some(view_group), Some(shared)) = (
         encoder.as_mut(),
         targets.current.as_ref(),
-        plan.variant::<TransparentPass>().copied(),
-        pass.view_group.group(),
+        r.plan.variant::<TransparentPass>().copied(),
+        r.pass.view_group.group(),
         inputs.lighting.groups(),
     ) else {
         return;
@@ -553,8 +536,8 @@ pub fn transparent_pass(
     let oit = if variant.weighted {
         match (
             t.views([OIT_ACCUM, OIT_REVEAL]),
-            pass.resolve.group(),
-            pass.resolve.pipeline((), &[t.hdr_format]),
+            r.pass.resolve.group(),
+            r.pass.resolve.pipeline((), &[t.hdr_format]),
         ) {
             (Some(views), Some(group), Some(pipeline)) => Some((views, group, pipeline)),
             _ => return,
@@ -598,9 +581,11 @@ pub fn transparent_pass(
                 let shader = TransparentShader {
                     variant,
                     lobes: BlendedLobes::of(&inputs.frame, batch),
-                    units: pass.units,
+                    units: r.pass.units,
                 };
-                pass.pipelines.get(shader, batch.double_sided, t.hdr_format)
+                r.pass
+                    .pipelines
+                    .get(shader, batch.double_sided, t.hdr_format)
             },
         );
     }

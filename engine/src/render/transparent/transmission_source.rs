@@ -16,15 +16,14 @@ use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{
     FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat, TextureDesc,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::Fullscreen;
 use crate::render::post::antialias::copy::CopyToHdr;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -129,27 +128,24 @@ impl FramePass for TransmissionSourcePass {
 }
 
 /// Makes (or keeps) the copy's group and each level's.
-pub fn prepare_transmission_source(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<TransmissionSourcePass>,
-    mut errors: ResMut<FrameErrors>,
-) {
+pub fn prepare_transmission_source(mut p: Prepare<TransmissionSourcePass>) -> Result<()> {
     let (Some(()), Some(t)) = (
-        plan.variant::<TransmissionSourcePass>(),
-        targets.current.as_ref(),
+        p.plan.variant::<TransmissionSourcePass>(),
+        p.targets.current.as_ref(),
     ) else {
-        return;
+        return Ok(());
     };
     let Some(hdr) = t.view(HDR) else {
-        return;
+        return Ok(());
     };
     let levels = t.level_count(TRANSMISSION_SOURCE) as usize;
-    let pass = &mut *pass;
+    let pass = &mut *p.pass;
     pass.level_groups
         .resize_with(levels.saturating_sub(1), CachedGroup::default);
-    let mut made = pass.copy.group(&mut pass.copy_group, &gpu, hdr).map(|_| ());
+    let mut made = pass
+        .copy
+        .group(&mut pass.copy_group, &p.gpu, hdr)
+        .map(|_| ());
     for (level, group) in pass.level_groups.iter_mut().enumerate() {
         let Some(below) = t.level(TRANSMISSION_SOURCE, level as u32) else {
             continue;
@@ -158,7 +154,7 @@ pub fn prepare_transmission_source(
             pass.downsample
                 .bind_in(
                     group,
-                    &gpu,
+                    &p.gpu,
                     vec![
                         wgpu::BindingResource::TextureView(below),
                         wgpu::BindingResource::Sampler(&pass.sampler),
@@ -167,21 +163,14 @@ pub fn prepare_transmission_source(
                 .map(|_| ())
         });
     }
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    made
 }
 
 /// Copies the HDR target into level 0 and averages each level into the next.
-pub fn transmission_source_pass(
-    pass: Res<TransmissionSourcePass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
+pub fn transmission_source_pass(mut r: Record<TransmissionSourcePass>) {
     let (Some(()), Some(t)) = (
-        plan.variant::<TransmissionSourcePass>(),
-        targets.current.as_ref(),
+        r.plan.variant::<TransmissionSourcePass>(),
+        r.targets.current.as_ref(),
     ) else {
         return;
     };
@@ -189,12 +178,14 @@ pub fn transmission_source_pass(
         return;
     };
     let name = "transmission source";
-    let copy = pass.copy.0.pipeline((), &[FORMAT]);
-    encoder.fullscreen(name, &[level0], copy, pass.copy_group.group());
-    let downsample = pass.downsample.pipeline((), &[FORMAT]);
-    for (level, group) in pass.level_groups.iter().enumerate() {
+    let copy = r.pass.copy.0.pipeline((), &[FORMAT]);
+    r.encoder
+        .fullscreen(name, &[level0], copy, r.pass.copy_group.group());
+    let downsample = r.pass.downsample.pipeline((), &[FORMAT]);
+    for (level, group) in r.pass.level_groups.iter().enumerate() {
         if let Some(target) = t.level(TRANSMISSION_SOURCE, level as u32 + 1) {
-            encoder.fullscreen(name, &[target], downsample, group.group());
+            r.encoder
+                .fullscreen(name, &[target], downsample, group.group());
         }
     }
 }

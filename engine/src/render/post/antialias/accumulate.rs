@@ -13,16 +13,15 @@ use crate::quality::knob::Value;
 use crate::quality::knobs::ACCUMULATE;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
-use crate::render::frame::{FrameEncoder, FrameErrors};
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{
     Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot, TargetFormat,
     TextureDesc,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::Fullscreen;
 use crate::render::post::antialias::copy::CopyToHdr;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -179,33 +178,26 @@ impl AccumulatePass {
 /// Compiles the copy for this frame's HDR format, (re)creates the means at the frame's
 /// size, and writes this render's weight 1/(index + 1).
 pub fn prepare_accumulate(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<AccumulatePass>,
     sub: Option<Res<SubFrame>>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<AccumulatePass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&format) = plan.variant::<AccumulatePass>() else {
-        return;
+) -> Result<()> {
+    let Some(&format) = p.plan.variant::<AccumulatePass>() else {
+        return Ok(());
     };
-    let pass = &mut *pass;
-    if let Err(e) = pass.copy.0.ensure(&gpu, (), &[format]) {
-        errors.0.push(e);
-        return;
-    }
-    let Some(t) = targets.current.as_ref() else {
-        return;
+    let pass = &mut *p.pass;
+    pass.copy.0.ensure(&p.gpu, (), &[format])?;
+    let Some(t) = p.targets.current.as_ref() else {
+        return Ok(());
     };
     let (Some(hdr), Some(means)) = (t.view(HDR), t.views(ACCUMULATION)) else {
-        return;
+        return Ok(());
     };
     for (parity, [update, copy]) in pass.groups.iter_mut().enumerate() {
         let made = pass
             .update
             .bind_in(
                 update,
-                &gpu,
+                &p.gpu,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
                     wgpu::BindingResource::TextureView(means[1 - parity]),
@@ -213,41 +205,36 @@ pub fn prepare_accumulate(
                 ],
             )
             .map(|_| ())
-            .and_then(|()| pass.copy.group(copy, &gpu, means[parity]).map(|_| ()));
-        if let Err(e) = made {
-            errors.0.push(e);
-            return;
-        }
+            .and_then(|()| pass.copy.group(copy, &p.gpu, means[parity]).map(|_| ()));
+        made?;
     }
     let index = sub.map_or(0, |s| s.index);
     pass.parity = (index % 2) as usize;
     let weight = 1.0 / (f64::from(index) + 1.0) as f32;
-    gpu.queue.write_buffer(
+    p.gpu.queue.write_buffer(
         &pass.params,
         0,
         bytemuck::cast_slice(&[weight, 0.0, 0.0, 0.0]),
     );
+    Ok(())
 }
 
 /// Records the mean's update and its copy into the HDR target.
-pub fn accumulate_pass(
-    pass: Res<AccumulatePass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let t = targets.current.as_ref();
-    let [update_group, copy_group] = &pass.groups[pass.parity];
+pub fn accumulate_pass(mut r: Record<AccumulatePass>) {
+    let t = r.targets.current.as_ref();
+    let [update_group, copy_group] = &r.pass.groups[r.pass.parity];
     let (Some(mean), Some(hdr), Some(&format)) = (
-        t.and_then(|t| t.view(ACCUMULATION[pass.parity])),
+        t.and_then(|t| t.view(ACCUMULATION[r.pass.parity])),
         t.and_then(|t| t.view(HDR)),
-        plan.variant::<AccumulatePass>(),
+        r.plan.variant::<AccumulatePass>(),
     ) else {
         return;
     };
-    let update = pass.update.pipeline((), &[pass.mean_format]);
+    let update = r.pass.update.pipeline((), &[r.pass.mean_format]);
     let name = PassId::Accumulate.name();
-    encoder.fullscreen(name, &[mean], update, update_group.group());
-    let copy = pass.copy.0.pipeline((), &[format]);
-    encoder.fullscreen("accumulate copy", &[hdr], copy, copy_group.group());
+    r.encoder
+        .fullscreen(name, &[mean], update, update_group.group());
+    let copy = r.pass.copy.0.pipeline((), &[format]);
+    r.encoder
+        .fullscreen("accumulate copy", &[hdr], copy, copy_group.group());
 }

@@ -13,13 +13,13 @@ use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
 use crate::render::graph::{FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot};
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, FullscreenPipelines};
 use crate::render::pipelines::{FullscreenDraw, MaskDepth, draw_fullscreen_pass, mask_depth_state};
 use crate::render::post::antialias::prepare::{AA_PREPARED, MASK, Preparation};
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -135,34 +135,24 @@ impl FxaaPass {
 
 /// Compiles the filter for this frame's HDR format (and the mark, once) and (re)creates
 /// the prepared image at the frame's size.
-pub fn prepare_fxaa(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<FxaaPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&format) = plan.variant::<FxaaPass>() else {
-        return;
+pub fn prepare_fxaa(mut p: Prepare<FxaaPass>) -> Result<()> {
+    let Some(&format) = p.plan.variant::<FxaaPass>() else {
+        return Ok(());
     };
-    let pass = &mut *pass;
-    let compiled = (pass.filters.ensure(&gpu, (), &[format]).map(|_| ()))
-        .and_then(|()| pass.mark.ensure(&gpu, (), &[]).map(|_| ()));
-    if let Err(e) = compiled {
-        errors.0.push(e);
-        return;
-    }
-    let Some(t) = targets.current.as_ref() else {
-        return;
+    let pass = &mut *p.pass;
+    (pass.filters.ensure(&p.gpu, (), &[format]).map(|_| ()))
+        .and_then(|()| pass.mark.ensure(&p.gpu, (), &[]).map(|_| ()))?;
+    let Some(t) = p.targets.current.as_ref() else {
+        return Ok(());
     };
     let Some([hdr, prepared, depth, normal]) = t.views([HDR, AA_PREPARED, DEPTH, GBUFFER_NORMAL])
     else {
-        return;
+        return Ok(());
     };
-    let made = pass.preparation.prepare(&gpu, hdr).and_then(|()| {
+    pass.preparation.prepare(&p.gpu, hdr).and_then(|()| {
         pass.filter
             .get(
-                &gpu,
+                &p.gpu,
                 &BINDINGS,
                 &pass.layout,
                 vec![
@@ -173,34 +163,28 @@ pub fn prepare_fxaa(
                 ],
             )
             .map(|_| ())
-    });
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    })
 }
 
 /// Records the preparation, the mark and the filter.
-pub fn fxaa_pass(
-    pass: Res<FxaaPass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn fxaa_pass(mut r: Record<FxaaPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(group), Some(mark), Some([hdr, prepared, mask]), Some(filter)) = (
         encoder.as_mut(),
-        pass.filter.group(),
-        pass.mark.get((), &[]),
-        targets
+        r.pass.filter.group(),
+        r.pass.mark.get((), &[]),
+        r.targets
             .current
             .as_ref()
             .and_then(|t| t.views([HDR, AA_PREPARED, FXAA_MASK])),
-        plan.variant::<FxaaPass>()
-            .and_then(|f| pass.filters.get((), &[*f])),
+        r.plan
+            .variant::<FxaaPass>()
+            .and_then(|f| r.pass.filters.get((), &[*f])),
     ) else {
         return;
     };
-    pass.preparation
+    r.pass
+        .preparation
         .record(encoder, timer, "fxaa prepare", prepared);
     // The filter shades only the pixels the mark step marked; the others keep the HDR
     // target's exact value.

@@ -23,19 +23,19 @@ use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
 use crate::render::bindings::{BindGroupSpec, Binding};
 use crate::render::device::Gpu;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
 use crate::render::graph::{
     FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot, TargetFormat,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{Fullscreen, ShaderVariant};
 use crate::render::pipelines::{
     FullscreenDraw, MaskDepth, draw_fullscreen_pass, draw_fullscreen_with, mask_depth_state,
 };
 use crate::render::post::antialias::prepare::{AA_PREPARED, MASK, Preparation};
 use crate::render::shaders::ShaderDef;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -201,53 +201,37 @@ impl SmaaPass {
 
 /// Compiles the blend for this frame's HDR format and (re)creates the images at the
 /// frame's size.
-pub fn prepare_smaa(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut pass: ResMut<SmaaPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&format) = plan.variant::<SmaaPass>() else {
-        return;
+pub fn prepare_smaa(mut p: Prepare<SmaaPass>) -> Result<()> {
+    let Some(&format) = p.plan.variant::<SmaaPass>() else {
+        return Ok(());
     };
-    let pass = &mut *pass;
-    if let Err(e) = pass.blend.ensure(&gpu, (), &[format]) {
-        errors.0.push(e);
-        return;
-    }
-    let Some([hdr, prepared, edges, weights]) = targets
+    let pass = &mut *p.pass;
+    pass.blend.ensure(&p.gpu, (), &[format])?;
+    let Some([hdr, prepared, edges, weights]) = p
+        .targets
         .current
         .as_ref()
         .and_then(|t| t.views([HDR, AA_PREPARED, SMAA_EDGES, SMAA_WEIGHTS]))
     else {
-        return;
+        return Ok(());
     };
     let view = wgpu::BindingResource::TextureView;
-    let made = (pass.preparation.prepare(&gpu, hdr))
-        .and_then(|()| pass.edges.bind(&gpu, vec![view(prepared)]))
-        .and_then(|()| pass.weights.bind(&gpu, vec![view(edges)]))
-        .and_then(|()| pass.blend.bind(&gpu, vec![view(prepared), view(weights)]));
-    if let Err(e) = made {
-        errors.0.push(e);
-    }
+    (pass.preparation.prepare(&p.gpu, hdr))
+        .and_then(|()| pass.edges.bind(&p.gpu, vec![view(prepared)]))
+        .and_then(|()| pass.weights.bind(&p.gpu, vec![view(edges)]))
+        .and_then(|()| pass.blend.bind(&p.gpu, vec![view(prepared), view(weights)]))
 }
 
 /// Records the four steps.
-pub fn smaa_pass(
-    pass: Res<SmaaPass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
+pub fn smaa_pass(mut r: Record<SmaaPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
     let (Some(encoder), Some(views), Some(format)) = (
         encoder.as_mut(),
-        targets
+        r.targets
             .current
             .as_ref()
             .and_then(|t| t.views([HDR, AA_PREPARED, SMAA_EDGES, SMAA_MASK, SMAA_WEIGHTS])),
-        plan.variant::<SmaaPass>(),
+        r.plan.variant::<SmaaPass>(),
     ) else {
         return;
     };
@@ -259,18 +243,19 @@ pub fn smaa_pass(
         Some(weights_group),
         Some(blend_group),
     ) = (
-        pass.edges.pipeline((), &[EDGES_FORMAT]),
-        pass.weights.pipeline(SearchLength, &[WEIGHTS_FORMAT]),
-        pass.blend.pipeline((), &[*format]),
-        pass.edges.group(),
-        pass.weights.group(),
-        pass.blend.group(),
+        r.pass.edges.pipeline((), &[EDGES_FORMAT]),
+        r.pass.weights.pipeline(SearchLength, &[WEIGHTS_FORMAT]),
+        r.pass.blend.pipeline((), &[*format]),
+        r.pass.edges.group(),
+        r.pass.weights.group(),
+        r.pass.blend.group(),
     )
     else {
         return;
     };
     let [hdr, prepared, edges, mask, weights] = views;
-    pass.preparation
+    r.pass
+        .preparation
         .record(encoder, timer, "smaa prepare", prepared);
     // Pixels without an edge are discarded and stay 0 in both images; the coverage step
     // shades only the pixels the edge step marked.

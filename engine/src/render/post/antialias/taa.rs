@@ -20,18 +20,18 @@ use crate::quality::knobs::AA;
 use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::frame::{FrameEncoder, FrameErrors};
+use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::{DEPTH, HDR, MOTION};
 use crate::render::graph::{
     Extent, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing, Slot, TargetFormat,
     TextureDesc,
 };
+use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::Fullscreen;
 use crate::render::pipelines::draw_fullscreen;
 use crate::render::post::antialias::accumulate::mean_format;
 use crate::render::post::antialias::resolve::TaaResolve;
-use crate::render::targets::RenderTargets;
 use bevy_ecs::prelude::*;
 
 #[allow(non_upper_case_globals)]
@@ -236,32 +236,25 @@ impl TaaPass {
 /// matrices and settings, and flips which history this frame writes.
 #[allow(clippy::too_many_arguments)]
 pub fn prepare_taa(
-    gpu: Res<Gpu>,
-    plan: Res<FramePlan>,
+    mut p: Prepare<TaaPass>,
     frame: Res<ExtractedFrame>,
-    targets: Res<RenderTargets>,
     state: Option<Res<TaaState>>,
     quality: Res<Quality>,
-    mut pass: ResMut<TaaPass>,
-    mut errors: ResMut<FrameErrors>,
-) {
-    let Some(&format) = plan.variant::<TaaPass>() else {
-        return;
+) -> Result<()> {
+    let Some(&format) = p.plan.variant::<TaaPass>() else {
+        return Ok(());
     };
-    let pass = &mut *pass;
-    if let Err(e) = pass.resolve.step.ensure(&gpu, (), &[format]) {
-        errors.0.push(e);
-        return;
-    }
-    let Some(t) = targets.current.as_ref() else {
-        return;
+    let pass = &mut *p.pass;
+    pass.resolve.step.ensure(&p.gpu, (), &[format])?;
+    let Some(t) = p.targets.current.as_ref() else {
+        return Ok(());
     };
     let (Some([hdr, depth, motion]), Some(color), Some(depth_frames)) = (
         t.views([HDR, DEPTH, MOTION]),
         t.views(TAA_HISTORY),
         t.views(TAA_HISTORY_DEPTH),
     ) else {
-        return;
+        return Ok(());
     };
     // A history the graph made anew holds nothing: this frame starts over.
     let fresh = TAA_HISTORY
@@ -274,7 +267,7 @@ pub fn prepare_taa(
             .step
             .bind_in(
                 taa,
-                &gpu,
+                &p.gpu,
                 vec![
                     wgpu::BindingResource::TextureView(hdr),
                     wgpu::BindingResource::TextureView(depth),
@@ -285,11 +278,12 @@ pub fn prepare_taa(
                 ],
             )
             .map(|_| ())
-            .and_then(|()| pass.resolve.group(resolve, &gpu, color[write]).map(|_| ()));
-        if let Err(e) = made {
-            errors.0.push(e);
-            return;
-        }
+            .and_then(|()| {
+                pass.resolve
+                    .group(resolve, &p.gpu, color[write])
+                    .map(|_| ())
+            });
+        made?;
     }
     let state = state.map(|s| s.clone()).unwrap_or_default();
     let valid = !fresh && state.reset.is_none() && state.frame > 0;
@@ -312,37 +306,36 @@ pub fn prepare_taa(
         ],
         still: [TAA_STILL_FRAMES as f32, TAA_STILL_PX, 0.0, 0.0],
     };
-    gpu.queue
+    p.gpu
+        .queue
         .write_buffer(&pass.params, 0, bytemuck::bytes_of(&params));
-    pass.resolve.set_sharpen(&gpu, quality.aa.taa_sharpen);
+    pass.resolve.set_sharpen(&p.gpu, quality.aa.taa_sharpen);
     pass.parity = 1 - pass.parity;
+    Ok(())
 }
 
 /// Records the TAA step into the new history, then the resolve into the HDR target.
-pub fn taa_pass(
-    pass: Res<TaaPass>,
-    plan: Res<FramePlan>,
-    targets: Res<RenderTargets>,
-    mut encoder: ResMut<FrameEncoder>,
-) {
-    let FrameEncoder { encoder, timer } = &mut *encoder;
-    let t = targets.current.as_ref();
-    let [taa_group, resolve_group] = &pass.groups[pass.parity];
+pub fn taa_pass(mut r: Record<TaaPass>) {
+    let FrameEncoder { encoder, timer } = &mut *r.encoder;
+    let t = r.targets.current.as_ref();
+    let [taa_group, resolve_group] = &r.pass.groups[r.pass.parity];
     let (Some(encoder), Some(hdr), Some(resolve), Some(taa_group), Some(resolve_group)) = (
         encoder.as_mut(),
         t.and_then(|t| t.view(HDR)),
-        plan.variant::<TaaPass>()
-            .and_then(|f| pass.resolve.step.pipeline((), &[*f])),
+        r.plan
+            .variant::<TaaPass>()
+            .and_then(|f| r.pass.resolve.step.pipeline((), &[*f])),
         taa_group.group(),
         resolve_group.group(),
     ) else {
         return;
     };
     let (Some(color), Some(depth_frames), Some(taa)) = (
-        t.and_then(|t| t.view(TAA_HISTORY[pass.parity])),
-        t.and_then(|t| t.view(TAA_HISTORY_DEPTH[pass.parity])),
-        pass.step
-            .pipeline((), &[pass.color_format, DEPTH_FRAMES_FORMAT]),
+        t.and_then(|t| t.view(TAA_HISTORY[r.pass.parity])),
+        t.and_then(|t| t.view(TAA_HISTORY_DEPTH[r.pass.parity])),
+        r.pass
+            .step
+            .pipeline((), &[r.pass.color_format, DEPTH_FRAMES_FORMAT]),
     ) else {
         return;
     };
