@@ -633,7 +633,7 @@ impl App {
 
     /// Keeps `target` after each frame, for [`App::read_target`]. Only HDR is kept unless
     /// asked: the frame graph lends the memory of a target nothing reads after the frame
-    /// to later passes ([`crate::render::graph::KeptSlots`]). Call it before rendering
+    /// to later passes ([`crate::render::graph::slots::KeptSlots`]). Call it before rendering
     /// the frames to read.
     pub fn keep_target(&mut self, target: FrameTarget) {
         if let Some(slot) = target.slot() {

@@ -46,7 +46,6 @@ pub mod slots;
 use crate::error::Result;
 use crate::render::bindings::BindGroupSpec;
 use crate::render::device::Gpu;
-use crate::render::frame::FrameErrors;
 use crate::render::shaders::ShaderDef;
 use bevy_ecs::prelude::*;
 use bevy_ecs::schedule::{IntoScheduleConfigs, ScheduleConfigs};
@@ -181,40 +180,6 @@ pub type PassSystems = ScheduleConfigs<ScheduleSystem>;
 /// `system` (a system function, or systems chained) as [`PassSystems`].
 pub fn systems<M>(system: impl IntoScheduleConfigs<ScheduleSystem, M>) -> PassSystems {
     system.into_configs()
-}
-
-/// `system`, a preparation that returns a [`Result`], as [`PassSystems`]: its error goes
-/// to [`FrameErrors`], which abandons the frame.
-pub fn fallible<M>(system: impl IntoSystem<(), Result<()>, M>) -> PassSystems {
-    system.pipe(report_error).into_configs()
-}
-
-/// Keeps a preparation's error for the frame to report.
-fn report_error(In(result): In<Result<()>>, mut errors: ResMut<FrameErrors>) {
-    if let Err(e) = result {
-        errors.0.push(e);
-    }
-}
-
-/// The usual [`FramePass::prepare`] and [`FramePass::record`]: one system each, the
-/// preparation returning a [`Result`]. `lumen::pass_systems!(prepare_x, x_pass);` inside
-/// `impl FramePass for XPass` stands for
-///
-/// ```text
-/// fn prepare() -> Option<PassSystems> { Some(fallible(prepare_x)) }
-/// fn record() -> PassSystems { systems(x_pass) }
-/// ```
-#[macro_export]
-macro_rules! pass_systems {
-    ($prepare:expr, $record:expr) => {
-        fn prepare() -> Option<$crate::render::graph::PassSystems> {
-            Some($crate::render::graph::fallible($prepare))
-        }
-
-        fn record() -> $crate::render::graph::PassSystems {
-            $crate::render::graph::systems($record)
-        }
-    };
 }
 
 /// Whether a pass or shader feature is used this frame, and why.

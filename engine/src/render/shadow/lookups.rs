@@ -28,7 +28,7 @@ pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
 };
 
 /// The resources of [`LIGHTS_AND_SHADOWS`], in its order, with the frame's light `tiles`
-/// ([`crate::render::lighting::light_culling::LIGHT_TILES`]): the lighting pass and the shadow-mask
+/// ([`crate::render::graph::slots::LIGHT_TILES`]): the lighting pass and the shadow-mask
 /// pass bind the same.
 pub fn lights_and_shadows<'a>(
     buffers: &'a SceneBuffers,
