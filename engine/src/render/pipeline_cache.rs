@@ -19,7 +19,7 @@
 //! a trait impl beside the variant states that in plain Rust, where a derive would need
 //! attributes for each exception.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::render::device::Gpu;
 use crate::render::pipelines::{
     compute_pipeline, create_module, fullscreen_target_pipeline, pipeline_layout,
@@ -42,8 +42,27 @@ impl ShaderVariant for () {
     }
 }
 
+/// The most colour targets a render pipeline writes (WebGPU's `maxColorAttachments`).
+pub const MAX_COLOR_TARGETS: usize = 8;
+
+/// The colour target formats of a pipeline as a key, in order, `None` past the last: a
+/// lookup builds it on the stack.
+pub type TargetFormats = [Option<wgpu::TextureFormat>; MAX_COLOR_TARGETS];
+
+/// `formats` as a key; `None` when there are more than [`MAX_COLOR_TARGETS`].
+pub fn target_formats(formats: &[wgpu::TextureFormat]) -> Option<TargetFormats> {
+    let mut key = [None; MAX_COLOR_TARGETS];
+    if formats.len() > MAX_COLOR_TARGETS {
+        return None;
+    }
+    for (k, f) in key.iter_mut().zip(formats) {
+        *k = Some(*f);
+    }
+    Some(key)
+}
+
 /// A variant of `V` per set of colour target formats: the defs are `V`'s.
-impl<V: ShaderVariant> ShaderVariant for (V, Vec<wgpu::TextureFormat>) {
+impl<V: ShaderVariant> ShaderVariant for (V, TargetFormats) {
     fn shader_defs(&self) -> Vec<ShaderDef> {
         self.0.shader_defs()
     }
@@ -157,7 +176,7 @@ impl Fullscreen {
 pub struct FullscreenPipelines<V: ShaderVariant = ()> {
     step: Fullscreen,
     layout: wgpu::PipelineLayout,
-    cache: PipelineCache<(V, Vec<wgpu::TextureFormat>)>,
+    cache: PipelineCache<(V, TargetFormats)>,
 }
 
 impl<V: ShaderVariant> FullscreenPipelines<V> {
@@ -179,12 +198,19 @@ impl<V: ShaderVariant> FullscreenPipelines<V> {
         variant: V,
         formats: &[wgpu::TextureFormat],
     ) -> Result<&wgpu::RenderPipeline> {
+        let key = target_formats(formats).ok_or_else(|| {
+            Error::Gpu(format!(
+                "{}: {} colour targets, more than {MAX_COLOR_TARGETS}",
+                self.step.label,
+                formats.len()
+            ))
+        })?;
         let FullscreenPipelines {
             step,
             layout,
             cache,
         } = self;
-        cache.ensure(&(variant, formats.to_vec()), |defs| {
+        cache.ensure(&(variant, key), |defs| {
             let module = create_module(gpu, step.label, &gpu.shaders.compose(step.shader, defs)?)?;
             let targets: Vec<Option<wgpu::ColorTargetState>> = formats
                 .iter()
@@ -214,7 +240,7 @@ impl<V: ShaderVariant> FullscreenPipelines<V> {
         variant: V,
         formats: &[wgpu::TextureFormat],
     ) -> Option<&wgpu::RenderPipeline> {
-        self.cache.get(&(variant, formats.to_vec()))
+        self.cache.get(&(variant, target_formats(formats)?))
     }
 }
 
@@ -263,5 +289,20 @@ impl<V: ShaderVariant> ComputePipelines<V> {
     /// The pipeline of `variant`, once [`ComputePipelines::ensure`]d.
     pub fn get(&self, variant: &V) -> Option<&wgpu::ComputePipeline> {
         self.cache.get(variant)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn target_formats_key_keeps_the_order_and_refuses_too_many() {
+        use wgpu::TextureFormat::{R8Unorm, Rgba16Float};
+        let key = target_formats(&[Rgba16Float, R8Unorm]).expect("two targets");
+        assert_eq!(key[..3], [Some(Rgba16Float), Some(R8Unorm), None]);
+        assert_ne!(key, target_formats(&[R8Unorm, Rgba16Float]).expect("two"));
+        assert_eq!(target_formats(&[]), Some([None; MAX_COLOR_TARGETS]));
+        assert_eq!(target_formats(&[R8Unorm; MAX_COLOR_TARGETS + 1]), None);
     }
 }
