@@ -31,29 +31,24 @@ pub fn extract_lights(
     for (entity, light, transform) in &directional {
         let s = shadow(entity);
         let c = exposed(light.color.to_linear_rgb(), light.illuminance_lux, exposure);
-        frame.lights.push(GpuLight {
-            position: [0.0; 4],
-            direction: (-transform.forward()).extend(0.0).into(),
-            color_inv_range2: [c[0], c[1], c[2], 0.0],
-            spot: [0.0; 4],
-            shadow: s.shadow,
-            cascade_far: s.cascade_far,
-            shadow_bias: s.bias,
-        });
+        let direction = (-transform.forward()).extend(0.0).into();
+        frame.lights.push(gpu_light(
+            s,
+            [0.0; 4],
+            direction,
+            [c[0], c[1], c[2], 0.0],
+            [0.0; 4],
+        ));
         counts.directional += 1;
     }
     for (entity, light, transform) in &points {
         let s = shadow(entity);
         let c = exposed(light.color.to_linear_rgb(), light.candela(), exposure);
-        frame.lights.push(GpuLight {
-            position: transform.translation().extend(1.0).into(),
-            direction: [0.0; 4],
-            color_inv_range2: [c[0], c[1], c[2], inv_range_squared(light.range_m)],
-            spot: [0.0; 4],
-            shadow: s.shadow,
-            cascade_far: s.cascade_far,
-            shadow_bias: s.bias,
-        });
+        let position = transform.translation().extend(1.0).into();
+        let color = [c[0], c[1], c[2], inv_range_squared(light.range_m)];
+        frame
+            .lights
+            .push(gpu_light(s, position, [0.0; 4], color, [0.0; 4]));
         counts.point += 1;
     }
     for (entity, light, transform) in &spots {
@@ -63,15 +58,13 @@ pub fn extract_lights(
             finite_or(light.inner_angle_rad, 0.0),
             finite_or(light.outer_angle_rad, 0.0),
         );
-        frame.lights.push(GpuLight {
-            position: transform.translation().extend(1.0).into(),
-            direction: transform.forward().extend(0.0).into(),
-            color_inv_range2: [c[0], c[1], c[2], inv_range_squared(light.range_m)],
-            spot: [scale, offset, 0.0, 0.0],
-            shadow: s.shadow,
-            cascade_far: s.cascade_far,
-            shadow_bias: s.bias,
-        });
+        let position = transform.translation().extend(1.0).into();
+        let direction = transform.forward().extend(0.0).into();
+        let color = [c[0], c[1], c[2], inv_range_squared(light.range_m)];
+        let spot = [scale, offset, 0.0, 0.0];
+        frame
+            .lights
+            .push(gpu_light(s, position, direction, color, spot));
         counts.spot += 1;
     }
     let (dir, rest) = frame.lights.split_at_mut(counts.directional as usize);
@@ -101,5 +94,26 @@ fn inv_range_squared(range_m: f32) -> f32 {
         1.0 / (1e-6 * 1e-6)
     } else {
         0.0
+    }
+}
+
+/// The GPU record of one light: its position (w = 1) or none, the direction it shines
+/// along (w = 0) or none, its exposed colour with 1/range² (m⁻²) in w, the spot cone's
+/// scale and offset, and its shadow `s`.
+fn gpu_light(
+    s: LightShadow,
+    position: [f32; 4],
+    direction: [f32; 4],
+    color_inv_range2: [f32; 4],
+    spot: [f32; 4],
+) -> GpuLight {
+    GpuLight {
+        position,
+        direction,
+        color_inv_range2,
+        spot,
+        shadow: s.shadow,
+        cascade_far: s.cascade_far,
+        shadow_bias: s.bias,
     }
 }
