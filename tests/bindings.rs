@@ -1,8 +1,11 @@
 //! Every bind group list (`BindGroupSpec`) against the WGSL of the shader it binds: each
-//! listed name is declared at its group and index, and nothing else is bound in those
-//! groups. The list is the one source both the layout and the group are built from, so
-//! this is what keeps Rust and WGSL in step. Each build checked also passes naga's
-//! validation.
+//! listed name is declared at its group and index with the listed kind, and nothing else
+//! is bound in those groups. The lists come from the build script's reading of the WGSL
+//! declarations (`bindings::declared`); this test derives the same facts independently,
+//! from naga's IR of every composed variant (a float texture is `Sampled` where some
+//! `textureSample*`/`textureGather*` expression takes it, else `TextureLoad`), so a
+//! mistake in either reading, or a list cut or chosen wrongly, fails here. Each build
+//! checked also passes naga's validation.
 //!
 //! The builds come from the registry: every built-in pass lists its shader builds
 //! (`FramePass::shader_builds`), and the shaders that are not a pass's (probe captures,
@@ -18,8 +21,75 @@ use lumen::render::shaders::{BUILTIN, ShaderDef, ShaderLibrary};
 use lumen::wgpu::naga;
 use std::collections::BTreeSet;
 
-/// (group, binding, name) of every resource `entry` declares in `groups`, sorted.
-fn declared(entry: &str, defs: &[ShaderDef], groups: &[u32]) -> Vec<(u32, u32, String)> {
+/// A binding as the check compares it: a dynamic offset is not in the WGSL, so a
+/// `DynamicUniform` compares as a `Uniform`.
+fn comparable(kind: Binding) -> Binding {
+    match kind {
+        Binding::DynamicUniform(_) => Binding::Uniform,
+        other => other,
+    }
+}
+
+/// The global variables some sampling or gathering expression of `module` takes as its
+/// texture.
+fn sampled_globals(module: &naga::Module) -> BTreeSet<naga::Handle<naga::GlobalVariable>> {
+    let functions = module
+        .functions
+        .iter()
+        .map(|(_, f)| f)
+        .chain(module.entry_points.iter().map(|e| &e.function));
+    let mut out = BTreeSet::new();
+    for function in functions {
+        for (_, expression) in function.expressions.iter() {
+            if let naga::Expression::ImageSample { image, .. } = expression
+                && let naga::Expression::GlobalVariable(global) = function.expressions[*image]
+            {
+                out.insert(global);
+            }
+        }
+    }
+    out
+}
+
+/// The kind of binding naga's IR gives global `handle`.
+fn kind_of(
+    module: &naga::Module,
+    handle: naga::Handle<naga::GlobalVariable>,
+    sampled: &BTreeSet<naga::Handle<naga::GlobalVariable>>,
+) -> Binding {
+    let variable = &module.global_variables[handle];
+    match (variable.space, &module.types[variable.ty].inner) {
+        (naga::AddressSpace::Uniform, _) => Binding::Uniform,
+        (naga::AddressSpace::Storage { access }, _) => {
+            if access.contains(naga::StorageAccess::STORE) {
+                Binding::StorageReadWrite
+            } else {
+                Binding::Storage
+            }
+        }
+        (_, naga::TypeInner::Sampler { comparison: true }) => Binding::ComparisonSampler,
+        (_, naga::TypeInner::Sampler { comparison: false }) => Binding::Sampler,
+        (_, naga::TypeInner::Image { dim, class, .. }) => match class {
+            naga::ImageClass::Depth { .. } => Binding::Depth,
+            naga::ImageClass::Storage {
+                format: naga::StorageFormat::Rgba16Float,
+                ..
+            } => Binding::StorageTexture(lumen::wgpu::TextureFormat::Rgba16Float),
+            naga::ImageClass::Sampled { .. } if sampled.contains(&handle) => {
+                Binding::Sampled(match dim {
+                    naga::ImageDimension::Cube => lumen::wgpu::TextureViewDimension::Cube,
+                    _ => lumen::wgpu::TextureViewDimension::D2,
+                })
+            }
+            naga::ImageClass::Sampled { .. } => Binding::TextureLoad,
+            other => panic!("{:?}: no Binding for {other:?}", variable.name),
+        },
+        (space, inner) => panic!("{:?}: no Binding for {space:?} {inner:?}", variable.name),
+    }
+}
+
+/// (group, binding, name, kind) of every resource `entry` declares in `groups`, sorted.
+fn declared(entry: &str, defs: &[ShaderDef], groups: &[u32]) -> Vec<(u32, u32, String, String)> {
     let composed = ShaderLibrary::default()
         .compose(entry, defs)
         .unwrap_or_else(|e| panic!("{entry}: {e}"));
@@ -27,29 +97,38 @@ fn declared(entry: &str, defs: &[ShaderDef], groups: &[u32]) -> Vec<(u32, u32, S
         .unwrap_or_else(|e| panic!("{entry}: {}", e.emit_to_string(&composed.source)));
     // The variant validates too (types, uniformity, every switch it turns).
     assert_eq!(composed.first_error(), None, "{entry}");
-    let mut out: Vec<(u32, u32, String)> = module
+    let sampled = sampled_globals(&module);
+    let mut out: Vec<(u32, u32, String, String)> = module
         .global_variables
         .iter()
-        .filter_map(|(_, v)| {
+        .filter_map(|(handle, v)| {
             let b = v.binding.as_ref()?;
-            groups
-                .contains(&b.group)
-                .then(|| (b.group, b.binding, v.name.clone().unwrap_or_default()))
+            groups.contains(&b.group).then(|| {
+                (
+                    b.group,
+                    b.binding,
+                    v.name.clone().unwrap_or_default(),
+                    format!("{:?}", kind_of(&module, handle, &sampled)),
+                )
+            })
         })
         .collect();
     out.sort();
     out
 }
 
-/// (group, binding, name) of the lists, group `i` being `specs[i].0`, sorted.
-fn listed(specs: &[(u32, BindGroupSpec)]) -> Vec<(u32, u32, String)> {
-    let mut out: Vec<(u32, u32, String)> = specs
+/// (group, binding, name, kind) of the lists, group `i` being `specs[i].0`, sorted.
+fn listed(specs: &[(u32, BindGroupSpec)]) -> Vec<(u32, u32, String, String)> {
+    let mut out: Vec<(u32, u32, String, String)> = specs
         .iter()
         .flat_map(|(group, spec)| {
             spec.bindings
                 .iter()
                 .zip(0u32..)
-                .map(move |((name, _), binding)| (*group, binding, name.to_string()))
+                .map(move |((name, kind), binding)| {
+                    let kind = format!("{:?}", comparable(*kind));
+                    (*group, binding, name.to_string(), kind)
+                })
         })
         .collect();
     out.sort();
@@ -136,8 +215,8 @@ fn a_wrong_list_does_not_match_its_shader() {
         declared("tonemap.wgsl", &output, &[0]),
         listed(&[(0, tonemap::BINDINGS)])
     );
-    // The comparison can fail: a list with one name changed, or one binding short, does
-    // not match the shader.
+    // The comparison can fail: a list with one name changed, one binding short, or a
+    // texture that is only loaded listed as sampled does not match the shader.
     let renamed = BindGroupSpec {
         bindings: &[("hdr", Binding::TextureLoad), ("postt", Binding::Uniform)],
         ..tonemap::BINDINGS
@@ -146,7 +225,14 @@ fn a_wrong_list_does_not_match_its_shader() {
         bindings: &[("hdr", Binding::TextureLoad)],
         ..tonemap::BINDINGS
     };
-    for wrong in [renamed, short] {
+    let wrong_kind = BindGroupSpec {
+        bindings: &[
+            ("hdr", Binding::Sampled(lumen::wgpu::TextureViewDimension::D2)),
+            ("post", Binding::Uniform),
+        ],
+        ..tonemap::BINDINGS
+    };
+    for wrong in [renamed, short, wrong_kind] {
         assert_ne!(
             declared("tonemap.wgsl", &output, &[0]),
             listed(&[(0, wrong)])

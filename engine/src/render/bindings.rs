@@ -1,11 +1,26 @@
-//! Bind groups with one source of truth: a [`BindGroupSpec`] lists a group's bindings
-//! (their WGSL names and kinds, the binding index being the position in the list), and
-//! the same list builds both the layout and the group. `tests/bindings.rs` composes each
-//! pass's shader and checks that every listed name is declared in the WGSL at that group
-//! and binding, and that nothing else is bound there.
+//! Bind groups with one source of truth, the WGSL: the build script reads every
+//! `@group(G) @binding(B) var…` declaration of `shaders/` into [`declared`] (one list per
+//! shader with an entry point and group, its imports included), and a [`BindGroupSpec`]
+//! takes such a list (their WGSL names and kinds, the binding index being the position in
+//! the list), which builds both the layout and the group. `tests/bindings.rs` composes
+//! each pass's shader in every variant and checks, with naga, that every listed name is
+//! declared at that group and binding with that kind, and that nothing else is bound
+//! there.
 
 use crate::error::{Error, Result};
 use crate::render::device::Gpu;
+
+/// The bindings each shader declares, written by the build script from `shaders/`:
+/// `STEM_GROUP` (e.g. `GTAO_0`, `LIGHTING_1`, `GBUFFER_MAPS_GROUP`) lists group `GROUP`
+/// of `STEM.wgsl` with the modules it imports, in binding order, for every group whose
+/// bindings run from 0 without a gap. A float texture that some `textureSample*` or
+/// `textureGather*` call of those modules takes is [`Binding::Sampled`], one that is only
+/// loaded [`Binding::TextureLoad`]. A dynamic offset is not in the WGSL: such groups are
+/// listed by hand.
+pub mod declared {
+    use super::Binding;
+    include!(concat!(env!("OUT_DIR"), "/declared_bindings.rs"));
+}
 
 /// What one binding holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -94,6 +109,36 @@ pub struct BindGroupSpec {
 }
 
 impl BindGroupSpec {
+    /// The group `label`, seen by `visibility`, binding `bindings` (usually a [`declared`]
+    /// list, or a leading part of one).
+    pub const fn new(
+        label: &'static str,
+        visibility: wgpu::ShaderStages,
+        bindings: &'static [(&'static str, Binding)],
+    ) -> Self {
+        BindGroupSpec {
+            label,
+            visibility,
+            bindings,
+        }
+    }
+
+    /// [`BindGroupSpec::new`] seen by the fragment stage.
+    pub const fn fragment(
+        label: &'static str,
+        bindings: &'static [(&'static str, Binding)],
+    ) -> Self {
+        BindGroupSpec::new(label, wgpu::ShaderStages::FRAGMENT, bindings)
+    }
+
+    /// [`BindGroupSpec::new`] seen by the compute stage.
+    pub const fn compute(
+        label: &'static str,
+        bindings: &'static [(&'static str, Binding)],
+    ) -> Self {
+        BindGroupSpec::new(label, wgpu::ShaderStages::COMPUTE, bindings)
+    }
+
     /// How many textures (sampled, depth or loaded) and samplers it binds: what counts
     /// against `max_sampled_textures_per_shader_stage` and `max_samplers_per_shader_stage`.
     pub fn textures_and_samplers(&self) -> (u32, u32) {

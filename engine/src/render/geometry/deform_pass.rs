@@ -9,7 +9,7 @@
 //! capture recomputes the current buffer without turning them.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::extract::deformed::DeformedFrame;
@@ -46,16 +46,8 @@ pub const FRAME_BINDINGS: BindGroupSpec = BindGroupSpec {
 };
 
 /// One instance's mesh data and output.
-pub const INSTANCE_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "deform instance",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("rest", Binding::Storage),
-        ("influences", Binding::Storage),
-        ("targets", Binding::Storage),
-        ("deformed", Binding::StorageReadWrite),
-    ],
-};
+pub const INSTANCE_BINDINGS: BindGroupSpec =
+    BindGroupSpec::compute("deform instance", declared::DEFORM_1);
 
 #[allow(non_upper_case_globals)]
 impl PassId {

@@ -8,7 +8,7 @@ use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SPECULAR_AA;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::FrameEncoder;
@@ -33,26 +33,21 @@ use bevy_ecs::system::ScheduleSystem;
 use std::collections::HashMap;
 
 /// The G-buffer pass's group 0 (group 1 is [`crate::render::geometry::gpu_material_maps::BINDINGS`]).
-pub const VIEW: BindGroupSpec = BindGroupSpec {
-    label: "gbuffer",
-    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-    bindings: &[("view", Binding::Uniform)],
-};
+pub const VIEW: BindGroupSpec = BindGroupSpec::new(
+    "gbuffer",
+    wgpu::ShaderStages::VERTEX_FRAGMENT,
+    declared::GBUFFER_0,
+);
 
 /// The motion variants' group 2: the unjittered matrices of this frame and the previous
 /// one, each instance's previous world-from-local transform, and, for a deformed
 /// instance, its previous frame's deformed vertices (`motion_source.x` = 1; a placeholder
 /// and 0 for the others).
-pub const MOTION_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "gbuffer motion",
-    visibility: wgpu::ShaderStages::VERTEX,
-    bindings: &[
-        ("motion", Binding::Uniform),
-        ("previous_world", Binding::Storage),
-        ("previous_vertices", Binding::Storage),
-        ("motion_source", Binding::Uniform),
-    ],
-};
+pub const MOTION_BINDINGS: BindGroupSpec = BindGroupSpec::new(
+    "gbuffer motion",
+    wgpu::ShaderStages::VERTEX,
+    declared::GBUFFER_2,
+);
 
 #[allow(non_upper_case_globals)]
 impl PassId {

@@ -4,7 +4,7 @@
 //! `MaterialMaps` gets one bind group (group 1 of the G-buffer's textured variant).
 //! Nothing here is built for a scene without `MaterialMaps`.
 
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::{ExtractedFrame, FrameMaps};
 use crate::render::frame::FrameErrors;
@@ -205,58 +205,8 @@ fn mipmap_filter(f: Filter) -> wgpu::MipmapFilterMode {
 /// textures, then their samplers, in the order of [`crate::scene::MaterialMaps::slots`], then the
 /// [`EXTENSION_UNITS`] extension textures and their samplers
 /// ([`crate::scene::ExtensionMaps::units`]).
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "material maps",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("maps", Binding::Uniform),
-        (
-            "base_color_map",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "metallic_roughness_map",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "normal_map",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "occlusion_map",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "emissive_map",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        ("base_color_sampler", Binding::Sampler),
-        ("metallic_roughness_sampler", Binding::Sampler),
-        ("normal_sampler", Binding::Sampler),
-        ("occlusion_sampler", Binding::Sampler),
-        ("emissive_sampler", Binding::Sampler),
-        (
-            "extension_map_0",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "extension_map_1",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "extension_map_2",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "extension_map_3",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        ("extension_sampler_0", Binding::Sampler),
-        ("extension_sampler_1", Binding::Sampler),
-        ("extension_sampler_2", Binding::Sampler),
-        ("extension_sampler_3", Binding::Sampler),
-    ],
-};
+pub const BINDINGS: BindGroupSpec =
+    BindGroupSpec::fragment("material maps", declared::TRANSPARENT_MAPS_GROUP);
 /// [`BINDINGS`] without the extension units, for adapters that cannot bind them beside
 /// the lighting pass's textures (OpenGL's 16 textures per stage, for one): extension
 /// textures are then not sampled, and their factors apply.

@@ -18,7 +18,7 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SSR;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -61,16 +61,8 @@ pub const DEPTH_PYRAMID_LAYOUT: Slot = Slot::buffer(
 
 /// The bindings of the build: the depth buffer, the layout, the level a dispatch writes
 /// and the pyramid.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "depth pyramid",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("depth_buffer", Binding::TextureLoad),
-        ("levels", Binding::Uniform),
-        ("step", Binding::Uniform),
-        ("pyramid", Binding::StorageReadWrite),
-    ],
-};
+pub const BINDINGS: BindGroupSpec =
+    BindGroupSpec::compute("depth pyramid", declared::DEPTH_PYRAMID_0);
 
 /// `PyramidLayout` of `pyramid_layout.wgsl`: per level, its first element in the
 /// buffer, width and height; and the number of levels. Level 0 is the depth buffer and

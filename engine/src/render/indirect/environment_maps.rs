@@ -12,7 +12,7 @@
 
 use crate::error::{Error, Result};
 use crate::quality::Quality;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameErrors;
@@ -79,20 +79,8 @@ pub struct PrefilteredCube {
 
 /// The bind group of indirect light that the lighting and reflection passes share: the
 /// environment (split-sum image-based lighting) and the AO pass's occlusion.
-pub const ENVIRONMENT: BindGroupSpec = BindGroupSpec {
-    label: "lighting: environment",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("environment", Binding::Uniform),
-        (
-            "env_cube",
-            Binding::Sampled(wgpu::TextureViewDimension::Cube),
-        ),
-        ("env_sampler", Binding::Sampler),
-        ("brdf_lut", Binding::Sampled(wgpu::TextureViewDimension::D2)),
-        ("screen_ao", Binding::TextureLoad),
-    ],
-};
+pub const ENVIRONMENT: BindGroupSpec =
+    BindGroupSpec::fragment("lighting: environment", declared::LIGHTING_2);
 
 /// The GPU side of image-based lighting.
 #[derive(Resource)]

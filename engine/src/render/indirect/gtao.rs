@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AO;
 use crate::quality::{AoResolution, AoSettings, Quality};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::fullscreen_step::FullscreenStep;
@@ -54,30 +54,12 @@ pub const AO_RAW: Slot = Slot::texture(
 /// surface close to the camera would otherwise march across the whole frame.
 const MAX_RADIUS_FRACTION: f32 = 1.0;
 
-/// The trace step's bindings.
-pub const TRACE: BindGroupSpec = BindGroupSpec {
-    label: "ao trace",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("params", Binding::Uniform),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-    ],
-};
+/// The trace step's bindings: the resolve step's but its input, `raw_ao`, which it writes.
+pub const TRACE: BindGroupSpec =
+    BindGroupSpec::fragment("ao trace", declared::GTAO_0.split_at(4).0);
 
 /// The resolve step's bindings: the trace step's and its output.
-pub const RESOLVE: BindGroupSpec = BindGroupSpec {
-    label: "ao resolve",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("params", Binding::Uniform),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-        ("raw_ao", Binding::TextureLoad),
-    ],
-};
+pub const RESOLVE: BindGroupSpec = BindGroupSpec::fragment("ao resolve", declared::GTAO_0);
 
 /// The AO shader variant: the loop counts and the filter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

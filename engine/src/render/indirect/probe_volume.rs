@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::quality::GiSettings;
 use crate::quality::knob::Value;
 use crate::quality::knobs::GI;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::{DEPTH, HDR};
@@ -41,32 +41,7 @@ pub const ATLAS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Group 3 of the lighting and reflection passes: the irradiance volume's grid and the
 /// atlases it samples (bindings 0–3, `volume_lookup.wgsl`), then the reflection probes
 /// (4–7, `probe_reflections.wgsl`, [`crate::render::indirect::reflection_probes`]).
-pub const PROBES: BindGroupSpec = BindGroupSpec {
-    label: "probes",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("volume", Binding::Uniform),
-        (
-            "probe_irradiance",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "probe_moments",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        ("probe_sampler", Binding::Sampler),
-        ("reflection_probes", Binding::Uniform),
-        (
-            "probe_cube_0",
-            Binding::Sampled(wgpu::TextureViewDimension::Cube),
-        ),
-        (
-            "probe_cube_1",
-            Binding::Sampled(wgpu::TextureViewDimension::Cube),
-        ),
-        ("probe_cube_sampler", Binding::Sampler),
-    ],
-};
+pub const PROBES: BindGroupSpec = BindGroupSpec::fragment("probes", declared::LIGHTING_3);
 
 /// The resources of [`PROBES`], in order.
 pub fn probe_bindings<'a>(
@@ -87,29 +62,11 @@ pub fn probe_bindings<'a>(
 }
 
 /// The bindings of the bake of the records into the atlases.
-pub const BAKE: BindGroupSpec = BindGroupSpec {
-    label: "probe bake",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("params", Binding::Uniform),
-        ("probes", Binding::Storage),
-        ("irradiance_atlas", Binding::StorageTexture(ATLAS_FORMAT)),
-        ("moment_atlas", Binding::StorageTexture(ATLAS_FORMAT)),
-    ],
-};
+pub const BAKE: BindGroupSpec = BindGroupSpec::compute("probe bake", declared::PROBE_BAKE_0);
 
 /// The bindings of the reduction of one captured face.
-pub const CAPTURE: BindGroupSpec = BindGroupSpec {
-    label: "probe capture",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("hdr", Binding::TextureLoad),
-        ("depth_buffer", Binding::TextureLoad),
-        ("params", Binding::Uniform),
-        ("probes", Binding::StorageReadWrite),
-    ],
-};
+pub const CAPTURE: BindGroupSpec =
+    BindGroupSpec::compute("probe capture", declared::PROBE_CAPTURE_0);
 
 /// `VolumeUniform` of `volume_lookup.wgsl`.
 #[repr(C)]

@@ -8,13 +8,11 @@ use crate::error::Result;
 use crate::quality::ReflectionProbeSettings;
 use crate::quality::knob::Value;
 use crate::quality::knobs::REFLECTION_PROBES;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::frame::{CaptureTarget, CaptureView, FrameEncoder, FrameErrors};
 use crate::render::graph::slots::HDR;
-use crate::render::indirect::environment_maps::{
-    CUBE_FORMAT, PrefilteredCube, cube_texture, cube_view,
-};
+use crate::render::indirect::environment_maps::{PrefilteredCube, cube_texture, cube_view};
 use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
 use crate::render::targets::RenderTargets;
 use crate::scene::{Camera, GlobalTransform, ReflectionProbe};
@@ -25,15 +23,8 @@ use glam::Vec3;
 pub const MAX_REFLECTION_PROBES: usize = 2;
 
 /// The bindings of the copy of one captured face into the strip.
-pub const FACE_COPY: BindGroupSpec = BindGroupSpec {
-    label: "reflection capture",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("hdr", Binding::TextureLoad),
-        ("params", Binding::Uniform),
-        ("strip", Binding::StorageTexture(CUBE_FORMAT)),
-    ],
-};
+pub const FACE_COPY: BindGroupSpec =
+    BindGroupSpec::compute("reflection capture", declared::REFLECTION_CAPTURE_0);
 
 /// `ReflectionProbe` of `probe_reflections.wgsl`.
 #[repr(C)]

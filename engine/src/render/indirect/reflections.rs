@@ -12,7 +12,7 @@
 
 use crate::error::Result;
 use crate::quality::Quality;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -51,28 +51,10 @@ impl PassId {
 
 /// Group 0 of the reflection pass: the view, its parameters, the G-buffer, the pyramid
 /// and the copy of the lit frame. Group 1 is the lighting pass's [`crate::render::indirect::environment_maps::ENVIRONMENT`].
-pub const SSR: BindGroupSpec = BindGroupSpec {
-    label: "ssr",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("params", Binding::Uniform),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer0", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-        ("gbuffer2", Binding::TextureLoad),
-        ("pyramid", Binding::Storage),
-        ("scene_color", Binding::TextureLoad),
-        ("pyramid_layout", Binding::Uniform),
-    ],
-};
+pub const SSR: BindGroupSpec = BindGroupSpec::fragment("ssr", declared::SSR_0);
 
 /// Group 2 of the half-resolution composite: the half-resolution trace's hits.
-pub const SSR_HALF: BindGroupSpec = BindGroupSpec {
-    label: "ssr half",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("half_added", Binding::TextureLoad)],
-};
+pub const SSR_HALF: BindGroupSpec = BindGroupSpec::fragment("ssr half", declared::SSR_2);
 
 /// Format of the half-resolution hits: their mean light (rgb) and the fraction of rays
 /// that hit (a).

@@ -16,7 +16,7 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::GI_RESOLUTION;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -65,15 +65,10 @@ pub const HALF_VOLUME: Fact<bool> = Fact::new("half-resolution volume");
 
 /// Group 0: the view, depth and the G-buffer's normals; group 3 is the lighting pass's
 /// [`PROBES`], groups 1 and 2 are empty.
-pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
-    label: "volume irradiance: view and G-buffer",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-    ],
-};
+pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec::fragment(
+    "volume irradiance: view and G-buffer",
+    declared::VOLUME_IRRADIANCE_0,
+);
 
 /// The groups between 0 and the probes' group 3, which the shader does not read.
 /// The part of [`PROBES`] the shader declares: the volume's four bindings (its layout

@@ -35,7 +35,7 @@
 //! (lighting variant, layer, double-sided, HDR format).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::FrameEncoder;
@@ -67,15 +67,11 @@ impl PassId {
 
 /// Group 0: the view, the sheen's albedo table and the anisotropic lobe's split-sum
 /// table (`shaders/anisotropic_dfg.wgsl`).
-pub const VIEW: BindGroupSpec = BindGroupSpec {
-    label: "layers",
-    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("sheen_table", Binding::Uniform),
-        ("anisotropic_dfg_table", Binding::Storage),
-    ],
-};
+pub const VIEW: BindGroupSpec = BindGroupSpec::new(
+    "layers",
+    wgpu::ShaderStages::VERTEX_FRAGMENT,
+    declared::LAYERS_0,
+);
 
 /// Which layer a draw adds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -7,7 +7,7 @@
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::LIGHT_CULLING;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -34,17 +34,8 @@ const TILE_STRIDE: u32 = 2 + 2 * MAX_TILE_LIGHTS;
 pub const LIGHT_CULLING_MIN_LIGHTS: u32 = 8;
 
 /// The light culling pass's bind group.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "light culling",
-    visibility: wgpu::ShaderStages::COMPUTE,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("lights", Binding::Storage),
-        ("depth_buffer", Binding::TextureLoad),
-        ("tiles", Binding::StorageReadWrite),
-        ("uniform_lights", Binding::Uniform),
-    ],
-};
+pub const BINDINGS: BindGroupSpec =
+    BindGroupSpec::compute("light culling", declared::LIGHT_CULLING_0);
 
 /// Whether light culling runs this frame: the lighting pass then reads the tile lists.
 pub const LIGHTS_CULLED: Fact<bool> = Fact::new("light culling runs");

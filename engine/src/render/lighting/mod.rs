@@ -20,7 +20,7 @@ pub mod sky;
 use crate::choice::Choice;
 use crate::error::Result;
 use crate::quality::{Quality, ShadowFilter};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -455,26 +455,8 @@ pub struct LightingPass {
 }
 
 /// Group 0: the view and the G-buffer.
-pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
-    label: "lighting: view and G-buffer",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("gbuffer0", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-        ("gbuffer2", Binding::TextureLoad),
-        ("depth_buffer", Binding::TextureLoad),
-        (
-            "shadow_mask",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        ("shadow_mask_sampler", Binding::Sampler),
-        (
-            "volume_half",
-            Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-    ],
-};
+pub const VIEW_AND_GBUFFER: BindGroupSpec =
+    BindGroupSpec::fragment("lighting: view and G-buffer", declared::LIGHTING_0);
 
 /// Group 1: the lights, their tile lists and their shadows (defined beside the shadow
 /// lookups, and shared with the shadow-mask pass).

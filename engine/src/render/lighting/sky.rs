@@ -2,7 +2,7 @@
 //! geometry (a depth test against the cleared depth, so no fragment runs elsewhere).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -76,19 +76,7 @@ impl FramePass for SkyPass {
 }
 
 /// The sky pass's bind group.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "sky",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("environment", Binding::Uniform),
-        (
-            "env_cube",
-            Binding::Sampled(wgpu::TextureViewDimension::Cube),
-        ),
-        ("env_sampler", Binding::Sampler),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("sky", declared::SKY_0);
 
 impl ShaderVariant for SkyVariant {
     fn shader_defs(&self) -> Vec<ShaderDef> {

@@ -17,7 +17,7 @@
 
 use crate::choice::Choice;
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameOutput;
@@ -80,19 +80,7 @@ struct Params {
 }
 
 /// The debug view pass's bind group.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "debug view",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("params", Binding::Uniform),
-        ("gbuffer0", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-        ("depth_buffer", Binding::TextureLoad),
-        ("shadow_atlas", Binding::TextureLoad),
-        ("screen_ao", Binding::TextureLoad),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("debug view", declared::DEBUG_VIEW_0);
 
 #[allow(non_upper_case_globals)]
 impl PassId {

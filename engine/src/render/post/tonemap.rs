@@ -3,7 +3,7 @@
 
 use crate::choice::Choice;
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameOutput;
@@ -79,11 +79,7 @@ impl FramePass for TonemapPass {
 }
 
 /// The tone mapping pass's bind group.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "tonemap",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("hdr", Binding::TextureLoad), ("post", Binding::Uniform)],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("tonemap", declared::TONEMAP_0);
 
 impl ShaderVariant for TonemapVariant {
     fn shader_defs(&self) -> Vec<ShaderDef> {

@@ -4,28 +4,15 @@
 //! ([`crate::render::shadow::mask`]) builds for itself.
 
 use crate::quality::ShadowFilter;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::extract::ExtractedFrame;
 use crate::render::scene_buffers::{SHADOWED_LIGHT_CAPACITY, SceneBuffers};
 use crate::render::shaders::ShaderDef;
 use crate::render::shadow::atlas::{ShadowAtlas, UNIFORM_SHADOW_VIEWS};
 
 /// Group 1: the lights, their tile lists and their shadows.
-pub const LIGHTS_AND_SHADOWS: BindGroupSpec = BindGroupSpec {
-    label: "lighting: lights and shadows",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("lights", Binding::Storage),
-        ("uniform_lights", Binding::Uniform),
-        ("shadowed_lights", Binding::Uniform),
-        ("light_tiles", Binding::Storage),
-        ("shadow_views", Binding::Storage),
-        ("shadow_atlas", Binding::Depth),
-        ("shadow_sampler", Binding::ComparisonSampler),
-        ("shadow_atlas_depth", Binding::TextureLoad),
-        ("uniform_shadow_views", Binding::Uniform),
-    ],
-};
+pub const LIGHTS_AND_SHADOWS: BindGroupSpec =
+    BindGroupSpec::fragment("lighting: lights and shadows", declared::LIGHTING_1);
 
 /// The resources of [`LIGHTS_AND_SHADOWS`], in its order, with the frame's light `tiles`
 /// ([`crate::render::graph::slots::LIGHT_TILES`]): the lighting pass and the shadow-mask

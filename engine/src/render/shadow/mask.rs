@@ -15,7 +15,7 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs;
 use crate::quality::{Quality, ShadowMask};
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -75,16 +75,8 @@ pub const MASK: Fact<Option<MaskShape>> = Fact::new("shadow mask");
 /// Group 0: the view, depth and the G-buffer channels the lookups need (the normal, and
 /// whether the surface receives shadows); group 1 is the lighting pass's
 /// [`LIGHTS_AND_SHADOWS`].
-pub const VIEW_AND_GBUFFER: BindGroupSpec = BindGroupSpec {
-    label: "shadow mask: view and G-buffer",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("view", Binding::Uniform),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer0", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-    ],
-};
+pub const VIEW_AND_GBUFFER: BindGroupSpec =
+    BindGroupSpec::fragment("shadow mask: view and G-buffer", declared::SHADOW_MASK_0);
 
 /// Why the mask pass does not run this frame, if it does not.
 pub fn skip_reason(mask: ShadowMask, frame: &ExtractedFrame) -> Option<String> {

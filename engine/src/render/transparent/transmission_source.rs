@@ -13,7 +13,7 @@
 //! texture used at another time of the frame.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::fullscreen_step::FullscreenStep;
@@ -43,14 +43,7 @@ pub const TRANSMISSION_SOURCE: Slot = Slot::texture(
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
 /// A level's input: the level below and a bilinear sampler.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "frame mips",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("below", Binding::Sampled(wgpu::TextureViewDimension::D2)),
-        ("bilinear", Binding::Sampler),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("frame mips", declared::FRAME_MIPS_0);
 
 /// What the chain is made and read with: trilinear, clamped to the frame's edges.
 pub fn sampler(gpu: &Gpu) -> wgpu::Sampler {

@@ -3,7 +3,7 @@
 //! revealage, exist only in frames that use the mode; the resolve
 //! (`shaders/transparent_resolve.wgsl`) composites them over the HDR target with "over".
 
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::{Slot, TargetFormat};
@@ -20,14 +20,8 @@ pub const OIT_ACCUM: Slot = Slot::target("oit accumulation", TargetFormat::Fixed
 pub const OIT_REVEAL: Slot = Slot::target("oit revealage", TargetFormat::Fixed(REVEAL_FORMAT));
 
 /// The resolve's inputs.
-pub const RESOLVE_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "transparent resolve",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("oit_accum", Binding::TextureLoad),
-        ("oit_reveal", Binding::TextureLoad),
-    ],
-};
+pub const RESOLVE_BINDINGS: BindGroupSpec =
+    BindGroupSpec::fragment("transparent resolve", declared::TRANSPARENT_RESOLVE_0);
 
 /// Premultiplied "over": `dst ← src + dst · (1 − α_src)`, for colour and coverage.
 pub const OVER: wgpu::BlendState = wgpu::BlendState {

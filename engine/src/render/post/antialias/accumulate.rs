@@ -11,7 +11,7 @@
 use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::ACCUMULATE;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::slots::HDR;
@@ -131,15 +131,7 @@ impl FramePass for AccumulatePass {
 }
 
 /// The mean's update: this render, the mean so far, and the weight.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "accumulate",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("hdr", Binding::TextureLoad),
-        ("previous", Binding::TextureLoad),
-        ("params", Binding::Uniform),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("accumulate", declared::ACCUMULATE_0);
 
 /// The accumulation's pipelines, targets and bindings.
 #[derive(Resource)]

@@ -4,17 +4,13 @@
 //! source; TAA has its own resolve, [`super::resolve`]).
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::pipeline_cache::Fullscreen;
 
 /// The copy's input.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "copy",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("source", Binding::TextureLoad)],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("copy", declared::COPY_0);
 
 /// The copy: one pipeline per HDR format.
 pub struct CopyToHdr(pub FullscreenStep);

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::{DEPTH, GBUFFER_NORMAL, HDR};
@@ -80,16 +80,7 @@ impl FramePass for FxaaPass {
 }
 
 /// The filter's input.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "fxaa",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("prepared", Binding::Sampled(wgpu::TextureViewDimension::D2)),
-        ("linear_sampler", Binding::Sampler),
-        ("depth_buffer", Binding::TextureLoad),
-        ("gbuffer1", Binding::TextureLoad),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("fxaa", declared::FXAA_0);
 
 /// Depth 1 where the luma has an edge, 0 elsewhere: the pixels the filter shades.
 pub const FXAA_MASK: Slot = Slot::texture("fxaa mask", MASK);

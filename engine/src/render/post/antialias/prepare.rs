@@ -5,7 +5,7 @@
 //! filters can write their result into the HDR target they do not read.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::graph::{Slot, TargetFormat, TextureDesc};
@@ -26,11 +26,7 @@ pub const MASK: TextureDesc =
     TextureDesc::full(TargetFormat::Fixed(crate::render::targets::DEPTH_FORMAT));
 
 /// The preparation step's input.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "aa prepare",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("hdr", Binding::TextureLoad)],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("aa prepare", declared::AA_PREPARE_0);
 
 /// The preparation step's pipeline and the bind group that reads the HDR target.
 pub struct Preparation(FullscreenStep);

@@ -4,20 +4,13 @@
 //! format. The history is not sharpened, so sharpening never feeds back into later frames.
 
 use crate::error::Result;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::fullscreen_step::FullscreenStep;
 use crate::render::pipeline_cache::Fullscreen;
 
 /// The resolve's inputs.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "taa resolve",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("history", Binding::TextureLoad),
-        ("params", Binding::Uniform),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("taa resolve", declared::TAA_RESOLVE_0);
 
 /// `ResolveParams` of `taa_resolve.wgsl`.
 #[repr(C)]

@@ -21,7 +21,7 @@ use crate::error::Result;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
 use crate::quality::{AaMethod, Quality};
-use crate::render::bindings::{BindGroupSpec, Binding};
+use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::frame::FrameEncoder;
 use crate::render::fullscreen_step::FullscreenStep;
@@ -122,28 +122,16 @@ impl FramePass for SmaaPass {
 }
 
 /// The edge step's input.
-pub const EDGES_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "smaa edges",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("prepared", Binding::TextureLoad)],
-};
+pub const EDGES_BINDINGS: BindGroupSpec =
+    BindGroupSpec::fragment("smaa edges", declared::SMAA_EDGES_0);
 
 /// The coverage step's input.
-pub const WEIGHTS_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "smaa weights",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[("edges", Binding::TextureLoad)],
-};
+pub const WEIGHTS_BINDINGS: BindGroupSpec =
+    BindGroupSpec::fragment("smaa weights", declared::SMAA_WEIGHTS_0);
 
 /// The blend's inputs.
-pub const BLEND_BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "smaa blend",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("prepared", Binding::TextureLoad),
-        ("weights", Binding::TextureLoad),
-    ],
-};
+pub const BLEND_BINDINGS: BindGroupSpec =
+    BindGroupSpec::fragment("smaa blend", declared::SMAA_BLEND_0);
 
 /// The edges found from luma.
 pub const SMAA_EDGES: Slot = Slot::target("smaa edges", TargetFormat::Fixed(EDGES_FORMAT));

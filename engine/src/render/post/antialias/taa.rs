@@ -17,7 +17,7 @@ use crate::error::Result;
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::AA;
-use crate::render::bindings::{BindGroupSpec, Binding, CachedGroup};
+use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
@@ -176,18 +176,7 @@ impl FramePass for TaaPass {
 }
 
 /// The TAA step's inputs.
-pub const BINDINGS: BindGroupSpec = BindGroupSpec {
-    label: "taa",
-    visibility: wgpu::ShaderStages::FRAGMENT,
-    bindings: &[
-        ("hdr", Binding::TextureLoad),
-        ("depth", Binding::TextureLoad),
-        ("motion", Binding::TextureLoad),
-        ("history", Binding::TextureLoad),
-        ("history_depth", Binding::TextureLoad),
-        ("params", Binding::Uniform),
-    ],
-};
+pub const BINDINGS: BindGroupSpec = BindGroupSpec::fragment("taa", declared::TAA_0);
 
 /// `TaaParams` of `taa.wgsl`.
 #[repr(C)]
