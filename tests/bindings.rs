@@ -227,7 +227,10 @@ fn a_wrong_list_does_not_match_its_shader() {
     };
     let wrong_kind = BindGroupSpec {
         bindings: &[
-            ("hdr", Binding::Sampled(lumen::wgpu::TextureViewDimension::D2)),
+            (
+                "hdr",
+                Binding::Sampled(lumen::wgpu::TextureViewDimension::D2),
+            ),
             ("post", Binding::Uniform),
         ],
         ..tonemap::BINDINGS

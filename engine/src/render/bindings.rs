@@ -171,14 +171,12 @@ impl BindGroupSpec {
             })
     }
 
-    /// A group of `layout` (made by [`BindGroupSpec::layout`]) binding `resources`, one per
-    /// binding in order.
-    pub fn group(
+    /// `resources` as the group's entries, binding `i` being `resources[i]`; a count that is
+    /// not the bindings' is an error naming the group.
+    fn entries<'a>(
         &self,
-        gpu: &Gpu,
-        layout: &wgpu::BindGroupLayout,
-        resources: Vec<wgpu::BindingResource<'_>>,
-    ) -> Result<wgpu::BindGroup> {
+        resources: Vec<wgpu::BindingResource<'a>>,
+    ) -> Result<Vec<wgpu::BindGroupEntry<'a>>> {
         if resources.len() != self.bindings.len() {
             return Err(Error::Gpu(format!(
                 "bind group '{}': {} resources for {} bindings",
@@ -187,11 +185,22 @@ impl BindGroupSpec {
                 self.bindings.len()
             )));
         }
-        let entries: Vec<wgpu::BindGroupEntry> = resources
+        Ok(resources
             .into_iter()
             .zip(0u32..)
             .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource })
-            .collect();
+            .collect())
+    }
+
+    /// A group of `layout` (made by [`BindGroupSpec::layout`]) binding `resources`, one per
+    /// binding in order.
+    pub fn group(
+        &self,
+        gpu: &Gpu,
+        layout: &wgpu::BindGroupLayout,
+        resources: Vec<wgpu::BindingResource<'_>>,
+    ) -> Result<wgpu::BindGroup> {
+        let entries = self.entries(resources)?;
         Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some(self.label),
             layout,
@@ -242,19 +251,7 @@ impl CachedGroup {
         layout: &wgpu::BindGroupLayout,
         resources: Vec<wgpu::BindingResource<'_>>,
     ) -> Result<&wgpu::BindGroup> {
-        if resources.len() != spec.bindings.len() {
-            return Err(Error::Gpu(format!(
-                "bind group '{}': {} resources for {} bindings",
-                spec.label,
-                resources.len(),
-                spec.bindings.len()
-            )));
-        }
-        let entries = resources
-            .into_iter()
-            .zip(0u32..)
-            .map(|(resource, binding)| wgpu::BindGroupEntry { binding, resource })
-            .collect();
+        let entries = spec.entries(resources)?;
         Ok(self.entries(gpu, spec.label, layout, entries))
     }
 
