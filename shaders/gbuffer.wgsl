@@ -52,10 +52,13 @@ fn plain_vertex(in: VertexInput, inst: InstanceInput) -> VertexOutput {
     return out;
 }
 
+// Target 3 repeats target 2's alpha, the specular level, for the reflection pass (its
+// target is absent, and the output discarded, in frames without reflections).
 struct GBufferOutput {
     @location(0) base_color_ao: vec4<f32>,
     @location(1) normal_roughness_metallic: vec4<f32>,
     @location(2) emissive_specular: vec4<f32>,
+    @location(3) specular_level: f32,
 }
 
 // Largest finite f16, the limit of the Rgba16Float targets.
@@ -89,6 +92,7 @@ fn plain_gbuffer(in: VertexOutput, front: bool) -> GBufferOutput {
     let roughness = stored_roughness(in.roughness_metallic.x, n, 1.0);
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, in.roughness_metallic.y);
     out.emissive_specular = in.emissive_specular;
+    out.specular_level = in.emissive_specular.a;
     return out;
 }
 
@@ -131,10 +135,11 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
                                   pack_occlusion_receiver(occlusion, in.params.w));
     out.normal_roughness_metallic = vec4<f32>(oct_encode(n), roughness, metallic);
     out.emissive_specular = vec4<f32>(emissive, stored_specular_level(in.params.z));
+    out.specular_level = out.emissive_specular.a;
     return out;
 }
 
-// ---- Motion vectors: the same variants, writing a fourth target (only while TAA runs) ----
+// ---- Motion vectors: the same variants, writing a fifth target (only while TAA runs) ----
 // Each vertex's clip position through this frame's and the previous frame's unjittered
 // camera, the previous one from the instance's previous transform (indexed by the
 // instance, like the instance attributes). Every fragment that wins the depth test writes
@@ -183,12 +188,13 @@ struct MotionGBufferOutput {
     @location(0) base_color_ao: vec4<f32>,
     @location(1) normal_roughness_metallic: vec4<f32>,
     @location(2) emissive_specular: vec4<f32>,
-    @location(3) motion: vec4<f32>,
+    @location(3) specular_level: f32,
+    @location(4) motion: vec4<f32>,
 }
 
 fn with_motion(g: GBufferOutput, m: MotionVarying) -> MotionGBufferOutput {
     return MotionGBufferOutput(g.base_color_ao, g.normal_roughness_metallic, g.emissive_specular,
-                               vec4<f32>(screen_motion(m.now, m.before), 0.0, 0.0));
+                               g.specular_level, vec4<f32>(screen_motion(m.now, m.before), 0.0, 0.0));
 }
 
 struct MotionVertexOutput {

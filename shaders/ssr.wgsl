@@ -54,7 +54,7 @@ struct SsrParams {
 @group(0) @binding(2) var depth_buffer: texture_2d<f32>;
 @group(0) @binding(3) var gbuffer0: texture_2d<f32>;
 @group(0) @binding(4) var gbuffer1: texture_2d<f32>;
-@group(0) @binding(5) var gbuffer2: texture_2d<f32>;
+@group(0) @binding(5) var specular_level: texture_2d<f32>;
 @group(0) @binding(6) var<storage, read> pyramid: array<u32>;
 @group(0) @binding(7) var scene_color: texture_2d<f32>;
 @group(0) @binding(8) var<uniform> pyramid_layout: PyramidLayout;
@@ -203,9 +203,9 @@ fn reflecting_surface(pixel: vec2<i32>, lit: vec3<f32>) -> Reflector {
         return s;
     }
     let g1 = textureLoad(gbuffer1, pixel, 0);
-    let g2 = textureLoad(gbuffer2, pixel, 0);
+    let level = textureLoad(specular_level, pixel, 0).r;
     s.r = clamp_perceptual_roughness(g1.b);
-    if s.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) || is_unlit(g2.a) {
+    if s.r > params.max_roughness || any(lit >= vec3<f32>(65000.0)) || is_unlit(level) {
         return s;
     }
     s.n = oct_decode(g1.rg);
@@ -227,12 +227,12 @@ fn reflection_terms(pixel: vec2<i32>, s: Reflector) -> Terms {
     var t: Terms;
     let g0 = textureLoad(gbuffer0, pixel, 0);
     let g1 = textureLoad(gbuffer1, pixel, 0);
-    let g2 = textureLoad(gbuffer2, pixel, 0);
+    let level = textureLoad(specular_level, pixel, 0).r;
     // Fades out over the last quarter below the cutoff.
     let fade = clamp((params.max_roughness - s.r) / (0.25 * params.max_roughness), 0.0, 1.0);
     let base = vec3<f32>(srgb_decode(g0.r), srgb_decode(g0.g), srgb_decode(g0.b));
     let n_dot_v = max(dot(s.n, s.v), MIN_N_DOT_V);
-    let f0 = compute_f0(base, g1.a, g2.a);
+    let f0 = compute_f0(base, g1.a, level);
     let dfg = textureSampleLevel(brdf_lut, env_sampler, vec2<f32>(n_dot_v, s.r), 0.0).rg;
     var energy = vec3<f32>(1.0);
     if ENERGY_COMPENSATION {

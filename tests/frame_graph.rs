@@ -248,3 +248,57 @@ fn a_read_no_pass_writes_and_a_taken_name_are_refused() {
     let after = app.render_headless(SIZE).expect("frame").plan;
     assert_eq!(after.passes.len(), before.passes.len() + 1);
 }
+
+/// The resource line of `explain` that holds `slots` (its slot list, exactly).
+fn resource_line<'a>(explain: &'a str, slots: &str) -> Option<&'a str> {
+    explain
+        .lines()
+        .find(|l| l.trim_end().ends_with(&format!("MiB  {slots}")))
+}
+
+/// The reflection pass reads the specular level from a target of its own, so lighting is
+/// G-buffer 2's last reader and the reflections' copy of the lit frame takes its memory;
+/// a frame without reflections has neither the target nor the sharing.
+#[test]
+fn the_reflections_copy_of_the_lit_frame_takes_gbuffer2s_memory() {
+    let mut app = common::app_with("spheres");
+    let with = app.render_headless(SIZE).expect("frame").plan;
+    assert!(with.runs(PassId::Reflections), "{}", with.explain());
+    let explain = with.explain();
+    assert!(
+        resource_line(
+            &explain,
+            "gbuffer2 emissive + specular level, ssr lit frame"
+        )
+        .is_some(),
+        "{explain}"
+    );
+    let level = resource_line(&explain, "specular level").expect("the level's target");
+    assert!(level.contains("R16Float 64x48"), "{level}");
+    // The copy (64×48 Rgba16Float, 8 bytes a texel) is one of the shared textures.
+    let memory = with.memory();
+    assert!(
+        memory.texture_bytes_unaliased - memory.texture_bytes >= 64 * 48 * 8,
+        "{memory:?}"
+    );
+
+    app.world_mut()
+        .resource_mut::<lumen::quality::Quality>()
+        .ssr
+        .enabled = false;
+    let without = app.render_headless(SIZE).expect("frame").plan;
+    let explain = without.explain();
+    assert!(!without.runs(PassId::Reflections));
+    assert!(
+        resource_line(&explain, "specular level").is_none(),
+        "{explain}"
+    );
+    assert!(
+        resource_line(&explain, "gbuffer2 emissive + specular level").is_some(),
+        "{explain}"
+    );
+    assert!(
+        explain.contains("specular level target  off only screen-space reflections read it"),
+        "{explain}"
+    );
+}

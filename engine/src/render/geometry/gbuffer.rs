@@ -16,11 +16,13 @@ use crate::render::geometry::deform_pass::DeformedVertices;
 use crate::render::geometry::gpu_material_maps::GpuMaterialMaps;
 use crate::render::graph::slots::DEFORMED_VERTICES;
 use crate::render::graph::slots::{
-    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, MOTION, MOTION_FORMAT,
+    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, GBUFFER_SPECULAR_LEVEL, MOTION,
+    MOTION_FORMAT, SPECULAR_LEVEL_FORMAT,
 };
 use crate::render::graph::{
     Decision, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
+use crate::render::indirect::depth_pyramid::reflections_skip_reason;
 use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::create_module;
@@ -64,6 +66,9 @@ pub struct GBufferVariants {
     pub specular_aa: bool,
     /// Motion vectors are written (every variant).
     pub motion: bool,
+    /// The specular level is written to its own target for the reflection pass (every
+    /// variant).
+    pub specular_level: bool,
 }
 
 impl FramePass for GBufferPass {
@@ -71,7 +76,7 @@ impl FramePass for GBufferPass {
     const CAPTURE: bool = true;
     const READS: &'static [Slot] = &[DEFORMED_VERTICES];
     const WRITES: &'static [Slot] = &[GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_EMISSIVE, DEPTH];
-    const OPTIONAL_WRITES: &'static [Slot] = &[MOTION];
+    const OPTIONAL_WRITES: &'static [Slot] = &[MOTION, GBUFFER_SPECULAR_LEVEL];
     type Variant = GBufferVariants;
 
     fn create(world: &mut World, gpu: &Gpu) -> Result<Self> {
@@ -84,16 +89,19 @@ impl FramePass for GBufferPass {
         let aa = &world.resource::<crate::quality::Quality>().aa;
         let specular_aa = aa.specular.enabled;
         // Probe captures have no previous frame: only the frame itself writes motion.
-        let motion =
-            aa.temporal() && !world.contains_resource::<crate::render::frame::CaptureView>();
+        let capture = world.contains_resource::<crate::render::frame::CaptureView>();
+        let motion = aa.temporal() && !capture;
+        // The reflection pass decides from the same function; captures do not reflect.
+        let specular_level = !capture && reflections_skip_reason(world).is_none();
         let mut variants = GBufferVariants {
             variants: Vec::new(),
             specular_aa,
             motion,
+            specular_level,
         };
         for v in frame
             .drawn_batches()
-            .map(|b| variant(b, specular_aa, motion))
+            .map(|b| variant(b, specular_aa, motion, specular_level))
         {
             if !variants.variants.contains(&v) {
                 variants.variants.push(v);
@@ -111,7 +119,9 @@ impl FramePass for GBufferPass {
         } else {
             "no mesh in view: the G-buffer stays cleared".into()
         };
-        let mut decision = PassDecision::new(visible > 0, reason, variants).writing(MOTION, motion);
+        let mut decision = PassDecision::new(visible > 0, reason, variants)
+            .writing(MOTION, motion)
+            .writing(GBUFFER_SPECULAR_LEVEL, specular_level);
         decision.features.push(Decision::new(
             "motion vectors",
             motion,
@@ -122,6 +132,15 @@ impl FramePass for GBufferPass {
                 )
             } else {
                 "only temporal anti-aliasing reads them".into()
+            },
+        ));
+        decision.features.push(Decision::new(
+            "specular level target",
+            specular_level,
+            if specular_level {
+                "screen-space reflections read it (so G-buffer 2 is free after lighting)"
+            } else {
+                "only screen-space reflections read it"
             },
         ));
         decision.features.push(Decision::new(
@@ -200,8 +219,10 @@ pub struct GBufferVariant {
     pub double_sided: bool,
     /// Geometric specular anti-aliasing (the shader constant `SPECULAR_AA`).
     pub specular_aa: bool,
-    /// Motion vectors as a fourth target (the `*_motion` entry points, with group 2).
+    /// Motion vectors as the fifth target (the `*_motion` entry points, with group 2).
     pub motion: bool,
+    /// The specular level target as the fourth (without it, that output is discarded).
+    pub specular_level: bool,
 }
 
 /// What the motion variants bind: the matrices, the previous transforms and their group,
@@ -296,6 +317,7 @@ impl GBufferPass {
                 double_sided: false,
                 specular_aa: crate::quality::SpecularAaSettings::default().enabled,
                 motion: false,
+                specular_level: crate::quality::SsrSettings::default().enabled,
             },
         )?;
         Ok(pass)
@@ -367,6 +389,7 @@ fn compile(
         target(targets::GBUFFER0_FORMAT),
         target(targets::GBUFFER1_FORMAT),
         target(targets::GBUFFER2_FORMAT),
+        target(SPECULAR_LEVEL_FORMAT).filter(|_| variant.specular_level),
     ];
     if variant.motion {
         color_targets.push(target(MOTION_FORMAT));
@@ -412,12 +435,13 @@ fn compile(
 }
 
 /// The variant that draws `batch`.
-fn variant(batch: &Batch, specular_aa: bool, motion: bool) -> GBufferVariant {
+fn variant(batch: &Batch, specular_aa: bool, motion: bool, specular_level: bool) -> GBufferVariant {
     GBufferVariant {
         textured: batch.textured,
         double_sided: batch.double_sided,
         specular_aa,
         motion,
+        specular_level,
     }
 }
 
@@ -512,6 +536,7 @@ pub fn gbuffer_pass(
     let Some(&GBufferVariants {
         specular_aa,
         motion,
+        specular_level,
         ..
     }) = r.plan.variant::<GBufferPass>()
     else {
@@ -536,12 +561,19 @@ pub fn gbuffer_pass(
         (true, Some(view), Some(group)) => Some((view, group)),
         (true, _, _) => return,
     };
+    // The specular level's target, where the reflection pass reads it.
+    let level = match (specular_level, t.view(GBUFFER_SPECULAR_LEVEL)) {
+        (false, _) => None,
+        (true, Some(view)) => Some(view),
+        (true, None) => return,
+    };
     let scope = timer.begin_pass(PassId::GBuffer);
     {
         let mut attachments = vec![
             cleared_color(base_color),
             cleared_color(normal),
             cleared_color(emissive),
+            level.and_then(cleared_color),
         ];
         attachments.extend(motion.map(|(view, _)| cleared_color(view)));
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -582,7 +614,7 @@ pub fn gbuffer_pass(
                 rp.set_bind_group(2, group, &[]);
                 motion_group = Some(batch.deformed);
             }
-            let v = variant(batch, specular_aa, motion.is_some());
+            let v = variant(batch, specular_aa, motion.is_some(), specular_level);
             let Some(pipeline) = r.pass.pipelines.get(&v) else {
                 continue;
             };

@@ -12,6 +12,9 @@ pub const GBUFFER0_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm
 pub const GBUFFER1_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// G-buffer target 2: pre-exposed emissive and specular level.
 pub const GBUFFER2_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// The specular level alone, for the reflection pass: the same f16 as G-buffer target 2's
+/// alpha (negative marks an unlit surface).
+pub const SPECULAR_LEVEL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 /// Motion vectors: two f16 channels of pixels (0.03 px steps up to 64 px).
 pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 /// Depth, reversed Z.
@@ -31,6 +34,14 @@ pub const GBUFFER_NORMAL: Slot = Slot::texture(
 pub const GBUFFER_EMISSIVE: Slot = Slot::texture(
     "gbuffer2 emissive + specular level",
     TextureDesc::full(TargetFormat::Fixed(GBUFFER2_FORMAT)),
+);
+/// The specular level of every surface the G-buffer drew (r; negative marks an unlit
+/// surface), a copy of [`GBUFFER_EMISSIVE`]'s alpha written beside it while the reflection
+/// pass runs. The reflection pass reads it instead of G-buffer 2, so G-buffer 2's memory is
+/// free after lighting, for the reflection pass's copy of the lit frame.
+pub const GBUFFER_SPECULAR_LEVEL: Slot = Slot::texture(
+    "specular level",
+    TextureDesc::full(TargetFormat::Fixed(SPECULAR_LEVEL_FORMAT)),
 );
 /// Screen motion in pixels since the previous frame (rg, y down), without jitter, of
 /// every surface the G-buffer drew; 0 on the background. Written only while TAA runs.

@@ -18,7 +18,7 @@ use crate::render::extract::ExtractedFrame;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::{
-    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_EMISSIVE, GBUFFER_NORMAL, HDR,
+    DEPTH, GBUFFER_BASE_COLOR, GBUFFER_NORMAL, GBUFFER_SPECULAR_LEVEL, HDR,
 };
 use crate::render::graph::{
     Decision, Extent, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing,
@@ -99,7 +99,7 @@ impl FramePass for SsrPass {
         DEPTH,
         GBUFFER_BASE_COLOR,
         GBUFFER_NORMAL,
-        GBUFFER_EMISSIVE,
+        GBUFFER_SPECULAR_LEVEL,
         DEPTH_PYRAMID,
         DEPTH_PYRAMID_LAYOUT,
         AMBIENT_OCCLUSION,
@@ -405,12 +405,12 @@ pub fn prepare_ssr(mut p: Prepare<SsrPass>, inputs: SsrInputs) -> Result<()> {
     p.gpu
         .queue
         .write_buffer(&p.pass.params, 0, bytemuck::bytes_of(&params));
-    let (Some([depth, g0, g1, g2, color, half]), Some(pyramid), Some(layout)) = (
+    let (Some([depth, g0, g1, level, color, half]), Some(pyramid), Some(layout)) = (
         t.views([
             DEPTH,
             GBUFFER_BASE_COLOR,
             GBUFFER_NORMAL,
-            GBUFFER_EMISSIVE,
+            GBUFFER_SPECULAR_LEVEL,
             SSR_COLOR,
             SSR_HALF_HITS,
         ]),
@@ -436,7 +436,7 @@ pub fn prepare_ssr(mut p: Prepare<SsrPass>, inputs: SsrInputs) -> Result<()> {
             TextureView(depth),
             TextureView(g0),
             TextureView(g1),
-            TextureView(g2),
+            TextureView(level),
             pyramid.as_entire_binding(),
             TextureView(color),
             layout.as_entire_binding(),
