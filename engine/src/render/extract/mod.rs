@@ -11,6 +11,9 @@
 //! 4. [`lights`]: the lights, in the order the lighting shader loops over them;
 //! 5. [`environment_light`]: the environment.
 //!
+//! [`reflecting`] is no system: it says whether the frame has screen-space reflections to
+//! trace, for the passes of several stages that take part in them.
+//!
 //! Each writes its part of [`ExtractedFrame`]; what a later one needs of an earlier one
 //! beyond that travels in [`Viewpoint`], [`InstanceSpheres`] and [`LightShadows`].
 //! Skinned and morphed instances are gathered by [`deformed`].
@@ -23,6 +26,7 @@ pub mod environment_light;
 pub mod extracted_frame;
 pub mod instances;
 pub mod lights;
+pub mod reflecting;
 pub mod shadow_casting;
 pub mod shadow_views;
 pub mod values;

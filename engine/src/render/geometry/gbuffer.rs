@@ -10,6 +10,7 @@ use crate::quality::knob::Value;
 use crate::quality::knobs::SPECULAR_AA;
 use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
+use crate::render::extract::reflecting::reflections_skip_reason;
 use crate::render::extract::{Batch, ExtractedFrame};
 use crate::render::frame::FrameEncoder;
 use crate::render::geometry::deform_pass::DeformedVertices;
@@ -22,7 +23,6 @@ use crate::render::graph::slots::{
 use crate::render::graph::{
     Decision, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Slot,
 };
-use crate::render::indirect::depth_pyramid::reflections_skip_reason;
 use crate::render::pass_params::{Prepare, Record};
 use crate::render::pipeline_cache::{PipelineCache, ShaderVariant};
 use crate::render::pipelines::create_module;

@@ -15,12 +15,9 @@
 //! [`reflections_skip_reason`]).
 
 use crate::error::Result;
-use crate::quality::Quality;
-use crate::quality::knob::Value;
-use crate::quality::knobs::SSR;
 use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
-use crate::render::extract::ExtractedFrame;
+use crate::render::extract::reflecting::reflections_skip_reason;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{
@@ -210,49 +207,6 @@ impl DepthPyramidPass {
         self.pipelines = Some([entry("cs_first")?, entry("cs_build")?]);
         Ok(())
     }
-}
-
-/// Why screen-space reflections, the pyramid's only user, are not traced this frame, if
-/// they are not ([`crate::render::indirect::reflections`] decides with it too).
-pub fn reflections_skip_reason(world: &World) -> Option<String> {
-    let ssr = world.resource::<Quality>().ssr;
-    let frame = world.resource::<ExtractedFrame>();
-    if !ssr.enabled {
-        return Some(format!(
-            "screen-space reflections are off ({})",
-            SSR.setting(Value::Bool(false))
-        ));
-    }
-    if frame.instances.is_empty() {
-        return Some("nothing is drawn".into());
-    }
-    // A roughness map can only lower a material's roughness factor; maps without one
-    // (the neutral maps of forward-drawn materials) leave it as it is.
-    let smoothest = frame
-        .instances
-        .iter()
-        .map(|i| i.params[1])
-        .fold(f32::INFINITY, f32::min);
-    let factors_only = frame
-        .material_maps
-        .iter()
-        .all(|m| m.maps.metallic_roughness.is_none());
-    if factors_only && smoothest > ssr.max_roughness {
-        return Some(format!(
-            "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
-            ssr.max_roughness
-        ));
-    }
-    let gpu = world.resource::<Gpu>();
-    if !gpu
-        .adapter
-        .get_downlevel_capabilities()
-        .flags
-        .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
-    {
-        return Some("the adapter has no compute shaders to build the depth pyramid".into());
-    }
-    None
 }
 
 /// Writes the levels' layout and makes (or keeps) the groups that build each level.

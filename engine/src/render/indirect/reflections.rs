@@ -15,6 +15,7 @@ use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
+use crate::render::extract::reflecting::reflections_skip_reason;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::{
@@ -24,9 +25,7 @@ use crate::render::graph::{
     Decision, Extent, FactId, FramePass, FramePlan, PassDecision, PassId, ShaderBuild, Sizing,
     Slot, TargetFormat, TextureDesc,
 };
-use crate::render::indirect::depth_pyramid::{
-    DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT, reflections_skip_reason,
-};
+use crate::render::indirect::depth_pyramid::{DEPTH_PYRAMID, DEPTH_PYRAMID_LAYOUT};
 use crate::render::indirect::gtao::SCREEN_AO;
 use crate::render::indirect::light_groups::LightGroups;
 use crate::render::indirect::reflection_probes::ReflectionProbesGpu;

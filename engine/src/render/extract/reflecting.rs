@@ -1,0 +1,55 @@
+//! Whether the frame has screen-space reflections to trace, decided once for the passes
+//! of several stages that take part in them: the G-buffer (which writes the specular level
+//! they read), the depth pyramid and the reflection pass. It lives here, beside the
+//! extracted frame it reads, so that no stage imports another for it.
+
+use crate::quality::Quality;
+use crate::quality::knob::Value;
+use crate::quality::knobs::SSR;
+use crate::render::device::Gpu;
+use crate::render::extract::ExtractedFrame;
+use bevy_ecs::prelude::*;
+
+/// Why screen-space reflections are not traced this frame, if they are not: the reflection
+/// pass's run condition, which the passes that serve it decide with too (the G-buffer's
+/// specular level target, the depth pyramid).
+pub fn reflections_skip_reason(world: &World) -> Option<String> {
+    let ssr = world.resource::<Quality>().ssr;
+    let frame = world.resource::<ExtractedFrame>();
+    if !ssr.enabled {
+        return Some(format!(
+            "screen-space reflections are off ({})",
+            SSR.setting(Value::Bool(false))
+        ));
+    }
+    if frame.instances.is_empty() {
+        return Some("nothing is drawn".into());
+    }
+    // A roughness map can only lower a material's roughness factor; maps without one
+    // (the neutral maps of forward-drawn materials) leave it as it is.
+    let smoothest = frame
+        .instances
+        .iter()
+        .map(|i| i.params[1])
+        .fold(f32::INFINITY, f32::min);
+    let factors_only = frame
+        .material_maps
+        .iter()
+        .all(|m| m.maps.metallic_roughness.is_none());
+    if factors_only && smoothest > ssr.max_roughness {
+        return Some(format!(
+            "no surface smoother than the cutoff (roughness {:.2}; the smoothest is {smoothest:.2})",
+            ssr.max_roughness
+        ));
+    }
+    let gpu = world.resource::<Gpu>();
+    if !gpu
+        .adapter
+        .get_downlevel_capabilities()
+        .flags
+        .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
+    {
+        return Some("the adapter has no compute shaders to build the depth pyramid".into());
+    }
+    None
+}
