@@ -67,8 +67,10 @@ struct Declaration {
     ty: String,
 }
 
-/// The declarations of one line, if it is one.
+/// The declaration of one line, if it is one (written on one line, `@group` first; a `//`
+/// comment is not read).
 fn declaration(line: &str) -> Option<Declaration> {
+    let line = line.split("//").next()?;
     let inner = |text: &str, open: &str| -> Option<(String, usize)> {
         let start = text.find(open)? + open.len();
         let end = start + text[start..].find(')')?;
@@ -113,7 +115,9 @@ fn with_imports<'a>(stem: &str, sources: &'a [(String, String)], out: &mut Vec<&
 }
 
 /// Whether `text` passes `name` to a sampling or gathering function as its texture: the
-/// first argument, or the second after a gather's component.
+/// first argument, or the second after a gather's component. A texture sampled only
+/// through a function's parameter is not seen here; `tests/bindings.rs`, which reads
+/// naga's validation of each composed shader, fails on it.
 fn sampled(text: &str, name: &str) -> bool {
     ["textureSample", "textureGather"].iter().any(|function| {
         text.match_indices(function).any(|(at, _)| {

@@ -8,6 +8,8 @@
 //   depth    Depth32Float   : reversed Z
 //   motion   Rg16Float      : screen motion (px) since the previous frame, without jitter
 //                             (the `*_motion` entry points, only while TAA runs)
+//   level    R16Float       : gbuffer2's alpha again, for the reflection pass (only while
+//                             screen-space reflections run; after motion when both do)
 // Header constant: SPECULAR_AA (geometric specular anti-aliasing widens the stored
 // roughness where the normal varies across the pixel, and where a normal-map texel
 // averages diverging normals).
@@ -52,8 +54,9 @@ fn plain_vertex(in: VertexInput, inst: InstanceInput) -> VertexOutput {
     return out;
 }
 
-// Target 3 repeats target 2's alpha, the specular level, for the reflection pass (its
-// target is absent, and the output discarded, in frames without reflections).
+// The last output repeats target 2's alpha, the specular level, for the reflection pass
+// (location 3 here, 4 after the motion vectors); in frames without reflections it has no
+// target and is discarded.
 struct GBufferOutput {
     @location(0) base_color_ao: vec4<f32>,
     @location(1) normal_roughness_metallic: vec4<f32>,
@@ -139,7 +142,7 @@ fn textured_gbuffer(in: TexturedOutput, front: bool) -> GBufferOutput {
     return out;
 }
 
-// ---- Motion vectors: the same variants, writing a fifth target (only while TAA runs) ----
+// ---- Motion vectors: the same variants, writing a fourth target (only while TAA runs) ----
 // Each vertex's clip position through this frame's and the previous frame's unjittered
 // camera, the previous one from the instance's previous transform (indexed by the
 // instance, like the instance attributes). Every fragment that wins the depth test writes
@@ -188,13 +191,13 @@ struct MotionGBufferOutput {
     @location(0) base_color_ao: vec4<f32>,
     @location(1) normal_roughness_metallic: vec4<f32>,
     @location(2) emissive_specular: vec4<f32>,
-    @location(3) specular_level: f32,
-    @location(4) motion: vec4<f32>,
+    @location(3) motion: vec4<f32>,
+    @location(4) specular_level: f32,
 }
 
 fn with_motion(g: GBufferOutput, m: MotionVarying) -> MotionGBufferOutput {
     return MotionGBufferOutput(g.base_color_ao, g.normal_roughness_metallic, g.emissive_specular,
-                               g.specular_level, vec4<f32>(screen_motion(m.now, m.before), 0.0, 0.0));
+                               vec4<f32>(screen_motion(m.now, m.before), 0.0, 0.0), g.specular_level);
 }
 
 struct MotionVertexOutput {

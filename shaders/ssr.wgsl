@@ -186,7 +186,8 @@ fn trace(p: vec3<f32>, l: vec3<f32>) -> vec3<f32> {
 // position p (m) and perceptual roughness r. `traced` is false where the pixel is
 // background, too rough, unlit or saturated (a pixel clamped to the f16 maximum no longer
 // holds the term to replace): such a pixel keeps the lit frame. It reads no more than the
-// depth and two G-buffer texels, so that the trace can tell early which pixels it skips.
+// depth, the normals' G-buffer texel and the specular level's, so that the trace can tell
+// early which pixels it skips.
 struct Reflector {
     n: vec3<f32>,
     v: vec3<f32>,

@@ -2,9 +2,10 @@
 //! listed name is declared at its group and index with the listed kind, and nothing else
 //! is bound in those groups. The lists come from the build script's reading of the WGSL
 //! declarations (`bindings::declared`); this test derives the same facts independently,
-//! from naga's IR of every composed variant (a float texture is `Sampled` where some
-//! `textureSample*`/`textureGather*` expression takes it, else `TextureLoad`), so a
-//! mistake in either reading, or a list cut or chosen wrongly, fails here. Each build
+//! from naga's IR of every composed variant (a float texture is `Sampled` where naga's
+//! validator finds it sampled or gathered, through function parameters too, else
+//! `TextureLoad`), so a mistake in the build script's reading, or a list cut or chosen
+//! wrongly, fails here. Each build
 //! checked also passes naga's validation.
 //!
 //! The builds come from the registry: every built-in pass lists its shader builds
@@ -31,24 +32,36 @@ fn comparable(kind: Binding) -> Binding {
 }
 
 /// The global variables some sampling or gathering expression of `module` takes as its
-/// texture.
+/// texture: directly, in any function (called by this entry point or not: a shared group
+/// is declared for every shader that imports it), or through a function's parameter, as
+/// naga's validator resolves the (texture, sampler) pairs of each entry point's calls.
 fn sampled_globals(module: &naga::Module) -> BTreeSet<naga::Handle<naga::GlobalVariable>> {
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(module)
+    .unwrap_or_else(|e| panic!("naga validation: {e:?}"));
+    let through_calls = (0..module.entry_points.len())
+        .flat_map(|i| info.get_entry_point(i).sampling_set.iter())
+        .map(|key| key.image);
     let functions = module
         .functions
         .iter()
         .map(|(_, f)| f)
         .chain(module.entry_points.iter().map(|e| &e.function));
-    let mut out = BTreeSet::new();
-    for function in functions {
-        for (_, expression) in function.expressions.iter() {
-            if let naga::Expression::ImageSample { image, .. } = expression
-                && let naga::Expression::GlobalVariable(global) = function.expressions[*image]
-            {
-                out.insert(global);
+    let direct = functions.flat_map(|function| {
+        function.expressions.iter().filter_map(|(_, expression)| {
+            let naga::Expression::ImageSample { image, .. } = expression else {
+                return None;
+            };
+            match function.expressions[*image] {
+                naga::Expression::GlobalVariable(global) => Some(global),
+                _ => None,
             }
-        }
-    }
-    out
+        })
+    });
+    through_calls.chain(direct).collect()
 }
 
 /// The kind of binding naga's IR gives global `handle`.
@@ -246,5 +259,38 @@ fn a_wrong_list_does_not_match_its_shader() {
 #[test]
 fn the_ao_trace_binds_the_resolve_steps_bindings_but_its_input() {
     use lumen::render::indirect::gtao::{RESOLVE, TRACE};
-    assert_eq!(TRACE.bindings, &RESOLVE.bindings[..4]);
+    // The input the trace writes is the resolve step's last binding in the WGSL, so the
+    // trace's leading part of the list leaves out exactly it.
+    let declared = declared(
+        "gtao.wgsl",
+        &[
+            ShaderDef::U32("SLICES", 2),
+            ShaderDef::U32("STEPS", 3),
+            ShaderDef::Bool("DENOISE", true),
+        ],
+        &[0],
+    );
+    let last = declared.last().expect("gtao.wgsl binds group 0");
+    assert_eq!((last.1, last.2.as_str()), (4, "raw_ao"));
+    assert_eq!(TRACE.bindings.len(), RESOLVE.bindings.len() - 1);
+    assert!(TRACE.bindings.iter().all(|(name, _)| *name != "raw_ao"));
+}
+
+#[test]
+fn a_texture_sampled_only_through_a_parameter_counts_as_sampled() {
+    let source = "
+        @group(0) @binding(0) var t: texture_2d<f32>;
+        @group(0) @binding(1) var s: sampler;
+        fn look(x: texture_2d<f32>) -> vec4<f32> {
+            return textureSampleLevel(x, s, vec2<f32>(0.5), 0.0);
+        }
+        @fragment fn fs() -> @location(0) vec4<f32> { return look(t); }
+    ";
+    let module = naga::front::wgsl::parse_str(source).expect("the WGSL parses");
+    let (t, _) = module
+        .global_variables
+        .iter()
+        .find(|(_, v)| v.name.as_deref() == Some("t"))
+        .expect("t is declared");
+    assert!(sampled_globals(&module).contains(&t));
 }

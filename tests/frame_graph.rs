@@ -11,7 +11,7 @@ use bevy_ecs::system::ScheduleSystem;
 use lumen::App;
 use lumen::render::device::Gpu;
 use lumen::render::frame::FrameEncoder;
-use lumen::render::graph::slots::HDR;
+use lumen::render::graph::slots::{GBUFFER_SPECULAR_LEVEL, HDR};
 use lumen::render::graph::{FramePass, FramePlan, PassDecision, PassId, Slot};
 use lumen::render::targets::RenderTargets;
 
@@ -275,6 +275,12 @@ fn the_reflections_copy_of_the_lit_frame_takes_gbuffer2s_memory() {
     );
     let level = resource_line(&explain, "specular level").expect("the level's target");
     assert!(level.contains("R16Float 64x48"), "{level}");
+    let life = with
+        .lifetimes
+        .iter()
+        .find(|l| l.slot == GBUFFER_SPECULAR_LEVEL)
+        .expect("the level has a lifetime");
+    assert_eq!((life.first.name(), life.last.name()), ("gbuffer", "ssr"));
     // The copy (64×48 Rgba16Float, 8 bytes a texel) is one of the shared textures.
     let memory = with.memory();
     assert!(
@@ -290,7 +296,10 @@ fn the_reflections_copy_of_the_lit_frame_takes_gbuffer2s_memory() {
     let explain = without.explain();
     assert!(!without.runs(PassId::Reflections));
     assert!(
-        resource_line(&explain, "specular level").is_none(),
+        without
+            .lifetimes
+            .iter()
+            .all(|l| l.slot != GBUFFER_SPECULAR_LEVEL),
         "{explain}"
     );
     assert!(

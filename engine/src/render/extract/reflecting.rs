@@ -14,7 +14,8 @@ use bevy_ecs::prelude::*;
 /// pass's run condition, which the passes that serve it decide with too (the G-buffer's
 /// specular level target, the depth pyramid).
 pub fn reflections_skip_reason(world: &World) -> Option<String> {
-    let ssr = world.resource::<Quality>().ssr;
+    let quality = world.resource::<Quality>();
+    let ssr = quality.ssr;
     let frame = world.resource::<ExtractedFrame>();
     if !ssr.enabled {
         return Some(format!(
@@ -50,6 +51,14 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
         .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS)
     {
         return Some("the adapter has no compute shaders to build the depth pyramid".into());
+    }
+    // The G-buffer's three targets, the motion vectors and the specular level.
+    if quality.aa.temporal() && gpu.device.limits().max_color_attachments < 5 {
+        return Some(
+            "the adapter draws to fewer than 5 targets at once: the G-buffer's 3, the motion \
+             vectors and the specular level the reflections read"
+                .into(),
+        );
     }
     None
 }

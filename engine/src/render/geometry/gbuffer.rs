@@ -2,7 +2,10 @@
 //! metallic, emissive + specular level, and depth (layout in `shaders/gbuffer.wgsl`);
 //! while temporal anti-aliasing runs, also each surface's screen motion since the previous
 //! frame (the optional write [`MOTION`]), from the camera's previous unjittered matrix and
-//! each instance's previous transform, which extraction keeps.
+//! each instance's previous transform, which extraction keeps; while screen-space
+//! reflections run, also the specular level on its own (the optional write
+//! [`GBUFFER_SPECULAR_LEVEL`], after the motion vectors when both are written), which the
+//! reflection pass reads instead of G-buffer 2.
 
 use crate::choice::Choice;
 use crate::error::Result;
@@ -219,9 +222,9 @@ pub struct GBufferVariant {
     pub double_sided: bool,
     /// Geometric specular anti-aliasing (the shader constant `SPECULAR_AA`).
     pub specular_aa: bool,
-    /// Motion vectors as the fifth target (the `*_motion` entry points, with group 2).
+    /// Motion vectors as the fourth target (the `*_motion` entry points, with group 2).
     pub motion: bool,
-    /// The specular level target as the fourth (without it, that output is discarded).
+    /// The specular level's target after them (without it, that output is discarded).
     pub specular_level: bool,
 }
 
@@ -389,10 +392,12 @@ fn compile(
         target(targets::GBUFFER0_FORMAT),
         target(targets::GBUFFER1_FORMAT),
         target(targets::GBUFFER2_FORMAT),
-        target(SPECULAR_LEVEL_FORMAT).filter(|_| variant.specular_level),
     ];
     if variant.motion {
         color_targets.push(target(MOTION_FORMAT));
+    }
+    if variant.specular_level {
+        color_targets.push(target(SPECULAR_LEVEL_FORMAT));
     }
     gpu.checked("gbuffer pipeline", |device| {
         device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -573,9 +578,9 @@ pub fn gbuffer_pass(
             cleared_color(base_color),
             cleared_color(normal),
             cleared_color(emissive),
-            level.and_then(cleared_color),
         ];
         attachments.extend(motion.map(|(view, _)| cleared_color(view)));
+        attachments.extend(level.map(cleared_color));
         let mut rp = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("gbuffer"),
             color_attachments: &attachments,

@@ -63,6 +63,8 @@ pub fn probe_bindings<'a>(
 
 /// The bindings of the bake of the records into the atlases.
 pub const BAKE: BindGroupSpec = BindGroupSpec::compute("probe bake", declared::PROBE_BAKE_0);
+// `probe_bake.wgsl` declares the atlases it writes `rgba16float`, and BAKE comes from it.
+const _: () = assert!(matches!(ATLAS_FORMAT, wgpu::TextureFormat::Rgba16Float));
 
 /// The bindings of the reduction of one captured face.
 pub const CAPTURE: BindGroupSpec =

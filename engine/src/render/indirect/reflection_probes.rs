@@ -22,6 +22,13 @@ use glam::Vec3;
 /// Probes the passes bind at once.
 pub const MAX_REFLECTION_PROBES: usize = 2;
 
+// `reflection_capture.wgsl` declares the strip it writes `rgba16float`, and FACE_COPY
+// comes from it.
+const _: () = assert!(matches!(
+    crate::render::indirect::environment_maps::CUBE_FORMAT,
+    wgpu::TextureFormat::Rgba16Float
+));
+
 /// The bindings of the copy of one captured face into the strip.
 pub const FACE_COPY: BindGroupSpec =
     BindGroupSpec::compute("reflection capture", declared::REFLECTION_CAPTURE_0);

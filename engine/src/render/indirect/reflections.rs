@@ -131,7 +131,12 @@ impl FramePass for SsrPass {
             format: quality.hdr_precision.format(),
             half: ssr.half_resolution,
         };
-        let skip = reflections_skip_reason(world);
+        // The G-buffer decides from the same function; checked, so that a condition added
+        // here alone cannot make the pass read a level nobody wrote.
+        let skip = reflections_skip_reason(world).or_else(|| {
+            (!plan.writes_optional(PassId::GBuffer, GBUFFER_SPECULAR_LEVEL))
+                .then(|| "the G-buffer did not write the specular level".to_string())
+        });
         let reason = skip.clone().unwrap_or_else(|| {
             format!(
                 "{} ray(s) per {}, {} steps, roughness ≤ {:.2}, thickness {:.2} m",

@@ -62,23 +62,12 @@ impl PassId {
 /// Group 0: the view, the opaque frame's mip chain, the anisotropic lobe's split-sum
 /// table (binding 2, as in the layers pass: `shaders/anisotropic_dfg.wgsl`), the
 /// chain's sampler and the sheen's albedo table (`shaders/sheen_table.wgsl`).
-pub const VIEW: crate::render::bindings::BindGroupSpec = crate::render::bindings::BindGroupSpec {
-    label: "transparent",
-    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-    bindings: &[
-        ("view", crate::render::bindings::Binding::Uniform),
-        (
-            "opaque_frame",
-            crate::render::bindings::Binding::Sampled(wgpu::TextureViewDimension::D2),
-        ),
-        (
-            "anisotropic_dfg_table",
-            crate::render::bindings::Binding::Storage,
-        ),
-        ("opaque_sampler", crate::render::bindings::Binding::Sampler),
-        ("sheen_table", crate::render::bindings::Binding::Uniform),
-    ],
-};
+pub const VIEW: crate::render::bindings::BindGroupSpec =
+    crate::render::bindings::BindGroupSpec::new(
+        "transparent",
+        wgpu::ShaderStages::VERTEX_FRAGMENT,
+        crate::render::bindings::declared::TRANSPARENT_0,
+    );
 
 /// What a blended batch draws besides the lit base, from its maps entry: each is a
 /// shader variant of the pass.
