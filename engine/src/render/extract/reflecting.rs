@@ -1,13 +1,18 @@
-//! Whether the frame has screen-space reflections to trace, decided once for the passes
-//! of several stages that take part in them: the G-buffer (which writes the specular level
-//! they read), the depth pyramid and the reflection pass. It lives here, beside the
-//! extracted frame it reads, so that no stage imports another for it.
+//! Whether the frame has screen-space reflections to trace, for the passes of several
+//! stages that take part in them. The G-buffer, the first of them, decides with
+//! [`reflections_skip_reason`] (and writes the specular level the reflections read only
+//! when they run); the depth pyramid and the reflection pass follow its decision
+//! ([`skip_after_gbuffer`]), so the condition is computed once a frame while reflections
+//! run. It lives here, beside the extracted frame it reads, so that no stage imports
+//! another for it.
 
 use crate::quality::Quality;
 use crate::quality::knob::Value;
 use crate::quality::knobs::SSR;
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
+use crate::render::graph::slots::GBUFFER_SPECULAR_LEVEL;
+use crate::render::graph::{FramePlan, PassId};
 use bevy_ecs::prelude::*;
 
 /// Why screen-space reflections are not traced this frame, if they are not: the reflection
@@ -61,4 +66,17 @@ pub fn reflections_skip_reason(world: &World) -> Option<String> {
         );
     }
     None
+}
+
+/// Why the passes after the G-buffer do not serve reflections this frame, if they do not:
+/// they run exactly where the G-buffer wrote the specular level (its decision, made with
+/// [`reflections_skip_reason`]), and only a skip computes the reason again.
+pub fn skip_after_gbuffer(world: &World, plan: &FramePlan) -> Option<String> {
+    if plan.writes_optional(PassId::GBuffer, GBUFFER_SPECULAR_LEVEL) {
+        return None;
+    }
+    Some(
+        reflections_skip_reason(world)
+            .unwrap_or_else(|| "the G-buffer did not write the specular level".into()),
+    )
 }

@@ -94,7 +94,8 @@ impl FramePass for GBufferPass {
         // Probe captures have no previous frame: only the frame itself writes motion.
         let capture = world.contains_resource::<crate::render::frame::CaptureView>();
         let motion = aa.temporal() && !capture;
-        // The reflection pass decides from the same function; captures do not reflect.
+        // The reflections run exactly where this writes the level (the depth pyramid and the
+        // reflection pass follow this decision); captures do not reflect.
         let specular_level = !capture && reflections_skip_reason(world).is_none();
         let mut variants = GBufferVariants {
             variants: Vec::new(),

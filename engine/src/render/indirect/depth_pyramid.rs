@@ -12,12 +12,13 @@
 //! texture as 0.
 //!
 //! It runs only when screen-space reflections do (the same conditions,
-//! [`reflections_skip_reason`]).
+//! [`crate::render::extract::reflecting::skip_after_gbuffer`], which follows the G-buffer's
+//! decision).
 
 use crate::error::Result;
 use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
-use crate::render::extract::reflecting::reflections_skip_reason;
+use crate::render::extract::reflecting::skip_after_gbuffer;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::DEPTH;
 use crate::render::graph::{
@@ -125,13 +126,13 @@ impl FramePass for DepthPyramidPass {
         Ok(DepthPyramidPass::new(gpu))
     }
 
-    fn decide(world: &World, _: &FramePlan) -> PassDecision<()> {
+    fn decide(world: &World, plan: &FramePlan) -> PassDecision<()> {
         let output = world
             .get_resource::<crate::render::frame::FrameOutput>()
             .map_or((1, 1), |o| o.size);
         // At least one element: a 1×1 frame has no level above the depth buffer.
         let elements = PyramidLayout::new(output).1.max(1);
-        let decision = match reflections_skip_reason(world) {
+        let decision = match skip_after_gbuffer(world, plan) {
             Some(reason) => {
                 PassDecision::new(false, format!("no reflections to trace: {reason}"), ())
             }

@@ -8,14 +8,14 @@
 //!
 //! It runs only when the frame has a surface smoother than the cutoff
 //! ([`crate::quality::SsrSettings::max_roughness`]); the reasons are
-//! [`reflections_skip_reason`].
+//! [`crate::render::extract::reflecting::reflections_skip_reason`].
 
 use crate::error::Result;
 use crate::quality::Quality;
 use crate::render::bindings::{BindGroupSpec, CachedGroup, declared};
 use crate::render::device::Gpu;
 use crate::render::extract::ExtractedFrame;
-use crate::render::extract::reflecting::reflections_skip_reason;
+use crate::render::extract::reflecting::skip_after_gbuffer;
 use crate::render::frame::FrameEncoder;
 use crate::render::graph::slots::AMBIENT_OCCLUSION;
 use crate::render::graph::slots::{
@@ -131,12 +131,8 @@ impl FramePass for SsrPass {
             format: quality.hdr_precision.format(),
             half: ssr.half_resolution,
         };
-        // The G-buffer decides from the same function; checked, so that a condition added
-        // here alone cannot make the pass read a level nobody wrote.
-        let skip = reflections_skip_reason(world).or_else(|| {
-            (!plan.writes_optional(PassId::GBuffer, GBUFFER_SPECULAR_LEVEL))
-                .then(|| "the G-buffer did not write the specular level".to_string())
-        });
+        // Runs exactly where the G-buffer wrote the level it reads.
+        let skip = skip_after_gbuffer(world, plan);
         let reason = skip.clone().unwrap_or_else(|| {
             format!(
                 "{} ray(s) per {}, {} steps, roughness ≤ {:.2}, thickness {:.2} m",
