@@ -34,6 +34,7 @@ pub mod input;
 pub mod limits;
 pub mod pass_id;
 pub mod quality;
+pub mod rays;
 pub mod reference;
 pub mod render;
 pub mod scene;

@@ -1,7 +1,8 @@
-//! A bounding volume hierarchy over triangles: binary, split at the centroid median of the
-//! longest axis, leaves of at most 4 triangles; closest-hit and any-hit traversal with
-//! the Möller–Trumbore ray–triangle test (Möller & Trumbore 1997).
+//! The path tracer's scene hierarchy: every instance's triangles in world space in one
+//! [`crate::rays::blas::Blas`] (binned SAH, the watertight test of Woop, Benthin and Wald
+//! 2013), the builder and traversal the GPU's tracing passes share.
 
+use crate::rays::blas::Blas;
 use glam::Vec3;
 
 /// A triangle's corners in world space (m).
@@ -11,22 +12,11 @@ pub struct Triangle {
     pub p: [Vec3; 3],
 }
 
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    lo: Vec3,
-    hi: Vec3,
-    /// Leaf: first index into `order`; inner: index of the left child (right = left + 1).
-    start: u32,
-    /// Leaf: triangle count (> 0); inner: 0.
-    count: u32,
-}
-
 /// The hierarchy. Triangle indices it returns are indices into the slice it was built
 /// from.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
-    nodes: Vec<Node>,
-    order: Vec<u32>,
+    blas: Blas,
     triangles: Vec<Triangle>,
 }
 
@@ -44,81 +34,15 @@ pub struct Hit {
     pub v: f32,
 }
 
-const LEAF: usize = 4;
-
 impl Bvh {
-    /// Builds the hierarchy over `triangles`.
+    /// Builds the hierarchy over `triangles` (one with a non-finite corner is never hit).
     pub fn build(triangles: Vec<Triangle>) -> Bvh {
-        let mut bvh = Bvh {
-            nodes: Vec::with_capacity(2 * triangles.len().max(1)),
-            order: (0..triangles.len() as u32).collect(),
+        let positions: Vec<Vec3> = triangles.iter().flat_map(|t| t.p).collect();
+        let indices: Vec<u32> = (0..positions.len() as u32).collect();
+        Bvh {
+            blas: Blas::build(&positions, &indices),
             triangles,
-        };
-        if bvh.triangles.is_empty() {
-            return bvh;
         }
-        let centroids: Vec<Vec3> = bvh
-            .triangles
-            .iter()
-            .map(|t| (t.p[0] + t.p[1] + t.p[2]) / 3.0)
-            .collect();
-        bvh.nodes.push(Node {
-            lo: Vec3::ZERO,
-            hi: Vec3::ZERO,
-            start: 0,
-            count: bvh.triangles.len() as u32,
-        });
-        let mut stack = vec![0usize];
-        while let Some(index) = stack.pop() {
-            let Node { start, count, .. } = bvh.nodes[index];
-            let range = start as usize..(start + count) as usize;
-            let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            let (mut clo, mut chi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-            for &i in &bvh.order[range.clone()] {
-                let t = bvh.triangles[i as usize];
-                for p in t.p {
-                    lo = lo.min(p);
-                    hi = hi.max(p);
-                }
-                clo = clo.min(centroids[i as usize]);
-                chi = chi.max(centroids[i as usize]);
-            }
-            bvh.nodes[index].lo = lo;
-            bvh.nodes[index].hi = hi;
-            let extent = chi - clo;
-            if range.len() <= LEAF || extent.max_element() <= 0.0 {
-                continue;
-            }
-            let axis = if extent.x >= extent.y && extent.x >= extent.z {
-                0
-            } else if extent.y >= extent.z {
-                1
-            } else {
-                2
-            };
-            let mid = range.len() / 2;
-            bvh.order[range.clone()].select_nth_unstable_by(mid, |a, b| {
-                centroids[*a as usize][axis].total_cmp(&centroids[*b as usize][axis])
-            });
-            let left = bvh.nodes.len();
-            bvh.nodes.push(Node {
-                lo,
-                hi,
-                start,
-                count: mid as u32,
-            });
-            bvh.nodes.push(Node {
-                lo,
-                hi,
-                start: start + mid as u32,
-                count: count - mid as u32,
-            });
-            bvh.nodes[index].start = left as u32;
-            bvh.nodes[index].count = 0;
-            stack.push(left);
-            stack.push(left + 1);
-        }
-        bvh
     }
 
     /// The triangles, in the order they were given.
@@ -137,86 +61,22 @@ impl Bvh {
     }
 
     fn traverse(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32, any: bool) -> Option<Hit> {
-        if self.nodes.is_empty() {
-            return None;
-        }
-        let inv = dir.recip();
-        let mut best: Option<Hit> = None;
-        let mut t_far = t_max;
-        let mut stack = [0u32; 64];
-        let mut depth = 1;
-        while depth > 0 {
-            depth -= 1;
-            let node = self.nodes[stack[depth] as usize];
-            if !slab(origin, inv, node.lo, node.hi, t_min, t_far) {
-                continue;
-            }
-            if node.count > 0 {
-                let range = node.start as usize..(node.start + node.count) as usize;
-                for &i in &self.order[range] {
-                    if let Some((t, u, v)) = intersect(&self.triangles[i as usize], origin, dir)
-                        && t > t_min
-                        && t < t_far
-                    {
-                        t_far = t;
-                        best = Some(Hit {
-                            t,
-                            triangle: i,
-                            u,
-                            v,
-                        });
-                        if any {
-                            return best;
-                        }
-                    }
-                }
-            } else if depth + 2 <= stack.len() {
-                stack[depth] = node.start;
-                stack[depth + 1] = node.start + 1;
-                depth += 2;
-            }
-        }
-        best
+        let hit = self
+            .blas
+            .trace(origin, dir, t_min, t_max, any, &mut |_, _| true)?;
+        Some(Hit {
+            t: hit.hit.t,
+            triangle: hit.primitive,
+            u: hit.hit.b,
+            v: hit.hit.c,
+        })
     }
-}
-
-/// Ray–box slab test.
-fn slab(origin: Vec3, inv: Vec3, lo: Vec3, hi: Vec3, t_min: f32, t_max: f32) -> bool {
-    let a = (lo - origin) * inv;
-    let b = (hi - origin) * inv;
-    let near = a.min(b).max_element().max(t_min);
-    let far = a.max(b).min_element().min(t_max);
-    // NaN (a zero direction component on the slab's plane) is not ordered: treat it as
-    // a hit.
-    near.partial_cmp(&far) != Some(std::cmp::Ordering::Greater)
-}
-
-/// Möller–Trumbore: distance and barycentrics of corners 1 and 2, for either facing.
-fn intersect(tri: &Triangle, origin: Vec3, dir: Vec3) -> Option<(f32, f32, f32)> {
-    let e1 = tri.p[1] - tri.p[0];
-    let e2 = tri.p[2] - tri.p[0];
-    let pv = dir.cross(e2);
-    let det = e1.dot(pv);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv_det = 1.0 / det;
-    let tv = origin - tri.p[0];
-    let u = tv.dot(pv) * inv_det;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let qv = tv.cross(e1);
-    let v = dir.dot(qv) * inv_det;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    Some((e2.dot(qv) * inv_det, u, v))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rays::watertight::{intersect_triangle, ray_transform};
 
     fn grid(n: u32) -> Vec<Triangle> {
         // n × n unit quads in the z = 0 plane, two triangles each.
@@ -249,11 +109,13 @@ mod tests {
         for _ in 0..500 {
             let origin = Vec3::new(next() * 20.0 - 2.0, next() * 20.0 - 2.0, 3.0 + next());
             let dir = Vec3::new(next() - 0.5, next() - 0.5, -1.0).normalize();
+            let ray = ray_transform(dir);
             let brute = tris
                 .iter()
                 .enumerate()
-                .filter_map(|(i, t)| intersect(t, origin, dir).map(|(d, ..)| (d, i)))
-                .filter(|(d, _)| *d > 1e-4)
+                .filter_map(|(i, t)| {
+                    intersect_triangle(origin, &ray, t.p, 1e-4, f32::MAX).map(|h| (h.t, i))
+                })
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             let hit = bvh.closest(origin, dir, 1e-4, f32::MAX);
             assert_eq!(brute.map(|(_, i)| i as u32), hit.map(|h| h.triangle));
