@@ -25,6 +25,7 @@ mod knobs;
 mod layering;
 mod layers;
 mod lights;
+mod rays;
 mod reference;
 mod reflection_probes;
 mod render;

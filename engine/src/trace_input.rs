@@ -49,30 +49,9 @@ fn posed_meshes(
         .instances
         .iter()
         .map(|d| {
-            let mesh = meshes.get(d.mesh)?.clone();
-            let deformation = meshes.deformation(d.mesh)?.clone();
-            let joints: Vec<Mat4> = deformed
-                .joint_matrices
-                .iter()
-                .skip(d.joint_offset as usize)
-                .take(d.joint_count as usize)
-                .map(Mat4::from_cols_array_2d)
-                .collect();
-            let weights: Vec<f32> = deformed
-                .morph_weights
-                .iter()
-                .skip(d.weight_offset as usize)
-                .take(d.weight_count as usize)
-                .copied()
-                .collect();
-            let vertices =
-                deformation.deformed_vertices(&mesh, d.skinned.then_some(&joints[..]), &weights);
-            meshes
-                .add(MeshData {
-                    vertices,
-                    indices: mesh.indices.clone(),
-                })
-                .ok()
+            let vertices = deformed.posed_vertices(d, meshes)?;
+            let indices = meshes.get(d.mesh)?.indices.clone();
+            meshes.add(MeshData { vertices, indices }).ok()
         })
         .collect()
 }

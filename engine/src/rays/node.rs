@@ -58,15 +58,22 @@ impl BvhNode {
 
 /// The distances at which the ray `origin + t·dir` enters and leaves the box, clipped to
 /// `t_min .. t_max` (the slab test, Kay and Kajiya 1986); the box is missed when
-/// `near > far`. `inv_dir` is `1 / dir` per component (±∞ on a zero component; a NaN
+/// `near > far`. the exit is widened by [`SLAB_FAR_SCALE`]. `inv_dir` is `1 / dir` per component (±∞ on a zero component; a NaN
 /// from 0 × ∞ on a slab's plane is treated as a hit).
 pub fn slab(origin: Vec3, inv_dir: Vec3, lo: Vec3, hi: Vec3, t_min: f32, t_max: f32) -> (f32, f32) {
     let a = (lo - origin) * inv_dir;
     let b = (hi - origin) * inv_dir;
     let near = a.min(b).max_element().max(t_min);
-    let far = a.max(b).min_element().min(t_max);
+    let far = (a.max(b).min_element() * SLAB_FAR_SCALE).min(t_max);
     (near, far)
 }
+
+/// The exit distance's margin for rounding, `1 + 2γ₃` with `γₙ = n·ε / (1 − n·ε)` (Ize
+/// 2013, "Robust BVH ray traversal", JCGT 2(2)): the computed slab distances may be off by
+/// a few ulps, and a triangle lying in a box's face (a floor under a cube) must not be
+/// culled by its own box.
+pub const SLAB_FAR_SCALE: f32 =
+    1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 /// Whether a slab interval is a hit.
 pub fn slab_hit(near: f32, far: f32) -> bool {

@@ -132,6 +132,16 @@ impl RayScene {
             let Some(world_box) = world_box else {
                 continue;
             };
+            // The corners were rounded once more than the ray's trip into object space:
+            // widen the box by a few ulps of its size so it holds every surface point.
+            let margin = (world_box.max - world_box.min)
+                .abs()
+                .max(world_box.max.abs().max(world_box.min.abs()))
+                * (4.0 * f32::EPSILON);
+            let world_box = crate::scene::mesh_data::Aabb {
+                min: world_box.min - margin,
+                max: world_box.max + margin,
+            };
             let rows = object_from_world.transpose();
             kept.push(RayInstance {
                 object_from_world: [rows.x_axis, rows.y_axis, rows.z_axis].map(|r| r.to_array()),

@@ -25,6 +25,7 @@ pub mod passes;
 pub mod pipeline_cache;
 pub mod pipelines;
 pub mod post;
+pub mod rays;
 pub mod readback;
 pub mod scaled_output;
 pub mod scene_buffers;

@@ -68,8 +68,39 @@ pub fn read_texture_level(
             depth_or_array_layers: 1,
         },
     );
+    let data = submit_and_map(gpu, encoder, &buffer)?;
+    let mut out = Vec::with_capacity((unpadded * height) as usize);
+    for row in data.chunks(padded as usize) {
+        out.extend_from_slice(&row[..unpadded as usize]);
+    }
+    Ok(out)
+}
+
+/// The contents of `buffer` (which must allow `COPY_SRC`) after the work submitted so far
+/// and `encoder`'s.
+pub fn read_buffer(
+    gpu: &Gpu,
+    mut encoder: wgpu::CommandEncoder,
+    buffer: &wgpu::Buffer,
+) -> Result<Vec<u8>> {
+    let staging = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: buffer.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
+    submit_and_map(gpu, encoder, &staging)
+}
+
+/// Submits `encoder`, waits for it, and returns the mapped contents of `staging`.
+fn submit_and_map(
+    gpu: &Gpu,
+    encoder: wgpu::CommandEncoder,
+    staging: &wgpu::Buffer,
+) -> Result<Vec<u8>> {
     let index = gpu.queue.submit([encoder.finish()]);
-    let slice = buffer.slice(..);
+    let slice = staging.slice(..);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);
@@ -83,16 +114,11 @@ pub fn read_texture_level(
     rx.recv()
         .map_err(|e| Error::Gpu(format!("readback never completed: {e}")))?
         .map_err(|e| Error::Gpu(format!("cannot map the readback buffer: {e}")))?;
-    let mut out = Vec::with_capacity((unpadded * height) as usize);
-    {
-        let data = slice
-            .get_mapped_range()
-            .map_err(|e| Error::Gpu(format!("cannot read the readback buffer: {e}")))?;
-        for row in data.chunks(padded as usize) {
-            out.extend_from_slice(&row[..unpadded as usize]);
-        }
-    }
-    buffer.unmap();
+    let out = slice
+        .get_mapped_range()
+        .map_err(|e| Error::Gpu(format!("cannot read the readback buffer: {e}")))?
+        .to_vec();
+    staging.unmap();
     Ok(out)
 }
 

@@ -51,6 +51,34 @@ impl DeformedFrame {
         self.joint_matrices.clear();
         self.morph_weights.clear();
     }
+
+    /// Instance `d`'s vertices in its pose this frame, deformed on the CPU
+    /// ([`crate::scene::deform::Deformation::deformed_vertices`]) with its joint matrices
+    /// and weights: what the deformation pass computes on the GPU. `None` where its mesh
+    /// or deformation is missing.
+    pub fn posed_vertices(
+        &self,
+        d: &DeformedInstance,
+        meshes: &Meshes,
+    ) -> Option<Vec<crate::scene::mesh_data::Vertex>> {
+        let mesh = meshes.get(d.mesh)?;
+        let deformation = meshes.deformation(d.mesh)?;
+        let joints: Vec<glam::Mat4> = self
+            .joint_matrices
+            .iter()
+            .skip(d.joint_offset as usize)
+            .take(d.joint_count as usize)
+            .map(glam::Mat4::from_cols_array_2d)
+            .collect();
+        let weights: Vec<f32> = self
+            .morph_weights
+            .iter()
+            .skip(d.weight_offset as usize)
+            .take(d.weight_count as usize)
+            .copied()
+            .collect();
+        Some(deformation.deformed_vertices(mesh, d.skinned.then_some(&joints[..]), &weights))
+    }
 }
 
 /// What extraction learns of one deformed entity.
