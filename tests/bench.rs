@@ -273,3 +273,45 @@ fn every_preset_renders_finite_images() {
         }
     }
 }
+
+/// `lumen bench --rays`: the structure's counts and size for the Cornell box (30
+/// triangles in 7 instances), an unchanged second frame kept, and the GPU's and the CPU's
+/// hit counts equal (the command fails otherwise) with a positive throughput.
+#[test]
+fn bench_rays_reports_the_structure_and_the_throughput() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = lumen(
+        &[
+            "bench", "--scene", "cornell", "--rays", "5000", "--size", "64x64",
+        ],
+        dir.path(),
+    );
+    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}{}", stdout, text(&out.stderr));
+    assert!(
+        stdout.contains("7 instances in the TLAS (0 skipped), 30 triangles (0 dropped)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("1 kept"), "{stdout}");
+    let rate = |label: &str| -> f64 {
+        stdout
+            .lines()
+            .find_map(|l| l.trim().strip_prefix(label))
+            .and_then(|rest| rest.split_whitespace().next())
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("no '{label}' line in {stdout}"))
+    };
+    assert!(rate("GPU software traversal:") > 0.0);
+    let cpu_line = stdout
+        .lines()
+        .find(|l| l.trim().starts_with("CPU traversal ("))
+        .unwrap_or_else(|| panic!("no CPU line in {stdout}"));
+    let cpu: f64 = cpu_line
+        .split("): ")
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no rate in '{cpu_line}'"));
+    assert!(cpu > 0.0);
+    assert!(stdout.contains("rays: 5000 ("), "{stdout}");
+}

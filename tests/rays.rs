@@ -12,7 +12,7 @@ use lumen::rays::tlas::{InstanceInput, RayInstance, RayScene, SURFACE_OPAQUE};
 use lumen::rays::watertight::{intersect_triangle, ray_transform};
 use lumen::render::device::Gpu;
 use lumen::render::extract::ExtractedFrame;
-use lumen::render::rays::ray_batch::{BatchRay, pattern_counts, trace_batch};
+use lumen::render::rays::ray_batch::{BatchRay, pattern_counts, sample_rays, trace_batch};
 use lumen::render::rays::scene_rays::SceneRays;
 use lumen::scene::Meshes;
 use rayon::prelude::*;
@@ -46,22 +46,6 @@ fn frame_rays(app: &mut App) -> (Gpu, SceneRays) {
     )
     .expect("ray scene");
     (gpu, rays)
-}
-
-/// `n` rays through the scene's box: from points around and inside it towards points in
-/// it, so that most hit something, with the interval (1e-4, ∞).
-fn random_rays(scene: &RayScene, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
-    let root = scene.tlas_nodes.first().copied().unwrap_or_default();
-    let (lo, hi) = (root.lo(), root.hi());
-    let pad = (hi - lo).max(Vec3::splat(0.1)) * 0.25;
-    let mut rng = Rng(seed);
-    (0..n)
-        .map(|_| {
-            let o = rng.in_box(lo - pad, hi + pad);
-            let target = rng.in_box(lo, hi);
-            (o, (target - o).normalize_or(Vec3::Y))
-        })
-        .collect()
 }
 
 /// The triangle range of the BLAS at `root` (contiguous: one mesh's triangles).
@@ -184,7 +168,7 @@ fn bvh_hits_match_brute_force_and_the_gpu_on_every_scene() {
         let all = candidates(scene);
         let tested: usize = all.iter().map(|c| c.range.len()).sum();
         let n = 100_000;
-        let batch = random_rays(scene, n, 0x5eed + info.name.len() as u64);
+        let batch = sample_rays(scene, n, 0x5eed + info.name.len() as u64);
         let cpu: Vec<_> = batch
             .par_iter()
             .map(|&(o, d)| {
@@ -346,7 +330,7 @@ fn a_refitted_fox_traces_like_a_rebuilt_one() {
     assert_eq!((kept.counts.blas_builds, kept.counts.blas_refits), (1, 1));
     let mut rebuilt = SceneRays::default();
     update(&mut rebuilt, &mut app);
-    let rays = random_rays(rebuilt.scene(), 10_000, 7);
+    let rays = sample_rays(rebuilt.scene(), 10_000, 7);
     let mut hits = 0;
     for &(o, d) in &rays {
         let trace = |s: &SceneRays| {

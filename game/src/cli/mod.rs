@@ -586,4 +586,10 @@ pub struct BenchArgs {
     /// Compare two JSON reports: print B / A for the frame, every pass and every stage.
     #[arg(long, num_args = 2, value_names = ["A.json", "B.json"], conflicts_with_all = ["json", "csv", "plot", "window"])]
     pub compare: Option<Vec<PathBuf>>,
+    /// Measure the ray-tracing core instead of frames: build the scene's acceleration
+    /// structure after one frame (times, memory, bytes per triangle; and what a second,
+    /// unchanged frame pays), then trace N rays through the scene on the GPU (software
+    /// traversal) and on the CPU, and print rays per second.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=100_000_000), conflicts_with_all = ["json", "csv", "plot", "window", "compare"])]
+    pub rays: Option<u32>,
 }

@@ -4,6 +4,7 @@
 
 use super::scene_rays::{RAYS, SceneRays};
 use crate::error::{Error, Result};
+use crate::rays::tlas::RayScene;
 use crate::render::bindings::{BindGroupSpec, declared};
 use crate::render::device::Gpu;
 use crate::render::pipelines::{compute_pipeline, create_module, pipeline_layout};
@@ -124,4 +125,80 @@ pub fn trace_batch(
     let bytes = crate::render::readback::read_buffer(gpu, encoder, &output)?;
     let seconds = start.elapsed().as_secs_f64();
     Ok((bytemuck::cast_slice(&bytes).to_vec(), seconds))
+}
+
+/// `n` rays through the scene's box (deterministic for a `seed`): from points in and
+/// around the box (padded by a quarter of its size) towards points in it, so that most
+/// hit something; unit directions, the interval (10⁻⁴ m, ∞). What `lumen bench --rays`
+/// traces, and the traversal's tests.
+pub fn sample_rays(scene: &RayScene, n: usize, seed: u64) -> Vec<(Vec3, Vec3)> {
+    let root = scene.tlas_nodes.first().copied().unwrap_or_default();
+    let (lo, hi) = (root.lo(), root.hi());
+    let pad = (hi - lo).max(Vec3::splat(0.1)) * 0.25;
+    let mut state = seed | 1;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut in_box = move |lo: Vec3, hi: Vec3| lo + (hi - lo) * Vec3::new(next(), next(), next());
+    (0..n)
+        .map(|_| {
+            let o = in_box(lo - pad, hi + pad);
+            let target = in_box(lo, hi);
+            (o, (target - o).normalize_or(Vec3::Y))
+        })
+        .collect()
+}
+
+/// What `lumen bench --rays` measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayThroughput {
+    /// Rays traced.
+    pub rays: usize,
+    /// Of them, rays that hit.
+    pub hits: usize,
+    /// Closest-hit rays per second on the GPU (software traversal, dispatch to readback).
+    pub gpu_rays_per_s: f64,
+    /// Closest-hit rays per second of the CPU traversal on every core.
+    pub cpu_rays_per_s: f64,
+}
+
+/// Traces `n` sampled rays on the GPU (after one warm-up dispatch) and on the CPU.
+pub fn measure_throughput(gpu: &Gpu, scene: &SceneRays, n: usize) -> Result<RayThroughput> {
+    use rayon::prelude::*;
+    let rays = sample_rays(scene.scene(), n.max(1), 0x5eed);
+    let batch: Vec<BatchRay> = rays
+        .iter()
+        .map(|&(o, d)| BatchRay::new(o, d, (1e-4, f32::INFINITY), false))
+        .collect();
+    trace_batch(gpu, scene, &batch[..batch.len().min(4096)])?;
+    let (hits, gpu_s) = trace_batch(gpu, scene, &batch)?;
+    let start = std::time::Instant::now();
+    let cpu_hits = rays
+        .par_iter()
+        .filter(|&&(o, d)| {
+            scene
+                .scene()
+                .trace(o, d, (1e-4, f32::INFINITY), false, &mut |i, _, h| {
+                    i.surface == crate::rays::tlas::SURFACE_OPAQUE || pattern_counts(h.b)
+                })
+                .is_some()
+        })
+        .count();
+    let cpu_s = start.elapsed().as_secs_f64();
+    let gpu_hits = hits.iter().filter(|h| h.instance != u32::MAX).count();
+    if gpu_hits != cpu_hits {
+        return Err(Error::Gpu(format!(
+            "the GPU traversal hit {gpu_hits} of {} rays, the CPU {cpu_hits}",
+            rays.len()
+        )));
+    }
+    Ok(RayThroughput {
+        rays: rays.len(),
+        hits: gpu_hits,
+        gpu_rays_per_s: rays.len() as f64 / gpu_s.max(1e-9),
+        cpu_rays_per_s: rays.len() as f64 / cpu_s.max(1e-9),
+    })
 }

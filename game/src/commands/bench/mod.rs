@@ -4,6 +4,7 @@
 
 pub mod compare;
 pub mod plot;
+pub mod rays;
 pub mod report;
 
 use super::view::{WindowOptions, WindowScene, run_window};
@@ -26,6 +27,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         return Ok(());
     }
     check_scene_args(&args.scene)?;
+    if let Some(n) = args.rays {
+        return rays::run(args, n);
+    }
     for (path, ext) in [(&args.csv, "csv"), (&args.plot, "png")] {
         if let Some(p) = path
             && !p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext))
