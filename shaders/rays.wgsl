@@ -156,8 +156,9 @@ struct RayHit {
     // Index among the frame's instances, and in ray_instances.
     instance: u32,
     slot: u32,
-    // The triangle's index in its mesh.
+    // The triangle's index in its mesh, and in ray_triangles.
     primitive: u32,
+    triangle: u32,
     // True when the walk stopped at RAY_MAX_STEPS or a full stack.
     overflow: bool,
 }
@@ -176,7 +177,7 @@ fn ray_node(index: u32, in_blas: bool) -> BvhNode {
 // The closest hit of the world-space ray origin + t·dir with t_min < t < t_max, or with
 // `any`, the first hit found (shadow rays).
 fn trace_ray(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32, any: bool) -> RayHit {
-    var best = RayHit(false, t_max, 0.0, 0.0, 0u, 0u, 0u, false);
+    var best = RayHit(false, t_max, 0.0, 0.0, 0u, 0u, 0u, 0u, false);
     var stack: array<u32, RAY_STACK>;
     var sp = 0u;
     var base = 0u;
@@ -223,7 +224,7 @@ fn trace_ray(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32, any: boo
                 let h = intersect_triangle(o, frame, tri.a.xyz, tri.b.xyz, tri.c.xyz, t_min, best.t);
                 let primitive = bitcast<u32>(tri.a.w);
                 if h.hit && (inst.surface == SURFACE_OPAQUE || ray_hit_counts(inst, primitive, h.b, h.c)) {
-                    best = RayHit(true, h.t, h.b, h.c, inst.instance, slot, primitive, false);
+                    best = RayHit(true, h.t, h.b, h.c, inst.instance, slot, primitive, k, false);
                     if any {
                         return best;
                     }

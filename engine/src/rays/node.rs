@@ -154,7 +154,8 @@ mod tests {
         let inv = Vec3::new(1.0, 0.0, 0.0).recip();
         let (n, f) = slab(Vec3::new(-5.0, 0.0, 0.0), inv, lo, hi, 0.0, f32::MAX);
         assert!(slab_hit(n, f));
-        assert_eq!((n, f), (4.0, 6.0));
+        assert_eq!(n, 4.0);
+        assert!(f >= 6.0 && f <= 6.0 * SLAB_FAR_SCALE);
         let (n, f) = slab(Vec3::new(-5.0, 2.0, 0.0), inv, lo, hi, 0.0, f32::MAX);
         assert!(!slab_hit(n, f));
         let (n, f) = slab(Vec3::new(-5.0, 0.0, 0.0), inv, lo, hi, 0.0, 3.0);

@@ -2,7 +2,7 @@
 
 use crate::cli::ReferenceArgs;
 use crate::setup::{build_scene, check_scene_args};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use lumen::App;
 use lumen::assets::image_io::{OutputFormat, save_exr, save_exr_rgba, save_png};
 use lumen::reference::path::{
@@ -52,6 +52,62 @@ fn settings(args: &ReferenceArgs) -> String {
 
 /// Builds the scene, path-traces it and writes the image (or, sharded, this shard's part
 /// and its sidecar). Returns the path written.
+/// Writes the traced image: linear EXR, or PNG through the frame's tone mapper (an
+/// occlusion image as it is).
+fn write_image(
+    out: &std::path::Path,
+    format: OutputFormat,
+    image: &image::Rgba32FImage,
+    app: &App,
+    occlusion: bool,
+) -> Result<()> {
+    match format {
+        OutputFormat::Exr => save_exr(out, image)?,
+        OutputFormat::Png => {
+            let tonemapper = frame_tonemapper(app);
+            let display = image::RgbaImage::from_fn(image.width(), image.height(), |x, y| {
+                let [r, g, b, _] = image.get_pixel(x, y).0;
+                let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+                if occlusion {
+                    return image::Rgba([byte(r), byte(g), byte(b), 255]);
+                }
+                let c = tonemapper.apply(glam::Vec3::new(r, g, b));
+                let e = |v: f32| byte(lumen::shading::color::srgb_encode(v.clamp(0.0, 1.0)));
+                image::Rgba([e(c.x), e(c.y), e(c.z), 255])
+            });
+            save_png(out, &display)?;
+        }
+    }
+    Ok(())
+}
+
+/// Where this run path-traces (`--device`): `None` on the GPU, else on the CPU for the
+/// reason given; an error where `gpu` was asked for what only the CPU does.
+fn gpu_choice(
+    args: &ReferenceArgs,
+    app: &App,
+    scene: &lumen::reference::path::TraceScene,
+    sharded: bool,
+) -> Result<Option<String>> {
+    use lumen::render::rays::path_trace::{TraceDevice, choose_gpu};
+    let gpu = app
+        .world()
+        .get_resource::<lumen::render::device::Gpu>()
+        .context("no GPU")?;
+    let reason = if args.occlusion {
+        Err("--occlusion is traced on the CPU".to_string())
+    } else if sharded {
+        Err("shards are traced on the CPU".to_string())
+    } else {
+        choose_gpu(args.device, &gpu.adapter.get_info(), scene)
+    };
+    match (args.device, reason) {
+        (_, Ok(())) => Ok(None),
+        (TraceDevice::Gpu, Err(why)) => Err(anyhow::anyhow!("--device gpu: {why}")),
+        (_, Err(why)) => Ok(Some(why)),
+    }
+}
+
 pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     check_scene_args(&args.scene)?;
     let out = args
@@ -108,6 +164,36 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         .resource::<lumen::prelude::Quality>()
         .ao
         .radius_m;
+    let cpu_reason = gpu_choice(args, &app, &scene, shard.is_some())?;
+    if cpu_reason.is_none() {
+        let gpu = app
+            .world()
+            .get_resource::<lumen::render::device::Gpu>()
+            .context("no GPU")?
+            .clone();
+        let bar = crate::progress::bar(u64::from(args.spp), "path tracing (GPU)", "samples");
+        let start = std::time::Instant::now();
+        let traced = lumen::render::rays::path_trace::render_gpu(&gpu, &scene, &options, &|s| {
+            bar.set_position(u64::from(s))
+        })?;
+        bar.finish_and_clear();
+        warn_dropped(traced.dropped_samples, &options);
+        let seconds = start.elapsed().as_secs_f64();
+        write_image(&out, format, &traced.image, &app, false)?;
+        crate::output::print(&format!(
+            "path-traced {} at {}x{}, {} spp, {} bounce(s), unidirectional, seed {}: {:.1} s (GPU: {})\nwrote {}\n",
+            args.scene.label(),
+            args.size.0,
+            args.size.1,
+            args.spp,
+            args.max_bounces,
+            args.seed,
+            seconds,
+            gpu.adapter.get_info().name,
+            out.display()
+        ));
+        return Ok(out);
+    }
     let bar = crate::progress::bar(u64::from(args.size.1), "path tracing", "rows");
     let start = std::time::Instant::now();
     let progress = |rows| bar.set_position(u64::from(rows));
@@ -163,23 +249,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
     warn_dropped(traced.dropped_samples, &options);
     let image = traced.image;
     let seconds = start.elapsed().as_secs_f64();
-    match format {
-        OutputFormat::Exr => save_exr(&out, &image)?,
-        OutputFormat::Png => {
-            let tonemapper = frame_tonemapper(&app);
-            let display = image::RgbaImage::from_fn(image.width(), image.height(), |x, y| {
-                let [r, g, b, _] = image.get_pixel(x, y).0;
-                let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-                if args.occlusion {
-                    return image::Rgba([byte(r), byte(g), byte(b), 255]);
-                }
-                let c = tonemapper.apply(glam::Vec3::new(r, g, b));
-                let e = |v: f32| byte(lumen::shading::color::srgb_encode(v.clamp(0.0, 1.0)));
-                image::Rgba([e(c.x), e(c.y), e(c.z), 255])
-            });
-            save_png(&out, &display)?;
-        }
-    }
+    write_image(&out, format, &image, &app, args.occlusion)?;
     let what = if args.occlusion {
         format!("ambient occlusion within {radius_m} m")
     } else if args.no_light_connections {
@@ -188,7 +258,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         format!("{} bounce(s)", args.max_bounces)
     };
     crate::output::print(&format!(
-        "path-traced {} at {}x{}, {} spp, {}, seed {}: {:.1} s ({} threads)\nwrote {}\n",
+        "path-traced {} at {}x{}, {} spp, {}, seed {}: {:.1} s (CPU, {} threads: {})\nwrote {}\n",
         args.scene.label(),
         args.size.0,
         args.size.1,
@@ -197,6 +267,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
         args.seed,
         seconds,
         rayon::current_num_threads(),
+        cpu_reason.unwrap_or_default(),
         out.display()
     ));
     Ok(out)

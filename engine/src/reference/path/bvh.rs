@@ -45,6 +45,11 @@ impl Bvh {
         }
     }
 
+    /// The hierarchy itself, in world space (what the GPU path tracer uploads).
+    pub fn blas(&self) -> &Blas {
+        &self.blas
+    }
+
     /// The triangles, in the order they were given.
     pub fn triangles(&self) -> &[Triangle] {
         &self.triangles

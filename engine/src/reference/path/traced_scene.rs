@@ -466,6 +466,16 @@ impl AlbedoTable {
         )
     }
 
+    /// Entries per side.
+    pub fn size(&self) -> usize {
+        self.size
+    }
+
+    /// The `size × size` entries, row by row: n·v along a row, roughness down the rows.
+    pub fn values(&self) -> &[f32] {
+        &self.values
+    }
+
     /// `1 + F0 (1/E₁ − 1)` at (n·v, roughness).
     pub fn compensation(&self, f0: Vec3, n_dot_v: f32, roughness: f32) -> Vec3 {
         Vec3::ONE + f0 * (1.0 / self.lookup(n_dot_v, roughness) - 1.0)
