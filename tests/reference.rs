@@ -625,3 +625,90 @@ fn blended_surfaces_are_stochastic_coverage_in_the_reference() {
         "{raster_ratio} vs the reference's {ratio}"
     );
 }
+
+/// `--device`: `gpu` traces a scene it supports (the summary names the GPU) and writes
+/// the same kind of image; `gpu` on a scene it does not trace is a one-line error naming
+/// what it lacks; `auto` on this machine's software adapter traces on the CPU and says why;
+/// `gpu` with `--occlusion` is refused.
+#[test]
+fn the_reference_device_is_chosen_and_explained() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lumen"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("lumen runs")
+    };
+    let out = run(&[
+        "reference",
+        "cornell",
+        "--device",
+        "gpu",
+        "--size",
+        "16x16",
+        "--spp",
+        "2",
+        "--out",
+        "g.exr",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("unidirectional") && stdout.contains("(GPU: "),
+        "{stdout}"
+    );
+    let img = lumen::assets::image_io::load_rgba32f(&dir.path().join("g.exr")).expect("EXR");
+    assert_eq!(img.dimensions(), (16, 16));
+    assert!(img.pixels().any(|p| common::lum(p) > 0.0), "the box is lit");
+    common::assert_clean_failure(
+        &run(&[
+            "reference",
+            "showcase",
+            "--device",
+            "gpu",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+        ]),
+        "does not trace an image environment, textures",
+    );
+    common::assert_clean_failure(
+        &run(&[
+            "reference",
+            "cornell",
+            "--device",
+            "gpu",
+            "--occlusion",
+            "--size",
+            "8x8",
+        ]),
+        "--occlusion is traced on the CPU",
+    );
+    let gpu = common::gpu();
+    let out = run(&[
+        "reference",
+        "plane",
+        "--size",
+        "8x8",
+        "--spp",
+        "1",
+        "--out",
+        "a.exr",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success());
+    if gpu.adapter.get_info().device_type == lumen::wgpu::DeviceType::Cpu {
+        assert!(
+            stdout.contains("(CPU, ") && stdout.contains("software rasterizer"),
+            "{stdout}"
+        );
+    } else {
+        assert!(stdout.contains("(GPU: "), "{stdout}");
+    }
+}
