@@ -8,6 +8,13 @@ fn equirect_uv(d_in: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(0.5 + atan2(d.x, -d.z) / (2.0 * PI), acos(clamp(d.y, -1.0, 1.0)) / PI);
 }
 
+// The direction of equirectangular texture coordinates uv (inverse of equirect_uv).
+fn equirect_direction(uv: vec2<f32>) -> vec3<f32> {
+    let phi = (uv.x - 0.5) * 2.0 * PI;
+    let theta = uv.y * PI;
+    return vec3<f32>(sin(theta) * sin(phi), cos(theta), -sin(theta) * cos(phi));
+}
+
 fn rotate_y(d: vec3<f32>, angle: f32) -> vec3<f32> {
     let s = sin(angle);
     let c = cos(angle);

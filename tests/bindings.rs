@@ -13,11 +13,14 @@
 //! the environment's preprocessing) are listed here. A shader with an entry point that
 //! neither names fails the test.
 
+use lumen::reference_gpu;
 use lumen::render::bindings::{BindGroupSpec, Binding};
 use lumen::render::graph::ShaderBuild;
 use lumen::render::indirect::{probe_volume, reflection_probes};
 use lumen::render::passes;
 use lumen::render::post::tonemap;
+use lumen::render::rays::ray_batch;
+use lumen::render::rays::scene_rays::{RAYS, RAYS_GROUP};
 use lumen::render::shaders::{BUILTIN, ShaderDef, ShaderLibrary};
 use lumen::wgpu::naga;
 use std::collections::BTreeSet;
@@ -154,8 +157,9 @@ fn check(entry: &str, defs: &[ShaderDef], specs: &[(u32, BindGroupSpec)]) {
 }
 
 /// The shaders that are not a pass's: the probe captures' (bound as listed), the
-/// environment's preprocessing (layouts derived from the shader), and the full-screen
-/// vertex stage every full-screen step imports.
+/// environment's preprocessing (layouts derived from the shader), the full-screen
+/// vertex stage every full-screen step imports, and the ray batch and the GPU path
+/// tracer.
 fn resource_builds() -> Vec<ShaderBuild> {
     vec![
         ShaderBuild::new(
@@ -176,6 +180,16 @@ fn resource_builds() -> Vec<ShaderBuild> {
             &[],
         ),
         ShaderBuild::new("fullscreen.wgsl", Vec::new(), &[]),
+        ShaderBuild::new(
+            "ray_batch.wgsl",
+            vec![ShaderDef::U32("RAYS_GROUP", RAYS_GROUP)],
+            &[(0, ray_batch::BATCH), (RAYS_GROUP, RAYS)],
+        ),
+        ShaderBuild::new(
+            "path_trace.wgsl",
+            vec![ShaderDef::U32("RAYS_GROUP", RAYS_GROUP)],
+            &[(0, reference_gpu::BINDINGS), (RAYS_GROUP, RAYS)],
+        ),
     ]
 }
 

@@ -458,7 +458,8 @@ fn block_difference(img: &image::Rgba32FImage, reference: &image::Rgba32FImage) 
 }
 
 /// The GPU path tracer against the CPU one (its unidirectional estimator) on every
-/// built-in scene the GPU traces (at least 6 of the 11), at 64×64 and 64 spp, 8 bounces.
+/// built-in scene the GPU traces, and the Fox and the FlightHelmet (at least 9 of the
+/// 13), at 48×48 and 32 spp, 8 bounces.
 /// Against a CPU image (seed 1), the GPU image's FLIP may exceed a second CPU image's
 /// (seed 2) by a quarter plus 0.01, its RMS block-luminance difference (16×16 blocks,
 /// relative to the mean) by half plus 0.01, and its mean luminance may differ by twice
@@ -466,30 +467,57 @@ fn block_difference(img: &image::Rgba32FImage, reference: &image::Rgba32FImage) 
 #[test]
 fn the_gpu_path_tracer_agrees_with_the_cpu_one() {
     use lumen::reference::path::{ReferenceOptions, render};
-    use lumen::render::rays::path_trace::{render_gpu, unsupported};
-    let size = (64, 64);
+    use lumen::reference_gpu::{render_gpu, unsupported};
+    let size = (48, 48);
     let options = |seed| ReferenceOptions {
         size,
-        samples_per_pixel: 64,
+        samples_per_pixel: 32,
         max_bounces: 8,
         seed,
     };
     let mut traced = Vec::new();
-    for info in lumen_game::scenes::SCENES {
-        let mut app = common::app_with(info.name);
+    let models = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/models");
+    let files = [
+        ("Fox", models.join("Fox.glb")),
+        (
+            "FlightHelmet",
+            models.join("FlightHelmet/FlightHelmet.gltf"),
+        ),
+    ];
+    let scenes = lumen_game::scenes::SCENES
+        .iter()
+        .map(|i| (i.name, None))
+        .chain(files.iter().map(|(name, path)| (*name, Some(path))));
+    for (name, file) in scenes {
+        let mut app = match file {
+            None => common::app_with(name),
+            Some(path) => {
+                let mut app = App::headless().expect("a GPU adapter");
+                let args = lumen_game::cli::SceneArgs {
+                    file: Some(path.clone()),
+                    ..Default::default()
+                };
+                lumen_game::setup::build_scene(&mut app, &args).expect("model scene");
+                app
+            }
+        };
         let mut scene = lumen::trace_input::trace_scene(&mut app, size).expect("trace scene");
         let missing = unsupported(&scene);
         if !missing.is_empty() {
-            eprintln!("{}: not on the GPU ({})", info.name, missing.join(", "));
+            eprintln!("{}: not on the GPU ({})", name, missing.join(", "));
             continue;
         }
         scene.light_connections = false;
+        let start = std::time::Instant::now();
         let a = render(&scene, &options(1), &|_| {}).image;
         let b = render(&scene, &options(2), &|_| {}).image;
+        let cpu_s = start.elapsed().as_secs_f64() / 2.0;
         let gpu = app.world().resource::<Gpu>().clone();
+        let start = std::time::Instant::now();
         let g = render_gpu(&gpu, &scene, &options(3), &|_| {})
             .expect("GPU path tracer")
             .image;
+        let gpu_s = start.elapsed().as_secs_f64();
         let tonemapper = app
             .world()
             .resource::<ExtractedFrame>()
@@ -507,37 +535,37 @@ fn the_gpu_path_tracer_agrees_with_the_cpu_one() {
             (block_difference(&b, &a), block_difference(&g, &a));
         let mean_gpu = block_difference(&a, &g).1;
         eprintln!(
-            "{}: FLIP CPU–CPU {flip_cpu:.4}, GPU–CPU {flip_gpu:.4}; blocks CPU–CPU {blocks_cpu:.4}, GPU–CPU {blocks_gpu:.4}; mean luminance CPU {mean_a:.4}, GPU {mean_gpu:.4}",
-            info.name
+            "{}: FLIP CPU–CPU {flip_cpu:.4}, GPU–CPU {flip_gpu:.4}; blocks CPU–CPU {blocks_cpu:.4}, GPU–CPU {blocks_gpu:.4}; mean luminance CPU {mean_a:.4}, GPU {mean_gpu:.4}; {cpu_s:.2} s a CPU image, {gpu_s:.2} s the GPU's",
+            name
         );
         let mean_b = block_difference(&a, &b).1;
         assert!(
             g.pixels().all(|p| p.0.iter().all(|c| c.is_finite())),
             "{}: a pixel is not finite",
-            info.name
+            name
         );
         assert!(
             flip_gpu <= flip_cpu * 1.25 + 0.01,
             "{}: FLIP {flip_gpu} against {flip_cpu}",
-            info.name
+            name
         );
         // `extremes` (1e9 lux, a light 1 µm from a surface): pixels at the 16-bit ceiling
         // depend on the last bit of a hit point's position, which rounds differently on
         // the GPU; only its FLIP and finiteness are compared (docs/src/rays.md).
-        if info.name != "extremes" {
+        if name != "extremes" {
             assert!(
                 blocks_gpu <= blocks_cpu * 1.5 + 0.01,
                 "{}: blocks {blocks_gpu} against {blocks_cpu}",
-                info.name
+                name
             );
             assert!(
                 (mean_gpu - mean_a).abs() <= 2.0 * (mean_b - mean_a).abs() + 0.01 * mean_a,
                 "{}: mean luminance {mean_gpu} against {mean_a} (second CPU image {mean_b})",
-                info.name
+                name
             );
         }
-        traced.push(info.name);
+        traced.push(name);
     }
     eprintln!("traced on the GPU: {traced:?}");
-    assert!(traced.len() >= 6, "only {traced:?} traced on the GPU");
+    assert!(traced.len() >= 9, "only {traced:?} traced on the GPU");
 }

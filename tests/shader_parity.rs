@@ -22,7 +22,7 @@ use lumen::shading::{
 };
 use wgpu::util::DeviceExt;
 
-const OUTPUTS: usize = 67;
+const OUTPUTS: usize = 68;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -452,6 +452,7 @@ fn expected(i: usize, c: &Case) -> [Vec4; OUTPUTS] {
             gi::volume_fade(v * 3.0, FADE_LOW, FADE_HIGH, FADE_SPACING),
             gi::volume_fade(l * 2.0 + n, FADE_LOW, FADE_HIGH, FADE_SPACING),
         ),
+        ibl::equirect_direction(Vec2::new(x, n_dot_h)).extend(0.0),
     ]
 }
 
@@ -529,6 +530,7 @@ const NAMES: [&str; OUTPUTS] = [
     "creased | CREASE_COSINE",
     "upsample_normal_weight",
     "irradiance_weight | volume_fade",
+    "equirect_direction",
 ];
 
 /// The segment ends of case `i` for `smaa_coverage`: every combination of crossing edges

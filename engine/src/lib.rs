@@ -36,6 +36,7 @@ pub mod pass_id;
 pub mod quality;
 pub mod rays;
 pub mod reference;
+pub mod reference_gpu;
 pub mod render;
 pub mod scene;
 pub mod shading;

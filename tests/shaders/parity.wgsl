@@ -33,7 +33,7 @@ struct Case {
     scalars: vec4<f32>,
 }
 
-const OUTPUTS: u32 = 67u;
+const OUTPUTS: u32 = 68u;
 
 @group(0) @binding(0) var<storage, read> cases: array<Case>;
 @group(0) @binding(1) var<storage, read_write> results: array<vec4<f32>>;
@@ -211,6 +211,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         volume_fade(c.l.xyz * 2.0 + c.n.xyz, fade_low, fade_high, fade_spacing),
     );
     results[o + 53u] = vec4<f32>(tinted_f0(c.base_metallic.rgb, c.base_metallic.w, spec, vec3<f32>(x * 1.2 - 0.1, k, r)), 0.0);
+    results[o + 67u] = vec4<f32>(equirect_direction(vec2<f32>(x, n_dot_h)), 0.0);
     results[o + 25u] = vec4<f32>(atlas_position(vec2<f32>(f32(i % 7u) * 8.0, 3.0), 6.0, c.n.xyz), basis[1], basis[6]);
 }
 

@@ -12,6 +12,10 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
+/// Deepest level of a tree (the root is depth 0): the builder ([`super::sah`]) stops
+/// there, so a walk's stack of this many entries per level is always enough.
+pub const MAX_DEPTH: usize = 32;
+
 /// One node: 32 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
@@ -82,7 +86,7 @@ pub fn slab_hit(near: f32, far: f32) -> bool {
 
 /// Visits the leaves of the tree at `root` whose boxes the ray `origin + t·dir`
 /// (`inv_dir = 1/dir`) crosses inside `t_min .. t_far`, near child first, the far one on
-/// a stack of [`super::sah::MAX_DEPTH`] entries (enough for any tree of [`super::sah`]).
+/// a stack of [`MAX_DEPTH`] entries (enough for any tree of [`super::sah`]).
 /// `leaf(first, count, t_far)` returns the distance of a hit it found, which shrinks the
 /// interval; with `any`, the first hit ends the walk. Returns whether a leaf hit.
 pub fn walk(
@@ -97,7 +101,7 @@ pub fn walk(
         return false;
     };
     let box_hit = |n: &BvhNode, t_far: f32| slab(origin, inv_dir, n.lo(), n.hi(), t_min, t_far);
-    let mut stack = [0u32; super::sah::MAX_DEPTH];
+    let mut stack = [0u32; MAX_DEPTH];
     let mut depth = 0usize;
     let pop = |stack: &[u32], depth: &mut usize| {
         (*depth > 0).then(|| {

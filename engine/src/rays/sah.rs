@@ -14,6 +14,7 @@
 //! most one node per level), and [`BuildStats::forced_leaves`] counts those leaves.
 
 use super::node::BvhNode;
+pub use super::node::MAX_DEPTH;
 use crate::scene::mesh_data::Aabb;
 use glam::Vec3;
 
@@ -21,8 +22,6 @@ use glam::Vec3;
 pub const BINS: usize = 16;
 /// Most triangles in a BLAS leaf the SAH chooses (the TLAS's leaves hold one instance).
 pub const MAX_LEAF: usize = 4;
-/// Deepest level of a tree (the root is depth 0), and so the stack one level needs.
-pub const MAX_DEPTH: usize = 32;
 /// Cost of visiting a node, relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 

@@ -426,8 +426,8 @@ pub struct ReferenceArgs {
     /// the materials, lights and environments it supports; an error otherwise), cpu, or
     /// auto (the GPU when the adapter is a hardware GPU and the GPU traces the whole
     /// scene, else the CPU; the choice and its reason are printed).
-    #[arg(long, value_name = "DEVICE", default_value = "auto", value_parser = choice::<lumen::render::rays::path_trace::TraceDevice>())]
-    pub device: lumen::render::rays::path_trace::TraceDevice,
+    #[arg(long, value_name = "DEVICE", default_value = "auto", value_parser = choice::<lumen::reference_gpu::TraceDevice>())]
+    pub device: lumen::reference_gpu::TraceDevice,
     /// Ray-trace ambient occlusion instead of radiance, within the AO radius
     /// (`--ao-radius`, default 1 m): the ground truth of `--debug-view occlusion`. A PNG
     /// shows it as grey (value × 255), as the debug view does.

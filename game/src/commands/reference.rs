@@ -89,7 +89,7 @@ fn gpu_choice(
     scene: &lumen::reference::path::TraceScene,
     sharded: bool,
 ) -> Result<Option<String>> {
-    use lumen::render::rays::path_trace::{TraceDevice, choose_gpu};
+    use lumen::reference_gpu::{TraceDevice, choose_gpu};
     let gpu = app
         .world()
         .get_resource::<lumen::render::device::Gpu>()
@@ -173,7 +173,7 @@ pub fn run(args: &ReferenceArgs) -> Result<PathBuf> {
             .clone();
         let bar = crate::progress::bar(u64::from(args.spp), "path tracing (GPU)", "samples");
         let start = std::time::Instant::now();
-        let traced = lumen::render::rays::path_trace::render_gpu(&gpu, &scene, &options, &|s| {
+        let traced = lumen::reference_gpu::render_gpu(&gpu, &scene, &options, &|s| {
             bar.set_position(u64::from(s))
         })?;
         bar.finish_and_clear();

@@ -64,6 +64,22 @@ impl TraceSlot {
         })
     }
 
+    /// The texture.
+    pub fn texture(&self) -> &TextureData {
+        &self.texture
+    }
+
+    /// The slot: sampler, texture coordinate set and transform.
+    pub fn slot(&self) -> &TextureSlot {
+        &self.slot
+    }
+
+    /// The first two rows of the texture-coordinate transform (`KHR_texture_transform`,
+    /// made the identity where it is not finite): `u' = rows[0]·(u, v, 1)`, likewise v.
+    pub fn rows(&self) -> [Vec3; 2] {
+        self.rows
+    }
+
     fn texel(&self, x: i64, y: i64) -> Vec4 {
         let t = &self.texture;
         let (w, h) = (i64::from(t.width), i64::from(t.height));

@@ -312,7 +312,39 @@ fn find(cdf: &[f32], u: f32) -> usize {
         .min(cdf.len().saturating_sub(2))
 }
 
+/// An [`EnvironmentImage`]'s texels and sampling tables, for the GPU path tracer.
+#[derive(Clone, Copy, Debug)]
+pub struct EnvironmentTables<'a> {
+    /// Width in texels.
+    pub width: usize,
+    /// Height in texels.
+    pub height: usize,
+    /// Rotation about +y (rad).
+    pub rotation: f32,
+    /// Pre-exposed radiance per texel, row by row.
+    pub texels: &'a [Vec3],
+    /// Cumulative row weights (height + 1 entries).
+    pub rows: &'a [f32],
+    /// Per row, cumulative texel weights (width + 1 entries each).
+    pub columns: &'a [f32],
+    /// Sum of all weights before normalisation (0: nothing to sample).
+    pub total: f32,
+}
+
 impl EnvironmentImage {
+    /// The texels and tables as they are.
+    pub fn tables(&self) -> EnvironmentTables<'_> {
+        EnvironmentTables {
+            width: self.width,
+            height: self.height,
+            rotation: self.rotation,
+            texels: &self.texels,
+            rows: &self.rows,
+            columns: &self.columns,
+            total: self.total,
+        }
+    }
+
     fn new(width: usize, height: usize, texels: Vec<Vec3>, rotation: f32) -> Self {
         let mut columns = Vec::with_capacity(height * (width + 1));
         let mut row_sums = Vec::with_capacity(height);

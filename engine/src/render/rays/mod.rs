@@ -3,6 +3,5 @@
 //! that traces a batch of rays against it ([`ray_batch`]: `lumen bench --rays` and the
 //! traversal's tests). Tracing shaders import `shaders/rays.wgsl`.
 
-pub mod path_trace;
 pub mod ray_batch;
 pub mod scene_rays;

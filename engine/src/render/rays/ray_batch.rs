@@ -2,7 +2,7 @@
 //! (`shaders/ray_batch.wgsl`): the traversal's throughput for `lumen bench --rays`, and
 //! its agreement with the CPU traversal in the tests.
 
-use super::scene_rays::{RAYS, SceneRays};
+use super::scene_rays::{RAYS, RAYS_GROUP, SceneRays};
 use crate::error::{Error, Result};
 use crate::rays::tlas::RayScene;
 use crate::render::bindings::{BindGroupSpec, declared};
@@ -13,8 +13,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
-/// The batch's own group: rays in, hits out.
-const BATCH: BindGroupSpec = BindGroupSpec::compute("ray batch", declared::RAY_BATCH_0);
+/// The batch's own group (0): rays in, hits out.
+pub const BATCH: BindGroupSpec = BindGroupSpec::compute("ray batch", declared::RAY_BATCH_0);
 /// Invocations per workgroup (`@workgroup_size` of `cs_trace`).
 const WORKGROUP: u32 = 64;
 
@@ -78,9 +78,10 @@ pub fn trace_batch(
     if rays.is_empty() {
         return Ok((Vec::new(), 0.0));
     }
-    let composed = gpu
-        .shaders
-        .compose("ray_batch.wgsl", &[ShaderDef::U32("RAYS_GROUP", 1)])?;
+    let composed = gpu.shaders.compose(
+        "ray_batch.wgsl",
+        &[ShaderDef::U32("RAYS_GROUP", RAYS_GROUP)],
+    )?;
     let module = create_module(gpu, "ray batch", &composed)?;
     let (batch_layout, rays_layout) = (BATCH.layout(gpu), RAYS.layout(gpu));
     let layout = pipeline_layout(gpu, "ray batch", &[&batch_layout, &rays_layout]);

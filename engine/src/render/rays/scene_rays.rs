@@ -16,6 +16,9 @@ use bevy_ecs::prelude::{Entity, Resource};
 use glam::{Mat4, Vec3};
 use std::collections::BTreeMap;
 
+/// The bind group index of [`RAYS`] in the GPU's tracing shaders (their `RAYS_GROUP`).
+pub const RAYS_GROUP: u32 = 1;
+
 /// The group a tracing shader binds at `RAYS_GROUP`: TLAS nodes, instances, BLAS nodes,
 /// triangles.
 pub const RAYS: BindGroupSpec = BindGroupSpec::compute("rays", declared::RAY_BATCH_RAYS_GROUP);
