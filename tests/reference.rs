@@ -676,7 +676,7 @@ fn the_reference_device_is_chosen_and_explained() {
             "--spp",
             "1",
         ]),
-        "does not trace an image environment, textures",
+        "does not trace transmission yet",
     );
     common::assert_clean_failure(
         &run(&[
