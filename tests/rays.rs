@@ -3,6 +3,7 @@
 //! edges, refit against rebuild on the skinned Fox, and degenerate input.
 
 use crate::common;
+use crate::common::Rng;
 
 use glam::{Mat4, Vec3};
 use lumen::App;
@@ -19,19 +20,6 @@ use rayon::prelude::*;
 
 /// Relative tolerance on a distance.
 const T_TOLERANCE: f32 = 1e-5;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
-        lo + (hi - lo) * Vec3::new(self.next(), self.next(), self.next())
-    }
-}
 
 /// The frame's structure after one 64×64 frame of `app`.
 fn frame_rays(app: &mut App) -> (Gpu, SceneRays) {

@@ -4,6 +4,7 @@
 //! the same inputs, on the GPU.
 
 use crate::common;
+use crate::common::Rng;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use lumen::choice::Choice;
@@ -33,23 +34,6 @@ struct Case {
     base_metallic: [f32; 4],
     params: [f32; 4],
     scalars: [f32; 4],
-}
-
-/// A small deterministic generator (xorshift) so the cases are the same on every run.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn dir(&mut self) -> Vec3 {
-        let z = self.next() * 2.0 - 1.0;
-        let phi = self.next() * std::f32::consts::TAU;
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
-    }
 }
 
 fn cases() -> Vec<Case> {

@@ -367,3 +367,30 @@ pub fn sh_block_after<'a>(markdown: &'a str, heading: &str, index: usize) -> &'a
     let end = rest[start..].find("```").expect("the block's end");
     &rest[start..start + end]
 }
+
+/// A small deterministic generator (xorshift) so that generated cases are the same on
+/// every run.
+pub struct Rng(pub u64);
+
+impl Rng {
+    /// A uniform number in [0, 1).
+    pub fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// A unit direction, uniform on the sphere.
+    pub fn dir(&mut self) -> glam::Vec3 {
+        let z = self.next() * 2.0 - 1.0;
+        let phi = self.next() * std::f32::consts::TAU;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        glam::Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+
+    /// A point uniform in the box `lo..hi`.
+    pub fn in_box(&mut self, lo: glam::Vec3, hi: glam::Vec3) -> glam::Vec3 {
+        lo + (hi - lo) * glam::Vec3::new(self.next(), self.next(), self.next())
+    }
+}
